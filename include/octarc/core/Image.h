@@ -1,0 +1,46 @@
+// A 2-D pixel array in memory. Indices are 0-based (x along NAXIS1, fastest varying; y along
+// NAXIS2); see core/Conventions.h for how they map to SExtractor's 1-based coordinates.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace octarc {
+
+template <typename T>
+class Image {
+ public:
+  Image() = default;
+  Image(std::int64_t width, std::int64_t height, T fill = T{})
+      : width_(width), height_(height), pixels_(static_cast<std::size_t>(width * height), fill) {}
+
+  std::int64_t width() const { return width_; }
+  std::int64_t height() const { return height_; }
+  std::int64_t size() const { return width_ * height_; }
+  bool empty() const { return pixels_.empty(); }
+
+  // Linear index of pixel (x, y): y * width + x.
+  std::int64_t index(std::int64_t x, std::int64_t y) const { return y * width_ + x; }
+
+  T& operator()(std::int64_t x, std::int64_t y) { return pixels_[index(x, y)]; }
+  const T& operator()(std::int64_t x, std::int64_t y) const { return pixels_[index(x, y)]; }
+  T& operator[](std::int64_t i) { return pixels_[i]; }
+  const T& operator[](std::int64_t i) const { return pixels_[i]; }
+
+  T* data() { return pixels_.data(); }
+  const T* data() const { return pixels_.data(); }
+  std::vector<T>& pixels() { return pixels_; }
+  const std::vector<T>& pixels() const { return pixels_; }
+
+ private:
+  std::int64_t width_ = 0;
+  std::int64_t height_ = 0;
+  std::vector<T> pixels_;
+};
+
+using ImageF = Image<float>;
+using ImageD = Image<double>;
+using ImageI32 = Image<std::int32_t>;
+
+}  // namespace octarc

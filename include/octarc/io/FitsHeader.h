@@ -1,0 +1,24 @@
+// A FITS header as its 80-character cards, in file order, without the END card.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace octarc {
+
+struct FitsHeader {
+  std::vector<std::string> cards;  // each exactly 80 characters, no END
+
+  // Value of a keyword as written (strings unquoted and right-trimmed), or nullopt.
+  std::optional<std::string> value(std::string_view keyword) const;
+  std::optional<double> number(std::string_view keyword) const;
+  bool has(std::string_view keyword) const { return value(keyword).has_value(); }
+  // Adds or replaces a card; value is written as given (quote strings yourself).
+  void set(std::string_view keyword, std::string_view rawValue, std::string_view comment = "");
+  // All cards joined, as one string of 80*n characters (what wcslib's wcspih takes).
+  std::string joined() const;
+};
+
+}  // namespace octarc

@@ -1,0 +1,55 @@
+// Reading and writing FITS images (cfitsio stays inside src/io).
+//
+// A path may carry cfitsio's extended syntax: "file.fits[2]", "file.fits[SCI]", "file.fits.fz".
+// Pixel values are returned after BSCALE/BZERO, as float, whatever the BITPIX.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "octarc/core/Image.h"
+#include "octarc/io/FitsHeader.h"
+
+namespace octarc {
+
+struct ImageHdu {
+  std::string path;      // as given, e.g. "file.fits[1]"
+  int hduIndex = 0;      // 0-based HDU number in the file (0 = primary)
+  std::string extname;   // EXTNAME, or "" if none
+  FitsHeader header;     // the image's own header (for .fz: the uncompressed image header)
+  ImageF pixels;         // NaN where the file has blank/NaN pixels
+  int bitpix = 0;        // BITPIX of the stored data (8, 16, 32, 64, -32, -64)
+};
+
+// The image HDUs of a file, in order, for SExtractor-like multi-extension processing: a plain
+// file gives one entry (primary); a MEF gives one entry per non-empty image extension; a path
+// that names an HDU ("f.fits[2]") gives that HDU only. Returns the path of each (e.g. "f.fits[2]").
+// Throws IoError (naming the file) if the file is missing, not FITS, has no image, etc.
+std::vector<std::string> listImageHdus(const std::string& path);
+
+// Reads one image HDU (a path as returned by listImageHdus, or a plain file: its first
+// non-empty image HDU). Throws IoError for a missing/unreadable/truncated file, a table HDU, a
+// non-2-D image.
+ImageHdu readImage(const std::string& path);
+
+// Reads only the header and size of an image HDU (no pixels).
+ImageHdu readImageHeader(const std::string& path);
+
+// Reads an integer image exactly (for SExtractor segmentation maps). Throws IoError if the HDU
+// is not an integer image (BITPIX 8/16/32/64 with BSCALE 1 and integer BZERO).
+ImageI32 readIntImage(const std::string& path, FitsHeader* header = nullptr);
+
+// One HDU of an output image file: the header cards to copy (WCS etc.; structural keywords
+// SIMPLE/XTENSION/BITPIX/NAXISn/PCOUNT/GCOUNT/EXTEND/BSCALE/BZERO/END are replaced).
+struct OutputImageHdu {
+  FitsHeader header;
+  const ImageF* floatPixels = nullptr;  // written as BITPIX -32
+  const ImageI32* intPixels = nullptr;  // written as BITPIX 32
+};
+
+// Writes a FITS file atomically (temporary file + rename). One HDU: a primary image. Several:
+// SExtractor's MEF check-image layout (empty primary + one IMAGE extension each).
+void writeImageFile(const std::string& path, const std::vector<OutputImageHdu>& hdus);
+
+}  // namespace octarc

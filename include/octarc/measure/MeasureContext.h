@@ -1,0 +1,36 @@
+// Everything a measurement may read besides the object's pixels. Owned by the caller; all
+// pointers outlive the measurement pass.
+#pragma once
+
+#include <vector>
+
+#include "octarc/core/Image.h"
+#include "octarc/detection/Segment.h"
+
+namespace octarc {
+
+class Wcs;
+
+struct MeasureContext {
+  // Background-subtracted, unfiltered measurement image (p_i in SEXTRACTOR.md §3).
+  const ImageF* measurement = nullptr;
+  // Filtered, background-subtracted detection image (f_i). Equal to `measurement` with FILTER N.
+  const ImageF* detection = nullptr;
+  // Background map that was subtracted (for saturation tests on raw values); nullptr means the
+  // constant `backgroundAdu`.
+  const ImageF* background = nullptr;
+  double backgroundAdu = 0.0;
+  // Optional per-pixel variance (ADU^2); nullptr means the global sigma for every pixel.
+  const ImageF* variance = nullptr;
+
+  double sigmaAdu = 0.0;        // global background noise (SEXBKDEV)
+  double gain = 0.0;            // e-/ADU; 0 = infinite (no Poisson term)
+  double magZeropoint = 0.0;    // MAG_ZEROPOINT
+  double saturationAdu = 0.0;   // SATUR_LEVEL on raw pixel values; <= 0 = never saturated
+  double pixelScaleArcsec = 0.0;// PIXEL_SCALE; 0 = from the WCS
+  const Wcs* wcs = nullptr;     // celestial WCS or nullptr
+
+  std::vector<ThresholdLevel> levels;  // levels[segment.level - 1]
+};
+
+}  // namespace octarc
