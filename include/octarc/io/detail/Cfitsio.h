@@ -1,0 +1,61 @@
+// The one place cfitsio is wrapped. Include only from .cpp files of the io and catalog stages:
+// public headers never expose fitsio.h.
+#pragma once
+
+#include <fitsio.h>
+
+#include <memory>
+#include <string>
+
+#include "octarc/core/Error.h"
+
+namespace octarc::detail {
+
+struct FitsCloser {
+  void operator()(fitsfile* f) const {
+    int status = 0;
+    fits_close_file(f, &status);  // errors on close of a read-only file are not actionable
+  }
+};
+
+// Owning handle: closes the file when it goes out of scope.
+using FitsPtr = std::unique_ptr<fitsfile, FitsCloser>;
+
+// cfitsio's message for a status code, e.g. "FITS file not found".
+inline std::string cfitsioMessage(int status) {
+  char text[FLEN_STATUS] = {0};
+  fits_get_errstatus(status, text);
+  fits_clear_errmsg();
+  return text;
+}
+
+// Throws IoError("<file>: <what> (<cfitsio message>)") when status != 0.
+inline void throwIfFitsError(int status, const std::string& file, const std::string& what) {
+  if (status != 0) throw IoError(file + ": " + what + " (" + cfitsioMessage(status) + ")");
+}
+
+// Opens an existing file (cfitsio extended syntax allowed) read-only or read-write.
+inline FitsPtr openFits(const std::string& path, bool readWrite = false) {
+  fitsfile* f = nullptr;
+  int status = 0;
+  fits_open_file(&f, path.c_str(), readWrite ? READWRITE : READONLY, &status);
+  if (status != 0) {
+    if (f != nullptr) {
+      int ignored = 0;
+      fits_close_file(f, &ignored);
+    }
+    throwIfFitsError(status, path, "cannot open as FITS");
+  }
+  return FitsPtr(f);
+}
+
+// Creates a new file (fails if it exists; pass a temporary path from AtomicFile).
+inline FitsPtr createFits(const std::string& path) {
+  fitsfile* f = nullptr;
+  int status = 0;
+  fits_create_file(&f, path.c_str(), &status);
+  throwIfFitsError(status, path, "cannot create");
+  return FitsPtr(f);
+}
+
+}  // namespace octarc::detail
