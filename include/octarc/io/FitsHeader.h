@@ -15,10 +15,15 @@ struct FitsHeader {
   std::optional<std::string> value(std::string_view keyword) const;
   std::optional<double> number(std::string_view keyword) const;
   bool has(std::string_view keyword) const { return value(keyword).has_value(); }
-  // Adds or replaces a card; value is written as given (quote strings yourself).
+  // Adds or replaces a card; value is written as given (quote strings yourself, e.g. with
+  // quoteFitsString). Strings start in column 11, other values end in column 30. HISTORY,
+  // COMMENT and blank keywords take rawValue as free text and are always appended.
   void set(std::string_view keyword, std::string_view rawValue, std::string_view comment = "");
   // All cards joined, as one string of 80*n characters (what wcslib's wcspih takes).
   std::string joined() const;
 };
+
+// A FITS string value: quoted, embedded quotes doubled, padded to the 8-character minimum.
+std::string quoteFitsString(std::string_view text);
 
 }  // namespace octarc

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -14,12 +15,12 @@
 namespace octarc {
 
 struct ImageHdu {
-  std::string path;      // as given, e.g. "file.fits[1]"
-  int hduIndex = 0;      // 0-based HDU number in the file (0 = primary)
-  std::string extname;   // EXTNAME, or "" if none
-  FitsHeader header;     // the image's own header (for .fz: the uncompressed image header)
-  ImageF pixels;         // NaN where the file has blank/NaN pixels
-  int bitpix = 0;        // BITPIX of the stored data (8, 16, 32, 64, -32, -64)
+  std::string path;     // as given, e.g. "file.fits[1]"
+  int hduIndex = 0;     // 0-based HDU number in the file (0 = primary)
+  std::string extname;  // EXTNAME, or "" if none
+  FitsHeader header;    // the image's own header (for .fz: the uncompressed image header)
+  ImageF pixels;        // NaN where the file has blank/NaN pixels
+  int bitpix = 0;       // BITPIX of the stored data (8, 16, 32, 64, -32, -64)
 };
 
 // The image HDUs of a file, in order, for SExtractor-like multi-extension processing: a plain
@@ -51,5 +52,11 @@ struct OutputImageHdu {
 // Writes a FITS file atomically (temporary file + rename). One HDU: a primary image. Several:
 // SExtractor's MEF check-image layout (empty primary + one IMAGE extension each).
 void writeImageFile(const std::string& path, const std::vector<OutputImageHdu>& hdus);
+
+// The same file layout for hduCount HDUs, filled one at a time: fill(k, hdu) is called for
+// k = 0 .. hduCount-1 on a fresh OutputImageHdu just before HDU k is written, so only one HDU's
+// pixels need to exist at a time (the pointers must stay valid until fill is called again).
+void writeImageFileSequential(const std::string& path, int hduCount,
+                              const std::function<void(int k, OutputImageHdu& hdu)>& fill);
 
 }  // namespace octarc

@@ -26,13 +26,22 @@ class Wcs {
   ~Wcs();
 
   // (longitude, latitude) in degrees of a 1-based pixel position; NaN, NaN on failure.
-  // Thread-safe (each call works on its own copy of the wcslib state if needed).
+  // Thread-safe: wcslib keeps scratch arrays inside its struct even after set-up, so the
+  // transforms of one Wcs are serialised by a mutex (copy the Wcs per thread to avoid waiting).
   std::array<double, 2> pixelToWorld(double xFits, double yFits) const;
-  // Inverse; NaN, NaN on failure.
+  // Inverse; NaN, NaN on failure. Thread-safe like pixelToWorld.
   std::array<double, 2> worldToPixel(double lngDeg, double latDeg) const;
-  // EQUINOX of the header (2000 if absent); used for ALPHA_J2000 precession.
+  // (RA, Dec) in degrees referred to the mean equator and equinox J2000 (ALPHA_J2000,
+  // DELTA_J2000): the world position unchanged for ICRS or an equinox of 2000, else precessed
+  // to J2000 with the IAU 1976 model. FK4 frames are precessed from their Besselian equinox
+  // without the E-terms or the FK4 -> FK5 correction (error below about 1 arcsec). Galactic
+  // (GLON/GLAT) positions are rotated to J2000; other frames (ecliptic, ...) and failures give
+  // NaN, NaN.
+  std::array<double, 2> pixelToJ2000(double xFits, double yFits) const;
+  // EQUINOX of the header (or EPOCH); if absent 1950 for FK4, else 2000.
   double equinox() const;
-  // RADESYS: "ICRS", "FK5", "FK4", ... ("" if unknown).
+  // RADESYS: "ICRS", "FK5", "FK4", ...; if absent, the FITS default for an equatorial frame
+  // (ICRS without EQUINOX, FK4 for EQUINOX < 1984, else FK5); "" for non-equatorial frames.
   std::string radesys() const;
 
  private:

@@ -1,0 +1,357 @@
+#include "octarc/io/FitsImage.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "octarc/core/AtomicFile.h"
+#include "octarc/core/Error.h"
+#include "octarc/io/detail/Cfitsio.h"
+
+namespace octarc {
+
+namespace {
+
+using detail::FitsPtr;
+using detail::throwIfFitsError;
+
+// Axes beyond the second are accepted only when degenerate (length 1), as in data cubes with a
+// single plane.
+constexpr int kMaxAxes = 9;
+
+struct ImageShape {
+  int bitpix = 0;  // stored BITPIX
+  int naxis = 0;
+  std::array<long, kMaxAxes> naxes{};
+};
+
+// True when the user's path selects an HDU explicitly ("f.fits[2]", "f.fits[SCI]").
+bool namesHdu(const std::string& path) {
+  char fileType[FLEN_FILENAME] = {0};
+  char inFile[FLEN_FILENAME] = {0};
+  char outFile[FLEN_FILENAME] = {0};
+  char extSpec[FLEN_FILENAME] = {0};
+  char filter[FLEN_FILENAME] = {0};
+  char binSpec[FLEN_FILENAME] = {0};
+  char colSpec[FLEN_FILENAME] = {0};
+  int status = 0;
+  if (path.size() >= FLEN_FILENAME) return path.find('[') != std::string::npos;
+  std::string url = path;  // cfitsio takes a non-const buffer
+  fits_parse_input_url(url.data(), fileType, inFile, outFile, extSpec, filter, binSpec, colSpec,
+                       &status);
+  if (status != 0) {
+    fits_clear_errmsg();
+    return path.find('[') != std::string::npos;
+  }
+  return extSpec[0] != '\0';
+}
+
+// The file part of a path, for messages and for building "file[N]" paths.
+std::string fileOf(const std::string& path) {
+  const std::size_t bracket = path.find('[');
+  return bracket == std::string::npos ? path : path.substr(0, bracket);
+}
+
+int currentHdu(fitsfile* f) {
+  int hdu = 0;
+  fits_get_hdu_num(f, &hdu);  // 1-based
+  return hdu - 1;
+}
+
+int hduType(fitsfile* f, const std::string& path) {
+  int type = 0;
+  int status = 0;
+  fits_get_hdu_type(f, &type, &status);
+  throwIfFitsError(status, path, "cannot read HDU type");
+  return type;
+}
+
+ImageShape readShape(fitsfile* f, const std::string& path) {
+  ImageShape shape;
+  int status = 0;
+  fits_get_img_param(f, kMaxAxes, &shape.bitpix, &shape.naxis, shape.naxes.data(), &status);
+  throwIfFitsError(status, path, "cannot read image size");
+  return shape;
+}
+
+bool isEmpty(const ImageShape& shape) {
+  if (shape.naxis == 0) return true;
+  for (int i = 0; i < std::min(shape.naxis, kMaxAxes); ++i) {
+    if (shape.naxes[i] == 0) return true;
+  }
+  return false;
+}
+
+void requireImageHdu(fitsfile* f, const std::string& path) {
+  const int type = hduType(f, path);
+  if (type == IMAGE_HDU) return;
+  throw IoError(path + ": HDU " + std::to_string(currentHdu(f)) + " is " +
+                (type == BINARY_TBL ? "a binary table" : "an ASCII table") + ", not an image");
+}
+
+void requireTwoDimensional(const ImageShape& shape, const std::string& path) {
+  if (shape.naxis < 2 || shape.naxis > kMaxAxes) {
+    throw IoError(path + ": image has NAXIS = " + std::to_string(shape.naxis) +
+                  ", expected a 2-D image");
+  }
+  for (int i = 2; i < shape.naxis; ++i) {
+    if (shape.naxes[i] != 1) {
+      throw IoError(path + ": image has NAXIS = " + std::to_string(shape.naxis) + " with NAXIS" +
+                    std::to_string(i + 1) + " = " + std::to_string(shape.naxes[i]) +
+                    ", expected a 2-D image");
+    }
+  }
+  if (shape.naxes[0] <= 0 || shape.naxes[1] <= 0) {
+    throw IoError(path + ": image has zero size");
+  }
+}
+
+// Positions an open file on the image HDU a path refers to: the HDU it names, or else the first
+// non-empty image HDU.
+void moveToImage(fitsfile* f, const std::string& path) {
+  if (namesHdu(path)) {
+    requireImageHdu(f, path);
+    return;
+  }
+  int count = 0;
+  int status = 0;
+  fits_get_num_hdus(f, &count, &status);
+  throwIfFitsError(status, path, "cannot count HDUs");
+  for (int hdu = 1; hdu <= count; ++hdu) {
+    fits_movabs_hdu(f, hdu, nullptr, &status);
+    throwIfFitsError(status, path, "cannot read HDU " + std::to_string(hdu - 1));
+    if (hduType(f, path) == IMAGE_HDU && !isEmpty(readShape(f, path))) return;
+  }
+  throw IoError(path + ": no image HDU in file");
+}
+
+// The header of the current HDU as 80-character cards. For a tile-compressed image cfitsio
+// returns the header of the uncompressed image.
+FitsHeader readHeaderCards(fitsfile* f, const std::string& path) {
+  char* text = nullptr;
+  int count = 0;
+  int status = 0;
+  fits_convert_hdr2str(f, 0, nullptr, 0, &text, &count, &status);
+  if (status != 0) {
+    if (text != nullptr) fits_free_memory(text, &status);
+    throwIfFitsError(status, path, "cannot read header");
+  }
+  FitsHeader header;
+  const std::string all(text);
+  int ignored = 0;
+  fits_free_memory(text, &ignored);
+  for (std::size_t pos = 0; pos + 80 <= all.size(); pos += 80) {
+    std::string card = all.substr(pos, 80);
+    if (card.compare(0, 8, "END     ") == 0) break;
+    header.cards.push_back(std::move(card));
+  }
+  return header;
+}
+
+// cfitsio only notices a short file when the pixels are read; checking the size up front lets
+// header-only reads report it too. Like cfitsio, the data unit must be complete including its
+// padding to a multiple of 2880 bytes.
+void requireCompleteData(fitsfile* f, const std::string& path) {
+  int status = 0;
+  if (fits_is_compressed_image(f, &status)) return;  // sizes refer to the compressed table
+  LONGLONG headStart = 0;
+  LONGLONG dataStart = 0;
+  LONGLONG dataEnd = 0;
+  fits_get_hduaddrll(f, &headStart, &dataStart, &dataEnd, &status);
+  throwIfFitsError(status, path, "cannot locate image data");
+  const LONGLONG fileBytes = f->Fptr->filesize;
+  if (dataEnd > fileBytes) {
+    throw IoError(path + ": file is truncated (the header needs " + std::to_string(dataEnd) +
+                  " bytes, the file has " + std::to_string(fileBytes) + ")");
+  }
+}
+
+ImageHdu readHduInfo(fitsfile* f, const std::string& path) {
+  ImageHdu hdu;
+  hdu.path = path;
+  hdu.hduIndex = currentHdu(f);
+  const ImageShape shape = readShape(f, path);
+  requireTwoDimensional(shape, path);
+  requireCompleteData(f, path);
+  hdu.bitpix = shape.bitpix;
+  hdu.header = readHeaderCards(f, path);
+  hdu.extname = hdu.header.value("EXTNAME").value_or("");
+  return hdu;
+}
+
+// Reads the pixels of the current HDU as float; undefined pixels (BLANK or NaN) become NaN.
+// cfitsio applies BSCALE/BZERO.
+ImageF readPixels(fitsfile* f, const std::string& path, long width, long height) {
+  ImageF pixels(width, height);
+  long first[kMaxAxes];
+  std::fill(std::begin(first), std::end(first), 1L);
+  float nullValue = std::numeric_limits<float>::quiet_NaN();
+  int anyNull = 0;
+  int status = 0;
+  fits_read_pix(f, TFLOAT, first, static_cast<LONGLONG>(width) * height, &nullValue, pixels.data(),
+                &anyNull, &status);
+  throwIfFitsError(status, path, "cannot read pixels, file truncated or corrupt");
+  return pixels;
+}
+
+}  // namespace
+
+std::vector<std::string> listImageHdus(const std::string& path) {
+  FitsPtr f = detail::openFits(path);
+  if (namesHdu(path)) {
+    requireImageHdu(f.get(), path);
+    requireTwoDimensional(readShape(f.get(), path), path);
+    return {path};
+  }
+  int count = 0;
+  int status = 0;
+  fits_get_num_hdus(f.get(), &count, &status);
+  throwIfFitsError(status, path, "cannot count HDUs");
+  // SExtractor processes every image HDU that holds data; an empty primary (the usual MEF
+  // layout) and table HDUs are skipped.
+  std::vector<int> images;
+  for (int hdu = 1; hdu <= count; ++hdu) {
+    fits_movabs_hdu(f.get(), hdu, nullptr, &status);
+    throwIfFitsError(status, path, "cannot read HDU " + std::to_string(hdu - 1));
+    if (hduType(f.get(), path) != IMAGE_HDU) continue;
+    const ImageShape shape = readShape(f.get(), path);
+    if (isEmpty(shape)) continue;
+    requireTwoDimensional(shape, path + "[" + std::to_string(hdu - 1) + "]");
+    images.push_back(hdu - 1);
+  }
+  if (images.empty()) throw IoError(path + ": no image HDU in file");
+  if (images.size() == 1 && images.front() == 0) return {path};
+  std::vector<std::string> paths;
+  for (int index : images) paths.push_back(fileOf(path) + "[" + std::to_string(index) + "]");
+  return paths;
+}
+
+ImageHdu readImageHeader(const std::string& path) {
+  FitsPtr f = detail::openFits(path);
+  moveToImage(f.get(), path);
+  return readHduInfo(f.get(), path);
+}
+
+ImageHdu readImage(const std::string& path) {
+  FitsPtr f = detail::openFits(path);
+  moveToImage(f.get(), path);
+  ImageHdu hdu = readHduInfo(f.get(), path);
+  const ImageShape shape = readShape(f.get(), path);
+  hdu.pixels = readPixels(f.get(), path, shape.naxes[0], shape.naxes[1]);
+  return hdu;
+}
+
+ImageI32 readIntImage(const std::string& path, FitsHeader* header) {
+  FitsPtr f = detail::openFits(path);
+  moveToImage(f.get(), path);
+  const ImageShape shape = readShape(f.get(), path);
+  requireTwoDimensional(shape, path);
+  requireCompleteData(f.get(), path);
+  FitsHeader cards = readHeaderCards(f.get(), path);
+  const double bscale = cards.number("BSCALE").value_or(1.0);
+  const double bzero = cards.number("BZERO").value_or(0.0);
+  if (shape.bitpix < 0 || bscale != 1.0 || bzero != std::floor(bzero)) {
+    throw IoError(path + ": not an integer image (BITPIX " + std::to_string(shape.bitpix) +
+                  (bscale != 1.0 ? ", BSCALE != 1" : "") +
+                  (bzero != std::floor(bzero) ? ", non-integer BZERO" : "") +
+                  "), expected integer labels");
+  }
+  ImageI32 pixels(shape.naxes[0], shape.naxes[1]);
+  long first[kMaxAxes];
+  std::fill(std::begin(first), std::end(first), 1L);
+  int anyNull = 0;
+  int status = 0;
+  // A null value of 0 disables BLANK substitution: labels are read as stored.
+  fits_read_pix(f.get(), TINT, first, static_cast<LONGLONG>(shape.naxes[0]) * shape.naxes[1],
+                nullptr, pixels.data(), &anyNull, &status);
+  if (status == NUM_OVERFLOW) {
+    fits_clear_errmsg();
+    throw IoError(path + ": integer image has values outside the 32-bit range");
+  }
+  throwIfFitsError(status, path, "cannot read pixels, file truncated or corrupt");
+  if (header != nullptr) *header = std::move(cards);
+  return pixels;
+}
+
+namespace {
+
+// Keywords that describe the data layout: writeImageFile writes its own.
+bool isStructural(const std::string& card) {
+  const std::string key = card.substr(0, 8);
+  static const char* const kExact[] = {"SIMPLE  ", "XTENSION", "BITPIX  ", "NAXIS   ", "PCOUNT  ",
+                                       "GCOUNT  ", "EXTEND  ", "BSCALE  ", "BZERO   ", "BLANK   ",
+                                       "END     ", "CHECKSUM", "DATASUM ", "THEAP   "};
+  for (const char* exact : kExact) {
+    if (key == exact) return true;
+  }
+  if (key.compare(0, 5, "NAXIS") == 0) return true;  // NAXIS1, NAXIS2, ...
+  // The two reference comments cfitsio writes into every primary header would repeat.
+  if (key == "COMMENT " &&
+      (card.find("FITS (Flexible Image Transport System) format is") != std::string::npos ||
+       card.find("and Astrophysics', volume 376, page 359") != std::string::npos)) {
+    return true;
+  }
+  return false;
+}
+
+void writeHdu(fitsfile* f, const std::string& path, const OutputImageHdu& hdu) {
+  const bool isInt = hdu.intPixels != nullptr;
+  if (isInt == (hdu.floatPixels != nullptr)) {
+    throw IoError(path + ": each output HDU needs exactly one of float or int pixels");
+  }
+  const std::int64_t width = isInt ? hdu.intPixels->width() : hdu.floatPixels->width();
+  const std::int64_t height = isInt ? hdu.intPixels->height() : hdu.floatPixels->height();
+  if (width <= 0 || height <= 0) throw IoError(path + ": cannot write an empty image");
+  long naxes[2] = {static_cast<long>(width), static_cast<long>(height)};
+  int status = 0;
+  fits_create_img(f, isInt ? LONG_IMG : FLOAT_IMG, 2, naxes, &status);
+  throwIfFitsError(status, path, "cannot create image HDU");
+  for (const std::string& card : hdu.header.cards) {
+    if (isStructural(card)) continue;
+    fits_write_record(f, card.c_str(), &status);
+    throwIfFitsError(status, path, "cannot write header card '" + card.substr(0, 8) + "'");
+  }
+  long first[2] = {1, 1};
+  const LONGLONG count = static_cast<LONGLONG>(width) * height;
+  if (isInt) {
+    fits_write_pix(f, TINT, first, count, const_cast<std::int32_t*>(hdu.intPixels->data()),
+                   &status);
+  } else {
+    fits_write_pix(f, TFLOAT, first, count, const_cast<float*>(hdu.floatPixels->data()), &status);
+  }
+  throwIfFitsError(status, path, "cannot write pixels");
+}
+
+}  // namespace
+
+void writeImageFileSequential(const std::string& path, int hduCount,
+                              const std::function<void(int k, OutputImageHdu& hdu)>& fill) {
+  if (hduCount <= 0) throw IoError(path + ": nothing to write");
+  AtomicFile out(path);
+  // cfitsio will not overwrite an existing file; the temporary name is fresh, and the rename
+  // in commit() replaces the target.
+  FitsPtr f = detail::createFits(out.tempPath());
+  int status = 0;
+  if (hduCount > 1) {
+    fits_create_img(f.get(), BYTE_IMG, 0, nullptr, &status);
+    throwIfFitsError(status, path, "cannot create primary HDU");
+  }
+  for (int k = 0; k < hduCount; ++k) {
+    OutputImageHdu hdu;
+    fill(k, hdu);
+    writeHdu(f.get(), path, hdu);
+  }
+  // Close explicitly: buffered data is flushed here, and a failure must not be ignored.
+  fits_close_file(f.release(), &status);
+  throwIfFitsError(status, path, "cannot write file");
+  out.commit();
+}
+
+void writeImageFile(const std::string& path, const std::vector<OutputImageHdu>& hdus) {
+  writeImageFileSequential(path, static_cast<int>(hdus.size()),
+                           [&](int k, OutputImageHdu& hdu) { hdu = hdus[std::size_t(k)]; });
+}
+
+}  // namespace octarc

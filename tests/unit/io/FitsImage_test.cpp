@@ -1,0 +1,435 @@
+#include "octarc/io/FitsImage.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "IoTestFiles.h"
+#include "TestPaths.h"
+#include "octarc/core/Error.h"
+
+namespace octarc {
+namespace {
+
+namespace fs = std::filesystem;
+using test::card;
+using test::FitsWriter;
+
+// Expects an IoError whose one-line message names the file.
+template <typename Fn>
+void expectIoError(Fn&& fn, const std::string& fileName, const std::string& fragment = "") {
+  try {
+    fn();
+    ADD_FAILURE() << "no IoError for " << fileName;
+  } catch (const IoError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(fileName), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    if (!fragment.empty()) {
+      EXPECT_NE(what.find(fragment), std::string::npos) << what;
+    }
+  }
+}
+
+struct BitpixCase {
+  int bitpix;
+  double bscale;
+  double bzero;
+  std::vector<double> raw;  // stored values
+};
+
+TEST(FitsImage, EveryBitpixWithScalingReadsPhysicalValues) {
+  const fs::path dir = test::scratchDir();
+  const std::vector<BitpixCase> cases = {
+      {8, 1.0, -128.0, {0, 1, 127, 128, 200, 255}},                        // signed bytes
+      {16, 1.0, 32768.0, {-32768, -1, 0, 1, 1000, 32767}},                 // unsigned 16-bit
+      {32, 2.0, 10.0, {-5, 0, 7, 1000000, -1000000, 3}},                   // scaled 32-bit
+      {64, 1.0, 0.0, {-1099511627776.0, 0, 1, 2, 4096, 1099511627776.0}},  // 2^40, exact in float
+      {-32, 0.5, 1.0, {3.0, -2.5, 0.0, 1e6, 0.25, -7.0}},
+      {-64, 1.0, 0.0, {0.1, -3.75, 1e-20, 6.5e30, 0.0, 2.0}},
+  };
+  for (const BitpixCase& c : cases) {
+    const fs::path path = dir / ("bitpix" + std::to_string(c.bitpix) + ".fits");
+    std::vector<std::string> cards;
+    if (c.bscale != 1.0 || c.bzero != 0.0) {
+      cards = {card("BSCALE", std::to_string(c.bscale)), card("BZERO", std::to_string(c.bzero))};
+    }
+    FitsWriter(path).image(c.bitpix, {3, 2}, c.raw, cards);
+    const ImageHdu hdu = readImage(path.string());
+    SCOPED_TRACE("BITPIX " + std::to_string(c.bitpix));
+    EXPECT_EQ(hdu.bitpix, c.bitpix);
+    EXPECT_EQ(hdu.hduIndex, 0);
+    EXPECT_EQ(hdu.path, path.string());
+    ASSERT_EQ(hdu.pixels.width(), 3);
+    ASSERT_EQ(hdu.pixels.height(), 2);
+    for (std::size_t i = 0; i < c.raw.size(); ++i) {
+      const float expected = static_cast<float>(c.raw[i] * c.bscale + c.bzero);
+      EXPECT_EQ(hdu.pixels[static_cast<std::int64_t>(i)], expected) << "pixel " << i;
+    }
+    // Row order: the second row (y = 1) starts with the fourth stored value.
+    EXPECT_EQ(hdu.pixels(0, 1), static_cast<float>(c.raw[3] * c.bscale + c.bzero));
+    EXPECT_EQ(hdu.header.number("NAXIS1"), 3.0);
+  }
+}
+
+TEST(FitsImage, BlankAndNanPixelsBecomeNan) {
+  const fs::path dir = test::scratchDir();
+  FitsWriter(dir / "blank.fits")
+      .image(16, {2, 2}, {5, -1, 7, -1}, {card("BLANK", "-1"), card("BZERO", "100")});
+  const ImageHdu hdu = readImage((dir / "blank.fits").string());
+  EXPECT_EQ(hdu.pixels[0], 105.0f);
+  EXPECT_TRUE(std::isnan(hdu.pixels[1]));
+  EXPECT_EQ(hdu.pixels[2], 107.0f);
+  EXPECT_TRUE(std::isnan(hdu.pixels[3]));
+
+  FitsWriter(dir / "nan.fits").image(-32, {2, 1}, {std::nan(""), 4.0});
+  const ImageHdu f = readImage((dir / "nan.fits").string());
+  EXPECT_TRUE(std::isnan(f.pixels[0]));
+  EXPECT_EQ(f.pixels[1], 4.0f);
+}
+
+// Empty primary, SCI image, a table, WHT image.
+fs::path writeMef(const fs::path& dir) {
+  const fs::path path = dir / "mef.fits";
+  FitsWriter(path)
+      .emptyPrimary()
+      .image(-32, {2, 2}, {1, 2, 3, 4}, {card("EXTNAME", "'SCI'"), card("GAIN", "2.0")})
+      .table("CAT")
+      .image(16, {2, 2}, {10, 20, 30, 40}, {card("EXTNAME", "'WHT'")});
+  return path;
+}
+
+TEST(FitsImage, MefListingSkipsEmptyPrimaryAndTables) {
+  const fs::path dir = test::scratchDir();
+  const std::string path = writeMef(dir).string();
+  EXPECT_EQ(listImageHdus(path), (std::vector<std::string>{path + "[1]", path + "[3]"}));
+  EXPECT_EQ(listImageHdus(path + "[WHT]"), std::vector<std::string>{path + "[WHT]"});
+
+  // A plain single image gives the path unchanged; an image primary plus an image extension
+  // gives both.
+  FitsWriter(dir / "plain.fits").image(-32, {2, 2}, {1, 2, 3, 4});
+  EXPECT_EQ(listImageHdus((dir / "plain.fits").string()),
+            std::vector<std::string>{(dir / "plain.fits").string()});
+  FitsWriter(dir / "two.fits").image(-32, {2, 2}, {1, 2, 3, 4}).image(-32, {1, 1}, {5});
+  const std::string two = (dir / "two.fits").string();
+  EXPECT_EQ(listImageHdus(two), (std::vector<std::string>{two + "[0]", two + "[1]"}));
+}
+
+TEST(FitsImage, ExtendedSyntaxSelectsHduByNumberAndName) {
+  const fs::path dir = test::scratchDir();
+  const std::string path = writeMef(dir).string();
+  const ImageHdu sci = readImage(path + "[SCI]");
+  EXPECT_EQ(sci.hduIndex, 1);
+  EXPECT_EQ(sci.extname, "SCI");
+  EXPECT_EQ(sci.header.number("GAIN"), 2.0);
+  EXPECT_EQ(sci.pixels(1, 1), 4.0f);
+  const ImageHdu wht = readImage(path + "[3]");
+  EXPECT_EQ(wht.hduIndex, 3);
+  EXPECT_EQ(wht.extname, "WHT");
+  EXPECT_EQ(wht.bitpix, 16);
+  EXPECT_EQ(wht.pixels(0, 1), 30.0f);
+  // A plain path reads the first image that holds data.
+  EXPECT_EQ(readImage(path).extname, "SCI");
+  // Header only: same header and size, no pixels.
+  const ImageHdu header = readImageHeader(path + "[WHT]");
+  EXPECT_EQ(header.extname, "WHT");
+  EXPECT_EQ(header.header.number("NAXIS2"), 2.0);
+  EXPECT_TRUE(header.pixels.empty());
+  // Every listed path reads back.
+  for (const std::string& p : listImageHdus(path)) EXPECT_NO_THROW(readImage(p));
+}
+
+TEST(FitsImage, TileCompressedFileReadsLikeTheOriginal) {
+  const fs::path dir = test::scratchDir();
+  const fs::path original = dir / "plain.fits";
+  std::vector<double> raw;
+  for (int i = 0; i < 40 * 30; ++i) raw.push_back((i * 37) % 2001 - 1000);
+  FitsWriter(original).image(
+      16, {40, 30}, raw,
+      {card("BZERO", "32768"), card("CRPIX1", "20.5"), card("CTYPE1", "'RA---TAN'")});
+  ASSERT_EQ(test::run("cd '" + dir.string() + "' && fpack plain.fits"), 0) << "fpack failed";
+  const std::string packed = (dir / "plain.fits.fz").string();
+  ASSERT_TRUE(fs::exists(packed));
+
+  EXPECT_EQ(listImageHdus(packed), std::vector<std::string>{packed + "[1]"});
+  const ImageHdu a = readImage(original.string());
+  const ImageHdu b = readImage(packed);
+  EXPECT_EQ(b.hduIndex, 1);
+  EXPECT_EQ(b.bitpix, 16);
+  ASSERT_EQ(b.pixels.width(), 40);
+  ASSERT_EQ(b.pixels.height(), 30);
+  EXPECT_EQ(a.pixels.pixels(), b.pixels.pixels());
+  EXPECT_EQ(b.pixels(1, 0), 32768.0f - 963.0f);  // raw 37 - 1000, + BZERO
+  // The header is the uncompressed image header, not the binary table's.
+  EXPECT_EQ(b.header.value("CTYPE1"), "RA---TAN");
+  EXPECT_EQ(b.header.number("NAXIS1"), 40.0);
+  EXPECT_EQ(b.header.number("BITPIX"), 16.0);
+  EXPECT_FALSE(b.header.has("ZIMAGE"));
+  EXPECT_FALSE(b.header.has("TFIELDS"));
+  EXPECT_EQ(readImage(packed + "[1]").pixels.pixels(), a.pixels.pixels());
+}
+
+TEST(FitsImage, DegenerateThirdAxisIsAccepted) {
+  const fs::path dir = test::scratchDir();
+  FitsWriter(dir / "cube1.fits").image(-32, {2, 2, 1}, {1, 2, 3, 4});
+  const ImageHdu hdu = readImage((dir / "cube1.fits").string());
+  EXPECT_EQ(hdu.pixels.width(), 2);
+  EXPECT_EQ(hdu.pixels(1, 1), 4.0f);
+}
+
+TEST(FitsImage, BadInputGivesOneLineIoErrorNamingTheFile) {
+  const fs::path dir = test::scratchDir();
+  const std::string missing = (dir / "missing.fits").string();
+  expectIoError([&] { readImage(missing); }, missing);
+  expectIoError([&] { listImageHdus(missing); }, missing);
+
+  const fs::path text = dir / "notfits.fits";
+  { std::ofstream(text) << "this is not a FITS file\n" << std::string(3000, 'x'); }
+  expectIoError([&] { readImage(text.string()); }, text.string());
+
+  // Truncated: the header promises 100x100 floats, the file stops half way through the data.
+  const fs::path truncated = dir / "truncated.fits";
+  FitsWriter(truncated).image(-32, {100, 100}, std::vector<double>(10000, 1.0));
+  fs::resize_file(truncated, 2880 + 20000);
+  expectIoError([&] { readImage(truncated.string()); }, truncated.string(), "truncated");
+  expectIoError([&] { readImageHeader(truncated.string()); }, truncated.string(), "truncated");
+  expectIoError([&] { readIntImage(truncated.string()); }, truncated.string(), "truncated");
+
+  const std::string mef = writeMef(dir).string();
+  expectIoError([&] { readImage(mef + "[2]"); }, mef, "binary table");
+  expectIoError([&] { readImage(mef + "[CAT]"); }, mef, "not an image");
+  expectIoError([&] { listImageHdus(mef + "[2]"); }, mef, "not an image");
+
+  const fs::path tableOnly = dir / "tableonly.fits";
+  FitsWriter(tableOnly).emptyPrimary().table("CAT");
+  expectIoError([&] { readImage(tableOnly.string()); }, tableOnly.string(), "no image");
+  expectIoError([&] { listImageHdus(tableOnly.string()); }, tableOnly.string(), "no image");
+
+  const fs::path oneD = dir / "oned.fits";
+  FitsWriter(oneD).image(-32, {5}, {1, 2, 3, 4, 5});
+  expectIoError([&] { readImage(oneD.string()); }, oneD.string(), "NAXIS = 1");
+  const fs::path cube = dir / "cube.fits";
+  FitsWriter(cube).image(-32, {2, 2, 2}, {1, 2, 3, 4, 5, 6, 7, 8});
+  expectIoError([&] { readImage(cube.string()); }, cube.string(), "NAXIS3 = 2");
+  expectIoError([&] { listImageHdus(cube.string()); }, cube.string(), "NAXIS = 3");
+}
+
+TEST(FitsImage, ReadIntImageIsExactAndRejectsNonIntegerImages) {
+  const fs::path dir = test::scratchDir();
+  // 2147483000 has no exact float representation: the int path must not go through float.
+  const fs::path seg = dir / "seg.fits";
+  FitsWriter(seg).image(32, {3, 1}, {0, 7, 2147483000.0}, {card("CRVAL1", "12.5")});
+  FitsHeader header;
+  const ImageI32 labels = readIntImage(seg.string(), &header);
+  ASSERT_EQ(labels.width(), 3);
+  EXPECT_EQ(labels[0], 0);
+  EXPECT_EQ(labels[1], 7);
+  EXPECT_EQ(labels[2], 2147483000);
+  EXPECT_EQ(header.number("CRVAL1"), 12.5);
+
+  const fs::path u16 = dir / "u16.fits";  // unsigned 16-bit: integer BZERO is still integer
+  FitsWriter(u16).image(16, {2, 1}, {-32768, 32767}, {card("BZERO", "32768")});
+  const ImageI32 u = readIntImage(u16.string());
+  EXPECT_EQ(u[0], 0);
+  EXPECT_EQ(u[1], 65535);
+
+  const fs::path flt = dir / "float.fits";
+  FitsWriter(flt).image(-32, {2, 1}, {1, 2});
+  expectIoError([&] { readIntImage(flt.string()); }, flt.string(), "not an integer image");
+  const fs::path scaled = dir / "scaled.fits";
+  FitsWriter(scaled).image(16, {2, 1}, {1, 2}, {card("BSCALE", "2.0")});
+  expectIoError([&] { readIntImage(scaled.string()); }, scaled.string(), "not an integer image");
+  const fs::path big = dir / "big.fits";
+  FitsWriter(big).image(64, {2, 1}, {1, 4294967296.0});
+  expectIoError([&] { readIntImage(big.string()); }, big.string(), "32-bit");
+}
+
+// fitsverify -q prints one summary line and exits with the number of errors plus warnings.
+void expectFitsverifyOk(const fs::path& path) {
+  const fs::path log = path.string() + ".verify";
+  const int rc = test::run("fitsverify -q '" + path.string() + "' > '" + log.string() + "' 2>&1");
+  EXPECT_EQ(rc, 0) << test::readText(log);
+  EXPECT_NE(test::readText(log).find("verification OK"), std::string::npos) << test::readText(log);
+}
+
+TEST(FitsImage, WriteImageFileRoundTripsIntAndFloatKeepingWcsCards) {
+  const fs::path dir = test::scratchDir();
+  FitsHeader header;
+  header.cards = {
+      card("SIMPLE", "T"),          card("BITPIX", "16"),     card("NAXIS", "2"),
+      card("NAXIS1", "999"),        card("NAXIS2", "999"),    card("BZERO", "32768"),
+      card("BSCALE", "1"),          card("BLANK", "-1"),      card("CTYPE1", "'RA---TAN'"),
+      card("CTYPE2", "'DEC--TAN'"), card("CRVAL1", "150.25"), card("CRPIX1", "12.0"),
+      card("CD1_1", "-2.8E-05")};
+  header.set("HISTORY", "made by the test");
+
+  ImageI32 labels(4, 3, 0);
+  labels(1, 1) = 2;
+  labels(3, 2) = 2147483000;
+  labels(0, 2) = -5;
+  const fs::path segPath = dir / "seg.fits";
+  writeImageFile(segPath.string(), {{header, nullptr, &labels}});
+  expectFitsverifyOk(segPath);
+  FitsHeader back;
+  const ImageI32 read = readIntImage(segPath.string(), &back);
+  EXPECT_EQ(read.pixels(), labels.pixels());
+  EXPECT_EQ(back.number("BITPIX"), 32.0);
+  EXPECT_EQ(back.number("NAXIS1"), 4.0);
+  EXPECT_EQ(back.value("CTYPE2"), "DEC--TAN");
+  EXPECT_EQ(back.number("CRVAL1"), 150.25);
+  EXPECT_EQ(back.number("CD1_1"), -2.8e-05);
+  EXPECT_FALSE(back.has("BZERO"));
+  EXPECT_FALSE(back.has("BLANK"));
+  int history = 0;
+  for (const std::string& c : back.cards) history += c.rfind("HISTORY made by the test", 0) == 0;
+  EXPECT_EQ(history, 1);
+
+  ImageF values(3, 2, 0.0f);
+  values(0, 0) = 1.5f;
+  values(2, 1) = -1e30f;
+  values(1, 0) = std::nanf("");
+  const fs::path floatPath = dir / "float.fits";
+  writeImageFile(floatPath.string(), {{header, &values, nullptr}});
+  expectFitsverifyOk(floatPath);
+  const ImageHdu f = readImage(floatPath.string());
+  EXPECT_EQ(f.bitpix, -32);
+  EXPECT_EQ(f.pixels(0, 0), 1.5f);
+  EXPECT_EQ(f.pixels(2, 1), -1e30f);
+  EXPECT_TRUE(std::isnan(f.pixels(1, 0)));
+  EXPECT_EQ(f.header.value("CTYPE1"), "RA---TAN");
+
+  // Writing again replaces the file, and no temporary file is left behind.
+  values(0, 0) = 2.5f;
+  writeImageFile(floatPath.string(), {{header, &values, nullptr}});
+  EXPECT_EQ(readImage(floatPath.string()).pixels(0, 0), 2.5f);
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << entry.path();
+  }
+}
+
+TEST(FitsImage, WriteImageFileWithSeveralHdusWritesMef) {
+  const fs::path dir = test::scratchDir();
+  FitsHeader h1;
+  h1.set("EXTNAME", quoteFitsString("CHIP1"));
+  h1.set("XTENSION", quoteFitsString("IMAGE"));  // structural: replaced, not duplicated
+  FitsHeader h2;
+  h2.set("EXTNAME", quoteFitsString("CHIP2"));
+  ImageI32 a(2, 2, 1);
+  ImageF b(3, 1, 0.5f);
+  const fs::path path = dir / "check.fits";
+  writeImageFile(path.string(), {{h1, nullptr, &a}, {h2, &b, nullptr}});
+  expectFitsverifyOk(path);
+  const std::string p = path.string();
+  EXPECT_EQ(listImageHdus(p), (std::vector<std::string>{p + "[1]", p + "[2]"}));
+  const ImageHdu chip1 = readImageHeader(p + "[CHIP1]");
+  EXPECT_EQ(chip1.hduIndex, 1);
+  EXPECT_EQ(chip1.bitpix, 32);
+  const ImageHdu chip2 = readImage(p + "[CHIP2]");
+  EXPECT_EQ(chip2.hduIndex, 2);
+  EXPECT_EQ(chip2.bitpix, -32);
+  EXPECT_EQ(chip2.pixels(2, 0), 0.5f);
+  EXPECT_EQ(readIntImage(p + "[1]").pixels(), a.pixels());
+}
+
+TEST(FitsImage, WriteImageFileSequentialFillsOneHduAtATime) {
+  const fs::path dir = test::scratchDir();
+  const fs::path path = dir / "levels.fits";
+  ImageI32 labels;  // one buffer reused for every HDU
+  std::vector<int> calls;
+  writeImageFileSequential(path.string(), 3, [&](int k, OutputImageHdu& hdu) {
+    calls.push_back(k);
+    EXPECT_EQ(hdu.intPixels, nullptr);  // a fresh HDU each time
+    EXPECT_TRUE(hdu.header.cards.empty());
+    labels = ImageI32(2, 2, 10 * (k + 1));
+    hdu.header.set("EXTNAME", quoteFitsString("LEVEL" + std::to_string(k + 1)));
+    hdu.intPixels = &labels;
+  });
+  EXPECT_EQ(calls, (std::vector<int>{0, 1, 2}));
+  expectFitsverifyOk(path);
+  const std::string p = path.string();
+  ASSERT_EQ(listImageHdus(p).size(), 3u);
+  EXPECT_EQ(readIntImage(p + "[LEVEL1]")[0], 10);
+  EXPECT_EQ(readIntImage(p + "[LEVEL3]")[3], 30);
+  EXPECT_EQ(readImageHeader(p + "[2]").extname, "LEVEL2");
+
+  // A single HDU is a primary image, as with writeImageFile.
+  const fs::path single = dir / "single.fits";
+  writeImageFileSequential(single.string(), 1, [&](int, OutputImageHdu& hdu) {
+    labels = ImageI32(1, 1, 4);
+    hdu.intPixels = &labels;
+  });
+  EXPECT_EQ(listImageHdus(single.string()), std::vector<std::string>{single.string()});
+  // A failure part way leaves no file.
+  const fs::path failed = dir / "failed.fits";
+  EXPECT_THROW(writeImageFileSequential(failed.string(), 2,
+                                        [&](int k, OutputImageHdu& hdu) {
+                                          if (k == 1) throw IoError("stop");
+                                          labels = ImageI32(1, 1, 4);
+                                          hdu.intPixels = &labels;
+                                        }),
+               IoError);
+  EXPECT_FALSE(fs::exists(failed));
+}
+
+TEST(FitsImage, WriteImageFileFailureLeavesNoFile) {
+  const fs::path dir = test::scratchDir();
+  ImageF empty;
+  const fs::path path = dir / "never.fits";
+  expectIoError(
+      [&] {
+        writeImageFile(path.string(), {{FitsHeader{}, &empty, nullptr}});
+      },
+      path.string());
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_TRUE(fs::is_empty(dir));
+  const fs::path noDir = dir / "no-such-dir" / "out.fits";
+  ImageF one(1, 1, 1.0f);
+  EXPECT_THROW(writeImageFile(noDir.string(), {{FitsHeader{}, &one, nullptr}}), IoError);
+}
+
+TEST(FitsImage, RealNttImageMatchesAstropy) {
+  OCTARC_REQUIRE_SHARED_DATA(shared);
+  if (!test::haveAstropy()) GTEST_SKIP() << "/usr/bin/python3 with astropy not available";
+  const fs::path image = shared / "ntt-emmi" / "galaxies.fits";
+  const fs::path dir = test::scratchDir();
+  const fs::path out = dir / "astropy.txt";
+  // astropy's data array is indexed [y, x] with 0-based indices.
+  const std::string script =
+      "import warnings\n"
+      "from astropy.io import fits\n"
+      "warnings.simplefilter('ignore')\n"
+      "d = fits.getdata('" +
+      image.string() +
+      "')\n"
+      "print(d.shape[1], d.shape[0])\n"
+      "for x, y in [(0, 0), (511, 300), (1023, 1023), (17, 900)]:\n"
+      "    print(repr(float(d[y, x])))\n";
+  { std::ofstream(dir / "read.py") << script; }
+  ASSERT_EQ(
+      test::run("/usr/bin/python3 '" + (dir / "read.py").string() + "' > '" + out.string() + "'"),
+      0);
+  std::ifstream in(out);
+  long width = 0;
+  long height = 0;
+  in >> width >> height;
+  const ImageHdu hdu = readImage(image.string());
+  EXPECT_EQ(hdu.bitpix, 16);
+  ASSERT_EQ(hdu.pixels.width(), width);
+  ASSERT_EQ(hdu.pixels.height(), height);
+  const int xs[] = {0, 511, 1023, 17};
+  const int ys[] = {0, 300, 1023, 900};
+  for (int i = 0; i < 4; ++i) {
+    double expected = 0.0;
+    in >> expected;
+    // astropy scales in single precision, cfitsio in double then rounds: 1 ulp apart at most.
+    EXPECT_NEAR(hdu.pixels(xs[i], ys[i]), expected, 1e-6 * std::fabs(expected))
+        << xs[i] << "," << ys[i];
+  }
+  EXPECT_EQ(listImageHdus(image.string()), std::vector<std::string>{image.string()});
+}
+
+}  // namespace
+}  // namespace octarc

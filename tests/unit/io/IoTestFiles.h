@@ -1,0 +1,107 @@
+// Small FITS files written with cfitsio at test time, so that no binary test data is committed.
+#pragma once
+
+#include <fitsio.h>
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace octarc::test {
+
+// A FITS file under construction; each call appends one HDU (the first is the primary).
+class FitsWriter {
+ public:
+  explicit FitsWriter(const std::filesystem::path& path) : path_(path.string()) {
+    std::filesystem::remove(path);
+    fits_create_file(&f_, path_.c_str(), &status_);
+    check("create");
+  }
+  ~FitsWriter() {
+    if (f_ != nullptr) close();
+  }
+  void close() {
+    fits_close_file(f_, &status_);
+    f_ = nullptr;
+    check("close");
+  }
+
+  // An image HDU holding the raw stored values (no scaling applied by cfitsio), plus cards.
+  FitsWriter& image(int bitpix, std::vector<long> naxes, const std::vector<double>& raw,
+                    const std::vector<std::string>& cards = {}) {
+    fits_create_img(f_, bitpix, static_cast<int>(naxes.size()), naxes.data(), &status_);
+    check("create_img");
+    for (const std::string& card : cards) {
+      fits_write_record(f_, card.c_str(), &status_);
+      check("write_record " + card);
+    }
+    if (!raw.empty()) {
+      // The BSCALE/BZERO cards written above are for the reader; store raw values unchanged.
+      fits_set_bscale(f_, 1.0, 0.0, &status_);
+      if (bitpix > 0) fits_set_imgnull(f_, 0, &status_);
+      check("set_bscale");
+      std::vector<double> copy = raw;
+      fits_write_img(f_, TDOUBLE, 1, static_cast<LONGLONG>(copy.size()), copy.data(), &status_);
+      check("write_img");
+    }
+    return *this;
+  }
+  FitsWriter& emptyPrimary() { return image(8, {}, {}); }
+  // A one-column binary table HDU.
+  FitsWriter& table(const std::string& extname) {
+    char ttype[] = "NUMBER";
+    char tform[] = "1J";
+    char* types[] = {ttype};
+    char* forms[] = {tform};
+    fits_create_tbl(f_, BINARY_TBL, 0, 1, types, forms, nullptr, extname.c_str(), &status_);
+    check("create_tbl");
+    return *this;
+  }
+
+ private:
+  void check(const std::string& what) {
+    if (status_ != 0) {
+      char text[FLEN_STATUS];
+      fits_get_errstatus(status_, text);
+      ADD_FAILURE() << path_ << ": " << what << ": " << text;
+      status_ = 0;
+    }
+  }
+  std::string path_;
+  fitsfile* f_ = nullptr;
+  int status_ = 0;
+};
+
+// A header card "KEY     = value" padded to 80 characters.
+inline std::string card(const std::string& key, const std::string& value) {
+  std::string c = key;
+  c.resize(8, ' ');
+  c += "= " + value;
+  c.resize(80, ' ');
+  return c;
+}
+
+// Runs a shell command; returns its exit status.
+inline int run(const std::string& command) {
+  const int rc = std::system(command.c_str());
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+inline std::string readText(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// True when /usr/bin/python3 with astropy is available (the reference for some tests).
+inline bool haveAstropy() {
+  static const bool ok = run("/usr/bin/python3 -c 'import astropy.wcs' >/dev/null 2>&1") == 0;
+  return ok;
+}
+
+}  // namespace octarc::test
