@@ -1,0 +1,53 @@
+// Catalog writers: SExtractor's FITS_LDAC, FITS_1.0, ASCII_HEAD and ASCII formats.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "octarc/core/Table.h"
+#include "octarc/io/FitsHeader.h"
+
+namespace octarc {
+
+enum class CatalogType { FitsLdac, Fits10, AsciiHead, Ascii, None };
+
+// Parses a CATALOG_TYPE value (case-insensitive): FITS_LDAC, FITS_1.0, ASCII_HEAD, ASCII, NONE.
+// Throws ConfigError for ASCII_SKYCAT, ASCII_VOTABLE and FITS_TPX (known to SExtractor, not
+// supported here) and for anything else.
+CatalogType parseCatalogType(const std::string& keyword);
+
+// The SExtractor spelling of a catalog type ("FITS_LDAC", "FITS_1.0", ...).
+std::string catalogTypeName(CatalogType type);
+
+// One measured image extension.
+struct CatalogPart {
+  FitsHeader imageHeader;             // header of the measured image (copied into LDAC_IMHEAD)
+  std::vector<std::string> runCards;  // 80-char cards appended after the image cards (SEx*, OCT*)
+  const Table* objects = nullptr;     // one row per object, in output order
+};
+
+// Writes a catalog atomically (temporary file + rename); CatalogType::None writes nothing.
+// - FitsLdac: empty primary HDU, then one LDAC_IMHEAD/LDAC_OBJECTS pair per part.
+// - Fits10: primary HDU holding `fits10PrimaryCards` (see sexFits10Cards()), then one
+//   BINTABLE 'OBJECTS' holding the rows of every part in order.
+// - AsciiHead/Ascii: one line per object ("# %3d %-22.22s %-58.58s [unit]" header lines first for
+//   AsciiHead), every part in order.
+// With several parts, every part must declare the same columns (ConfigError otherwise).
+// Throws IoError naming `path` when it cannot be written.
+void writeCatalog(const std::string& path, CatalogType type, const std::vector<CatalogPart>& parts,
+                  const std::vector<std::string>& fits10PrimaryCards = {});
+
+// FITS TDISP value for a printf format: "%10d" -> "I10", "%11.4f" -> "F11.4", "%18.10e" ->
+// "E18.10", "%12.7g" -> "G12.7", "%+6.2f" -> "F6.2". Empty when the format has no width or is
+// not one of d, i, f, e, E, g, G.
+std::string tdispFromPrintf(const std::string& printfFormat);
+
+// FITS TFORM value with its repeat count: "1E", "3D", "1J"...
+std::string tformOf(const ColumnSpec& column);
+
+// One value as the ASCII catalogs print it: the column's printf format applied to the value
+// converted to the column's storage type (integers as integers, floats rounded to float first).
+// NaN in a floating-point column prints as C's printf does ("nan"); integer columns store NaN as 0.
+std::string formatAsciiValue(const ColumnSpec& column, double value);
+
+}  // namespace octarc

@@ -1,0 +1,33 @@
+// Reading an existing SExtractor catalog (FITS_LDAC or FITS_1.0) and appending columns to it.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "octarc/core/Table.h"
+#include "octarc/io/FitsHeader.h"
+
+namespace octarc {
+
+struct InputCatalogPart {
+  FitsHeader imageHeader;  // cards of the LDAC_IMHEAD cell without END (empty for FITS_1.0)
+  int objectsHdu = 0;      // HDU number of the objects table, 1-based as cfitsio (primary = 1)
+  std::vector<std::int64_t> numbers;     // NUMBER column, in row order
+  std::vector<std::string> columnNames;  // TTYPE values, in column order
+};
+
+// One part per LDAC_OBJECTS table (with the LDAC_IMHEAD before it), or the OBJECTS table of a
+// FITS_1.0 catalog. Throws IoError naming the file when it cannot be opened as FITS, holds no
+// LDAC_OBJECTS/OBJECTS table, or a table has no NUMBER column.
+std::vector<InputCatalogPart> readInputCatalog(const std::string& path);
+
+// Writes `outputPath` = the input catalog unchanged (every HDU, column, unit and LDAC_IMHEAD kept)
+// with the columns of appended[i] added at the end of the i-th objects table, row r of
+// appended[i] going to row r of that table. Written atomically: `outputPath` may equal
+// `inputPath`, the input being replaced only by the final rename. ConfigError if an appended
+// column name already exists in the table; IoError if the number of tables or of rows differs.
+void writeAppendedCatalog(const std::string& inputPath, const std::string& outputPath,
+                          const std::vector<const Table*>& appended);
+
+}  // namespace octarc

@@ -1,0 +1,31 @@
+// Internal helpers shared by the FITS catalog writer and the column appender.
+#pragma once
+
+#include <string>
+
+#include "octarc/core/Table.h"
+#include "octarc/io/detail/Cfitsio.h"
+
+namespace octarc::detail {
+
+// Gives binary-table column `colnum` (1-based, already created by cfitsio) SExtractor's keyword
+// block: TTYPEn with the description as comment, TFORMn with its repeat count, TUNITn if the unit
+// is not empty, TDISPn from the printf format. The block goes right after the cards of column
+// n-1 (after EXTNAME/TFIELDS for the first column).
+void writeColumnCards(fitsfile* f, int colnum, const ColumnSpec& column, const std::string& path);
+
+// Writes every row of table column `column` into FITS column `colnum`, converted to the
+// column's storage type.
+void writeColumnData(fitsfile* f, int colnum, const Table& table, int column,
+                     const std::string& path);
+
+// Closes a file opened for writing and reports a failed close (a flush that did not reach disk).
+void closeWritten(fitsfile* f, const std::string& path);
+
+// The storage value of `value` in an integer column: rounded, clamped to the type's range, NaN
+// as 0 (FITS integer columns have no NaN and SExtractor writes no TNULL).
+long long integerValue(ColumnType type, double value);
+
+bool isIntegerType(ColumnType type);
+
+}  // namespace octarc::detail

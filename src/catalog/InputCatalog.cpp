@@ -1,0 +1,206 @@
+#include "octarc/catalog/InputCatalog.h"
+
+#include <filesystem>
+#include <set>
+
+#include "FitsColumns.h"
+#include "octarc/catalog/Catalog.h"
+#include "octarc/core/AtomicFile.h"
+#include "octarc/core/Error.h"
+#include "octarc/io/detail/Cfitsio.h"
+
+namespace octarc {
+
+namespace {
+
+std::string readExtname(fitsfile* f) {
+  char value[FLEN_VALUE] = {0};
+  int status = 0;
+  fits_read_key_str(f, "EXTNAME", value, nullptr, &status);
+  if (status != 0) {
+    fits_clear_errmsg();
+    return {};
+  }
+  return value;
+}
+
+// The cards of the LDAC_IMHEAD cell, up to (not including) END.
+FitsHeader readImhead(fitsfile* f, int hdu, const std::string& path) {
+  int status = 0;
+  long width = 0;
+  fits_read_key_lng(f, "NAXIS1", &width, nullptr, &status);
+  long rows = 0;
+  fits_get_num_rows(f, &rows, &status);
+  detail::throwIfFitsError(status, path,
+                           "cannot read LDAC_IMHEAD (HDU " + std::to_string(hdu) + ")");
+  if (rows < 1 || width < 80) {
+    throw IoError(path + ": LDAC_IMHEAD (HDU " + std::to_string(hdu) + ") holds no header cards");
+  }
+  std::string cell(std::size_t(width), ' ');
+  fits_read_tblbytes(f, 1, 1, width, reinterpret_cast<unsigned char*>(cell.data()), &status);
+  detail::throwIfFitsError(status, path,
+                           "cannot read LDAC_IMHEAD (HDU " + std::to_string(hdu) + ")");
+  FitsHeader header;
+  for (std::size_t at = 0; at + 80 <= cell.size(); at += 80) {
+    std::string card = cell.substr(at, 80);
+    if (card.compare(0, 8, "END     ") == 0) break;
+    header.cards.push_back(std::move(card));
+  }
+  return header;
+}
+
+std::vector<std::string> readColumnNames(fitsfile* f, const std::string& path) {
+  int status = 0;
+  int ncols = 0;
+  fits_get_num_cols(f, &ncols, &status);
+  detail::throwIfFitsError(status, path, "cannot read table columns");
+  std::vector<std::string> names;
+  for (int c = 1; c <= ncols; ++c) {
+    char key[FLEN_KEYWORD];
+    char value[FLEN_VALUE] = {0};
+    fits_make_keyn("TTYPE", c, key, &status);
+    fits_read_key_str(f, key, value, nullptr, &status);
+    if (status == KEY_NO_EXIST) {
+      status = 0;
+      fits_clear_errmsg();
+      value[0] = '\0';
+    }
+    detail::throwIfFitsError(status, path, "cannot read table columns");
+    names.push_back(value);
+  }
+  return names;
+}
+
+}  // namespace
+
+std::vector<InputCatalogPart> readInputCatalog(const std::string& path) {
+  detail::FitsPtr file = detail::openFits(path);
+  fitsfile* f = file.get();
+  int status = 0;
+  int nhdus = 0;
+  fits_get_num_hdus(f, &nhdus, &status);
+  detail::throwIfFitsError(status, path, "cannot read FITS structure");
+
+  std::vector<InputCatalogPart> parts;
+  FitsHeader pendingImhead;
+  for (int hdu = 1; hdu <= nhdus; ++hdu) {
+    int type = 0;
+    fits_movabs_hdu(f, hdu, &type, &status);
+    detail::throwIfFitsError(status, path, "cannot read HDU " + std::to_string(hdu));
+    if (type != BINARY_TBL) continue;
+    const std::string extname = readExtname(f);
+    if (extname == "LDAC_IMHEAD") {
+      pendingImhead = readImhead(f, hdu, path);
+      continue;
+    }
+    if (extname != "LDAC_OBJECTS" && extname != "OBJECTS") continue;
+
+    InputCatalogPart part;
+    part.imageHeader = std::move(pendingImhead);
+    pendingImhead = FitsHeader();
+    part.objectsHdu = hdu;
+    part.columnNames = readColumnNames(f, path);
+    const std::string where = extname + " table (HDU " + std::to_string(hdu) + ")";
+    int numberCol = 0;
+    for (std::size_t c = 0; c < part.columnNames.size(); ++c) {
+      if (part.columnNames[c] == "NUMBER") numberCol = int(c) + 1;
+    }
+    if (numberCol == 0) throw IoError(path + ": " + where + " has no NUMBER column");
+    int typecode = 0;
+    long repeat = 0;
+    long width = 0;
+    long rows = 0;
+    fits_get_coltype(f, numberCol, &typecode, &repeat, &width, &status);
+    fits_get_num_rows(f, &rows, &status);
+    detail::throwIfFitsError(status, path, "cannot read NUMBER of " + where);
+    if (repeat != 1 || typecode == TSTRING) {
+      throw IoError(path + ": NUMBER column of " + where + " is not a scalar integer");
+    }
+    part.numbers.resize(std::size_t(rows));
+    if (rows > 0) {
+      int anyNull = 0;
+      fits_read_col(f, TLONGLONG, numberCol, 1, 1, rows, nullptr, part.numbers.data(), &anyNull,
+                    &status);
+      detail::throwIfFitsError(status, path, "cannot read NUMBER of " + where);
+    }
+    parts.push_back(std::move(part));
+  }
+  if (parts.empty()) {
+    throw IoError(path + ": no LDAC_OBJECTS or OBJECTS table (not a SExtractor FITS_LDAC or " +
+                  "FITS_1.0 catalog)");
+  }
+  return parts;
+}
+
+void writeAppendedCatalog(const std::string& inputPath, const std::string& outputPath,
+                          const std::vector<const Table*>& appended) {
+  const std::vector<InputCatalogPart> parts = readInputCatalog(inputPath);
+  if (appended.size() != parts.size()) {
+    throw IoError(inputPath + ": holds " + std::to_string(parts.size()) +
+                  " objects table(s) but columns for " + std::to_string(appended.size()) +
+                  " were given");
+  }
+  AtomicFile out(outputPath);
+  std::error_code error;
+  std::filesystem::copy_file(inputPath, out.tempPath(),
+                             std::filesystem::copy_options::overwrite_existing, error);
+  if (error) throw IoError(outputPath + ": cannot write (" + error.message() + ")");
+
+  fitsfile* opened = nullptr;
+  int status = 0;
+  fits_open_diskfile(&opened, out.tempPath().c_str(), READWRITE, &status);  // no cfitsio syntax
+  if (status != 0 && opened != nullptr) {
+    int ignored = 0;
+    fits_close_file(opened, &ignored);
+  }
+  detail::throwIfFitsError(status, outputPath, "cannot write");
+  detail::FitsPtr file(opened);
+  fitsfile* f = file.get();
+  for (std::size_t p = 0; p < parts.size(); ++p) {
+    const Table* table = appended[p];
+    if (table == nullptr || table->columnCount() == 0) continue;
+    const InputCatalogPart& part = parts[p];
+    const std::string where = inputPath + ": objects table " + std::to_string(p + 1) + " (HDU " +
+                              std::to_string(part.objectsHdu) + ")";
+    // Checked part by part, before this part is touched; a failure leaves no output at all.
+    if (table->rows() != std::int64_t(part.numbers.size())) {
+      throw IoError(where + " has " + std::to_string(part.numbers.size()) + " rows but " +
+                    std::to_string(table->rows()) + " rows of new columns were given");
+    }
+    std::set<std::string> names(part.columnNames.begin(), part.columnNames.end());
+    for (const ColumnSpec& c : table->columns()) {
+      if (!names.insert(c.name).second) {
+        throw ConfigError(where + " already has a column " + c.name);
+      }
+    }
+    int type = 0;
+    fits_movabs_hdu(f, part.objectsHdu, &type, &status);
+    detail::throwIfFitsError(status, outputPath, "cannot write");
+    const bool hadChecksum = [&] {
+      char value[FLEN_VALUE];
+      int s = 0;
+      fits_read_keyword(f, "CHECKSUM", value, nullptr, &s);
+      fits_clear_errmsg();
+      return s == 0;
+    }();
+    int colnum = int(part.columnNames.size());
+    for (int c = 0; c < table->columnCount(); ++c) {
+      const ColumnSpec& spec = table->columns()[std::size_t(c)];
+      ++colnum;
+      const std::string tform = tformOf(spec);
+      fits_insert_col(f, colnum, const_cast<char*>(spec.name.c_str()),
+                      const_cast<char*>(tform.c_str()), &status);
+      detail::throwIfFitsError(status, outputPath, "cannot add column " + spec.name);
+      detail::writeColumnCards(f, colnum, spec, outputPath);
+      detail::writeColumnData(f, colnum, *table, c, outputPath);
+    }
+    if (hadChecksum) {
+      fits_write_chksum(f, &status);  // the old checksums no longer match the grown table
+      detail::throwIfFitsError(status, outputPath, "cannot update CHECKSUM");
+    }
+  }
+  detail::closeWritten(file.release(), outputPath);
+  out.commit();
+}
+
+}  // namespace octarc

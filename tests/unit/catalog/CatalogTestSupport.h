@@ -1,0 +1,54 @@
+// Shared helpers of the catalog tests: small FITS images, source-extractor runs, header and
+// table reading with cfitsio.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "octarc/core/Table.h"
+
+namespace octarc::test {
+
+// One header card split into keyword, value and comment (as cfitsio parses them).
+struct Card {
+  std::string key;
+  std::string value;
+  std::string comment;
+  std::string image;  // the 80 characters
+};
+
+// A 64x48 float32 image with GAIN=2 and OBJECT='test' holding a 3x2 block of 10, a 5-pixel
+// diagonal of 5s and an elliptical Gaussian (peak 100, sigma 3/2 px) cut below 0.5.
+void writeSmallImage(const std::filesystem::path& file);
+// Primary without data, then two image extensions: the small image and the same image with
+// only the block and the diagonal (two objects).
+void writeTwoExtensionImage(const std::filesystem::path& file);
+
+bool haveProgram(const std::string& name);
+
+// Runs source-extractor in `dir` on `image` in the pure-thresholding configuration (FILTER N,
+// DEBLEND_NTHRESH 1, CLEAN N, absolute threshold 1 ADU, BACK_VALUE 0) with `param` as
+// PARAMETERS_NAME; returns the catalog path.
+std::filesystem::path runSourceExtractor(const std::filesystem::path& dir, const std::string& image,
+                                         const std::string& param, const std::string& catalogType,
+                                         const std::string& catalogName);
+
+std::string readFile(const std::filesystem::path& file);
+int hduCount(const std::filesystem::path& file);
+std::vector<Card> headerCards(const std::filesystem::path& file, int hdu);
+// The whole data area of a table HDU (NAXIS1 * NAXIS2 bytes).
+std::string tableBytes(const std::filesystem::path& file, int hdu);
+// The cards of an LDAC_IMHEAD cell (80 characters each, END included).
+std::vector<std::string> imheadCards(const std::filesystem::path& file, int hdu);
+// Reads the named columns of a table HDU into a Table declared with `columns`.
+Table readTable(const std::filesystem::path& file, int hdu, const std::vector<ColumnSpec>& columns);
+// Values of one column (every element of every row) as double.
+std::vector<double> columnValues(const std::filesystem::path& file, int hdu,
+                                 const std::string& name);
+
+// Runs a shell command, returns its exit status and stdout.
+int runCommand(const std::string& command, std::string* output = nullptr);
+
+}  // namespace octarc::test

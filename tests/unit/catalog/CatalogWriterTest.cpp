@@ -1,0 +1,306 @@
+// The catalog writers against source-extractor's own FITS_LDAC, FITS_1.0 and ASCII_HEAD outputs
+// for the same columns and values, plus fitsverify and astropy on the result.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+
+#include "CatalogTestSupport.h"
+#include "TestPaths.h"
+#include "octarc/catalog/Catalog.h"
+#include "octarc/core/Error.h"
+
+namespace octarc {
+namespace {
+
+// The columns as SExtractor 2.25 declares them (param.h): name, description, unit, type, format.
+std::vector<ColumnSpec> sextractorColumns() {
+  auto col = [](const char* name, const char* description, const char* unit, ColumnType type,
+                const char* format, int repeat = 1) {
+    return ColumnSpec{name, description, unit, "", type, format, repeat};
+  };
+  return {
+      col("NUMBER", "Running object number", "", ColumnType::Int32, "%10d"),
+      col("X_IMAGE", "Object position along x", "pixel", ColumnType::Float32, "%11.4f"),
+      col("Y_IMAGE", "Object position along y", "pixel", ColumnType::Float32, "%11.4f"),
+      col("X2_IMAGE", "Variance along x", "pixel**2", ColumnType::Float64, "%18.10e"),
+      col("A_IMAGE", "Profile RMS along major axis", "pixel", ColumnType::Float32, "%9.3f"),
+      col("THETA_IMAGE", "Position angle (CCW/x)", "deg", ColumnType::Float32, "%6.2f"),
+      col("ELONGATION", "A_IMAGE/B_IMAGE", "", ColumnType::Float32, "%8.3f"),
+      col("CXX_IMAGE", "Cxx object ellipse parameter", "pixel**(-2)", ColumnType::Float32,
+          "%15.7e"),
+      col("ISOAREA_IMAGE", "Isophotal area above Analysis threshold", "pixel**2", ColumnType::Int32,
+          "%9d"),
+      col("FLUX_ISO", "Isophotal flux", "count", ColumnType::Float32, "%12.7g"),
+      col("MAG_ISO", "Isophotal magnitude", "mag", ColumnType::Float32, "%8.4f"),
+      col("XMIN_IMAGE", "Minimum x-coordinate among detected pixels", "pixel", ColumnType::Int32,
+          "%10d"),
+      col("FLUX_APER", "Flux vector within fixed circular aperture(s)", "count",
+          ColumnType::Float32, "%12.7g", 3),
+      col("MU_MAX", "Peak surface brightness above background", "mag * arcsec**(-2)",
+          ColumnType::Float32, "%8.4f"),
+      col("FLAGS", "Extraction flags", "", ColumnType::Int16, "%3d"),
+      col("FLUX_RADIUS", "Fraction-of-light radii", "pixel", ColumnType::Float32, "%10.3f", 2),
+  };
+}
+
+const char* kParam =
+    "NUMBER\nX_IMAGE\nY_IMAGE\nX2_IMAGE\nA_IMAGE\nTHETA_IMAGE\nELONGATION\nCXX_IMAGE\n"
+    "ISOAREA_IMAGE\nFLUX_ISO\nMAG_ISO\nXMIN_IMAGE\nFLUX_APER(3)\nMU_MAX\nFLAGS\nFLUX_RADIUS(2)\n";
+
+void writeText(const std::filesystem::path& file, const std::string& text) {
+  std::FILE* f = std::fopen(file.c_str(), "w");
+  ASSERT_NE(f, nullptr);
+  std::fputs(text.c_str(), f);
+  std::fclose(f);
+}
+
+class CatalogWriter : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!test::haveProgram("source-extractor")) GTEST_SKIP() << "source-extractor not installed";
+    dir_ = test::scratchDir();
+    test::writeSmallImage(dir_ / "small.fits");
+    writeText(dir_ / "t.param", kParam);
+    ldac_ = test::runSourceExtractor(dir_, "small.fits", "t.param", "FITS_LDAC", "se.ldac");
+    // The same values as source-extractor measured them, declared by hand.
+    table_ = test::readTable(ldac_, 3, sextractorColumns());
+    ASSERT_EQ(table_.rows(), 3);
+    // The image header and the run cards exactly as in source-extractor's LDAC_IMHEAD.
+    const std::vector<std::string> cell = test::imheadCards(ldac_, 2);
+    for (std::size_t i = 0; i + 1 < cell.size(); ++i) {
+      if (i < 8) {  // SIMPLE..OBJECT
+        part_.imageHeader.cards.push_back(cell[i]);
+      } else {
+        part_.runCards.push_back(cell[i]);
+      }
+    }
+    part_.objects = &table_;
+  }
+
+  std::filesystem::path dir_;
+  std::filesystem::path ldac_;
+  Table table_;
+  CatalogPart part_;
+};
+
+// Compares two table headers: the same keywords in the same order; TTYPE with its comment,
+// TFORM, TUNIT, TDISP, TDIM, EXTNAME, NAXISn, TFIELDS by value.
+void expectSameTableHeader(const std::vector<test::Card>& ours,
+                           const std::vector<test::Card>& theirs) {
+  ASSERT_EQ(ours.size(), theirs.size());
+  for (std::size_t i = 0; i < ours.size(); ++i) {
+    EXPECT_EQ(ours[i].key, theirs[i].key) << i;
+    EXPECT_EQ(ours[i].value, theirs[i].value) << theirs[i].image;
+    const std::string& key = theirs[i].key;
+    if (key.rfind("TTYPE", 0) == 0 || key == "EXTNAME" || key.rfind("NAXIS", 0) == 0 ||
+        key == "XTENSION" || key == "TFIELDS" || key == "PCOUNT" || key == "GCOUNT") {
+      EXPECT_EQ(ours[i].comment, theirs[i].comment) << theirs[i].image;
+    }
+    if (key.rfind("TTYPE", 0) == 0 || key.rfind("TFORM", 0) == 0 || key.rfind("TUNIT", 0) == 0 ||
+        key.rfind("TDISP", 0) == 0 || key.rfind("TDIM", 0) == 0 || key == "EXTNAME") {
+      EXPECT_EQ(ours[i].image, theirs[i].image);  // these cards byte for byte
+    }
+  }
+}
+
+TEST_F(CatalogWriter, LdacMatchesSourceExtractor) {
+  const auto ours = dir_ / "ours.ldac";
+  writeCatalog(ours.string(), CatalogType::FitsLdac, {part_});
+  ASSERT_EQ(test::hduCount(ours), 3);
+  // Primary: SIMPLE, BITPIX, NAXIS, EXTEND with the same values and comments.
+  const auto p1 = test::headerCards(ours, 1);
+  const auto p2 = test::headerCards(ldac_, 1);
+  ASSERT_EQ(p1.size(), p2.size());
+  for (std::size_t i = 0; i < p1.size(); ++i) {
+    EXPECT_EQ(p1[i].key, p2[i].key);
+    EXPECT_EQ(p1[i].value, p2[i].value);
+    EXPECT_EQ(p1[i].comment, p2[i].comment);
+  }
+  expectSameTableHeader(test::headerCards(ours, 2), test::headerCards(ldac_, 2));
+  expectSameTableHeader(test::headerCards(ours, 3), test::headerCards(ldac_, 3));
+  // The data: the LDAC_IMHEAD cell and every object row byte for byte.
+  EXPECT_EQ(test::tableBytes(ours, 2), test::tableBytes(ldac_, 2));
+  EXPECT_EQ(test::tableBytes(ours, 3), test::tableBytes(ldac_, 3));
+}
+
+TEST_F(CatalogWriter, LdacPassesFitsverify) {
+  if (!test::haveProgram("fitsverify")) GTEST_SKIP() << "fitsverify not installed";
+  const auto ours = dir_ / "ours.ldac";
+  writeCatalog(ours.string(), CatalogType::FitsLdac, {part_, part_});
+  std::string report;
+  test::runCommand("fitsverify -q '" + ours.string() + "' 2>&1", &report);
+  // Only the two warnings SExtractor's own file gets: the blank in 'Field Header Card'.
+  EXPECT_NE(report.find("0 errors"), std::string::npos) << report;
+  std::string theirs;
+  test::runCommand("fitsverify -q '" + ldac_.string() + "' 2>&1", &theirs);
+  EXPECT_NE(theirs.find("0 errors"), std::string::npos) << theirs;
+}
+
+TEST_F(CatalogWriter, AstropyReadsColumnsUnitsAndDescriptions) {
+  const auto ours = dir_ / "ours.ldac";
+  writeCatalog(ours.string(), CatalogType::FitsLdac, {part_});
+  std::string out;
+  const std::string script = std::string(OCTARC_SOURCE_DIR) + "/tests/unit/catalog/read_catalog.py";
+  ASSERT_EQ(
+      test::runCommand("/usr/bin/python3 '" + script + "' '" + ours.string() + "' 2>&1", &out), 0)
+      << out;
+  EXPECT_NE(out.find("IMHEAD 1 55 SIMPLE  =                    T"), std::string::npos) << out;
+  EXPECT_NE(out.find("TABLE 2 LDAC_OBJECTS 3\n"), std::string::npos) << out;
+  for (const ColumnSpec& c : sextractorColumns()) {
+    const std::string line = "COLUMN 2 " + c.name + "|" + c.unit + "|" +
+                             tdispFromPrintf(c.printfFormat) + "|" + c.description + "|";
+    EXPECT_NE(out.find(line), std::string::npos) << line << "\n" << out;
+  }
+  // astropy parses every unit (SExtractor's "pixel**(-2)" and "mag * arcsec**(-2)" included).
+  EXPECT_EQ(out.find("|False\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("COLUMN 2 NUMBER||I10|Running object number|1|True\n"), std::string::npos)
+      << out;
+}
+
+TEST_F(CatalogWriter, Fits10MatchesSourceExtractor) {
+  const auto theirs =
+      test::runSourceExtractor(dir_, "small.fits", "t.param", "FITS_1.0", "se.fits");
+  std::vector<std::string> primary;
+  const auto theirPrimary = test::headerCards(theirs, 1);
+  for (std::size_t i = 4; i < theirPrimary.size(); ++i) primary.push_back(theirPrimary[i].image);
+  const auto ours = dir_ / "ours.fits";
+  writeCatalog(ours.string(), CatalogType::Fits10, {part_}, primary);
+  ASSERT_EQ(test::hduCount(ours), 2);
+  const auto ourPrimary = test::headerCards(ours, 1);
+  ASSERT_EQ(ourPrimary.size(), theirPrimary.size());
+  for (std::size_t i = 0; i < ourPrimary.size(); ++i) {
+    EXPECT_EQ(ourPrimary[i].key, theirPrimary[i].key);
+    EXPECT_EQ(ourPrimary[i].value, theirPrimary[i].value);
+  }
+  expectSameTableHeader(test::headerCards(ours, 2), test::headerCards(theirs, 2));
+  EXPECT_EQ(test::tableBytes(ours, 2), test::tableBytes(theirs, 2));
+}
+
+TEST_F(CatalogWriter, Fits10JoinsThePartsInOneTable) {
+  const auto ours = dir_ / "ours.fits";
+  writeCatalog(ours.string(), CatalogType::Fits10, {part_, part_});
+  ASSERT_EQ(test::hduCount(ours), 2);
+  const std::vector<double> numbers = test::columnValues(ours, 2, "NUMBER");
+  EXPECT_EQ(numbers, (std::vector<double>{1, 2, 3, 1, 2, 3}));
+}
+
+TEST_F(CatalogWriter, AsciiHeadMatchesSourceExtractorByteForByte) {
+  const auto theirs =
+      test::runSourceExtractor(dir_, "small.fits", "t.param", "ASCII_HEAD", "se.txt");
+  const auto ours = dir_ / "ours.txt";
+  writeCatalog(ours.string(), CatalogType::AsciiHead, {part_});
+  EXPECT_EQ(test::readFile(ours), test::readFile(theirs));
+  // Spot checks that do not depend on source-extractor: vector columns take n columns.
+  const std::string text = test::readFile(ours);
+  EXPECT_NE(text.find("\n#  13 FLUX_APER "), std::string::npos);
+  EXPECT_NE(text.find("\n#  16 MU_MAX "), std::string::npos);
+  EXPECT_EQ(
+      text.substr(0, 88),
+      "#   1 NUMBER                 Running object number                                     \n");
+}
+
+TEST_F(CatalogWriter, AsciiMatchesSourceExtractorByteForByte) {
+  const auto theirs = test::runSourceExtractor(dir_, "small.fits", "t.param", "ASCII", "se.txt");
+  const auto ours = dir_ / "ours.txt";
+  writeCatalog(ours.string(), CatalogType::Ascii, {part_});
+  EXPECT_EQ(test::readFile(ours), test::readFile(theirs));
+}
+
+TEST_F(CatalogWriter, EmptyTableGivesAValidCatalog) {
+  Table empty(sextractorColumns());
+  CatalogPart part = part_;
+  part.objects = &empty;
+  const auto ours = dir_ / "empty.ldac";
+  writeCatalog(ours.string(), CatalogType::FitsLdac, {part});
+  std::map<std::string, std::string> header;
+  for (const auto& c : test::headerCards(ours, 3)) header[c.key] = c.value;
+  EXPECT_EQ(header["NAXIS2"], "0");
+  EXPECT_EQ(header["NAXIS1"], "78");  // 4+4+4+8+4+4+4+4+4+4+4+4+12+4+2+8 bytes per row
+  EXPECT_EQ(header["TFIELDS"], "16");
+  if (test::haveProgram("fitsverify")) {
+    std::string report;
+    test::runCommand("fitsverify -q '" + ours.string() + "' 2>&1", &report);
+    EXPECT_NE(report.find("0 errors"), std::string::npos) << report;
+  }
+  const auto text = dir_ / "empty.txt";
+  writeCatalog(text.string(), CatalogType::Ascii, {part});
+  EXPECT_EQ(test::readFile(text), "");
+}
+
+TEST_F(CatalogWriter, DirectoryNamesAreNotTakenForCfitsioSyntax) {
+  std::filesystem::create_directories(dir_ / "run[1](a)");
+  const auto ours = dir_ / "run[1](a)" / "out.ldac";
+  writeCatalog(ours.string(), CatalogType::FitsLdac, {part_});
+  ASSERT_TRUE(std::filesystem::exists(ours));
+  std::filesystem::copy_file(ours, dir_ / "copy.ldac");
+  EXPECT_EQ(test::tableBytes(dir_ / "copy.ldac", 3), test::tableBytes(ldac_, 3));
+}
+
+TEST_F(CatalogWriter, NoneWritesNothing) {
+  const auto ours = dir_ / "none.cat";
+  writeCatalog(ours.string(), CatalogType::None, {part_});
+  EXPECT_FALSE(std::filesystem::exists(ours));
+}
+
+TEST_F(CatalogWriter, UnwritableDirectoryIsAOneLineIoError) {
+  const auto ours = dir_ / "missing-dir" / "out.ldac";
+  for (CatalogType type : {CatalogType::FitsLdac, CatalogType::AsciiHead}) {
+    try {
+      writeCatalog(ours.string(), type, {part_});
+      ADD_FAILURE() << "no error";
+    } catch (const IoError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(ours.string()), std::string::npos) << what;
+      EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    }
+  }
+  EXPECT_FALSE(std::filesystem::exists(ours));
+}
+
+TEST_F(CatalogWriter, ReplacesAnExistingFileAndLeavesNoTemporaryFile) {
+  const auto ours = dir_ / "out.ldac";
+  writeText(ours, "old content");
+  writeCatalog(ours.string(), CatalogType::FitsLdac, {part_});
+  EXPECT_EQ(test::tableBytes(ours, 3), test::tableBytes(ldac_, 3));
+  for (const auto& entry : std::filesystem::directory_iterator(dir_)) {
+    EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << entry.path();
+  }
+}
+
+TEST_F(CatalogWriter, PartsWithDifferentColumnsAreRejected) {
+  std::vector<ColumnSpec> other = sextractorColumns();
+  other.pop_back();
+  Table small(other);
+  CatalogPart second = part_;
+  second.objects = &small;
+  EXPECT_THROW(writeCatalog((dir_ / "x.ldac").string(), CatalogType::FitsLdac, {part_, second}),
+               ConfigError);
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "x.ldac"));
+}
+
+// Two parts give two IMHEAD/OBJECTS pairs, each with its own header and rows; NaN survives.
+TEST_F(CatalogWriter, LdacWritesOnePairPerPart) {
+  Table second(sextractorColumns());
+  double* row = second.appendRow();
+  row[0] = 1;
+  row[1] = std::nan("");
+  CatalogPart part2 = part_;
+  part2.objects = &second;
+  part2.imageHeader.cards.resize(3);
+  const auto ours = dir_ / "two.ldac";
+  writeCatalog(ours.string(), CatalogType::FitsLdac, {part_, part2});
+  ASSERT_EQ(test::hduCount(ours), 5);
+  EXPECT_EQ(test::imheadCards(ours, 4).size(), 3u + 46u + 1u);  // 3 image cards, 46 run cards, END
+  std::map<std::string, std::string> header;
+  for (const auto& c : test::headerCards(ours, 4)) header[c.key] = c.value;
+  EXPECT_EQ(header["TDIM1"], "'(80, 50)'");
+  EXPECT_EQ(header["TFORM1"], "'4000A   '");
+  EXPECT_EQ(test::columnValues(ours, 5, "NUMBER"), std::vector<double>{1});
+  EXPECT_TRUE(std::isnan(test::columnValues(ours, 5, "X_IMAGE")[0]));
+}
+
+}  // namespace
+}  // namespace octarc

@@ -1,0 +1,289 @@
+// Reading source-extractor catalogs and appending columns to them.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <map>
+
+#include "CatalogTestSupport.h"
+#include "TestPaths.h"
+#include "octarc/catalog/Catalog.h"
+#include "octarc/catalog/InputCatalog.h"
+#include "octarc/core/Error.h"
+
+namespace octarc {
+namespace {
+
+const char* kParam = "NUMBER\nX_IMAGE\nY_IMAGE\nISOAREA_IMAGE\nFLUX_ISO\nFLUX_APER(3)\nFLAGS\n";
+
+std::vector<ColumnSpec> octopoleColumns() {
+  return {
+      ColumnSpec{"ARCNESS", "Octopole arcness", "", "src.morph", ColumnType::Float32, "%8.4f", 1},
+      ColumnSpec{"I_AAB_IMAGE", "Third moment along a, a, b", "pixel**3", "src.morph",
+                 ColumnType::Float64, "%18.10e", 1},
+      ColumnSpec{"ARC_SIDE", "Sign of I_AAB", "", "src.morph", ColumnType::Int16, "%3d", 1},
+      ColumnSpec{"SKEWS", "Skewness along a and b", "", "src.morph", ColumnType::Float32, "%+8.4f",
+                 2},
+  };
+}
+
+// New column values that differ per row: row r gets r + 0.25 etc.
+Table octopoleTable(std::int64_t rows) {
+  Table t(octopoleColumns());
+  for (std::int64_t r = 0; r < rows; ++r) {
+    double* row = t.appendRow();
+    row[0] = double(r) + 0.25;
+    row[1] = 1e-3 * double(r + 1);
+    row[2] = r % 2 == 0 ? 1 : -1;
+    row[3] = double(r);
+    row[4] = std::nan("");
+  }
+  return t;
+}
+
+class InputCatalog : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!test::haveProgram("source-extractor")) GTEST_SKIP() << "source-extractor not installed";
+    dir_ = test::scratchDir();
+    test::writeSmallImage(dir_ / "small.fits");
+    test::writeTwoExtensionImage(dir_ / "mef.fits");
+    std::FILE* f = std::fopen((dir_ / "t.param").c_str(), "w");
+    std::fputs(kParam, f);
+    std::fclose(f);
+  }
+
+  std::filesystem::path dir_;
+};
+
+TEST_F(InputCatalog, ReadsSourceExtractorLdac) {
+  const auto cat = test::runSourceExtractor(dir_, "small.fits", "t.param", "FITS_LDAC", "c.ldac");
+  const std::vector<InputCatalogPart> parts = readInputCatalog(cat.string());
+  ASSERT_EQ(parts.size(), 1u);
+  EXPECT_EQ(parts[0].objectsHdu, 3);
+  EXPECT_EQ(parts[0].numbers, (std::vector<std::int64_t>{1, 2, 3}));
+  EXPECT_EQ(parts[0].columnNames,
+            (std::vector<std::string>{"NUMBER", "X_IMAGE", "Y_IMAGE", "ISOAREA_IMAGE", "FLUX_ISO",
+                                      "FLUX_APER", "FLAGS"}));
+  // 8 image cards and 46 SEx* cards, END not included.
+  ASSERT_EQ(parts[0].imageHeader.cards.size(), 54u);
+  EXPECT_EQ(parts[0].imageHeader.cards[0].substr(0, 30), "SIMPLE  =                    T");
+  EXPECT_EQ(parts[0].imageHeader.cards[6].substr(0, 8), "GAIN    ");
+  EXPECT_EQ(parts[0].imageHeader.cards[53].substr(0, 8), "SEXDWSCL");
+  // The NUMBERs are the ones of the rows: the block (ISOAREA 6) is one of them.
+  const std::vector<double> area = test::columnValues(cat, 3, "ISOAREA_IMAGE");
+  EXPECT_EQ(area.size(), 3u);
+}
+
+TEST_F(InputCatalog, ReadsSourceExtractorFits10) {
+  const auto cat = test::runSourceExtractor(dir_, "small.fits", "t.param", "FITS_1.0", "c.fits");
+  const std::vector<InputCatalogPart> parts = readInputCatalog(cat.string());
+  ASSERT_EQ(parts.size(), 1u);
+  EXPECT_EQ(parts[0].objectsHdu, 2);
+  EXPECT_EQ(parts[0].numbers, (std::vector<std::int64_t>{1, 2, 3}));
+  EXPECT_TRUE(parts[0].imageHeader.cards.empty());
+}
+
+TEST_F(InputCatalog, ReadsOnePartPerExtension) {
+  const auto cat = test::runSourceExtractor(dir_, "mef.fits", "t.param", "FITS_LDAC", "c.ldac");
+  const std::vector<InputCatalogPart> parts = readInputCatalog(cat.string());
+  ASSERT_EQ(parts.size(), 2u);
+  EXPECT_EQ(parts[0].objectsHdu, 3);
+  EXPECT_EQ(parts[1].objectsHdu, 5);
+  EXPECT_EQ(parts[0].numbers, (std::vector<std::int64_t>{1, 2, 3}));
+  EXPECT_EQ(parts[1].numbers, (std::vector<std::int64_t>{1, 2}));  // NUMBER restarts at 1
+  EXPECT_EQ(parts[1].imageHeader.cards[0].substr(0, 20), "XTENSION= 'IMAGE   '");
+}
+
+TEST_F(InputCatalog, AppendKeepsEverythingAndAddsColumns) {
+  const auto cat = test::runSourceExtractor(dir_, "mef.fits", "t.param", "FITS_LDAC", "c.ldac");
+  const std::string before = test::readFile(cat);
+  const Table add1 = octopoleTable(3);
+  const Table add2 = octopoleTable(2);
+  const auto out = dir_ / "out.ldac";
+  writeAppendedCatalog(cat.string(), out.string(), {&add1, &add2});
+  EXPECT_EQ(test::readFile(cat), before);  // input untouched
+  ASSERT_EQ(test::hduCount(out), 5);
+
+  // Primary and LDAC_IMHEAD HDUs: every card and every byte of data unchanged.
+  for (int hdu : {1, 2, 4}) {
+    const auto a = test::headerCards(cat, hdu);
+    const auto b = test::headerCards(out, hdu);
+    ASSERT_EQ(a.size(), b.size()) << hdu;
+    for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].image, b[i].image);
+    if (hdu != 1) {
+      EXPECT_EQ(test::tableBytes(cat, hdu), test::tableBytes(out, hdu));
+    }
+  }
+  const std::vector<std::string> original = {"NUMBER",   "X_IMAGE",   "Y_IMAGE", "ISOAREA_IMAGE",
+                                             "FLUX_ISO", "FLUX_APER", "FLAGS"};
+  for (int hdu : {3, 5}) {
+    const Table& added = hdu == 3 ? add1 : add2;
+    // Original columns: same values (exact, compared bit for bit) and same header cards.
+    for (const std::string& name : original) {
+      const std::vector<double> a = test::columnValues(cat, hdu, name);
+      const std::vector<double> b = test::columnValues(out, hdu, name);
+      ASSERT_EQ(a.size(), b.size());
+      EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)), 0) << name;
+    }
+    const auto a = test::headerCards(cat, hdu);
+    const auto b = test::headerCards(out, hdu);
+    ASSERT_EQ(b.size(), a.size() + 4 + 4 + 1 + 4);  // TTYPE, TFORM each; 1 TUNIT; 4 TDISP
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      if (a[i].key == "NAXIS1" || a[i].key == "TFIELDS") continue;
+      EXPECT_EQ(a[i].image, b[i].image);  // original cards in place, new ones after them
+    }
+    // New columns: values, types, units, display formats and descriptions.
+    std::map<std::string, std::string> header;
+    std::map<std::string, std::string> comments;
+    for (const auto& c : b) {
+      header[c.key] = c.value;
+      comments[c.key] = c.comment;
+    }
+    EXPECT_EQ(header["TFIELDS"], "11");
+    EXPECT_EQ(header["TTYPE8"], "'ARCNESS '");
+    EXPECT_EQ(comments["TTYPE8"], "Octopole arcness");
+    EXPECT_EQ(header["TFORM8"], "'1E      '");
+    EXPECT_EQ(header["TDISP8"], "'F8.4    '");
+    EXPECT_EQ(header.count("TUNIT8"), 0u);
+    EXPECT_EQ(header["TFORM9"], "'1D      '");
+    EXPECT_EQ(header["TUNIT9"], "'pixel**3'");
+    EXPECT_EQ(header["TFORM10"], "'1I      '");
+    EXPECT_EQ(header["TFORM11"], "'2E      '");
+    EXPECT_EQ(header["TDISP11"], "'F8.4    '");
+    const std::vector<double> arcness = test::columnValues(out, hdu, "ARCNESS");
+    const std::vector<double> iaab = test::columnValues(out, hdu, "I_AAB_IMAGE");
+    const std::vector<double> side = test::columnValues(out, hdu, "ARC_SIDE");
+    const std::vector<double> skews = test::columnValues(out, hdu, "SKEWS");
+    ASSERT_EQ(arcness.size(), std::size_t(added.rows()));
+    for (std::int64_t r = 0; r < added.rows(); ++r) {
+      EXPECT_EQ(arcness[std::size_t(r)], double(r) + 0.25);
+      EXPECT_EQ(iaab[std::size_t(r)], 1e-3 * double(r + 1));
+      EXPECT_EQ(side[std::size_t(r)], r % 2 == 0 ? 1.0 : -1.0);
+      EXPECT_EQ(skews[std::size_t(2 * r)], double(r));
+      EXPECT_TRUE(std::isnan(skews[std::size_t(2 * r + 1)]));
+    }
+  }
+  // The result is still a catalog readInputCatalog accepts, with the new column names.
+  const auto parts = readInputCatalog(out.string());
+  ASSERT_EQ(parts.size(), 2u);
+  EXPECT_EQ(parts[1].columnNames.back(), "SKEWS");
+  EXPECT_EQ(parts[1].numbers, (std::vector<std::int64_t>{1, 2}));
+  // astropy sees the new columns with their units and descriptions.
+  std::string astropy;
+  const std::string script = std::string(OCTARC_SOURCE_DIR) + "/tests/unit/catalog/read_catalog.py";
+  ASSERT_EQ(
+      test::runCommand("/usr/bin/python3 '" + script + "' '" + out.string() + "' 2>&1", &astropy),
+      0)
+      << astropy;
+  EXPECT_NE(astropy.find("COLUMN 4 I_AAB_IMAGE|pixel**3|E18.10|Third moment along a, a, b|0.001|"
+                         "True\n"),
+            std::string::npos)
+      << astropy;
+  EXPECT_NE(astropy.find("COLUMN 4 ARCNESS||F8.4|Octopole arcness|0.25|True\n"), std::string::npos)
+      << astropy;
+  EXPECT_NE(astropy.find("IMHEAD 3 "), std::string::npos) << astropy;
+  if (test::haveProgram("fitsverify")) {
+    std::string report;
+    test::runCommand("fitsverify -q '" + out.string() + "' 2>&1", &report);
+    EXPECT_NE(report.find("0 errors"), std::string::npos) << report;
+  }
+}
+
+TEST_F(InputCatalog, AppendsToFits10InPlace) {
+  const auto cat = test::runSourceExtractor(dir_, "small.fits", "t.param", "FITS_1.0", "c.fits");
+  const std::vector<double> flux = test::columnValues(cat, 2, "FLUX_ISO");
+  const Table add = octopoleTable(3);
+  writeAppendedCatalog(cat.string(), cat.string(), {&add});
+  EXPECT_EQ(test::columnValues(cat, 2, "FLUX_ISO"), flux);
+  EXPECT_EQ(test::columnValues(cat, 2, "ARCNESS"), (std::vector<double>{0.25, 1.25, 2.25}));
+  for (const auto& entry : std::filesystem::directory_iterator(dir_)) {
+    EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << entry.path();
+  }
+}
+
+TEST_F(InputCatalog, FailureHalfwayLeavesNoOutputAndTheInputUntouched) {
+  const auto cat = test::runSourceExtractor(dir_, "mef.fits", "t.param", "FITS_LDAC", "c.ldac");
+  const std::string before = test::readFile(cat);
+  const Table good = octopoleTable(3);
+  const Table wrongRows = octopoleTable(3);  // the second table has 2 rows
+  const auto out = dir_ / "out.ldac";
+  try {
+    writeAppendedCatalog(cat.string(), out.string(), {&good, &wrongRows});
+    ADD_FAILURE() << "no error";
+  } catch (const IoError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(cat.string()), std::string::npos) << what;
+    EXPECT_NE(what.find("has 2 rows"), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos);
+  }
+  EXPECT_FALSE(std::filesystem::exists(out));
+  // Same in place: the input keeps every byte.
+  EXPECT_THROW(writeAppendedCatalog(cat.string(), cat.string(), {&good, &wrongRows}), IoError);
+  EXPECT_EQ(test::readFile(cat), before);
+  for (const auto& entry : std::filesystem::directory_iterator(dir_)) {
+    EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << entry.path();
+  }
+  // Wrong number of tables.
+  EXPECT_THROW(writeAppendedCatalog(cat.string(), out.string(), {&good}), IoError);
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST_F(InputCatalog, ExistingColumnNameIsAConfigError) {
+  const auto cat = test::runSourceExtractor(dir_, "small.fits", "t.param", "FITS_LDAC", "c.ldac");
+  const std::string before = test::readFile(cat);
+  Table clash(
+      {ColumnSpec{"FLUX_ISO", "Isophotal flux", "count", "", ColumnType::Float32, "%12.7g", 1}});
+  for (int r = 0; r < 3; ++r) clash.appendRow();
+  try {
+    writeAppendedCatalog(cat.string(), cat.string(), {&clash});
+    ADD_FAILURE() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("FLUX_ISO"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(test::readFile(cat), before);
+}
+
+TEST_F(InputCatalog, CatalogWithoutNumberIsAnIoError) {
+  Table noNumber({ColumnSpec{"X_IMAGE", "Object position along x", "pixel", "", ColumnType::Float32,
+                             "%11.4f", 1}});
+  noNumber.appendRow()[0] = 3.0;
+  const auto file = dir_ / "nonumber.ldac";
+  CatalogPart part;
+  part.objects = &noNumber;
+  writeCatalog(file.string(), CatalogType::FitsLdac, {part});
+  try {
+    readInputCatalog(file.string());
+    ADD_FAILURE() << "no error";
+  } catch (const IoError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(file.string()), std::string::npos) << what;
+    EXPECT_NE(what.find("no NUMBER column"), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+  const Table add = octopoleTable(1);
+  EXPECT_THROW(writeAppendedCatalog(file.string(), (dir_ / "o.ldac").string(), {&add}), IoError);
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "o.ldac"));
+}
+
+TEST_F(InputCatalog, NotACatalogIsAnIoError) {
+  // An image, not a catalog.
+  try {
+    readInputCatalog((dir_ / "small.fits").string());
+    ADD_FAILURE() << "no error";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("no LDAC_OBJECTS or OBJECTS table"), std::string::npos)
+        << e.what();
+  }
+  // Not FITS at all, and missing.
+  std::FILE* f = std::fopen((dir_ / "text.cat").c_str(), "w");
+  std::fputs("# 1 NUMBER\n1\n", f);
+  std::fclose(f);
+  EXPECT_THROW(readInputCatalog((dir_ / "text.cat").string()), IoError);
+  EXPECT_THROW(readInputCatalog((dir_ / "missing.ldac").string()), IoError);
+}
+
+}  // namespace
+}  // namespace octarc
