@@ -1,0 +1,304 @@
+#include "octarc/sexcompat/Config.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "octarc/core/Error.h"
+
+namespace octarc::sexcompat {
+namespace {
+
+// SExtractor's token separators in .sex lines (prefs.c): blank, tab, '=', ',', ';', '"'.
+constexpr std::string_view kSeparators = " \t=,;\"\r\n";
+
+std::string upper(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return out;
+}
+
+std::vector<std::string> tokenize(std::string_view line) {
+  std::vector<std::string> tokens;
+  std::size_t pos = 0;
+  while (true) {
+    pos = line.find_first_not_of(kSeparators, pos);
+    if (pos == std::string_view::npos) break;
+    std::size_t end = line.find_first_of(kSeparators, pos);
+    if (end == std::string_view::npos) end = line.size();
+    tokens.emplace_back(line.substr(pos, end - pos));
+    pos = end;
+  }
+  return tokens;
+}
+
+// Replaces $NAME and ${NAME} by the environment variable's value, as SExtractor does.
+std::string expandEnvironment(const std::string& token, const std::string& where,
+                              const std::string& key) {
+  std::string out;
+  for (std::size_t i = 0; i < token.size();) {
+    if (token[i] != '$') {
+      out += token[i++];
+      continue;
+    }
+    std::string name;
+    std::size_t next;
+    if (i + 1 < token.size() && token[i + 1] == '{') {
+      const std::size_t close = token.find('}', i + 2);
+      if (close == std::string::npos)
+        throw ConfigError(where + ": " + key + ": unterminated ${ in '" + token + "'");
+      name = token.substr(i + 2, close - i - 2);
+      next = close + 1;
+    } else {
+      next = i + 1;
+      while (next < token.size() &&
+             (std::isalnum(static_cast<unsigned char>(token[next])) || token[next] == '_'))
+        ++next;
+      name = token.substr(i + 1, next - i - 1);
+    }
+    if (name.empty())
+      throw ConfigError(where + ": " + key + ": empty variable name in '" + token + "'");
+    const char* value = std::getenv(name.c_str());
+    if (!value)
+      throw ConfigError(where + ": " + key + ": environment variable " + name + " is not set");
+    out += value;
+    i = next;
+  }
+  return out;
+}
+
+// Checks one value against its key and returns its canonical text.
+std::string canonicalValue(const KeySpec& spec, const std::string& raw, const std::string& where) {
+  auto bad = [&](const std::string& why) {
+    return ConfigError(where + ": " + spec.name + " " + raw + ": " + why);
+  };
+  auto checkRange = [&](double v) {
+    if (!(v >= spec.minValue && v <= spec.maxValue)) {
+      std::ostringstream os;
+      os << "out of range [" << spec.minValue << ", " << spec.maxValue << "]";
+      throw bad(os.str());
+    }
+  };
+  switch (spec.kind) {
+    case KeySpec::Kind::Bool: {
+      const char c = static_cast<char>(std::toupper(static_cast<unsigned char>(raw[0])));
+      if (c != 'Y' && c != 'N') throw bad("Y or N expected");
+      return std::string(1, c);
+    }
+    case KeySpec::Kind::Int: {
+      // strtol with base 0, as SExtractor: 0x1F and 017 are accepted.
+      errno = 0;
+      char* end = nullptr;
+      const long v = std::strtol(raw.c_str(), &end, 0);
+      if (end == raw.c_str() || *end != '\0') throw bad("not an integer");
+      if (errno == ERANGE) throw bad("integer overflow");
+      checkRange(static_cast<double>(v));
+      return std::to_string(v);
+    }
+    case KeySpec::Kind::Float: {
+      char* end = nullptr;
+      const double v = std::strtod(raw.c_str(), &end);
+      if (end == raw.c_str() || *end != '\0' || !std::isfinite(v)) throw bad("not a number");
+      checkRange(v);
+      return raw;
+    }
+    case KeySpec::Kind::Keyword: {
+      const std::string u = upper(raw);
+      if (std::find(spec.keywords.begin(), spec.keywords.end(), u) == spec.keywords.end()) {
+        std::string allowed;
+        for (const auto& k : spec.keywords) allowed += (allowed.empty() ? "" : ", ") + k;
+        throw bad("expected one of " + allowed);
+      }
+      return u;
+    }
+    case KeySpec::Kind::String:
+      return raw;
+  }
+  return raw;
+}
+
+const KeySpec* findSpec(const std::vector<KeySpec>& schema, const std::string& upperKey) {
+  for (const auto& spec : schema)
+    if (spec.name == upperKey) return &spec;
+  return nullptr;
+}
+
+std::vector<std::string> validate(const KeySpec& spec, const std::vector<std::string>& raw,
+                                  const std::string& where) {
+  const int n = static_cast<int>(raw.size());
+  if (n < spec.minCount || n > spec.maxCount) {
+    std::string joined;
+    for (const auto& r : raw) joined += (joined.empty() ? "" : ",") + r;
+    std::ostringstream os;
+    os << where << ": " << spec.name << " " << (joined.empty() ? "(empty)" : joined)
+       << ": expected ";
+    if (spec.minCount == spec.maxCount)
+      os << spec.minCount;
+    else
+      os << spec.minCount << " to " << spec.maxCount;
+    os << " value(s), got " << n;
+    throw ConfigError(os.str());
+  }
+  std::vector<std::string> out;
+  out.reserve(raw.size());
+  for (const auto& r : raw)
+    out.push_back(canonicalValue(spec, expandEnvironment(r, where, spec.name), where));
+  return out;
+}
+
+}  // namespace
+
+Config Config::load(const std::vector<KeySpec>& schema, const std::string& sexFile,
+                    const std::vector<std::pair<std::string, std::string>>& overrides,
+                    std::vector<std::string>* warnings) {
+  Config config;
+  for (const auto& spec : schema) {
+    Value v;
+    v.kind = spec.kind;
+    v.text = validate(spec, spec.defaults, "default of " + spec.name);
+    config.values_[spec.name] = std::move(v);
+  }
+
+  if (!sexFile.empty()) {
+    std::ifstream in(sexFile);
+    if (!in) throw ConfigError(sexFile + ": cannot open configuration file");
+    std::string line;
+    int lineNo = 0;
+    while (std::getline(in, line)) {
+      ++lineNo;
+      std::vector<std::string> tokens = tokenize(line);
+      if (tokens.empty() || tokens[0][0] == '#') continue;
+      const std::string key = upper(tokens[0]);
+      const std::string where = sexFile + ":" + std::to_string(lineNo);
+      const KeySpec* spec = findSpec(schema, key);
+      if (!spec) {
+        if (warnings) warnings->push_back(where + ": unknown keyword " + tokens[0] + ", ignored");
+        continue;
+      }
+      std::vector<std::string> raw;
+      for (std::size_t i = 1; i < tokens.size() && tokens[i][0] != '#'; ++i)
+        raw.push_back(tokens[i]);
+      Value& v = config.values_[key];
+      v.text = validate(*spec, raw, where);
+      v.isExplicit = true;
+    }
+    if (in.bad()) throw ConfigError(sexFile + ": read error");
+  }
+
+  for (const auto& [rawKey, rawValue] : overrides) {
+    std::string key = upper(rawKey);
+    if (!key.empty() && key[0] == '-') key.erase(0, 1);
+    const KeySpec* spec = findSpec(schema, key);
+    if (!spec) throw ConfigError("command line: -" + rawKey + ": unknown keyword");
+    // The value is one argument that may itself be a comma list ("-CHECKIMAGE_TYPE A,B").
+    std::vector<std::string> raw = tokenize(rawValue);
+    if (!raw.empty() && raw[0][0] == '#') raw.clear();
+    Value& v = config.values_[key];
+    v.text = validate(*spec, raw, "command line");
+    v.isExplicit = true;
+  }
+  return config;
+}
+
+const Config::Value& Config::find(std::string_view key) const {
+  auto it = values_.find(upper(key));
+  if (it == values_.end()) throw ConfigError(std::string(key) + ": unknown configuration keyword");
+  return it->second;
+}
+
+namespace {
+const std::string& element(std::string_view key, const std::vector<std::string>& text, int i) {
+  if (i < 0 || i >= static_cast<int>(text.size()))
+    throw ConfigError(std::string(key) + ": no value #" + std::to_string(i + 1) + " (" +
+                      std::to_string(text.size()) + " given)");
+  return text[static_cast<std::size_t>(i)];
+}
+}  // namespace
+
+bool Config::getBool(std::string_view key, int i) const {
+  const Value& v = find(key);
+  if (v.kind != KeySpec::Kind::Bool) throw ConfigError(std::string(key) + ": not a Y/N keyword");
+  return element(key, v.text, i) == "Y";
+}
+
+int Config::getInt(std::string_view key, int i) const {
+  const Value& v = find(key);
+  if (v.kind != KeySpec::Kind::Int)
+    throw ConfigError(std::string(key) + ": not an integer keyword");
+  return std::stoi(element(key, v.text, i));
+}
+
+double Config::getDouble(std::string_view key, int i) const {
+  const Value& v = find(key);
+  if (v.kind != KeySpec::Kind::Int && v.kind != KeySpec::Kind::Float)
+    throw ConfigError(std::string(key) + ": not a numeric keyword");
+  return std::strtod(element(key, v.text, i).c_str(), nullptr);
+}
+
+std::string Config::getString(std::string_view key, int i) const {
+  return element(key, find(key).text, i);
+}
+
+std::vector<int> Config::getInts(std::string_view key) const {
+  std::vector<int> out;
+  for (int i = 0; i < count(key); ++i) out.push_back(getInt(key, i));
+  return out;
+}
+
+std::vector<double> Config::getDoubles(std::string_view key) const {
+  std::vector<double> out;
+  for (int i = 0; i < count(key); ++i) out.push_back(getDouble(key, i));
+  return out;
+}
+
+std::vector<std::string> Config::getStrings(std::string_view key) const {
+  return find(key).text;
+}
+
+int Config::count(std::string_view key) const {
+  return static_cast<int>(find(key).text.size());
+}
+
+bool Config::has(std::string_view key) const {
+  return values_.count(upper(key)) != 0;
+}
+
+bool Config::isExplicit(std::string_view key) const {
+  return find(key).isExplicit;
+}
+
+std::string Config::dump(const std::vector<KeySpec>& schema, bool full) const {
+  constexpr std::size_t kValueColumn = 17;    // where values start, as in SExtractor's dump
+  constexpr std::size_t kCommentColumn = 32;  // where comments start
+  std::ostringstream os;
+  os << "# Configuration file written by octarc" << (full ? " (full list)" : "") << "\n#\n";
+  for (const auto& spec : schema) {
+    if (spec.expertOnly && !full) continue;
+    std::string line = spec.name;
+    line.append(line.size() < kValueColumn - 1 ? kValueColumn - 1 - line.size() : 0, ' ');
+    line += ' ';
+    std::string joined;
+    for (const auto& t : find(spec.name).text) joined += (joined.empty() ? "" : ",") + t;
+    line += joined;
+    std::istringstream comment(spec.comment);
+    std::string part;
+    bool first = true;
+    while (std::getline(comment, part)) {
+      if (first) {
+        line.append(line.size() < kCommentColumn - 1 ? kCommentColumn - 1 - line.size() : 0, ' ');
+        os << line << " # " << part << "\n";
+        first = false;
+      } else {
+        os << std::string(kCommentColumn, ' ') << "# " << part << "\n";
+      }
+    }
+    if (first) os << line << "\n";
+  }
+  return os.str();
+}
+
+}  // namespace octarc::sexcompat
