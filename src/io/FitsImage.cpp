@@ -182,17 +182,49 @@ ImageHdu readHduInfo(fitsfile* f, const std::string& path) {
 }
 
 // Reads the pixels of the current HDU as float; undefined pixels (BLANK or NaN) become NaN.
-// cfitsio applies BSCALE/BZERO.
-ImageF readPixels(fitsfile* f, const std::string& path, long width, long height) {
+// Integer data are scaled the way SExtractor scales them, in single precision:
+// float(BSCALE) * float(raw) + float(BZERO). The result is within one float ulp of the exact
+// value, and identical to the pixels SExtractor measures, so that catalogs can agree with
+// SExtractor's to the last digit.
+ImageF readPixels(fitsfile* f, const std::string& path, int bitpix, long width, long height) {
   ImageF pixels(width, height);
   long first[kMaxAxes];
   std::fill(std::begin(first), std::end(first), 1L);
-  float nullValue = std::numeric_limits<float>::quiet_NaN();
   int anyNull = 0;
   int status = 0;
-  fits_read_pix(f, TFLOAT, first, static_cast<LONGLONG>(width) * height, &nullValue, pixels.data(),
-                &anyNull, &status);
-  throwIfFitsError(status, path, "cannot read pixels, file truncated or corrupt");
+  const LONGLONG count = static_cast<LONGLONG>(width) * height;
+  if (bitpix < 0) {
+    float nullValue = std::numeric_limits<float>::quiet_NaN();
+    fits_read_pix(f, TFLOAT, first, count, &nullValue, pixels.data(), &anyNull, &status);
+    throwIfFitsError(status, path, "cannot read pixels, file truncated or corrupt");
+    return pixels;
+  }
+  double bscale = 1.0, bzero = 0.0;
+  char comment[FLEN_COMMENT];
+  int keyStatus = 0;
+  if (fits_read_key(f, TDOUBLE, "BSCALE", &bscale, comment, &keyStatus) != 0) bscale = 1.0;
+  keyStatus = 0;
+  if (fits_read_key(f, TDOUBLE, "BZERO", &bzero, comment, &keyStatus) != 0) bzero = 0.0;
+  // Raw integers (cfitsio still recognises BLANK before scaling), one row at a time.
+  fits_set_bscale(f, 1.0, 0.0, &status);
+  throwIfFitsError(status, path, "cannot read pixels");
+  const float scale = static_cast<float>(bscale);
+  const float zero = static_cast<float>(bzero);
+  std::vector<double> row(static_cast<std::size_t>(width));
+  const double nullValue = std::numeric_limits<double>::quiet_NaN();
+  for (long y = 0; y < height; ++y) {
+    first[1] = y + 1;
+    fits_read_pix(f, TDOUBLE, first, width, const_cast<double*>(&nullValue), row.data(), &anyNull,
+                  &status);
+    throwIfFitsError(status, path, "cannot read pixels, file truncated or corrupt");
+    float* out = pixels.data() + static_cast<std::int64_t>(y) * width;
+    for (long x = 0; x < width; ++x) {
+      const double raw = row[static_cast<std::size_t>(x)];
+      out[x] = std::isnan(raw) ? std::numeric_limits<float>::quiet_NaN()
+                               : scale * static_cast<float>(raw) + zero;
+    }
+  }
+  fits_set_bscale(f, bscale, bzero, &status);
   return pixels;
 }
 
@@ -239,7 +271,7 @@ ImageHdu readImage(const std::string& path) {
   moveToImage(f.get(), path);
   ImageHdu hdu = readHduInfo(f.get(), path);
   const ImageShape shape = readShape(f.get(), path);
-  hdu.pixels = readPixels(f.get(), path, shape.naxes[0], shape.naxes[1]);
+  hdu.pixels = readPixels(f.get(), path, shape.bitpix, shape.naxes[0], shape.naxes[1]);
   return hdu;
 }
 
