@@ -1,0 +1,16 @@
+// Object identity: NUMBER, THRESH_LEVEL, PARENT_NUMBER and the level's THRESHOLD.
+#pragma once
+
+#include "octarc/measure/Measurement.h"
+
+namespace octarc {
+
+class Identity final : public Measurement {
+ public:
+  std::string name() const override { return "Identity"; }
+  std::vector<ColumnSpec> columns() const override;
+  void measure(const Segment& segment, const MeasureContext& context, ObjectState& state,
+               const RowWriter& out) const override;
+};
+
+}  // namespace octarc

@@ -1,0 +1,71 @@
+#include "octarc/measure/plugins/Footprint.h"
+
+#include <algorithm>
+
+#include "octarc/core/Flags.h"
+
+namespace octarc {
+
+namespace {
+enum Col { kXMin, kYMin, kXMax, kYMax, kIsoAreaF, kFlags };
+}  // namespace
+
+std::vector<ColumnSpec> Footprint::columns() const {
+  return {
+      {"XMIN_IMAGE", "Minimum x-coordinate among detected pixels", "pixel",
+       "pos.cartesian.x;stat.min", ColumnType::Int32, "%10d"},
+      {"YMIN_IMAGE", "Minimum y-coordinate among detected pixels", "pixel",
+       "pos.cartesian.y;stat.min", ColumnType::Int32, "%10d"},
+      {"XMAX_IMAGE", "Maximum x-coordinate among detected pixels", "pixel",
+       "pos.cartesian.x;stat.max", ColumnType::Int32, "%10d"},
+      {"YMAX_IMAGE", "Maximum y-coordinate among detected pixels", "pixel",
+       "pos.cartesian.y;stat.max", ColumnType::Int32, "%10d"},
+      {"ISOAREAF_IMAGE", "Isophotal area (filtered) above Detection threshold", "pixel**2",
+       "phys.area", ColumnType::Int32, "%9d"},
+      {"FLAGS", "Extraction flags", "", "meta.code.qual", ColumnType::Int16, "%3d"},
+  };
+}
+
+void Footprint::measure(const Segment& segment, const MeasureContext& context, ObjectState& state,
+                        const RowWriter& out) const {
+  const ImageF& image = *context.measurement;
+  const std::int64_t width = image.width();
+  std::int64_t xMin = width, xMax = -1, yMin = image.height(), yMax = -1;
+  bool saturated = false;
+  for (const std::int64_t p : segment.pixels) {
+    const std::int64_t x = p % width, y = p / width;
+    xMin = std::min(xMin, x);
+    xMax = std::max(xMax, x);
+    yMin = std::min(yMin, y);
+    yMax = std::max(yMax, y);
+    if (context.saturationAdu > 0.0) {
+      // SATUR_LEVEL applies to raw values: add back the background that was subtracted.
+      const double background =
+          context.background ? (*context.background)[p] : context.backgroundAdu;
+      if (double(image[p]) + background >= context.saturationAdu) saturated = true;
+    }
+  }
+  state.footprintPixels = static_cast<std::int64_t>(segment.pixels.size());
+  if (segment.pixels.empty()) {
+    out.set(kIsoAreaF, 0);
+    out.set(kFlags, 0);
+    return;
+  }
+  state.haveFootprint = true;
+  state.xMin = xMin;
+  state.xMax = xMax;
+  state.yMin = yMin;
+  state.yMax = yMax;
+  if (saturated) state.sexFlags |= sexflag::kSaturated;
+  if (xMin == 0 || yMin == 0 || xMax == width - 1 || yMax == image.height() - 1) {
+    state.sexFlags |= sexflag::kTouchesBorder;
+  }
+  out.set(kXMin, double(xMin) + 1.0);  // 1-based, as SExtractor writes them
+  out.set(kYMin, double(yMin) + 1.0);
+  out.set(kXMax, double(xMax) + 1.0);
+  out.set(kYMax, double(yMax) + 1.0);
+  out.set(kIsoAreaF, double(state.footprintPixels));
+  out.set(kFlags, state.sexFlags);
+}
+
+}  // namespace octarc

@@ -1,0 +1,116 @@
+#include "octarc/measure/plugins/IsophotalShape.h"
+
+#include <cmath>
+
+#include "octarc/core/Conventions.h"
+#include "octarc/core/Flags.h"
+
+namespace octarc {
+
+namespace {
+enum Col {
+  kX,
+  kY,
+  kXPeak,
+  kYPeak,
+  kX2,
+  kY2,
+  kXY,
+  kA,
+  kB,
+  kTheta,
+  kCxx,
+  kCyy,
+  kCxy,
+  kElongation,
+  kEllipticity
+};
+}  // namespace
+
+std::vector<ColumnSpec> IsophotalShape::columns() const {
+  const ColumnType f = ColumnType::Float32, d = ColumnType::Float64;
+  return {
+      {"X_IMAGE", "Object position along x", "pixel",
+       "pos.cartesian.x;pos.barycenter;instr.det;meta.main", f, "%11.4f"},
+      {"Y_IMAGE", "Object position along y", "pixel",
+       "pos.cartesian.y;pos.barycenter;instr.det;meta.main", f, "%11.4f"},
+      {"XPEAK_IMAGE", "x-coordinate of the brightest pixel", "pixel", "pos.cartesian.x",
+       ColumnType::Int32, "%10d"},
+      {"YPEAK_IMAGE", "y-coordinate of the brightest pixel", "pixel", "pos.cartesian.y",
+       ColumnType::Int32, "%10d"},
+      {"X2_IMAGE", "Variance along x", "pixel**2", "src.impactParam;instr.det", d, "%18.10e"},
+      {"Y2_IMAGE", "Variance along y", "pixel**2", "src.impactParam;instr.det", d, "%18.10e"},
+      {"XY_IMAGE", "Covariance between x and y", "pixel**2", "src.impactParam;instr.det", d,
+       "%18.10e"},
+      {"A_IMAGE", "Profile RMS along major axis", "pixel", "phys.size.smajAxis;instr.det;meta.main",
+       f, "%9.3f"},
+      {"B_IMAGE", "Profile RMS along minor axis", "pixel", "phys.size.sminAxis;instr.det;meta.main",
+       f, "%9.3f"},
+      {"THETA_IMAGE", "Position angle (CCW/x)", "deg", "pos.posAng;instr.det;meta.main", f,
+       "%6.2f"},
+      {"CXX_IMAGE", "Cxx object ellipse parameter", "pixel**(-2)", "src.impactParam;instr.det", f,
+       "%15.7e"},
+      {"CYY_IMAGE", "Cyy object ellipse parameter", "pixel**(-2)", "src.impactParam;instr.det", f,
+       "%15.7e"},
+      {"CXY_IMAGE", "Cxy object ellipse parameter", "pixel**(-2)", "src.impactParam;instr.det", f,
+       "%15.7e"},
+      {"ELONGATION", "A_IMAGE/B_IMAGE", "", "src.ellipticity;arith.ratio;instr.det", f, "%8.3f"},
+      {"ELLIPTICITY", "1 - B_IMAGE/A_IMAGE", "", "src.ellipticity;instr.det", f, "%8.3f"},
+  };
+}
+
+void IsophotalShape::measure(const Segment& segment, const MeasureContext& context,
+                             ObjectState& state, const RowWriter& out) const {
+  const ImageF& image = context.detection ? *context.detection : *context.measurement;
+  const std::int64_t width = image.width();
+  // SExtractor sums relative to (xmin, ymin) to limit round-off; keep the same origin.
+  IsoMomentAccumulator sums(double(state.xMin), double(state.yMin));
+  double peak = -HUGE_VAL;
+  std::int64_t peakIndex = -1;
+  for (const std::int64_t p : segment.pixels) {
+    const double f = image[p];
+    if (!std::isfinite(f)) {
+      state.octFlags |= octflag::kBadPixels;  // left out of every sum
+      continue;
+    }
+    sums.add(double(p % width), double(p / width), f);
+    if (f > peak || (f == peak && p < peakIndex)) {  // ties: first pixel in raster order
+      peak = f;
+      peakIndex = p;
+    }
+  }
+  state.iso = sums.result();
+  if (peakIndex >= 0) {
+    state.xPeak = peakIndex % width;
+    state.yPeak = peakIndex / width;
+    out.set(kXPeak, double(state.xPeak) + 1.0);
+    out.set(kYPeak, double(state.yPeak) + 1.0);
+  }
+  if (!state.iso.valid) {
+    state.octFlags |= octflag::kNonPositiveFlux;
+    for (int c = kX; c <= kEllipticity; ++c) {
+      if (c != kXPeak && c != kYPeak) out.set(c, kNaN);
+    }
+    return;
+  }
+  if (state.iso.singular) state.octFlags |= octflag::kSingularIso;
+  state.isoShape = ellipseFromMoments(state.iso.x2, state.iso.y2, state.iso.xy);
+  state.haveIso = true;
+  const IsoMoments& m = state.iso;
+  const EllipseShape& s = state.isoShape;
+  out.set(kX, toFitsPixel(m.xMean));
+  out.set(kY, toFitsPixel(m.yMean));
+  out.set(kX2, m.x2);
+  out.set(kY2, m.y2);
+  out.set(kXY, m.xy);
+  out.set(kA, s.a);
+  out.set(kB, s.b);
+  out.set(kTheta, s.thetaDeg);
+  out.set(kCxx, s.cxx);
+  out.set(kCyy, s.cyy);
+  out.set(kCxy, s.cxy);
+  out.set(kElongation, s.elongation);
+  out.set(kEllipticity, s.ellipticity);
+}
+
+}  // namespace octarc

@@ -1,0 +1,79 @@
+#include "octarc/measure/plugins/WorldCoordinates.h"
+
+#include <cmath>
+
+#include "octarc/core/Conventions.h"
+#include "octarc/core/Flags.h"
+#include "octarc/io/Wcs.h"
+
+namespace octarc {
+
+namespace {
+enum Col { kXWorld, kYWorld, kAlpha, kDelta, kX2, kY2, kXY, kA, kB, kTheta, kCount };
+}  // namespace
+
+std::vector<ColumnSpec> WorldCoordinates::columns() const {
+  const ColumnType f = ColumnType::Float32, d = ColumnType::Float64;
+  return {
+      {"X_WORLD", "Barycenter position along world x axis", "deg", "pos.eq.ra", d, "%18.10e"},
+      {"Y_WORLD", "Barycenter position along world y axis", "deg", "pos.eq.dec", d, "%18.10e"},
+      {"ALPHA_J2000", "Right ascension of barycenter (J2000)", "deg",
+       "pos.eq.ra;pos.barycenter;meta.main", d, "%11.7f"},
+      {"DELTA_J2000", "Declination of barycenter (J2000)", "deg",
+       "pos.eq.dec;pos.barycenter;meta.main", d, "%+11.7f"},
+      {"X2_WORLD", "Variance along X-WORLD (alpha)", "deg**2", "src.impactParam", d, "%18.10e"},
+      {"Y2_WORLD", "Variance along Y-WORLD (delta)", "deg**2", "src.impactParam", d, "%18.10e"},
+      {"XY_WORLD", "Covariance between X-WORLD and Y-WORLD", "deg**2", "src.impactParam", d,
+       "%18.10e"},
+      {"A_WORLD", "Profile RMS along major axis (world units)", "deg",
+       "phys.size.smajAxis;meta.main", f, "%12.7g"},
+      {"B_WORLD", "Profile RMS along minor axis (world units)", "deg",
+       "phys.size.sminAxis;meta.main", f, "%12.7g"},
+      {"THETA_WORLD", "Position angle (CCW/world-x)", "deg", "pos.posAng", f, "%6.2f"},
+  };
+}
+
+void WorldCoordinates::measure(const Segment&, const MeasureContext& context, ObjectState& state,
+                               const RowWriter& out) const {
+  for (int c = 0; c < kCount; ++c) out.set(c, kNaN);
+  if (!state.haveIso) return;  // no isophotal centroid: nothing to convert
+  if (context.wcs == nullptr) {
+    state.octFlags |= octflag::kNoWorld;
+    return;
+  }
+  const Wcs& wcs = *context.wcs;
+  const PixelToWorld toWorld = [&wcs](double xFits, double yFits) {
+    return wcs.pixelToWorld(xFits, yFits);
+  };
+  const double xFits = toFitsPixel(state.iso.xMean), yFits = toFitsPixel(state.iso.yMean);
+  const std::array<double, 2> world = toWorld(xFits, yFits);
+  if (!std::isfinite(world[0]) || !std::isfinite(world[1])) {
+    state.octFlags |= octflag::kNoWorld;
+    return;
+  }
+  state.haveWorld = true;
+  state.xWorldDeg = world[0];
+  state.yWorldDeg = world[1];
+  out.set(kXWorld, world[0]);
+  out.set(kYWorld, world[1]);
+  // NaN for non-equatorial frames: ALPHA/DELTA_J2000 have no meaning there.
+  const std::array<double, 2> j2000 = wcs.pixelToJ2000(xFits, yFits);
+  out.set(kAlpha, j2000[0]);
+  out.set(kDelta, j2000[1]);
+
+  const WorldJacobian jacobian = finiteDifferenceJacobian(toWorld, xFits, yFits);
+  if (!jacobian.valid) {
+    state.octFlags |= octflag::kNoWorld;
+    return;
+  }
+  const WorldMoments m = worldMoments(jacobian, state.iso.x2, state.iso.y2, state.iso.xy);
+  const EllipseShape shape = ellipseFromMoments(m.x2, m.y2, m.xy);
+  out.set(kX2, m.x2);
+  out.set(kY2, m.y2);
+  out.set(kXY, m.xy);
+  out.set(kA, shape.a);
+  out.set(kB, shape.b);
+  out.set(kTheta, shape.thetaDeg);
+}
+
+}  // namespace octarc
