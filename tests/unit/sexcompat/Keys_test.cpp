@@ -159,7 +159,7 @@ TEST(SextractorKeys, CommentsMarkIgnoredKeys) {
 
 TEST(OctarcMeasureKeys, ExtendsTheSextractorTable) {
   const std::vector<KeySpec> keys = octarcMeasureKeys();
-  EXPECT_EQ(keys.size(), sextractorKeys().size() + 7);
+  EXPECT_EQ(keys.size(), sextractorKeys().size() + 8);
   const Config c = Config::load(keys, "", {}, nullptr);
   EXPECT_EQ(c.count("SEGMENTATION_NAME"), 0);
   EXPECT_EQ(c.count("INPUT_CATALOG"), 0);
@@ -169,12 +169,18 @@ TEST(OctarcMeasureKeys, ExtendsTheSextractorTable) {
   EXPECT_EQ(c.getInt("DETECT_NLEVELS"), 15);
   EXPECT_EQ(c.count("DETECT_LEVELS"), 0);
   EXPECT_EQ(c.getInt("NTHREADS"), 0);
+  EXPECT_TRUE(c.getBool("APPEND_COLUMNS"));
+  EXPECT_EQ(c.getStrings("CATALOG_NAME"), (std::vector<std::string>{"test.cat"}));
 
   const Config d = Config::load(keys, "",
                                 {{"SEGMENTATION_NAME", "seg1.fits,seg2.fits"},
                                  {"BACK_TYPE", "global"},
-                                 {"DETECT_LEVELS", "2.5,5,10"}},
+                                 {"DETECT_LEVELS", "2.5,5,10"},
+                                 {"APPEND_COLUMNS", "n"},
+                                 {"CATALOG_NAME", "a.ldac,b.ldac"}},
                                 nullptr);
+  EXPECT_FALSE(d.getBool("APPEND_COLUMNS"));
+  EXPECT_EQ(d.getStrings("CATALOG_NAME"), (std::vector<std::string>{"a.ldac", "b.ldac"}));
   EXPECT_EQ(d.getStrings("SEGMENTATION_NAME"),
             (std::vector<std::string>{"seg1.fits", "seg2.fits"}));
   EXPECT_EQ(d.getString("BACK_TYPE"), "GLOBAL");
