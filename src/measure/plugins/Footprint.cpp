@@ -38,11 +38,9 @@ void Footprint::measure(const Segment& segment, const MeasureContext& context, O
     xMax = std::max(xMax, x);
     yMin = std::min(yMin, y);
     yMax = std::max(yMax, y);
-    if (context.saturationAdu > 0.0) {
-      // SATUR_LEVEL applies to raw values: add back the background that was subtracted.
-      const double background =
-          context.background ? (*context.background)[p] : context.backgroundAdu;
-      if (double(image[p]) + background >= context.saturationAdu) saturated = true;
+    if (context.saturatedPixels != nullptr && !saturated) {
+      saturated = std::binary_search(context.saturatedPixels->begin(),
+                                     context.saturatedPixels->end(), p);
     }
   }
   state.footprintPixels = static_cast<std::int64_t>(segment.pixels.size());

@@ -361,13 +361,13 @@ TEST(Plugins, SaturationAndBorderFlags) {
   MeasureContext c;
   c.measurement = &img;
   c.detection = &img;
-  c.backgroundAdu = 10.0;
-  c.saturationAdu = 100.0;  // on raw values: 95 + 10 >= 100
+  const std::vector<std::int64_t> saturated = {img.index(9, 0), img.index(6, 2)};
+  c.saturatedPixels = &saturated;
   c.levels = {ThresholdLevel{1, 0.5, 0.5, 0.5}};
   const MeasurementPlan plan = MeasurementPlan::build({{"FLAGS"}}, {}, nullptr);
   EXPECT_EQ(Row(plan, edge, c)["FLAGS"], sexflag::kTouchesBorder);
   EXPECT_EQ(Row(plan, bright, c)["FLAGS"], sexflag::kSaturated);
-  c.saturationAdu = 0.0;  // <= 0: never saturated
+  c.saturatedPixels = nullptr;  // no saturated pixel in the image
   EXPECT_EQ(Row(plan, bright, c)["FLAGS"], 0);
 }
 

@@ -133,11 +133,15 @@ void compareWithSExtractor(bool filter) {
   MeasureContext context;
   context.measurement = &measurement;
   context.detection = filter ? &filtered : &measurement;
-  context.backgroundAdu = kBackgroundAdu;
+  // SATUR_LEVEL applies to raw values: background-subtracted value + the constant background.
+  std::vector<std::int64_t> saturated;
+  for (std::int64_t p = 0; p < measurement.size(); ++p) {
+    if (double(measurement[p]) + kBackgroundAdu >= kSaturAdu) saturated.push_back(p);
+  }
+  context.saturatedPixels = &saturated;
   context.sigmaAdu = sigmaAdu;
   context.gain = kGain;
   context.magZeropoint = kZeropoint;
-  context.saturationAdu = kSaturAdu;
   context.levels = {
       ThresholdLevel{1, kDetectSigma * sigmaAdu, kAnalysisSigma * sigmaAdu, kDetectSigma}};
 
