@@ -1,0 +1,65 @@
+// Shared steps of the measure and detect commands: the column plan from a .param file, the
+// measurement of a list of segments into table rows, ASSOC matching, and the run's header cards.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "octarc/catalog/RunSummary.h"
+#include "octarc/core/Table.h"
+#include "octarc/detection/Segment.h"
+#include "octarc/measure/MeasureContext.h"
+#include "octarc/measure/Registry.h"
+#include "octarc/sexcompat/Assoc.h"
+
+namespace octarc {
+
+struct RunSettings;
+struct PreparedImage;
+
+// What the catalog will hold: the user's columns in .param order, plus what octarc needs
+// internally (X_IMAGE/Y_IMAGE for ASSOC) and drops before writing.
+struct ColumnPlan {
+  MeasurementPlan plan;                  // every measured column, output ones first
+  std::vector<ColumnSpec> outputColumns; // what the catalog holds, in .param order
+  int assocVectorSize = 0;               // VECTOR_ASSOC(n); 0 when ASSOC is off
+  bool assoc = false;                    // VECTOR_ASSOC or NUMBER_ASSOC requested
+};
+
+// Reads PARAMETERS_NAME and builds the plan; warns "catalog parameter unknown" for unknown
+// names (on stderr unless quiet), as SExtractor does.
+ColumnPlan planColumns(const RunSettings& settings, bool quiet);
+
+// Measures every segment into `table` (columns = plan.plan.columns()), one row per segment in
+// the given order, on `threads` threads; the result does not depend on the thread count.
+void measureSegments(const MeasurementPlan& plan, const std::vector<Segment>& segments,
+                     const MeasureContext& context, Table& table, int threads);
+
+// Fills VECTOR_ASSOC / NUMBER_ASSOC from the list and applies ASSOCSELEC_TYPE (rows not kept
+// are removed). `table` has the full plan's columns.
+void applyAssoc(const sexcompat::AssocList& list, sexcompat::AssocSelection selection, Table& table);
+
+// The catalog table the user asked for: the output columns of `full`, in .param order.
+Table outputTable(const ColumnPlan& plan, const Table& full);
+
+// LDAC_IMHEAD cards after the image header: SExtractor's SEx* keywords followed by octarc's
+// OCT* keywords (levels, background and noise origin).
+struct RunFacts {
+  std::string imagePath;
+  int extension = 0, extensionCount = 1;
+  double elapsedSec = 0.0;
+  std::int64_t detectedCount = 0, finalCount = 0;
+  int parameterCount = 0;
+};
+RunSummary runSummary(const RunSettings& settings, const PreparedImage& image,
+                      const std::vector<ThresholdLevel>& levels, const RunFacts& facts);
+std::vector<std::string> runHeaderCards(const RunSummary& summary, const PreparedImage& image,
+                                        const std::vector<ThresholdLevel>& levels);
+
+// Number of worker threads for NTHREADS (0 = all cores).
+int workerThreads(int requested);
+
+}  // namespace octarc

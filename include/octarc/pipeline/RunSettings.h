@@ -1,0 +1,72 @@
+// The settings of one octarc run, read once from the configuration (defaults < .sex file <
+// command line) and named with their units. Everything downstream reads this struct, never the
+// raw configuration.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace octarc {
+
+namespace sexcompat {
+class Config;
+}
+
+enum class BackgroundType { Auto, Manual, Global };
+enum class ThresholdType { Relative, Absolute };
+
+struct RunSettings {
+  std::vector<std::string> imagePaths;  // positional arguments
+  std::string configPath;               // -c, or "" for the built-in defaults
+
+  std::string catalogType = "FITS_LDAC";
+  std::vector<std::string> catalogNames{"test.cat"};
+  std::string parametersPath = "default.param";
+
+  // Detection and analysis thresholds: DETECT_THRESH / ANALYSIS_THRESH in THRESH_TYPE units.
+  ThresholdType detectThresholdType = ThresholdType::Relative;
+  ThresholdType analysisThresholdType = ThresholdType::Relative;
+  double detectThreshold = 1.5;
+  double analysisThreshold = 1.5;
+  double detectThresholdMax = 20.0;     // DETECT_THRESH_MAX
+  int detectLevelCount = 15;            // DETECT_NLEVELS
+  std::vector<double> detectLevels;     // DETECT_LEVELS (explicit list), empty if not given
+  int minAreaPix = 5;                   // DETECT_MINAREA
+
+  bool filter = true;
+  std::string filterPath = "default.conv";
+
+  BackgroundType backgroundType = BackgroundType::Auto;
+  double backgroundValueAdu = 0.0;      // BACK_VALUE
+  int backMeshWidthPix = 64, backMeshHeightPix = 64;
+  int backFilterWidth = 3, backFilterHeight = 3;
+  double backFilterThresholdAdu = 0.0;
+  std::string backgroundMapPath;        // BACKGROUND_NAME (SExtractor BACKGROUND check-image)
+  std::string backgroundRmsMapPath;     // BACKGROUND_RMS_NAME
+
+  double magZeropoint = 0.0;
+  double gainElectronPerAdu = 0.0;      // GAIN; 0 = infinite
+  std::string gainKey = "GAIN";
+  double saturationAdu = 50000.0;       // SATUR_LEVEL
+  std::string saturationKey = "SATURATE";
+  double pixelScaleArcsec = 0.0;        // PIXEL_SCALE (0 = from the WCS)
+  double seeingFwhmArcsec = 1.2;
+
+  std::vector<std::string> segmentationPaths;   // SEGMENTATION_NAME (measure)
+  std::vector<std::string> inputCatalogPaths;   // INPUT_CATALOG (measure)
+  bool appendColumns = true;  // APPEND_COLUMNS: with INPUT_CATALOG, append to each catalog (Y)
+                              // or write one new catalog of every level (N)
+
+  std::vector<std::string> checkImageTypes;     // CHECKIMAGE_TYPE (detect)
+  std::vector<std::string> checkImageNames;     // CHECKIMAGE_NAME (detect)
+
+  bool assoc = false;                   // VECTOR_ASSOC or NUMBER_ASSOC requested (set later)
+  bool quiet = false;                   // VERBOSE_TYPE QUIET
+  int threads = 0;                      // NTHREADS; 0 = all cores
+};
+
+// Reads every key octarc uses from a loaded configuration; ConfigError on inconsistent values.
+RunSettings settingsFromConfig(const sexcompat::Config& config);
+
+}  // namespace octarc

@@ -1,0 +1,56 @@
+// octarc: octopole arc search for strong gravitational lenses, SExtractor-compatible.
+
+#include <exception>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "octarc/core/Error.h"
+#include "octarc/pipeline/CommandLine.h"
+#include "octarc/pipeline/Pipeline.h"
+
+namespace {
+
+void printUsage() {
+  std::cout << "Usage: octarc COMMAND [arguments]\n"
+               "\n"
+               "Commands:\n"
+               "  measure IMAGE -SEGMENTATION_NAME seg.fits[,...] [-c file.sex] [-KEY value ...]\n"
+               "      measure the objects of SExtractor segmentation check-images\n"
+               "  detect IMAGE [-c file.sex] [-KEY value ...]\n"
+               "      detect at every threshold in one pass and measure every object\n"
+               "\n"
+               "`octarc COMMAND -h` describes a command; `-dd` prints its configuration keys and\n"
+               "`-dp` its catalog columns.\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "-h" || args[0] == "--help" || args[0] == "help") {
+    printUsage();
+    return args.empty() ? 2 : 0;
+  }
+  if (args[0] == "-v" || args[0] == "--version") {
+    std::cout << "octarc version " << octarc::octarcVersion() << "\n";
+    return 0;
+  }
+  const std::string command = args[0];
+  args.erase(args.begin());
+  try {
+    if (command == "measure") return octarc::runMeasure(args);
+    if (command == "detect") return octarc::runDetect(args);
+    std::cerr << "octarc: unknown command '" << command << "' (try octarc -h)\n";
+    return 2;
+  } catch (const octarc::Error& e) {
+    std::cerr << "octarc " << command << ": error: " << e.what() << "\n";
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "octarc " << command << ": error: out of memory\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "octarc " << command << ": internal error: " << e.what() << "\n";
+    return 3;
+  }
+}

@@ -1,0 +1,211 @@
+#include "octarc/pipeline/CatalogAssembly.h"
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <iostream>
+#include <thread>
+
+#include "octarc/catalog/FitsCard.h"
+#include "octarc/core/Error.h"
+#include "octarc/core/Version.h"
+#include "octarc/pipeline/PreparedImage.h"
+#include "octarc/pipeline/RunSettings.h"
+#include "octarc/sexcompat/ParamFile.h"
+
+namespace octarc {
+
+int workerThreads(int requested) {
+  if (requested > 0) return requested;
+  const unsigned cores = std::thread::hardware_concurrency();
+  return cores == 0 ? 1 : int(cores);
+}
+
+ColumnPlan planColumns(const RunSettings& settings, bool quiet) {
+  ColumnPlan out;
+  const std::vector<sexcompat::ParamRequest> params = sexcompat::readParamFile(settings.parametersPath);
+  std::vector<ColumnRequest> requests;
+  std::vector<ColumnSpec> external;
+  for (const sexcompat::ParamRequest& p : params) {
+    int repeat = 1;
+    for (int size : p.sizes) repeat *= size;
+    if (p.name == "VECTOR_ASSOC") {
+      out.assoc = true;
+      out.assocVectorSize = repeat;
+      external.push_back(sexcompat::vectorAssocColumn(repeat));
+    } else if (p.name == "NUMBER_ASSOC") {
+      out.assoc = true;
+      external.push_back(sexcompat::numberAssocColumn());
+    }
+    requests.push_back({p.name, repeat});
+  }
+  std::vector<std::string> unknown;
+  // ASSOC matches on the isophotal centroid, which the user may not have asked for.
+  std::vector<ColumnRequest> measured = requests;
+  auto requested = [&](const char* name) {
+    return std::any_of(requests.begin(), requests.end(),
+                       [&](const ColumnRequest& r) { return r.name == name; });
+  };
+  if (out.assoc) {
+    if (!requested("X_IMAGE")) measured.push_back({"X_IMAGE", 1});
+    if (!requested("Y_IMAGE")) measured.push_back({"Y_IMAGE", 1});
+  }
+  out.plan = MeasurementPlan::build(measured, external, &unknown);
+  for (const std::string& name : unknown) {
+    if (!quiet) {
+      std::cerr << "WARNING: " << settings.parametersPath << ": catalog parameter unknown: "
+                << name << "\n";
+    }
+  }
+  for (const ColumnRequest& r : requests) {
+    for (const ColumnSpec& c : out.plan.columns()) {
+      if (c.name == r.name) {
+        out.outputColumns.push_back(c);
+        break;
+      }
+    }
+  }
+  if (out.outputColumns.empty()) {
+    throw ConfigError(settings.parametersPath + ": no known catalog parameter");
+  }
+  return out;
+}
+
+void measureSegments(const MeasurementPlan& plan, const std::vector<Segment>& segments,
+                     const MeasureContext& context, Table& table, int threads) {
+  const std::int64_t first = table.rows();
+  const std::int64_t count = std::int64_t(segments.size());
+  table.reserveRows(first + count);
+  for (std::int64_t i = 0; i < count; ++i) table.appendRow();
+  // Rows are preallocated, so each worker writes only its own rows: the output does not depend
+  // on the number of threads.
+  const int workers = std::max(1, std::min<int>(threads, int(count / 64) + 1));
+  auto work = [&](int w) {
+    for (std::int64_t i = w; i < count; i += workers) {
+      plan.measure(segments[std::size_t(i)], context, table.row(first + i));
+    }
+  };
+  if (workers == 1) {
+    work(0);
+    return;
+  }
+  std::vector<std::thread> pool;
+  for (int w = 0; w < workers; ++w) pool.emplace_back(work, w);
+  for (std::thread& t : pool) t.join();
+}
+
+void applyAssoc(const sexcompat::AssocList& list, sexcompat::AssocSelection selection, Table& table) {
+  const int xCol = table.findColumn("X_IMAGE");
+  const int yCol = table.findColumn("Y_IMAGE");
+  const int vecCol = table.findColumn("VECTOR_ASSOC");
+  const int numCol = table.findColumn("NUMBER_ASSOC");
+  std::vector<bool> keep(std::size_t(table.rows()), true);
+  for (std::int64_t r = 0; r < table.rows(); ++r) {
+    const sexcompat::AssocList::Match m = list.match(table.value(r, xCol), table.value(r, yCol));
+    if (vecCol >= 0) {
+      const int n = table.columns()[std::size_t(vecCol)].repeat;
+      for (int e = 0; e < n; ++e) {
+        table.setValue(r, vecCol, e < int(m.values.size()) ? m.values[std::size_t(e)] : 0.0, e);
+      }
+    }
+    if (numCol >= 0) table.setValue(r, numCol, m.count);
+    if (selection == sexcompat::AssocSelection::Matched) keep[std::size_t(r)] = m.count > 0;
+    if (selection == sexcompat::AssocSelection::NotMatched) keep[std::size_t(r)] = m.count == 0;
+  }
+  table.filterRows(keep);
+}
+
+Table outputTable(const ColumnPlan& plan, const Table& full) {
+  Table out(plan.outputColumns);
+  std::vector<int> source;
+  for (const ColumnSpec& c : plan.outputColumns) source.push_back(full.findColumn(c.name));
+  out.reserveRows(full.rows());
+  for (std::int64_t r = 0; r < full.rows(); ++r) {
+    double* row = out.appendRow();
+    const double* in = full.row(r);
+    for (int c = 0; c < out.columnCount(); ++c) {
+      std::copy_n(in + full.offset(source[std::size_t(c)]), out.columns()[std::size_t(c)].repeat,
+                  row + out.offset(c));
+    }
+  }
+  return out;
+}
+
+namespace {
+
+std::string baseName(const std::string& path) {
+  return path.empty() ? std::string() : std::filesystem::path(path).filename().string();
+}
+
+}  // namespace
+
+RunSummary runSummary(const RunSettings& settings, const PreparedImage& image,
+                      const std::vector<ThresholdLevel>& levels, const RunFacts& facts) {
+  RunSummary r;
+  std::string file = facts.imagePath;
+  if (auto bracket = file.find('['); bracket != std::string::npos) file.resize(bracket);
+  r.fitsFile = baseName(file);
+  r.fitsExt = facts.extension + 1;
+  r.fitsNext = facts.extensionCount;
+  r.version = std::string("octarc ") + kVersion;
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char date[16], time[16];
+  std::strftime(date, sizeof date, "%d/%m/%Y", &utc);
+  std::strftime(time, sizeof time, "%H:%M:%S", &utc);
+  r.date = date;
+  r.time = time;
+  r.elapsedSec = facts.elapsedSec;
+  r.backgroundAdu = image.backgroundAdu;
+  r.backgroundRmsAdu = image.sigmaAdu;
+  // SEXTHLD/SEXATHLD describe the lowest level; OCTTHnnn cards list every level.
+  if (!levels.empty()) {
+    r.thresholdAdu = levels.front().thresholdAdu;
+    r.analysisThresholdAdu = levels.front().analysisThresholdAdu;
+  }
+  r.detections = facts.detectedCount;
+  r.finalObjects = facts.finalCount;
+  r.parameters = facts.parameterCount;
+  r.pixelScaleArcsec = settings.pixelScaleArcsec;
+  r.seeingFwhmArcsec = settings.seeingFwhmArcsec;
+  r.gainEPerAdu = image.gain;
+  r.filtering = settings.filter;
+  r.filterFile = settings.filter ? baseName(settings.filterPath) : "";
+  r.minAreaPix = settings.minAreaPix;
+  r.deblendThresholds = 1;  // octarc never deblends
+  r.deblendContrast = 1.0;
+  r.cleaning = false;
+  r.saturationAdu = image.saturationAdu;
+  r.magZeropoint = settings.magZeropoint;
+  r.backMeshPix[0] = settings.backMeshWidthPix;
+  r.backMeshPix[1] = settings.backMeshHeightPix;
+  r.backFilterMesh[0] = settings.backFilterWidth;
+  r.backFilterMesh[1] = settings.backFilterHeight;
+  r.imageWidthPix = image.hdu.pixels.width();
+  r.imageHeightPix = image.hdu.pixels.height();
+  r.imageBitpix = image.hdu.bitpix;
+  r.configFile = baseName(settings.configPath);
+  r.thresholdType =
+      settings.detectThresholdType == ThresholdType::Relative ? "SIGMA" : "ABSOLUTE";
+  r.thresholdSetting = settings.detectThreshold;
+  if (auto object = image.hdu.header.value("OBJECT")) r.object = *object;
+  return r;
+}
+
+std::vector<std::string> runHeaderCards(const RunSummary& summary, const PreparedImage& image,
+                                        const std::vector<ThresholdLevel>& levels) {
+  std::vector<std::string> cards = sexRunCards(summary);
+  cards.push_back(formatCard("OCTNLEV", std::int64_t(levels.size()), "Number of threshold levels"));
+  for (const ThresholdLevel& l : levels) {
+    const std::string n = std::to_string(l.level);
+    cards.push_back(formatCard("OCTTH" + n, RealValue(l.thresholdAdu),
+                               "Detection threshold of level " + n + " (ADU)"));
+  }
+  cards.push_back(formatCard("OCTBKSRC", image.origin.background, "Origin of the background level"));
+  cards.push_back(formatCard("OCTSGSRC", image.origin.sigma, "Origin of the noise sigma SEXBKDEV"));
+  return cards;
+}
+
+}  // namespace octarc

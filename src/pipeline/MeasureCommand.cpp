@@ -1,0 +1,295 @@
+// `octarc measure`: the measurement module on a SExtractor run's segmentation check-images.
+//
+//   image --> background/noise --> segmentation images (one per threshold, nested)
+//         --> measurements --> catalog (new, or the SExtractor catalog(s) with columns appended)
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <map>
+#include <set>
+
+#include "octarc/catalog/Catalog.h"
+#include "octarc/catalog/InputCatalog.h"
+#include "octarc/core/Error.h"
+#include "octarc/detection/SegmentationReader.h"
+#include "octarc/io/FitsImage.h"
+#include "octarc/pipeline/CatalogAssembly.h"
+#include "octarc/pipeline/CommandLine.h"
+#include "octarc/pipeline/Pipeline.h"
+#include "octarc/pipeline/PreparedImage.h"
+#include "octarc/pipeline/RunSettings.h"
+
+namespace octarc {
+
+namespace {
+
+// The path of extension `e` of a file that must have `count` image extensions like the image.
+std::string extensionOf(const std::string& path, int e, int count, const char* what) {
+  if (count == 1) return path;
+  const std::vector<std::string> hdus = listImageHdus(path);
+  if (int(hdus.size()) != count) {
+    throw IoError(path + ": " + what + " has " + std::to_string(hdus.size()) +
+                  " image extensions but the image has " + std::to_string(count));
+  }
+  return hdus[std::size_t(e)];
+}
+
+CatalogRunValues runValuesOf(const InputCatalogPart& part) {
+  CatalogRunValues v;
+  v.backgroundAdu = part.imageHeader.number("SEXBKGND");
+  v.sigmaAdu = part.imageHeader.number("SEXBKDEV");
+  v.gain = part.imageHeader.number("SEXGAIN");
+  v.thresholdAdu = part.imageHeader.number("SEXTHLD");
+  v.analysisThresholdAdu = part.imageHeader.number("SEXATHLD");
+  return v;
+}
+
+// Thresholds of each level: from the input catalogs (SEXTHLD/SEXATHLD) when given, otherwise
+// DETECT_LEVELS (one per segmentation image), otherwise DETECT_THRESH/ANALYSIS_THRESH for a
+// single level.
+std::vector<ThresholdLevel> levelThresholds(const RunSettings& s, double sigmaAdu,
+                                            const std::vector<CatalogRunValues>& catalogs,
+                                            std::size_t levelCount) {
+  std::vector<ThresholdLevel> levels(levelCount);
+  const bool detRel = s.detectThresholdType == ThresholdType::Relative;
+  const bool anaRel = s.analysisThresholdType == ThresholdType::Relative;
+  for (std::size_t k = 0; k < levelCount; ++k) {
+    ThresholdLevel& l = levels[k];
+    l.level = int(k) + 1;
+    if (k < catalogs.size() && catalogs[k].thresholdAdu) {
+      l.thresholdAdu = *catalogs[k].thresholdAdu;
+      l.analysisThresholdAdu = catalogs[k].analysisThresholdAdu.value_or(l.thresholdAdu);
+    } else if (!s.detectLevels.empty()) {
+      if (s.detectLevels.size() != levelCount) {
+        throw ConfigError("DETECT_LEVELS lists " + std::to_string(s.detectLevels.size()) +
+                          " thresholds but SEGMENTATION_NAME has " + std::to_string(levelCount) +
+                          " images");
+      }
+      l.thresholdAdu = thresholdToAdu(s.detectLevels[k], detRel, sigmaAdu);
+      l.analysisThresholdAdu = l.thresholdAdu;
+    } else if (levelCount == 1) {
+      l.thresholdAdu = thresholdToAdu(s.detectThreshold, detRel, sigmaAdu);
+      l.analysisThresholdAdu = thresholdToAdu(s.analysisThreshold, anaRel, sigmaAdu);
+    } else {
+      throw ConfigError(
+          "several SEGMENTATION_NAME images: give their thresholds with DETECT_LEVELS or their "
+          "catalogs with INPUT_CATALOG");
+    }
+    l.thresholdSigma = sigmaAdu > 0 ? l.thresholdAdu / sigmaAdu : std::nan("");
+  }
+  return levels;
+}
+
+// Checks that labels and catalog rows match one to one (per level) and returns, for each
+// catalog row, the index of its segment.
+std::vector<std::size_t> joinByNumber(const std::vector<Segment>& segments, int level,
+                                      const InputCatalogPart& catalog,
+                                      const std::string& catalogPath,
+                                      const std::string& segPath) {
+  std::map<std::int64_t, std::size_t> byNumber;
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    if (segments[i].level == level) byNumber[segments[i].number] = i;
+  }
+  std::vector<std::size_t> order;
+  std::set<std::int64_t> seen;
+  for (std::int64_t number : catalog.numbers) {
+    auto it = byNumber.find(number);
+    if (it == byNumber.end()) {
+      throw IoError(catalogPath + ": catalog row NUMBER " + std::to_string(number) +
+                    " has no label in " + segPath);
+    }
+    if (!seen.insert(number).second) {
+      throw IoError(catalogPath + ": NUMBER " + std::to_string(number) + " appears twice");
+    }
+    order.push_back(it->second);
+  }
+  for (const auto& [number, index] : byNumber) {
+    if (!seen.count(number)) {
+      throw IoError(segPath + ": label " + std::to_string(number) + " has no row in " +
+                    catalogPath);
+    }
+  }
+  return order;
+}
+
+void printUsage() {
+  std::cout <<
+      "Usage: octarc measure IMAGE [-c config.sex] [-KEY value ...]\n"
+      "\n"
+      "Measures every object of SExtractor SEGMENTATION check-images (one per threshold, lowest\n"
+      "first: -SEGMENTATION_NAME seg1.fits[,seg2.fits,...]) on IMAGE and writes a catalog with\n"
+      "SExtractor's isophotal columns and octarc's octopole (arcness) columns. With\n"
+      "-INPUT_CATALOG cat1.ldac[,...] the output is each SExtractor catalog with the requested\n"
+      "octarc columns appended, joined by NUMBER (one CATALOG_NAME per input catalog).\n"
+      "\n"
+      "Options:\n"
+      "  -c FILE      configuration file (SExtractor .sex syntax)\n"
+      "  -KEY value   override a configuration key (e.g. -CATALOG_NAME out.cat)\n"
+      "  -d, -dd      print the default configuration (-dd: every key)\n"
+      "  -dp          list every catalog column with its description and unit\n"
+      "  -h           this help;  -v  version\n";
+}
+
+}  // namespace
+
+int runMeasure(const std::vector<std::string>& args) {
+  const auto start = std::chrono::steady_clock::now();
+  std::optional<LoadedRun> run = loadRun(args, "measure", printUsage);
+  if (!run) return 0;
+  const RunSettings& s = run->settings;
+  if (s.imagePaths.size() != 1) {
+    throw ConfigError("octarc measure takes exactly one image (got " +
+                      std::to_string(s.imagePaths.size()) + "); see octarc measure -h");
+  }
+  if (s.segmentationPaths.empty()) {
+    throw ConfigError("SEGMENTATION_NAME is required: the SExtractor segmentation check-image(s)");
+  }
+  const std::string& imagePath = s.imagePaths[0];
+  const std::size_t levelCount = s.segmentationPaths.size();
+  const bool withCatalogs = !s.inputCatalogPaths.empty();
+  const bool appendMode = withCatalogs && s.appendColumns;
+  if (withCatalogs && s.inputCatalogPaths.size() != levelCount) {
+    throw ConfigError("INPUT_CATALOG lists " + std::to_string(s.inputCatalogPaths.size()) +
+                      " catalogs but SEGMENTATION_NAME has " + std::to_string(levelCount) +
+                      " images: give one catalog per segmentation image");
+  }
+  if (appendMode && s.catalogNames.size() != levelCount) {
+    throw ConfigError("CATALOG_NAME must list one output per INPUT_CATALOG (" +
+                      std::to_string(levelCount) + ")");
+  }
+  if (!appendMode && s.catalogNames.size() != 1) {
+    throw ConfigError("CATALOG_NAME must be one file name");
+  }
+  // Appending keeps each input catalog's own format; CATALOG_TYPE is for new catalogs.
+  const CatalogType catalogType = parseCatalogType(s.catalogType);
+
+  const ColumnPlan columns = planColumns(s, s.quiet);
+  std::optional<sexcompat::AssocSettings> assocSettings;
+  if (columns.assoc) assocSettings = sexcompat::AssocSettings::fromConfig(run->config);
+
+  std::vector<std::vector<InputCatalogPart>> catalogs;
+  for (const std::string& path : s.inputCatalogPaths) catalogs.push_back(readInputCatalog(path));
+
+  const std::vector<std::string> extensions = listImageHdus(imagePath);
+  const int extCount = int(extensions.size());
+  std::vector<CatalogPart> parts;
+  std::vector<Table> tables;  // per extension (new-catalog mode)
+  std::vector<std::vector<Table>> appended(levelCount);  // [level][extension]
+  std::vector<std::vector<std::string>> cards;
+  std::vector<std::string> fits10Cards;
+  tables.reserve(std::size_t(extCount));
+  cards.reserve(std::size_t(extCount));
+  std::vector<FitsHeader> headers;  // per extension, for LDAC_IMHEAD
+
+  for (int e = 0; e < extCount; ++e) {
+    std::vector<CatalogRunValues> catalogValues;
+    for (std::size_t k = 0; k < catalogs.size(); ++k) {
+      if (int(catalogs[k].size()) != extCount) {
+        throw IoError(s.inputCatalogPaths[k] + ": catalog has " +
+                      std::to_string(catalogs[k].size()) + " object tables but the image has " +
+                      std::to_string(extCount) + " extensions");
+      }
+      catalogValues.push_back(runValuesOf(catalogs[k][std::size_t(e)]));
+    }
+    if (!s.quiet) std::cerr << "> Reading " << extensions[std::size_t(e)] << "\n";
+    const PreparedImage image =
+        prepareImage(extensions[std::size_t(e)], s,
+                     catalogValues.empty() ? CatalogRunValues{} : catalogValues[0], false);
+    headers.push_back(image.hdu.header);
+    if (!s.quiet) {
+      for (const std::string& w : image.warnings) std::cerr << "WARNING: " << w << "\n";
+    }
+
+    std::vector<std::string> segPaths;
+    for (const std::string& p : s.segmentationPaths) {
+      segPaths.push_back(extensionOf(p, e, extCount, "segmentation image"));
+    }
+    const std::vector<Segment> segments =
+        readSegmentation(segPaths, image.hdu.pixels.width(), image.hdu.pixels.height());
+    MeasureContext context = image.context(s);
+    context.levels = levelThresholds(s, image.sigmaAdu, catalogValues, levelCount);
+
+    if (!s.quiet) {
+      std::cerr << "> Measuring " << segments.size() << " objects at " << levelCount
+                << " level(s)\n";
+    }
+    Table full(columns.plan.columns());
+    measureSegments(columns.plan, segments, context, full, workerThreads(s.threads));
+
+    // Every label must have its catalog row and every row its label.
+    std::vector<std::vector<std::size_t>> rowOrder;
+    for (std::size_t k = 0; k < catalogs.size(); ++k) {
+      rowOrder.push_back(joinByNumber(segments, int(k) + 1, catalogs[k][std::size_t(e)],
+                                      s.inputCatalogPaths[k], segPaths[k]));
+    }
+
+    if (appendMode) {
+      for (std::size_t k = 0; k < levelCount; ++k) {
+        // Columns the SExtractor catalog already has are kept as they are, not appended again.
+        const std::vector<std::string>& existing = catalogs[k][std::size_t(e)].columnNames;
+        ColumnPlan appendPlan = columns;
+        std::erase_if(appendPlan.outputColumns, [&](const ColumnSpec& c) {
+          return std::find(existing.begin(), existing.end(), c.name) != existing.end();
+        });
+        const Table rows = outputTable(appendPlan, full);
+        Table levelTable(rows.columns());
+        for (std::size_t index : rowOrder[k]) {
+          double* row = levelTable.appendRow();
+          std::copy_n(rows.row(std::int64_t(index)), rows.rowWidth(), row);
+        }
+        appended[k].push_back(std::move(levelTable));
+      }
+    } else {
+      if (assocSettings) {
+        const Wcs* wcs = context.wcs;
+        std::vector<std::string> warnings;
+        const sexcompat::AssocList list = sexcompat::AssocList::load(
+            *assocSettings, columns.assocVectorSize, image.hdu.pixels.height(),
+            [wcs](double lng, double lat) {
+              return wcs ? wcs->worldToPixel(lng, lat)
+                         : std::array<double, 2>{std::nan(""), std::nan("")};
+            },
+            &warnings);
+        for (const std::string& w : warnings) {
+          if (!s.quiet) std::cerr << "WARNING: " << w << "\n";
+        }
+        applyAssoc(list, assocSettings->selection, full);
+      }
+      tables.push_back(outputTable(columns, full));
+      RunFacts facts;
+      facts.imagePath = imagePath;
+      facts.extension = e;
+      facts.extensionCount = extCount;
+      facts.detectedCount = std::int64_t(segments.size());
+      facts.finalCount = tables.back().rows();
+      facts.parameterCount = int(columns.outputColumns.size());
+      facts.elapsedSec =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const RunSummary summary = runSummary(s, image, context.levels, facts);
+      if (e == 0) fits10Cards = sexFits10Cards(summary);
+      cards.push_back(runHeaderCards(summary, image, context.levels));
+    }
+  }
+
+  if (appendMode) {
+    for (std::size_t k = 0; k < levelCount; ++k) {
+      std::vector<const Table*> perExtension;
+      for (const Table& t : appended[k]) perExtension.push_back(&t);
+      writeAppendedCatalog(s.inputCatalogPaths[k], s.catalogNames[k], perExtension);
+      if (!s.quiet) std::cerr << "> Wrote " << s.catalogNames[k] << "\n";
+    }
+  } else {
+    for (int e = 0; e < extCount; ++e) {
+      parts.push_back({headers[std::size_t(e)], cards[std::size_t(e)], &tables[std::size_t(e)]});
+    }
+    writeCatalog(s.catalogNames[0], catalogType, parts, fits10Cards);
+    if (!s.quiet && catalogType != CatalogType::None) {
+      std::cerr << "> Wrote " << s.catalogNames[0] << "\n";
+    }
+  }
+  return 0;
+}
+
+}  // namespace octarc

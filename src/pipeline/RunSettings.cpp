@@ -1,0 +1,99 @@
+#include "octarc/pipeline/RunSettings.h"
+
+#include <algorithm>
+#include <cctype>
+
+#include "octarc/core/Error.h"
+#include "octarc/sexcompat/Config.h"
+
+namespace octarc {
+
+namespace {
+
+std::string upper(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::toupper(c); });
+  return s;
+}
+
+ThresholdType thresholdType(const std::string& keyword) {
+  return upper(keyword) == "ABSOLUTE" ? ThresholdType::Absolute : ThresholdType::Relative;
+}
+
+// The first value, or the second when a key takes (detection, measurement) pairs like
+// SExtractor's BACK_VALUE and THRESH_TYPE.
+std::string secondOrFirst(const std::vector<std::string>& values) {
+  return values.size() > 1 ? values[1] : values.at(0);
+}
+
+}  // namespace
+
+RunSettings settingsFromConfig(const sexcompat::Config& config) {
+  RunSettings s;
+  s.catalogType = upper(config.getString("CATALOG_TYPE"));
+  s.catalogNames = config.getStrings("CATALOG_NAME");
+  s.parametersPath = config.getString("PARAMETERS_NAME");
+
+  const std::vector<std::string> threshTypes = config.getStrings("THRESH_TYPE");
+  s.detectThresholdType = thresholdType(threshTypes.at(0));
+  s.analysisThresholdType = thresholdType(secondOrFirst(threshTypes));
+  s.detectThreshold = config.getDouble("DETECT_THRESH");
+  s.analysisThreshold = config.getDouble("ANALYSIS_THRESH");
+  if (config.getDoubles("DETECT_THRESH").size() > 1 ||
+      config.getDoubles("ANALYSIS_THRESH").size() > 1) {
+    throw ConfigError(
+        "DETECT_THRESH/ANALYSIS_THRESH: surface-brightness thresholds (mu,ZP) are not supported; "
+        "give one value");
+  }
+  s.detectThresholdMax = config.getDouble("DETECT_THRESH_MAX");
+  s.detectLevelCount = config.getInt("DETECT_NLEVELS");
+  if (config.isExplicit("DETECT_LEVELS")) s.detectLevels = config.getDoubles("DETECT_LEVELS");
+  s.minAreaPix = config.getInt("DETECT_MINAREA");
+
+  s.filter = config.getBool("FILTER");
+  s.filterPath = config.getString("FILTER_NAME");
+
+  const std::string backType = upper(config.getStrings("BACK_TYPE").at(0));
+  s.backgroundType = backType == "MANUAL"   ? BackgroundType::Manual
+                     : backType == "GLOBAL" ? BackgroundType::Global
+                                            : BackgroundType::Auto;
+  s.backgroundValueAdu = config.getDoubles("BACK_VALUE").at(0);
+  const std::vector<double> meshSize = config.getDoubles("BACK_SIZE");
+  s.backMeshWidthPix = int(meshSize.at(0));
+  s.backMeshHeightPix = int(meshSize.size() > 1 ? meshSize[1] : meshSize[0]);
+  const std::vector<double> filterSize = config.getDoubles("BACK_FILTERSIZE");
+  s.backFilterWidth = int(filterSize.at(0));
+  s.backFilterHeight = int(filterSize.size() > 1 ? filterSize[1] : filterSize[0]);
+  s.backFilterThresholdAdu = config.getDouble("BACK_FILTTHRESH");
+  if (config.isExplicit("BACKGROUND_NAME")) s.backgroundMapPath = config.getString("BACKGROUND_NAME");
+  if (config.isExplicit("BACKGROUND_RMS_NAME")) {
+    s.backgroundRmsMapPath = config.getString("BACKGROUND_RMS_NAME");
+  }
+
+  s.magZeropoint = config.getDouble("MAG_ZEROPOINT");
+  s.gainElectronPerAdu = config.getDouble("GAIN");
+  s.gainKey = config.getString("GAIN_KEY");
+  s.saturationAdu = config.getDouble("SATUR_LEVEL");
+  s.saturationKey = config.getString("SATUR_KEY");
+  s.pixelScaleArcsec = config.getDouble("PIXEL_SCALE");
+  s.seeingFwhmArcsec = config.getDouble("SEEING_FWHM");
+
+  if (config.isExplicit("SEGMENTATION_NAME")) {
+    s.segmentationPaths = config.getStrings("SEGMENTATION_NAME");
+  }
+  if (config.isExplicit("INPUT_CATALOG")) s.inputCatalogPaths = config.getStrings("INPUT_CATALOG");
+  s.appendColumns = config.getBool("APPEND_COLUMNS");
+
+  for (const std::string& t : config.getStrings("CHECKIMAGE_TYPE")) {
+    if (upper(t) != "NONE") s.checkImageTypes.push_back(upper(t));
+  }
+  if (!s.checkImageTypes.empty()) s.checkImageNames = config.getStrings("CHECKIMAGE_NAME");
+  if (s.checkImageTypes.size() != s.checkImageNames.size()) {
+    throw ConfigError("CHECKIMAGE_TYPE and CHECKIMAGE_NAME must list the same number of items");
+  }
+
+  s.quiet = upper(config.getString("VERBOSE_TYPE")) == "QUIET";
+  s.threads = config.getInt("NTHREADS");
+  return s;
+}
+
+}  // namespace octarc

@@ -1,0 +1,112 @@
+"""Helpers of the end-to-end tests: run octarc and source-extractor, read catalogs with astropy.
+
+The tests are run by ctest with OCTARC_BIN set to the octarc executable. The shared reference
+data (real survey images) is looked up in $OCTARC_SHARED_DIR/data/real or ../shared/data/real;
+tests that need it are skipped with a message when it is absent.
+"""
+import os
+import shutil
+import subprocess
+import tempfile
+import unittest
+import warnings
+
+import numpy as np
+from astropy.io import fits
+from astropy.utils.exceptions import AstropyWarning
+
+warnings.simplefilter("ignore", AstropyWarning)
+
+SOURCE_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+OCTARC = os.environ.get("OCTARC_BIN", os.path.join(SOURCE_DIR, "build", "release", "src", "apps",
+                                                   "octarc"))
+SEX_SHARE = "/usr/share/source-extractor"
+
+
+def shared_data_dir():
+    candidates = []
+    if os.environ.get("OCTARC_SHARED_DIR"):
+        candidates.append(os.path.join(os.environ["OCTARC_SHARED_DIR"], "data", "real"))
+    candidates.append(os.path.join(os.path.dirname(SOURCE_DIR), "shared", "data", "real"))
+    for c in candidates:
+        if os.path.isdir(c):
+            return c
+    return None
+
+
+def require_shared(test, *parts):
+    base = shared_data_dir()
+    if base is None or not os.path.exists(os.path.join(base, *parts)):
+        test.skipTest("shared reference data not found (../shared/data/real/%s); set "
+                      "OCTARC_SHARED_DIR to run this test" % "/".join(parts))
+    return os.path.join(base, *parts)
+
+
+class WorkDirTest(unittest.TestCase):
+    """A test case with a fresh scratch directory."""
+
+    def setUp(self):
+        self.work = tempfile.mkdtemp(prefix="octarc-test-")
+
+    def tearDown(self):
+        shutil.rmtree(self.work, ignore_errors=True)
+
+    def path(self, name):
+        return os.path.join(self.work, name)
+
+
+def run_octarc(*args, check=True, cwd=None):
+    proc = subprocess.run([OCTARC] + [str(a) for a in args], capture_output=True, text=True,
+                          cwd=cwd)
+    if check and proc.returncode != 0:
+        raise AssertionError("octarc %s failed (%d):\n%s" % (" ".join(map(str, args)),
+                                                            proc.returncode, proc.stderr))
+    return proc
+
+
+def write_param(path, names):
+    with open(path, "w") as f:
+        f.write("\n".join(names) + "\n")
+    return path
+
+
+PURE_THRESHOLDING = ["-DEBLEND_NTHRESH", "1", "-DEBLEND_MINCONT", "1.0", "-CLEAN", "N",
+                     "-MASK_TYPE", "NONE", "-MEMORY_PIXSTACK", "3000000",
+                     "-MEMORY_OBJSTACK", "30000", "-MEMORY_BUFSIZE", "4096",
+                     "-VERBOSE_TYPE", "QUIET", "-WRITE_XML", "N"]
+
+
+def run_sextractor(image, workdir, tag, param, threshold, extra=(), checkimages=()):
+    """One source-extractor run in the pure-thresholding configuration. Returns the paths of the
+    catalog and of the requested check-images (dict type -> path)."""
+    cat = os.path.join(workdir, "%s.ldac" % tag)
+    checks = {t: os.path.join(workdir, "%s.%s.fits" % (tag, t.lower().replace("-", "m")))
+              for t in checkimages}
+    cmd = ["source-extractor", image, "-c", os.path.join(SEX_SHARE, "default.sex"),
+           "-PARAMETERS_NAME", param, "-CATALOG_TYPE", "FITS_LDAC", "-CATALOG_NAME", cat,
+           "-DETECT_THRESH", str(threshold), "-ANALYSIS_THRESH", str(threshold),
+           "-FILTER_NAME", os.path.join(SEX_SHARE, "default.conv"),
+           "-STARNNW_NAME", os.path.join(SEX_SHARE, "default.nnw")] + PURE_THRESHOLDING + \
+          list(extra)
+    if checks:
+        cmd += ["-CHECKIMAGE_TYPE", ",".join(checks), "-CHECKIMAGE_NAME", ",".join(checks.values())]
+    subprocess.run(cmd, check=True, capture_output=True, cwd=workdir)
+    return cat, checks
+
+
+def ldac_objects(path, hdu=2):
+    with fits.open(path) as f:
+        return f[hdu].data.copy(), f[hdu].header.copy()
+
+
+def ldac_imhead(path, hdu=1):
+    """The LDAC_IMHEAD cards of a catalog as an astropy Header."""
+    with fits.open(path) as f:
+        cards = f[hdu].data[0][0]
+    text = "".join(c.ljust(80) for c in cards)
+    return fits.Header.fromstring(text)
+
+
+def fitsverify_errors(path):
+    proc = subprocess.run(["fitsverify", "-q", "-e", path], capture_output=True, text=True)
+    return proc.returncode, proc.stdout + proc.stderr

@@ -1,0 +1,283 @@
+"""`octarc measure` outputs: appending to SExtractor catalogs, the declared column metadata as
+astropy and fitsverify see it, the other catalog types, and the README example
+(issue: foundation, acceptance 3)."""
+import os
+import re
+import unittest
+
+import numpy as np
+from astropy.io import fits
+
+from octarc_testlib import (SEX_SHARE, SOURCE_DIR, WorkDirTest, fitsverify_errors, ldac_imhead,
+                            ldac_objects, run_octarc, run_sextractor, write_param)
+
+TESTDATA = os.path.join(SOURCE_DIR, "testdata")
+SEGS = ",".join(os.path.join(TESTDATA, "example.seg%d.fits.gz" % k) for k in (1, 2, 3))
+CATS = [os.path.join(TESTDATA, "example.cat%d.ldac" % k) for k in (1, 2, 3)]
+IMAGE = os.path.join(TESTDATA, "example.fits.gz")
+BACKGROUND = os.path.join(TESTDATA, "example.bkg.fits.gz")
+
+OCTOPOLE = ["ARCNESS", "ANTIARCNESS", "SKEW_MAJOR", "SKEW_MINOR", "I_AAB_IMAGE", "I_ABB_IMAGE",
+            "I_AAA_IMAGE", "I_BBB_IMAGE", "ARC_SIDE", "E1_IMAGE", "E2_IMAGE", "E_IMAGE",
+            "SIZE_IMAGE", "SNR_ISO", "THRESH_LEVEL", "PARENT_NUMBER", "OCT_FLAGS"]
+
+
+def declared_columns():
+    """name -> (description, unit) as `octarc measure -dp` lists them."""
+    out = run_octarc("measure", "-dp").stdout
+    columns = {}
+    for line in out.splitlines():
+        m = re.match(r"#(\S+)\s+(.*?)\s*(?:\[(.*)\])?$", line)
+        if m:
+            columns[m.group(1)] = (m.group(2).strip(), m.group(3) or "")
+    return columns
+
+
+class AppendToSExtractorCatalogs(WorkDirTest):
+
+    def test_append_keeps_every_original_column_and_header(self):
+        param = write_param(self.path("p.param"), ["NUMBER", "X_IMAGE"] + OCTOPOLE)
+        outs = [self.path("out%d.ldac" % k) for k in (1, 2, 3)]
+        run_octarc("measure", IMAGE, "-PARAMETERS_NAME", param, "-SEGMENTATION_NAME", SEGS,
+                   "-INPUT_CATALOG", ",".join(CATS), "-CATALOG_NAME", ",".join(outs),
+                   "-BACKGROUND_NAME", BACKGROUND, "-FILTER", "N", "-VERBOSE_TYPE", "QUIET")
+        declared = declared_columns()
+        for k, (src, out) in enumerate(zip(CATS, outs), start=1):
+            with fits.open(src) as a, fits.open(out) as b:
+                self.assertEqual(len(a), len(b))
+                self.assertEqual(b[1].name, "LDAC_IMHEAD")
+                self.assertEqual(list(a[1].data[0][0]), list(b[1].data[0][0]))
+                old, new = a[2], b[2]
+                self.assertEqual(new.name, "LDAC_OBJECTS")
+                for name in old.columns.names:
+                    np.testing.assert_array_equal(old.data[name], new.data[name])
+                    self.assertEqual(old.columns[name].unit, new.columns[name].unit)
+                    self.assertEqual(old.columns[name].format, new.columns[name].format)
+                appended = [c for c in new.columns.names if c not in old.columns.names]
+                # NUMBER and X_IMAGE are already there: they are not appended again.
+                self.assertEqual(appended, OCTOPOLE)
+                self.assertTrue(np.all(new.data["THRESH_LEVEL"] == k))
+                for i, name in enumerate(new.columns.names, start=1):
+                    if name in OCTOPOLE:
+                        self.assertEqual(new.header.comments["TTYPE%d" % i], declared[name][0])
+                        self.assertEqual(new.header.get("TUNIT%d" % i, ""), declared[name][1])
+            code, text = fitsverify_errors(out)
+            self.assertEqual(code, 0, text)
+
+    def test_input_catalog_is_never_touched_on_failure(self):
+        before = open(CATS[0], "rb").read()
+        bad_param = write_param(self.path("p.param"), ["NUMBER", "ARCNESS", "NOT_A_COLUMN(0)"])
+        proc = run_octarc("measure", IMAGE, "-PARAMETERS_NAME", bad_param,
+                          "-SEGMENTATION_NAME", SEGS, "-INPUT_CATALOG", ",".join(CATS),
+                          "-CATALOG_NAME", ",".join(CATS), "-BACKGROUND_NAME", BACKGROUND,
+                          check=False)
+        self.assertNotEqual(proc.returncode, 0)
+        self.assertEqual(open(CATS[0], "rb").read(), before)
+
+
+class ExampleField(WorkDirTest):
+
+    def run_example(self, catalog_type, name):
+        out = self.path(name)
+        run_octarc("measure", IMAGE, "-c", os.path.join(TESTDATA, "example.sex"),
+                   "-PARAMETERS_NAME", os.path.join(TESTDATA, "example.param"),
+                   "-CATALOG_TYPE", catalog_type, "-CATALOG_NAME", out, "-VERBOSE_TYPE", "QUIET",
+                   cwd=SOURCE_DIR)
+        return out
+
+    def test_arc_has_the_highest_arcness_once_it_separates(self):
+        out = self.run_example("FITS_LDAC", "example.ldac")
+        cat, header = ldac_objects(out)
+        self.assertEqual(sorted(set(cat["THRESH_LEVEL"])), [1, 2, 3])
+        for level in (2, 3):
+            rows = cat[cat["THRESH_LEVEL"] == level]
+            # METHOD.md: an arc must be resolved, sqrt(2) * size > 1.0" (0.257"/px).
+            rows = rows[np.sqrt(2.0) * rows["SIZE_IMAGE"] * 0.257 > 1.0]
+            best = rows[np.argmax(rows["ARCNESS"])]
+            # The arc is centred about 16 px from the lens at (101.3, 100.6), towards 60 deg.
+            d = np.hypot(best["X_IMAGE"] - 101.3, best["Y_IMAGE"] - 100.6)
+            self.assertGreater(d, 10.0)
+            self.assertLess(d, 20.0)
+            self.assertGreater(best["ARCNESS"], 0.05)
+            # Its lens lies on its concave side: towards -b or +b as ARC_SIDE says.
+            self.assertIn(best["ARC_SIDE"], (-1, 1))
+        # At 3 sigma the arc and its lens are one object: its children are the two of them.
+        children = cat[cat["THRESH_LEVEL"] == 2]
+        self.assertEqual(len(set(children["PARENT_NUMBER"])), len(cat[cat["THRESH_LEVEL"] == 1]) - 1)
+        code, text = fitsverify_errors(out)
+        self.assertEqual(code, 0, text)
+
+    def test_ascii_head_and_fits_1_0_carry_the_same_values(self):
+        ldac, _ = ldac_objects(self.run_example("FITS_LDAC", "a.ldac"))
+        fits10 = fits.getdata(self.run_example("FITS_1.0", "a.fits"), "OBJECTS")
+        ascii_path = self.run_example("ASCII_HEAD", "a.cat")
+        names = []
+        with open(ascii_path) as f:
+            for line in f:
+                if line.startswith("#"):
+                    names.append(line.split()[2])
+        self.assertEqual(names[:4], ["NUMBER", "THRESH_LEVEL", "PARENT_NUMBER", "X_IMAGE"])
+        table = np.loadtxt(ascii_path, comments="#", ndmin=2)
+        self.assertEqual(len(table), len(ldac))
+        np.testing.assert_array_equal(table[:, 0], ldac["NUMBER"])
+        np.testing.assert_allclose(table[:, 3], ldac["X_IMAGE"], atol=1e-4)
+        for name in ldac.columns.names:
+            np.testing.assert_array_equal(fits10[name], ldac[name])
+
+
+class BadInput(WorkDirTest):
+    """Bad input: a clear one-line error naming the file, a non-zero exit, no output file."""
+
+    def expect_error(self, *args, mentions):
+        out = self.path("out.ldac")
+        proc = run_octarc("measure", *args, "-CATALOG_NAME", out, "-CATALOG_TYPE", "FITS_LDAC",
+                          "-VERBOSE_TYPE", "QUIET", check=False)
+        self.assertNotEqual(proc.returncode, 0, proc.stderr)
+        lines = [l for l in proc.stderr.splitlines() if l.strip()]
+        self.assertEqual(len(lines), 1, proc.stderr)
+        self.assertIn(mentions, lines[0])
+        self.assertFalse(os.path.exists(out))
+        self.assertEqual([f for f in os.listdir(self.work) if f.startswith(".out")], [])
+        return lines[0]
+
+    def param(self):
+        return write_param(self.path("p.param"), ["NUMBER", "ARCNESS"])
+
+    def test_missing_image(self):
+        self.expect_error(self.path("nope.fits"), "-SEGMENTATION_NAME", SEGS.split(",")[0],
+                          "-PARAMETERS_NAME", self.param(), mentions="nope.fits")
+
+    def test_not_fits(self):
+        junk = self.path("junk.fits")
+        open(junk, "w").write("this is not a FITS file\n" * 100)
+        self.expect_error(junk, "-SEGMENTATION_NAME", SEGS.split(",")[0],
+                          "-PARAMETERS_NAME", self.param(), mentions="junk.fits")
+
+    def test_truncated_image(self):
+        data = fits.getdata(IMAGE)
+        full = self.path("full.fits")
+        fits.PrimaryHDU(data).writeto(full)
+        cut = self.path("cut.fits")
+        open(cut, "wb").write(open(full, "rb").read()[:2880 * 10])
+        self.expect_error(cut, "-SEGMENTATION_NAME", SEGS.split(",")[0],
+                          "-PARAMETERS_NAME", self.param(), mentions="cut.fits")
+
+    def test_table_where_an_image_is_expected(self):
+        self.expect_error(CATS[0] + "[2]", "-SEGMENTATION_NAME", SEGS.split(",")[0],
+                          "-PARAMETERS_NAME", self.param(), mentions="example.cat1.ldac")
+
+    def test_segmentation_not_integer(self):
+        self.expect_error(IMAGE, "-SEGMENTATION_NAME", IMAGE, "-PARAMETERS_NAME", self.param(),
+                          mentions="example.fits.gz")
+
+    def test_segmentation_wrong_size(self):
+        seg = self.path("small.seg.fits")
+        fits.PrimaryHDU(np.zeros((10, 12), dtype=np.int32)).writeto(seg)
+        self.expect_error(IMAGE, "-SEGMENTATION_NAME", seg, "-PARAMETERS_NAME", self.param(),
+                          mentions="small.seg.fits")
+
+    def test_negative_label(self):
+        seg = fits.getdata(SEGS.split(",")[0]).astype(np.int32)
+        seg[0, 0] = -3
+        path = self.path("neg.seg.fits")
+        fits.PrimaryHDU(seg).writeto(path)
+        self.expect_error(IMAGE, "-SEGMENTATION_NAME", path, "-PARAMETERS_NAME", self.param(),
+                          mentions="neg.seg.fits")
+
+    def test_levels_that_do_not_nest(self):
+        segs = SEGS.split(",")
+        self.expect_error(IMAGE, "-SEGMENTATION_NAME", "%s,%s" % (segs[2], segs[0]),
+                          "-DETECT_LEVELS", "1,2", "-PARAMETERS_NAME", self.param(),
+                          mentions="example.seg")
+
+    def test_label_without_catalog_row(self):
+        seg = fits.getdata(SEGS.split(",")[0]).astype(np.int32)
+        seg[0:3, 0:3] = 99
+        path = self.path("extra.seg.fits")
+        fits.PrimaryHDU(seg).writeto(path)
+        self.expect_error(IMAGE, "-SEGMENTATION_NAME", path, "-INPUT_CATALOG", CATS[0],
+                          "-APPEND_COLUMNS", "N", "-PARAMETERS_NAME", self.param(),
+                          mentions="99")
+
+    def test_catalog_row_without_label(self):
+        seg = fits.getdata(SEGS.split(",")[0]).astype(np.int32)
+        seg[seg == 2] = 0
+        path = self.path("missing.seg.fits")
+        fits.PrimaryHDU(seg).writeto(path)
+        self.expect_error(IMAGE, "-SEGMENTATION_NAME", path, "-INPUT_CATALOG", CATS[0],
+                          "-APPEND_COLUMNS", "N", "-PARAMETERS_NAME", self.param(),
+                          mentions="NUMBER 2")
+
+    def test_catalog_without_number(self):
+        cat = self.path("nonumber.fits")
+        fits.BinTableHDU.from_columns([fits.Column(name="X_IMAGE", format="E",
+                                                   array=np.zeros(3))],
+                                      name="LDAC_OBJECTS").writeto(cat)
+        self.expect_error(IMAGE, "-SEGMENTATION_NAME", SEGS.split(",")[0], "-INPUT_CATALOG", cat,
+                          "-APPEND_COLUMNS", "N", "-PARAMETERS_NAME", self.param(),
+                          mentions="nonumber.fits")
+
+    def test_malformed_param_line(self):
+        param = write_param(self.path("bad.param"), ["NUMBER", "VECTOR_ASSOC(0)"])
+        self.expect_error(IMAGE, "-SEGMENTATION_NAME", SEGS.split(",")[0],
+                          "-PARAMETERS_NAME", param, mentions="bad.param")
+
+    def test_malformed_sex_value(self):
+        sex = self.path("bad.sex")
+        open(sex, "w").write("DETECT_MINAREA  lots\n")
+        self.expect_error(IMAGE, "-c", sex, "-SEGMENTATION_NAME", SEGS.split(",")[0],
+                          "-PARAMETERS_NAME", self.param(), mentions="DETECT_MINAREA")
+
+    def test_out_of_range_value(self):
+        self.expect_error(IMAGE, "-SEGMENTATION_NAME", SEGS.split(",")[0], "-DETECT_MINAREA", "0",
+                          "-PARAMETERS_NAME", self.param(), mentions="DETECT_MINAREA")
+
+    def test_malformed_assoc_line(self):
+        assoc = self.path("list.txt")
+        open(assoc, "w").write("1 100.0 100.0 21.5\n2 abc 30.0 22.0\n")
+        param = write_param(self.path("a.param"), ["NUMBER", "VECTOR_ASSOC(2)", "NUMBER_ASSOC"])
+        self.expect_error(IMAGE, "-SEGMENTATION_NAME", SEGS.split(",")[0], "-PARAMETERS_NAME",
+                          param, "-ASSOC_NAME", assoc, "-ASSOC_PARAMS", "2,3",
+                          "-ASSOC_DATA", "1,4", mentions="list.txt")
+
+    def test_unknown_parameter_only_warns(self):
+        param = write_param(self.path("w.param"), ["NUMBER", "NOT_A_COLUMN", "ARCNESS"])
+        out = self.path("out.ldac")
+        proc = run_octarc("measure", IMAGE, "-SEGMENTATION_NAME", SEGS.split(",")[0],
+                          "-PARAMETERS_NAME", param, "-CATALOG_NAME", out, "-CATALOG_TYPE",
+                          "FITS_LDAC")
+        self.assertIn("NOT_A_COLUMN", proc.stderr)
+        self.assertEqual(fits.getdata(out, 2).columns.names, ["NUMBER", "ARCNESS"])
+
+
+class AssocLists(WorkDirTest):
+
+    def test_nearest_match_copies_the_list_columns(self):
+        cat, _ = ldac_objects(CATS[1])
+        assoc = self.path("truth.txt")
+        with open(assoc, "w") as f:
+            f.write("# id x y mag\n")
+            for i, row in enumerate(cat[:3], start=1):
+                f.write("%d %.3f %.3f %.2f\n" % (100 + i, row["X_IMAGE"] + 0.5, row["Y_IMAGE"],
+                                                 20.0 + i))
+        param = write_param(self.path("a.param"),
+                            ["NUMBER", "VECTOR_ASSOC(2)", "NUMBER_ASSOC", "ARCNESS"])
+        out = self.path("a.ldac")
+        run_octarc("measure", IMAGE, "-SEGMENTATION_NAME", SEGS.split(",")[1], "-INPUT_CATALOG",
+                   CATS[1], "-APPEND_COLUMNS", "N", "-BACKGROUND_NAME", BACKGROUND,
+                   "-PARAMETERS_NAME", param, "-ASSOC_NAME", assoc, "-ASSOC_PARAMS", "2,3",
+                   "-ASSOC_DATA", "1,4", "-ASSOC_RADIUS", "2.0", "-ASSOCSELEC_TYPE", "MATCHED",
+                   "-CATALOG_NAME", out, "-CATALOG_TYPE", "FITS_LDAC", "-FILTER", "N",
+                   "-VERBOSE_TYPE", "QUIET")
+        ours, header = ldac_objects(out)
+        self.assertEqual(len(ours), 3)
+        np.testing.assert_array_equal(sorted(ours["NUMBER"]), sorted(cat["NUMBER"][:3]))
+        for row in ours:
+            i = list(cat["NUMBER"]).index(row["NUMBER"])
+            self.assertEqual(row["VECTOR_ASSOC"][0], 101 + i)
+            self.assertAlmostEqual(row["VECTOR_ASSOC"][1], 21.0 + i)
+            self.assertEqual(row["NUMBER_ASSOC"], 1)
+
+
+if __name__ == "__main__":
+    unittest.main()
