@@ -1,0 +1,244 @@
+#include "octarc/simulation/Population.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <set>
+#include <sstream>
+
+#include "octarc/core/Error.h"
+
+namespace octarc::simulation {
+
+namespace {
+
+constexpr int kMaxRedshiftDraws = 1000;
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r");
+  if (b == std::string::npos) return "";
+  const auto e = s.find_last_not_of(" \t\r");
+  return s.substr(b, e - b + 1);
+}
+
+std::string fmt(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
+}  // namespace
+
+double MagnitudePowerLaw::sample(std::mt19937_64& rng) const {
+  const double u = std::uniform_real_distribution<double>(0.0, 1.0)(rng);
+  const double k = slopePerMag * std::log(10.0);
+  if (std::abs(k * (magMax - magMin)) < 1e-12) return magMin + u * (magMax - magMin);
+  // Inverse of the CDF of a density proportional to exp(k m) on [magMin, magMax].
+  return magMin + std::log1p(u * std::expm1(k * (magMax - magMin))) / k;
+}
+
+double MagnitudeSizeRelation::sample(double mag, std::mt19937_64& rng) const {
+  const double scatter =
+      scatterDex > 0.0 ? std::normal_distribution<double>(0.0, scatterDex)(rng) : 0.0;
+  return halfLightArcsecAtRef * std::pow(10.0, log10SlopePerMag * (mag - magRef) + scatter);
+}
+
+double MagnitudeRedshiftRelation::sample(double mag, double zFloor, double zMin, double zMax,
+                                         std::mt19937_64& rng) const {
+  const double lo = std::max(zMin, zFloor);
+  if (lo > zMax)
+    throw ConfigError("redshift range is empty: need z >= " + fmt(lo) + " and z <= " + fmt(zMax));
+  const double median = zAtRef + slopePerMag * (mag - magRef);
+  std::normal_distribution<double> scatterDist(0.0, scatter > 0.0 ? scatter : 1.0);
+  for (int i = 0; i < kMaxRedshiftDraws; ++i) {
+    const double z = median + (scatter > 0.0 ? scatterDist(rng) : 0.0);
+    if (z >= lo && z <= zMax) return z;
+    if (!(scatter > 0.0)) break;
+  }
+  throw ConfigError("magnitude-redshift relation gives no redshift in [" + fmt(lo) + ", " +
+                    fmt(zMax) + "] at magnitude " + fmt(mag));
+}
+
+double LinearTable::operator()(double xValue) const {
+  if (x.empty()) return 0.0;
+  if (xValue <= x.front()) return y.front();
+  if (xValue >= x.back()) return y.back();
+  const auto it = std::upper_bound(x.begin(), x.end(), xValue);
+  const auto i = static_cast<std::size_t>(it - x.begin());
+  const double t = (xValue - x[i - 1]) / (x[i] - x[i - 1]);
+  return y[i - 1] + t * (y[i] - y[i - 1]);
+}
+
+SourceDraw PopulationModel::drawSource(GalaxyType type, double zLens, std::mt19937_64& rng) const {
+  SourceDraw d;
+  d.mag = sourceMagnitude.sample(rng);
+  d.halfLightArcsec = sourceSize.sample(d.mag, rng);
+  const auto it = sourceRedshift.find(type);
+  if (it == sourceRedshift.end())
+    throw ConfigError(sourcePath + ": no magnitude-redshift relation for type " +
+                      galaxyTypeName(type));
+  try {
+    d.redshift =
+        it->second.sample(d.mag, zLens + sourceMinDzBehindLens, sourceZMin, sourceZMax, rng);
+  } catch (const ConfigError& e) {
+    throw ConfigError(sourcePath + ": source.z." + galaxyTypeName(type) + ": " + e.what());
+  }
+  return d;
+}
+
+LensDraw PopulationModel::drawLens(const FlatLambdaCdm& cosmology, std::mt19937_64& rng) const {
+  std::normal_distribution<double> fjScatter(0.0, fjScatterMag > 0.0 ? fjScatterMag : 1.0);
+  for (int attempt = 0; attempt < maxLensAttempts; ++attempt) {
+    LensDraw d;
+    d.mag = lensMagnitude.sample(rng);
+    try {
+      d.redshift = lensRedshift.sample(d.mag, lensZMin, lensZMin, lensZMax, rng);
+    } catch (const ConfigError& e) {
+      throw ConfigError(sourcePath + ": lens.z: " + e.what());
+    }
+    d.absoluteMag =
+        d.mag - cosmology.distanceModulusMag(d.redshift) - lensKCorrectionMag(d.redshift);
+    const double scatter = fjScatterMag > 0.0 ? fjScatter(rng) : 0.0;
+    d.sigmaKmPerS =
+        fjSigmaStarKmPerS * std::pow(10.0, -0.1 * (d.absoluteMag + scatter - fjAbsMagStar));
+    if (d.sigmaKmPerS > sigmaMinKmPerS && d.sigmaKmPerS < sigmaMaxKmPerS) return d;
+  }
+  throw ConfigError(sourcePath + ": lens.sigma_min_km_s/lens.sigma_max_km_s: no lens with " +
+                    fmt(sigmaMinKmPerS) + " < sigma_v < " + fmt(sigmaMaxKmPerS) + " km/s in " +
+                    std::to_string(maxLensAttempts) + " draws");
+}
+
+std::string defaultPopulationModelPath() {
+  return std::string(OCTARC_SIMULATION_PARAMS_DIR) + "/population.txt";
+}
+
+PopulationModel readPopulationModel(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw IoError(path + ": cannot open population parameter file");
+  PopulationModel m;
+  m.sourcePath = path;
+  m.sourceRedshift[GalaxyType::Elliptical] = {};
+  m.sourceRedshift[GalaxyType::Spiral] = {};
+  m.sourceRedshift[GalaxyType::Irregular] = {};
+
+  // Every key and where its value goes.
+  std::map<std::string, std::function<void(const std::vector<double>&)>> setters;
+  auto scalar = [&setters](const std::string& key, double* target) {
+    setters[key] = [target](const std::vector<double>& v) { *target = v.front(); };
+  };
+  scalar("source.mag_min", &m.sourceMagnitude.magMin);
+  scalar("source.mag_max", &m.sourceMagnitude.magMax);
+  scalar("source.mag_slope", &m.sourceMagnitude.slopePerMag);
+  scalar("source.size.mag_ref", &m.sourceSize.magRef);
+  scalar("source.size.r_half_arcsec_at_ref", &m.sourceSize.halfLightArcsecAtRef);
+  scalar("source.size.log10_slope_per_mag", &m.sourceSize.log10SlopePerMag);
+  scalar("source.size.scatter_dex", &m.sourceSize.scatterDex);
+  scalar("source.z_min", &m.sourceZMin);
+  scalar("source.z_max", &m.sourceZMax);
+  scalar("source.min_dz_behind_lens", &m.sourceMinDzBehindLens);
+  for (auto& [type, rel] : m.sourceRedshift) {
+    const std::string p = std::string("source.z.") + galaxyTypeName(type) + ".";
+    scalar(p + "mag_ref", &rel.magRef);
+    scalar(p + "z_at_ref", &rel.zAtRef);
+    scalar(p + "slope_per_mag", &rel.slopePerMag);
+    scalar(p + "scatter", &rel.scatter);
+  }
+  scalar("lens.mag_min", &m.lensMagnitude.magMin);
+  scalar("lens.mag_max", &m.lensMagnitude.magMax);
+  scalar("lens.mag_slope", &m.lensMagnitude.slopePerMag);
+  scalar("lens.z.mag_ref", &m.lensRedshift.magRef);
+  scalar("lens.z.z_at_ref", &m.lensRedshift.zAtRef);
+  scalar("lens.z.slope_per_mag", &m.lensRedshift.slopePerMag);
+  scalar("lens.z.scatter", &m.lensRedshift.scatter);
+  scalar("lens.z_min", &m.lensZMin);
+  scalar("lens.z_max", &m.lensZMax);
+  scalar("lens.fj.abs_mag_star", &m.fjAbsMagStar);
+  scalar("lens.fj.sigma_star_km_s", &m.fjSigmaStarKmPerS);
+  scalar("lens.fj.scatter_mag", &m.fjScatterMag);
+  scalar("lens.sigma_min_km_s", &m.sigmaMinKmPerS);
+  scalar("lens.sigma_max_km_s", &m.sigmaMaxKmPerS);
+  double maxAttempts = 0.0;
+  scalar("lens.max_attempts", &maxAttempts);
+  const std::set<std::string> listKeys = {"lens.kcorr.z", "lens.kcorr.mag"};
+  setters["lens.kcorr.z"] = [&m](const std::vector<double>& v) { m.lensKCorrectionMag.x = v; };
+  setters["lens.kcorr.mag"] = [&m](const std::vector<double>& v) { m.lensKCorrectionMag.y = v; };
+
+  std::set<std::string> seen;
+  std::string line;
+  int lineNo = 0;
+  while (std::getline(in, line)) {
+    ++lineNo;
+    const std::string where = path + ": line " + std::to_string(lineNo);
+    if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
+    line = trim(line);
+    if (line.empty()) continue;
+    const auto eq = line.find('=');
+    if (eq == std::string::npos) throw ConfigError(where + ": expected 'key = value'");
+    const std::string key = trim(line.substr(0, eq));
+    const auto setter = setters.find(key);
+    if (setter == setters.end()) throw ConfigError(where + ": unknown key '" + key + "'");
+    if (!seen.insert(key).second) throw ConfigError(where + ": key " + key + " given twice");
+    std::istringstream values(line.substr(eq + 1));
+    std::vector<double> numbers;
+    std::string token;
+    while (values >> token) {
+      std::size_t used = 0;
+      double v = 0.0;
+      try {
+        v = std::stod(token, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != token.size() || !std::isfinite(v))
+        throw ConfigError(where + ": key " + key + ": '" + token + "' is not a finite number");
+      numbers.push_back(v);
+    }
+    if (numbers.empty()) throw ConfigError(where + ": key " + key + " has no value");
+    if (numbers.size() > 1 && !listKeys.count(key))
+      throw ConfigError(where + ": key " + key + " takes one number");
+    setter->second(numbers);
+  }
+  for (const auto& [key, setter] : setters)
+    if (!seen.count(key)) throw ConfigError(path + ": missing key " + key);
+
+  auto fail = [&path](const std::string& key, const std::string& what) {
+    throw ConfigError(path + ": key " + key + ": " + what);
+  };
+  auto checkRange = [&](const std::string& prefix, const MagnitudePowerLaw& p) {
+    if (!(p.magMin < p.magMax))
+      fail(prefix + ".mag_min", "must be less than " + prefix + ".mag_max (" + fmt(p.magMin) +
+                                    " >= " + fmt(p.magMax) + ")");
+  };
+  checkRange("source", m.sourceMagnitude);
+  checkRange("lens", m.lensMagnitude);
+  if (!(m.sourceSize.halfLightArcsecAtRef > 0.0))
+    fail("source.size.r_half_arcsec_at_ref", "must be positive");
+  if (m.sourceSize.scatterDex < 0.0) fail("source.size.scatter_dex", "must be >= 0");
+  if (!(m.sourceZMin >= 0.0 && m.sourceZMin < m.sourceZMax))
+    fail("source.z_min", "must be >= 0 and less than source.z_max");
+  if (m.sourceMinDzBehindLens < 0.0) fail("source.min_dz_behind_lens", "must be >= 0");
+  for (const auto& [type, rel] : m.sourceRedshift)
+    if (rel.scatter < 0.0)
+      fail(std::string("source.z.") + galaxyTypeName(type) + ".scatter", "must be >= 0");
+  if (m.lensRedshift.scatter < 0.0) fail("lens.z.scatter", "must be >= 0");
+  if (!(m.lensZMin > 0.0 && m.lensZMin < m.lensZMax))
+    fail("lens.z_min", "must be > 0 and less than lens.z_max");
+  if (!(m.fjSigmaStarKmPerS > 0.0)) fail("lens.fj.sigma_star_km_s", "must be positive");
+  if (m.fjScatterMag < 0.0) fail("lens.fj.scatter_mag", "must be >= 0");
+  if (!(m.sigmaMinKmPerS > 0.0 && m.sigmaMinKmPerS < m.sigmaMaxKmPerS))
+    fail("lens.sigma_min_km_s", "must be positive and less than lens.sigma_max_km_s (" +
+                                    fmt(m.sigmaMinKmPerS) + " >= " + fmt(m.sigmaMaxKmPerS) + ")");
+  if (!(maxAttempts >= 1.0 && maxAttempts <= 1e9 && maxAttempts == std::floor(maxAttempts)))
+    fail("lens.max_attempts", "must be a whole number between 1 and 1e9");
+  m.maxLensAttempts = static_cast<int>(maxAttempts);
+  const LinearTable& k = m.lensKCorrectionMag;
+  if (k.x.size() != k.y.size())
+    fail("lens.kcorr.mag", "has " + std::to_string(k.y.size()) + " values but lens.kcorr.z has " +
+                               std::to_string(k.x.size()));
+  for (std::size_t i = 1; i < k.x.size(); ++i)
+    if (!(k.x[i] > k.x[i - 1])) fail("lens.kcorr.z", "must be strictly increasing");
+  return m;
+}
+
+}  // namespace octarc::simulation

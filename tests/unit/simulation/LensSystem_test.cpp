@@ -1,0 +1,125 @@
+#include "octarc/simulation/LensSystem.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "octarc/core/Error.h"
+#include "octarc/simulation/Psf.h"
+#include "octarc/simulation/Seeds.h"
+
+namespace octarc::simulation {
+namespace {
+
+double sum(const ImageD& img) {
+  double s = 0.0;
+  for (double v : img.pixels()) s += v;
+  return s;
+}
+
+SourceStamp gaussianSource(double sigmaArcsec, double scaleArcsec, int halfWidth) {
+  SourceStamp s;
+  s.pixelScaleArcsec = scaleArcsec;
+  s.fluxPerPixel = ImageD(2 * halfWidth + 1, 2 * halfWidth + 1);
+  for (int y = 0; y <= 2 * halfWidth; ++y)
+    for (int x = 0; x <= 2 * halfWidth; ++x)
+      s.fluxPerPixel(x, y) =
+          7.0 * std::exp(-0.5 * (std::pow(x - halfWidth, 2) + std::pow(y - halfWidth, 2)) *
+                         scaleArcsec * scaleArcsec / (sigmaArcsec * sigmaArcsec));
+  s.name = "gaussian";
+  return s;
+}
+
+LensSystem sisSystem(double b, const Vec2& beta) {
+  LensSystem sys;
+  sys.mass = {b, 0.0, 0.0, 0.0};
+  sys.light.halfLightRadiusArcsec = 0.3;
+  sys.lensMag = 21.0;
+  sys.source.betaArcsec = beta;
+  sys.sourceMag = 23.0;
+  return sys;
+}
+
+TEST(LensSystem, NoiseFreeStampHoldsLensedSourceAndLensLight) {
+  ObservingSetup setup;
+  setup.addNoise = false;
+  setup.rayTrace.fineScaleArcsec = 0.01;
+  const double b = 1.5, beta = 0.45;
+  const SourceStamp src = gaussianSource(0.01, 0.0025, 40);
+  std::mt19937_64 rng(1);
+  const RenderedLensSystem r = renderLensSystem(sisSystem(b, {beta, 0.0}), src, setup, rng);
+  // SIS: total magnification 2 b / beta (to 1e-3 for this tiny source).
+  EXPECT_NEAR(r.magnification / (2.0 * b / beta), 1.0, 1e-3);
+  EXPECT_NEAR(r.lensedSourceFlux, r.magnification * std::pow(10.0, -0.4 * (23.0 - 30.0)), 1e-9);
+  // Image flux = lensed source + lens light inside the stamp; the stamp (26" square) holds the
+  // de Vaucouleurs profile of r_e = 0.3" between radii 13" and 18.4", and the PSF loses
+  // nothing measurable at 13" from the centre.
+  const double light = std::pow(10.0, -0.4 * (21.0 - 30.0));
+  const double lightMin = light * sersicEnclosedFraction(4.0, 13.0 / 0.3);
+  const double lightMax = light * sersicEnclosedFraction(4.0, 18.4 / 0.3);
+  const double total = sum(r.image);
+  EXPECT_GT(total, r.lensedSourceFlux + lightMin - 1e-6 * light);
+  EXPECT_LT(total, r.lensedSourceFlux + lightMax + 1e-6 * light);
+}
+
+TEST(LensSystem, UserPsfImageGivesTheSameStampAsTheSeeing) {
+  ObservingSetup gaussian;
+  gaussian.addNoise = false;
+  const ImageD psf = gaussianPsfImage(0.9, 0.257);
+  ObservingSetup user = gaussian;
+  user.userPsf = &psf;
+  const SourceStamp src = gaussianSource(0.2, 0.03, 30);
+  std::mt19937_64 rng(2);
+  const LensSystem sys = sisSystem(1.2, {0.3, -0.2});
+  const ImageD a = renderLensSystem(sys, src, gaussian, rng).image;
+  const ImageD b = renderLensSystem(sys, src, user, rng).image;
+  for (std::int64_t k = 0; k < a.size(); ++k)
+    ASSERT_NEAR(a[k], b[k], 1e-9 * std::abs(a[k]) + 1e-12);
+}
+
+TEST(LensSystem, NoiseIsSeededAndHasTheSkySigmaFarFromTheLens) {
+  ObservingSetup setup;
+  setup.skySigmaAdu = 2.0;
+  const SourceStamp src = gaussianSource(0.2, 0.03, 30);
+  const LensSystem sys = sisSystem(1.2, {0.3, -0.2});
+  auto r1 = systemRng(9, 4), r2 = systemRng(9, 4);
+  const ImageD a = renderLensSystem(sys, src, setup, r1).image;
+  const ImageD b = renderLensSystem(sys, src, setup, r2).image;
+  EXPECT_EQ(a.pixels(), b.pixels());
+  // The outer 20-pixel border (>= 7.7" from the lens) is almost pure sky.
+  double s = 0.0, s2 = 0.0;
+  int n = 0;
+  for (int y = 0; y < a.height(); ++y)
+    for (int x = 0; x < a.width(); ++x)
+      if (std::abs(x - 50) > 30 || std::abs(y - 50) > 30) {
+        s += a(x, y);
+        s2 += a(x, y) * a(x, y);
+        ++n;
+      }
+  const double var = s2 / n - (s / n) * (s / n);
+  EXPECT_NEAR(var / 4.0, 1.0, 5.0 * std::sqrt(2.0 / n));
+}
+
+TEST(LensSystem, UniformPointsInsideTheEinsteinRadius) {
+  std::mt19937_64 rng(5);
+  const int n = 100000;
+  double r2 = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const Vec2 p = drawUniformInDisc(1.5, rng);
+    const double d2 = p[0] * p[0] + p[1] * p[1];
+    ASSERT_LE(d2, 2.25);
+    r2 += d2;
+  }
+  // Uniform in area: <r^2> = R^2 / 2, standard deviation of r^2 is R^2 / sqrt(12).
+  EXPECT_NEAR(r2 / n, 1.125, 4.0 * 2.25 / std::sqrt(12.0 * n));
+}
+
+TEST(LensSystem, RejectsAnEmptySource) {
+  SourceStamp dark;
+  dark.fluxPerPixel = ImageD(5, 5);
+  std::mt19937_64 rng(1);
+  EXPECT_THROW(renderLensSystem(sisSystem(1.0, {0, 0}), dark, ObservingSetup{}, rng), ConfigError);
+}
+
+}  // namespace
+}  // namespace octarc::simulation

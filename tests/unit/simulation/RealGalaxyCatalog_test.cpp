@@ -1,0 +1,147 @@
+#include "octarc/simulation/RealGalaxyCatalog.h"
+
+#include <fitsio.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "TestPaths.h"
+#include "octarc/core/Error.h"
+
+namespace octarc::simulation {
+namespace {
+
+double sum(const ImageD& img) {
+  double s = 0.0;
+  for (double v : img.pixels()) s += v;
+  return s;
+}
+
+// Message of the IoError thrown by f ("" if none).
+template <typename F>
+std::string ioErrorOf(F&& f) {
+  try {
+    f();
+  } catch (const IoError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(RealGalaxyCatalog, ReadsTheAegisSample) {
+  OCTARC_REQUIRE_SHARED_DATA(shared);
+  const auto cat =
+      RealGalaxyCatalog::load((shared / "hst-galaxies/aegis/AEGIS_F606w_catalog.fits").string());
+  ASSERT_EQ(cat.size(), 5u);
+  EXPECT_EQ(cat.entry(0).ident, 23409);
+  EXPECT_NEAR(cat.entry(0).mag, 25.1206, 1e-12);
+  EXPECT_EQ(cat.entry(0).band, "F606W");
+  EXPECT_DOUBLE_EQ(cat.entry(0).pixelScaleArcsec, 0.03);
+  EXPECT_EQ(cat.entry(3).galaxyHdu, 0);
+  EXPECT_NE(cat.entry(3).galaxyPath.find("AEGIS_F606w_images_02.fits"), std::string::npos);
+  // Row 1 is HDU 1 of images_01: 142 x 156 pixels; pixel sum 49.128787907739294 (astropy,
+  // float64 sum of the float32 data).
+  const SourceStamp g = cat.loadGalaxy(1);
+  EXPECT_EQ(g.fluxPerPixel.width(), 142);
+  EXPECT_EQ(g.fluxPerPixel.height(), 156);
+  EXPECT_NEAR(totalFlux(g), 49.128787907739294, 1e-9);
+  EXPECT_DOUBLE_EQ(g.pixelScaleArcsec, 0.03);
+  // Primary HDU stamps work too (row 0: 70 x 46, pixel (20, 10) = 3.2928936e-06).
+  const SourceStamp g0 = cat.loadGalaxy(0);
+  EXPECT_EQ(g0.fluxPerPixel.width(), 70);
+  EXPECT_NEAR(g0.fluxPerPixel(20, 10), 3.2928936e-06, 1e-12);
+  // PSF of row 1: HDU 1 of the PSF file, 20 x 20, normalised; pixel (10, 10) holds 0.0441230
+  // of the flux (astropy).
+  const ImageD psf = cat.loadPsf(1);
+  EXPECT_EQ(psf.width(), 20);
+  EXPECT_NEAR(sum(psf), 1.0, 1e-12);
+  EXPECT_NEAR(psf(10, 10), 0.044122954, 1e-7);
+}
+
+TEST(RealGalaxyCatalog, EveryAegisGalaxyAndPsfLoadsInBothBands) {
+  OCTARC_REQUIRE_SHARED_DATA(shared);
+  for (const char* band : {"F606w", "F814w"}) {
+    const auto cat = RealGalaxyCatalog::load(
+        (shared / "hst-galaxies/aegis" / (std::string("AEGIS_") + band + "_catalog.fits"))
+            .string());
+    ASSERT_EQ(cat.size(), 5u) << band;
+    for (std::size_t i = 0; i < cat.size(); ++i) {
+      const SourceStamp g = cat.loadGalaxy(i);
+      EXPECT_GT(g.fluxPerPixel.width(), 10) << band << " row " << i;
+      EXPECT_GT(totalFlux(g), 0.0) << band << " row " << i;
+      EXPECT_NEAR(sum(cat.loadPsf(i)), 1.0, 1e-12) << band << " row " << i;
+    }
+  }
+}
+
+TEST(RealGalaxyCatalog, CosmosGalaxyLoadsThoughItsPsfFileIsMissing) {
+  OCTARC_REQUIRE_SHARED_DATA(shared);
+  const auto cat = RealGalaxyCatalog::load(
+      (shared / "hst-galaxies/cosmos/real_galaxy_catalog_23.5.fits").string());
+  ASSERT_EQ(cat.size(), 2u);
+  EXPECT_EQ(cat.entry(1).ident, 169753);
+  EXPECT_EQ(cat.entry(1).band, "F814W");
+  EXPECT_NEAR(cat.entry(0).pixelScaleArcsec, 0.03, 1e-8);
+  const SourceStamp g = cat.loadGalaxy(0);  // HDU 2 of test_galaxy_images_23.5.fits
+  EXPECT_EQ(g.fluxPerPixel.width(), 154);
+  EXPECT_EQ(g.fluxPerPixel.height(), 153);
+  EXPECT_NEAR(totalFlux(g), 295.27060361218173, 1e-7);
+  const std::string msg = ioErrorOf([&] { cat.loadPsf(0); });
+  EXPECT_NE(msg.find("real_galaxy_PSF_images_23.5_n4.fits does not exist"), std::string::npos)
+      << msg;
+  EXPECT_EQ(msg.find('\n'), std::string::npos);
+}
+
+TEST(RealGalaxyCatalog, MissingImageFileIsAClearError) {
+  OCTARC_REQUIRE_SHARED_DATA(shared);
+  const std::string path = (shared / "hst-galaxies/real_galaxy_catalog_23.5_example.fits").string();
+  std::string msg = ioErrorOf([&] { RealGalaxyCatalog::load(path); });
+  EXPECT_NE(msg.find("real_galaxy_catalog_23.5_example.fits: row 1 (IDENT 100027): galaxy image "
+                     "file "),
+            std::string::npos)
+      << msg;
+  EXPECT_NE(msg.find("real_galaxy_images.fits does not exist"), std::string::npos) << msg;
+  // Without the up-front check the table loads (100 rows) and the stamp read fails cleanly.
+  const auto cat = RealGalaxyCatalog::load(path, false);
+  EXPECT_EQ(cat.size(), 100u);
+  msg = ioErrorOf([&] { cat.loadGalaxy(7); });
+  EXPECT_NE(msg.find("real_galaxy_images.fits does not exist"), std::string::npos) << msg;
+  EXPECT_THROW(cat.entry(100), std::out_of_range);
+}
+
+TEST(RealGalaxyCatalog, BadCatalogFiles) {
+  const auto dir = test::scratchDir();
+  std::string msg = ioErrorOf([&] { RealGalaxyCatalog::load((dir / "none.fits").string()); });
+  EXPECT_NE(msg.find("none.fits: RealGalaxyCatalog file does not exist"), std::string::npos);
+
+  // A table without GAL_FILENAME.
+  const std::string path = (dir / "partial.fits").string();
+  int status = 0;
+  fitsfile* f = nullptr;
+  fits_create_file(&f, path.c_str(), &status);
+  char* names[] = {const_cast<char*>("IDENT"), const_cast<char*>("MAG"), const_cast<char*>("BAND"),
+                   const_cast<char*>("PIXEL_SCALE")};
+  char* forms[] = {const_cast<char*>("J"), const_cast<char*>("D"), const_cast<char*>("5A"),
+                   const_cast<char*>("D")};
+  fits_create_tbl(f, BINARY_TBL, 0, 4, names, forms, nullptr, nullptr, &status);
+  fits_close_file(f, &status);
+  ASSERT_EQ(status, 0);
+  msg = ioErrorOf([&] { RealGalaxyCatalog::load(path); });
+  EXPECT_NE(msg.find("partial.fits: RealGalaxyCatalog table has no column GAL_FILENAME"),
+            std::string::npos)
+      << msg;
+
+  // An image instead of a table.
+  const std::string imagePath = (dir / "image.fits").string();
+  fits_create_file(&f, imagePath.c_str(), &status);
+  long naxes[2] = {4, 4};
+  fits_create_img(f, FLOAT_IMG, 2, naxes, &status);
+  fits_close_file(f, &status);
+  ASSERT_EQ(status, 0);
+  msg = ioErrorOf([&] { RealGalaxyCatalog::load(imagePath); });
+  EXPECT_NE(msg.find("image.fits: not a RealGalaxyCatalog"), std::string::npos) << msg;
+}
+
+}  // namespace
+}  // namespace octarc::simulation
