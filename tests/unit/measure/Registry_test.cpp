@@ -52,7 +52,9 @@ TEST(Registry, OctarcDescriptionsFitInATtypeCard) {
       "ARC_SIDE",     "E1_IMAGE",      "E2_IMAGE", "E_IMAGE",     "SIZE_IMAGE",
       "SNR_ISO",      "OCT_FLAGS"};
   for (const ColumnSpec& c : allBuiltinColumns()) {
-    if (own.count(c.name)) EXPECT_LE(c.description.size(), 47u) << c.name;
+    if (own.count(c.name)) {
+      EXPECT_LE(c.description.size(), 47u) << c.name;
+    }
   }
 }
 
