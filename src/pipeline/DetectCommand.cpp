@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
+#include <limits>
 #include <numeric>
 #include <set>
 
@@ -27,9 +29,12 @@ namespace {
 const std::set<std::string> kCheckImageTypes = {"SEGMENTATION", "BACKGROUND", "BACKGROUND_RMS",
                                                 "-BACKGROUND",  "FILTERED",   "OBJECTS"};
 
-// Objects are measured in batches of this many, so that pixel lists never pile up.
+// Objects are measured in batches of at most this many objects or pixels, so that pixel lists
+// never pile up (a batch of large low-level objects would otherwise hold many image rows).
 constexpr std::size_t kMeasureBatch = 16384;
+constexpr std::size_t kMeasureBatchPixels = std::size_t(1) << 21;
 
+// clang-format off
 void printUsage() {
   std::cout <<
       "Usage: octarc detect IMAGE [-c config.sex] [-KEY value ...]\n"
@@ -44,6 +49,12 @@ void printUsage() {
       "or the explicit list DETECT_LEVELS. DETECT_NLEVELS 1 is a plain SExtractor run.\n"
       "CHECKIMAGE_TYPE SEGMENTATION writes one int32 HDU per level.\n"
       "\n"
+      "Weight maps: WEIGHT_TYPE MAP_WEIGHT, MAP_RMS or MAP_VAR with WEIGHT_IMAGE (and\n"
+      "WEIGHT_THRESH, RESCALE_WEIGHTS) as in SExtractor: RELATIVE levels become t * sqrt(var)\n"
+      "per pixel, bad weight pixels never join an object, FLUXERR_ISO uses the variances.\n"
+      "A constant image gives no object: as SExtractor, the noise sigma is set to 1 with a\n"
+      "warning. An image without any finite pixel is an error.\n"
+      "\n"
       "Options:\n"
       "  -c FILE      configuration file (SExtractor .sex syntax; see params/octarc.sex)\n"
       "  -KEY value   override a configuration key (e.g. -DETECT_NLEVELS 15)\n"
@@ -51,10 +62,11 @@ void printUsage() {
       "  -dp          list every catalog column with its description and unit\n"
       "  -h           this help;  -v  version\n";
 }
+// clang-format on
 
-// The detection levels in ADU, lowest first.
-std::vector<ThresholdLevel> detectionLevels(const RunSettings& s, double sigmaAdu) {
-  const bool relative = s.detectThresholdType == ThresholdType::Relative;
+// The levels as given, in THRESH_TYPE units (DETECT_LEVELS, or DETECT_NLEVELS values spaced
+// logarithmically from DETECT_THRESH to DETECT_THRESH_MAX), lowest first.
+std::vector<double> levelValues(const RunSettings& s) {
   std::vector<double> values = s.detectLevels;
   if (values.empty()) {
     const int n = s.detectLevelCount;
@@ -73,11 +85,20 @@ std::vector<ThresholdLevel> detectionLevels(const RunSettings& s, double sigmaAd
       }
     }
   }
+  return values;
+}
+
+// The detection levels in ADU, lowest first.
+std::vector<ThresholdLevel> detectionLevels(const RunSettings& s, double sigmaAdu) {
+  const bool relative = s.detectThresholdType == ThresholdType::Relative;
+  const std::vector<double> values = levelValues(s);
   std::vector<ThresholdLevel> levels;
   for (std::size_t k = 0; k < values.size(); ++k) {
     if (k > 0 && !(values[k] > values[k - 1])) {
-      throw ConfigError("DETECT_LEVELS must increase strictly (" + std::to_string(values[k - 1]) +
-                        " then " + std::to_string(values[k]) + ")");
+      char text[96];
+      std::snprintf(text, sizeof text, "DETECT_LEVELS: levels must increase strictly (%g then %g)",
+                    values[k - 1], values[k]);
+      throw ConfigError(text);
     }
     ThresholdLevel l;
     l.level = int(k) + 1;
@@ -114,8 +135,38 @@ void sortRows(Table& table, const std::vector<std::pair<int, std::int32_t>>& key
   table = std::move(sorted);
 }
 
-void writeCheckImages(const RunSettings& s, const PreparedImage& image,
-                      const SegmentationRuns* runs, const std::vector<ThresholdLevel>& levels) {
+// The variance map and the detector's per-pixel threshold factor share one buffer: the
+// detector reads the factor only in its first scan over the image, before it hands out any
+// object, so the buffer is turned back into variances before the first measurement.
+//
+// SExtractor's per-pixel threshold is DETECT_THRESH * sqrt(var_i) in single precision, not
+// (DETECT_THRESH * sigma) * sqrt(var_i) / sigma, whose extra roundings move pixels lying on the
+// threshold. So the detector is given the levels in sigma units and the factor sqrt(var_i):
+// t_k * sqrt(var_i) is the same threshold in ADU, rounded as SExtractor rounds it.
+void varianceToRms(ImageF& buffer) {
+  for (float& v : buffer.pixels()) v = float(std::sqrt(double(v)));
+}
+
+void rmsToVariance(ImageF& buffer) {
+  for (float& v : buffer.pixels()) v = float(double(v) * double(v));
+}
+
+// Writes the check images once everything else has succeeded, each atomically and each through
+// at most one image-sized buffer. OBJECTS goes last: it blanks the measurement image in place.
+void writeCheckImages(const RunSettings& s, PreparedImage& image, const SegmentationRuns* runs,
+                      const std::vector<ThresholdLevel>& levels) {
+  // Measurements are done: free the buffers no check image needs, to make room for the one
+  // image-sized buffer the check images use.
+  image.variance = ImageF();
+  if (std::count(s.checkImageTypes.begin(), s.checkImageTypes.end(), "FILTERED") == 0) {
+    image.filtered = ImageF();
+  }
+  auto writeFloat = [&](const std::string& path, const ImageF& pixels) {
+    OutputImageHdu hdu;
+    hdu.header = image.hdu.header;
+    hdu.floatPixels = &pixels;
+    writeImageFile(path, {hdu});
+  };
   for (std::size_t i = 0; i < s.checkImageTypes.size(); ++i) {
     const std::string& type = s.checkImageTypes[i];
     const std::string& path = s.checkImageNames[i];
@@ -132,34 +183,30 @@ void writeCheckImages(const RunSettings& s, const PreparedImage& image,
         hdu.intPixels = &labels;
         hdu.floatPixels = nullptr;
       });
-      continue;
-    }
-    ImageF pixels;
-    if (type == "BACKGROUND") {
-      pixels = image.backgroundMap ? *image.backgroundMap
-                                   : ImageF(image.hdu.pixels.width(), image.hdu.pixels.height(),
-                                            float(image.backgroundAdu));
+    } else if (type == "BACKGROUND") {
+      writeFloat(path, image.backgroundImage());
     } else if (type == "BACKGROUND_RMS") {
-      pixels = image.backgroundRmsMap ? *image.backgroundRmsMap
-                                      : ImageF(image.hdu.pixels.width(),
-                                               image.hdu.pixels.height(), float(image.sigmaAdu));
+      writeFloat(path, image.backgroundRmsImage());
     } else if (type == "-BACKGROUND") {
-      pixels = image.hdu.pixels;
+      writeFloat(path, image.hdu.pixels);
     } else if (type == "FILTERED") {
-      pixels = image.detectionImage();
-    } else if (type == "OBJECTS") {
+      writeFloat(path, image.detectionImage());
+    }
+  }
+  bool blanked = false;
+  for (std::size_t i = 0; i < s.checkImageTypes.size(); ++i) {
+    if (s.checkImageTypes[i] != "OBJECTS") continue;
+    if (!blanked) {
       // Measurement pixels on the footprints of the lowest level, 0 elsewhere.
       ImageI32 labels;
       runs->render(1, labels);
-      pixels = ImageF(image.hdu.pixels.width(), image.hdu.pixels.height(), 0.0f);
+      ImageF& pixels = image.hdu.pixels;
       for (std::int64_t p = 0; p < pixels.size(); ++p) {
-        if (labels[p] != 0) pixels[p] = image.hdu.pixels[p];
+        if (labels[p] == 0) pixels[p] = 0.0f;
       }
+      blanked = true;
     }
-    OutputImageHdu hdu;
-    hdu.header = image.hdu.header;
-    hdu.floatPixels = &pixels;
-    writeImageFile(path, {hdu});
+    writeFloat(s.checkImageNames[i], image.hdu.pixels);
   }
 }
 
@@ -188,6 +235,10 @@ int runDetect(const std::vector<std::string>& args) {
   const bool keepMaps =
       std::count(s.checkImageTypes.begin(), s.checkImageTypes.end(), "BACKGROUND") > 0 ||
       std::count(s.checkImageTypes.begin(), s.checkImageTypes.end(), "BACKGROUND_RMS") > 0;
+  detectionLevels(s, 1.0);  // the level list is checked before any image is read
+  if (s.minAreaPix < 1) {
+    throw ConfigError("DETECT_MINAREA: must be at least 1, got " + std::to_string(s.minAreaPix));
+  }
   const CatalogType catalogType = parseCatalogType(s.catalogType);
   const ColumnPlan columns = planColumns(s, s.quiet);
   std::optional<sexcompat::AssocSettings> assocSettings;
@@ -196,6 +247,13 @@ int runDetect(const std::vector<std::string>& args) {
 
   const std::vector<std::string> extensions = listImageHdus(s.imagePaths[0]);
   const int extCount = int(extensions.size());
+  if (!s.checkImageTypes.empty() && extCount > 1) {
+    throw ConfigError("CHECKIMAGE_TYPE: check-images of multi-extension images are not supported");
+  }
+  // The single image and its footprints, kept for the check images written after the catalog.
+  std::optional<PreparedImage> checkImage;
+  std::optional<SegmentationRuns> checkRuns;
+  std::vector<ThresholdLevel> checkLevels;
   std::vector<Table> tables;
   std::vector<FitsHeader> headers;
   std::vector<std::vector<std::string>> cards;
@@ -204,7 +262,8 @@ int runDetect(const std::vector<std::string>& args) {
 
   for (int e = 0; e < extCount; ++e) {
     if (!s.quiet) std::cerr << "> Reading " << extensions[std::size_t(e)] << "\n";
-    const PreparedImage image = prepareImage(extensions[std::size_t(e)], s, {}, keepMaps);
+    const bool relative = s.detectThresholdType == ThresholdType::Relative;
+    PreparedImage image = prepareImage(extensions[std::size_t(e)], s, {}, keepMaps, relative);
     if (!s.quiet) {
       for (const std::string& w : image.warnings) std::cerr << "WARNING: " << w << "\n";
     }
@@ -222,6 +281,35 @@ int runDetect(const std::vector<std::string>& args) {
     for (const ThresholdLevel& l : levels) detection.thresholdsAdu.push_back(l.thresholdAdu);
     detection.minArea = s.minAreaPix;
     detection.threads = threads;
+    // With a weight map, RELATIVE levels follow the local noise: pixel i is above level k when
+    // f_i > t_k sqrt(var_i) (SEXTRACTOR.md section 4); ABSOLUTE levels stay in ADU. Bad weight
+    // pixels (+Inf variance) and NaN weights never pass either way.
+    const bool scaled = !image.variance.empty() && relative;
+    bool scaleIsVariance = true;
+    if (scaled) {
+      varianceToRms(image.variance);
+      detection.thresholdScale = &image.variance;
+      detection.thresholdsAdu = levelValues(s);
+      scaleIsVariance = false;
+    } else if (!image.variance.empty()) {
+      // ABSOLUTE levels stay in ADU; bad weight pixels are kept out by blanking them in the
+      // detection image (NaN never joins an object).
+      ImageF& det = image.filtered.empty() ? image.hdu.pixels : image.filtered;
+      for (std::int64_t i = 0; i < det.size(); ++i) {
+        if (!(image.variance[i] < std::numeric_limits<float>::infinity())) {
+          det[i] = std::numeric_limits<float>::quiet_NaN();
+        }
+      }
+    }
+    auto restoreVariance = [&]() {
+      if (scaleIsVariance) return;
+      if (image.varianceFiltered) {
+        image.reloadVariance(s);
+      } else {
+        rmsToVariance(image.variance);
+      }
+      scaleIsVariance = true;
+    };
 
     std::optional<SegmentationRuns> runs;
     if (wantSegmentation) {
@@ -230,19 +318,24 @@ int runDetect(const std::vector<std::string>& args) {
     Table full(columns.plan.columns());
     std::vector<std::pair<int, std::int32_t>> keys;
     std::vector<Segment> batch;
+    std::size_t batchPixels = 0;
     auto flush = [&]() {
       measureSegments(columns.plan, batch, context, full, threads);
       batch.clear();
+      batchPixels = 0;
     };
     const std::vector<std::int64_t> counts =
         detectMultiThreshold(image.detectionImage(), detection, [&](std::vector<Segment>& objs) {
+          restoreVariance();
           if (runs) runs->add(objs);
           for (Segment& o : objs) {
             keys.emplace_back(o.level, o.number);
+            batchPixels += o.pixels.size();
             batch.push_back(std::move(o));
           }
-          if (batch.size() >= kMeasureBatch) flush();
+          if (batch.size() >= kMeasureBatch || batchPixels >= kMeasureBatchPixels) flush();
         });
+    restoreVariance();
     flush();
     sortRows(full, keys);
     if (!s.quiet) {
@@ -278,14 +371,17 @@ int runDetect(const std::vector<std::string>& args) {
     facts.parameterCount = int(columns.outputColumns.size());
     facts.elapsedSec =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const RunSummary summary = runSummary(s, image, levels, facts);
+    RunSummary summary = runSummary(s, image, levels, facts);
+    if (!image.variance.empty()) {
+      summary.detectWeightScale = image.weightScale;
+      summary.measureWeightScale = image.weightScale;
+    }
     if (e == 0) fits10Cards = sexFits10Cards(summary);
     cards.push_back(runHeaderCards(summary, image, levels));
     if (!s.checkImageTypes.empty()) {
-      if (extCount > 1) {
-        throw ConfigError("check-images of multi-extension images are not supported yet");
-      }
-      writeCheckImages(s, image, runs ? &*runs : nullptr, levels);
+      checkImage = std::move(image);
+      checkRuns = std::move(runs);
+      checkLevels = levels;
     }
   }
 
@@ -299,6 +395,8 @@ int runDetect(const std::vector<std::string>& args) {
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
               << " s\n";
   }
+  // Check images last, so that a failure anywhere before leaves no output behind.
+  if (checkImage) writeCheckImages(s, *checkImage, checkRuns ? &*checkRuns : nullptr, checkLevels);
   return 0;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include "octarc/background/GlobalBackground.h"
 #include "octarc/background/MeshBackground.h"
@@ -63,6 +64,18 @@ std::string resolveFilterFile(const std::string& path) {
   return path;
 }
 
+// Weight-map pixels to variances (ADU^2), in place. WEIGHT_THRESH is in the map's own units:
+// weights at or below it, or RMS / variance values at or above it, are bad pixels (+Inf).
+void weightsToVariance(ImageF& weights, const MeshBackground& mesh, const RunSettings& settings) {
+  const bool isWeight = settings.weightType == WeightType::MapWeight;
+  const float threshold = float(settings.weightThreshold.value_or(isWeight ? 0.0 : 1e30));
+  constexpr float inf = std::numeric_limits<float>::infinity();
+  for (float& w : weights.pixels()) {
+    const bool good = isWeight ? w > threshold : w < threshold;
+    w = good ? mesh.pixelVariance(w) : inf;
+  }
+}
+
 }  // namespace
 
 double thresholdToAdu(double value, bool relative, double sigmaAdu) {
@@ -74,6 +87,7 @@ MeasureContext PreparedImage::context(const RunSettings& settings) const {
   c.measurement = &hdu.pixels;
   c.detection = &detectionImage();
   c.saturatedPixels = saturatedPixels.empty() ? nullptr : &saturatedPixels;
+  c.variance = variance.empty() ? nullptr : &variance;
   c.sigmaAdu = sigmaAdu;
   c.gain = gain;
   c.magZeropoint = settings.magZeropoint;
@@ -82,8 +96,30 @@ MeasureContext PreparedImage::context(const RunSettings& settings) const {
   return c;
 }
 
+ImageF PreparedImage::backgroundImage() const {
+  if (backgroundMap) return *backgroundMap;
+  if (origin.background == "AUTO" && mesh) return mesh->levelImage();
+  return ImageF(hdu.pixels.width(), hdu.pixels.height(), float(backgroundAdu));
+}
+
+ImageF PreparedImage::backgroundRmsImage() const {
+  if (backgroundRmsMap) return *backgroundRmsMap;
+  if (origin.background == "AUTO" && mesh) return mesh->rmsImage();
+  return ImageF(hdu.pixels.width(), hdu.pixels.height(), float(sigmaAdu));
+}
+
+void PreparedImage::reloadVariance(const RunSettings& settings) {
+  if (!varianceFiltered) return;
+  variance = ImageF();  // freed before the map is read again
+  ImageF weights = readMapLike(settings.weightImagePath, hdu, "weight map");
+  weightsToVariance(weights, *mesh, settings);
+  variance = std::move(weights);
+  varianceFiltered = false;
+}
+
 PreparedImage prepareImage(const std::string& imagePath, const RunSettings& settings,
-                           const CatalogRunValues& fromCatalog, bool keepCheckMaps) {
+                           const CatalogRunValues& fromCatalog, bool keepCheckMaps,
+                           bool filterVariance) {
   PreparedImage out;
   out.hdu = readImage(imagePath);
   ImageF& pixels = out.hdu.pixels;
@@ -111,7 +147,21 @@ PreparedImage prepareImage(const std::string& imagePath, const RunSettings& sett
   // SEXBKGND, then BACK_TYPE. The noise sigma: the input catalog's SEXBKDEV, a BACKGROUND_RMS
   // check-image, then the background estimate itself (as SExtractor, the mesh RMS even for a
   // MANUAL level).
-  std::optional<MeshBackground> mesh;
+  // The weight map is read into the buffer that becomes the variance map, so that weights cost
+  // one image-sized buffer.
+  WeightMap weights;
+  ImageF weightPixels;
+  if (settings.weightType != WeightType::None) {
+    weightPixels = readMapLike(settings.weightImagePath, out.hdu, "weight map");
+    weights.pixels = &weightPixels;
+    weights.type = settings.weightType == WeightType::MapWeight ? WeightMapType::Weight
+                   : settings.weightType == WeightType::MapRms  ? WeightMapType::Rms
+                                                                : WeightMapType::Variance;
+    weights.threshold = settings.weightThreshold;
+    weights.rescale = settings.rescaleWeights;
+    weights.name = settings.weightImagePath;
+  }
+  std::optional<MeshBackground>& mesh = out.mesh;
   auto meshBackground = [&]() -> const MeshBackground& {
     if (!mesh) {
       MeshBackgroundSettings ms;
@@ -121,10 +171,14 @@ PreparedImage prepareImage(const std::string& imagePath, const RunSettings& sett
       ms.filterHeight = settings.backFilterHeight;
       ms.filterThresholdAdu = settings.backFilterThresholdAdu;
       ms.threadCount = settings.threads;
-      mesh = MeshBackground::estimate(pixels, ms, imagePath);
+      mesh = weights.pixels ? MeshBackground::estimate(pixels, ms, weights, imagePath)
+                            : MeshBackground::estimate(pixels, ms, imagePath);
     }
     return *mesh;
   };
+  // The weight scale (RESCALE_WEIGHTS) comes from the mesh statistics of image and weights,
+  // whatever the source of the background level.
+  if (weights.pixels) meshBackground();
 
   std::optional<double> sigmaAdu = fromCatalog.sigmaAdu;
   if (sigmaAdu) out.origin.sigma = "CATALOG";
@@ -174,24 +228,38 @@ PreparedImage prepareImage(const std::string& imagePath, const RunSettings& sett
     out.backgroundAdu = m.globalLevelAdu();
     out.origin.background = "AUTO";
     sigmaFromMesh();
-    if (keepCheckMaps) {
-      out.backgroundMap = m.levelImage();
-      if (!out.backgroundRmsMap) out.backgroundRmsMap = m.rmsImage();
-    }
     // Row by row, so that no image-sized background map is needed.
     for (std::int64_t y = 0; y < pixels.height(); ++y) {
       m.subtractRow(y, pixels.data() + y * pixels.width());
     }
   }
   if (mesh) {
-    for (const std::string& w : mesh->warnings()) out.warnings.push_back(imagePath + ": " + w);
+    // The background stage's warnings already start with the file name.
+    for (const std::string& w : mesh->warnings()) out.warnings.push_back(w);
   }
   out.sigmaAdu = *sigmaAdu;
 
+  std::optional<ConvKernel> kernel;
   if (settings.filter) {
-    const ConvKernel kernel = sexcompat::readConvFile(resolveFilterFile(settings.filterPath));
-    out.filtered = applyFilter(pixels, kernel, settings.threads);
+    kernel = sexcompat::readConvFile(resolveFilterFile(settings.filterPath));
   }
+  if (weights.pixels) {
+    weightsToVariance(weightPixels, *mesh, settings);
+    out.weightScale = mesh->weightScale();
+    if (kernel && filterVariance) {
+      // SExtractor thresholds the filtered image against the variance filtered by the same
+      // kernel; its bad pixels carry a variance of 1e30 (not Inf, which 0 * Inf would turn
+      // into NaN). The unfiltered map is dropped before the image is filtered, so that at most
+      // three image-sized buffers exist; reloadVariance() brings it back for measurements.
+      for (float& v : weightPixels.pixels()) v = std::min(v, 1e30f);
+      out.variance = applyFilter(weightPixels, *kernel, settings.threads);
+      out.varianceFiltered = true;
+      weightPixels = ImageF();
+    } else {
+      out.variance = std::move(weightPixels);
+    }
+  }
+  if (kernel) out.filtered = applyFilter(pixels, *kernel, settings.threads);
   out.wcs = Wcs::fromHeader(out.hdu.header, imagePath);
   return out;
 }

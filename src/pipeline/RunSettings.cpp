@@ -64,9 +64,34 @@ RunSettings settingsFromConfig(const sexcompat::Config& config) {
   s.backFilterWidth = int(filterSize.at(0));
   s.backFilterHeight = int(filterSize.size() > 1 ? filterSize[1] : filterSize[0]);
   s.backFilterThresholdAdu = config.getDouble("BACK_FILTTHRESH");
-  if (config.isExplicit("BACKGROUND_NAME")) s.backgroundMapPath = config.getString("BACKGROUND_NAME");
+  if (config.isExplicit("BACKGROUND_NAME"))
+    s.backgroundMapPath = config.getString("BACKGROUND_NAME");
   if (config.isExplicit("BACKGROUND_RMS_NAME")) {
     s.backgroundRmsMapPath = config.getString("BACKGROUND_RMS_NAME");
+  }
+
+  const std::string weightType = upper(config.getStrings("WEIGHT_TYPE").at(0));
+  if (weightType == "BACKGROUND") {
+    throw ConfigError(
+        "WEIGHT_TYPE BACKGROUND is not supported; give a map with MAP_WEIGHT, MAP_RMS or MAP_VAR");
+  }
+  s.weightType = weightType == "MAP_WEIGHT" ? WeightType::MapWeight
+                 : weightType == "MAP_RMS"  ? WeightType::MapRms
+                 : weightType == "MAP_VAR"  ? WeightType::MapVariance
+                                            : WeightType::None;
+  if (s.weightType != WeightType::None) {
+    if (!config.isExplicit("WEIGHT_IMAGE")) {
+      throw ConfigError("WEIGHT_IMAGE: WEIGHT_TYPE " + weightType + " needs a weight map file");
+    }
+    s.weightImagePath = config.getStrings("WEIGHT_IMAGE").at(0);
+  }
+  if (config.isExplicit("WEIGHT_THRESH"))
+    s.weightThreshold = config.getDoubles("WEIGHT_THRESH").at(0);
+  s.rescaleWeights = config.getBool("RESCALE_WEIGHTS");
+  s.weightGain = config.getBool("WEIGHT_GAIN");
+  if (s.weightType != WeightType::None && !s.weightGain) {
+    // The measurement module weights the Poisson term per pixel (SExtractor's WEIGHT_GAIN Y).
+    throw ConfigError("WEIGHT_GAIN N is not supported; use WEIGHT_GAIN Y");
   }
 
   s.magZeropoint = config.getDouble("MAG_ZEROPOINT");

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "octarc/background/MeshBackground.h"
 #include "octarc/core/Image.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/Wcs.h"
@@ -24,18 +25,30 @@ struct NoiseOrigin {
 
 // Values that an input SExtractor catalog's LDAC_IMHEAD fixes for the run (SEXBKGND etc.).
 struct CatalogRunValues {
-  std::optional<double> backgroundAdu;  // SEXBKGND
-  std::optional<double> sigmaAdu;       // SEXBKDEV
-  std::optional<double> gain;           // SEXGAIN
-  std::optional<double> thresholdAdu;   // SEXTHLD
+  std::optional<double> backgroundAdu;         // SEXBKGND
+  std::optional<double> sigmaAdu;              // SEXBKDEV
+  std::optional<double> gain;                  // SEXGAIN
+  std::optional<double> thresholdAdu;          // SEXTHLD
   std::optional<double> analysisThresholdAdu;  // SEXATHLD
 };
 
 struct PreparedImage {
-  ImageHdu hdu;              // pixels: background-subtracted measurement image
-  ImageF filtered;           // filtered detection image; empty when FILTER N
-  std::optional<ImageF> backgroundMap;     // background map, kept only for check images
-  std::optional<ImageF> backgroundRmsMap;  // per-pixel RMS, kept only for check images
+  ImageHdu hdu;     // pixels: background-subtracted measurement image
+  ImageF filtered;  // filtered detection image; empty when FILTER N
+  // BACKGROUND_NAME / BACKGROUND_RMS_NAME maps read from files, kept only for check images.
+  std::optional<ImageF> backgroundMap;
+  std::optional<ImageF> backgroundRmsMap;
+  // The mesh background when one was estimated (a few grids, not image-sized): check images
+  // are interpolated from it on demand.
+  std::optional<MeshBackground> mesh;
+  // Per-pixel variance (ADU^2) from WEIGHT_IMAGE; empty without a weight map. Pixels that
+  // WEIGHT_THRESH rejects (zero weight by default), or NaN weights, hold +Inf: they never join an
+  // object and are left out of every measurement sum.
+  ImageF variance;
+  // True when `variance` holds the variance filtered by the detection filter (prepareImage
+  // with filterVariance): what the detection thresholds follow, not what measurements use.
+  bool varianceFiltered = false;
+  double weightScale = 1.0;    // SEXDWSCL: RESCALE_WEIGHTS factor (1 without weights)
   double backgroundAdu = 0.0;  // constant (or global) background level
   double sigmaAdu = 0.0;       // global noise sigma
   double gain = 0.0;
@@ -46,15 +59,28 @@ struct PreparedImage {
   std::optional<Wcs> wcs;
 
   const ImageF& detectionImage() const { return filtered.empty() ? hdu.pixels : filtered; }
+  // The BACKGROUND and BACKGROUND_RMS check images (SExtractor's: the interpolated mesh maps
+  // for BACK_TYPE AUTO, constants otherwise). With a weight map, source-extractor 2.25 still
+  // writes the interpolated mesh RMS (of the weighted mesh statistics), not sqrt(variance).
+  ImageF backgroundImage() const;
+  ImageF backgroundRmsImage() const;
+  // Replaces a filtered `variance` by the unfiltered one, read again from WEIGHT_IMAGE (the
+  // filtered buffer is freed first, so only one exists at a time). No-op otherwise.
+  void reloadVariance(const RunSettings& settings);
   // The measurement context for this image (levels to be filled by the caller).
   MeasureContext context(const RunSettings& settings) const;
 };
 
 // Reads `imagePath` and resolves background, noise, gain, saturation, filter and WCS following
 // SExtractor's rules and octarc's order of precedence (README, "Background and noise").
-// `keepCheckMaps` keeps full background/RMS maps for BACKGROUND check images.
+// `keepCheckMaps` keeps the BACKGROUND_NAME / BACKGROUND_RMS_NAME maps read from files for
+// check images. With WEIGHT_TYPE MAP_WEIGHT / MAP_RMS / MAP_VAR the weight map (IoError naming it
+// when its size differs from the image's) enters the mesh background and becomes `variance`.
+// `filterVariance` (octarc detect, FILTER Y): `variance` is the variance filtered by the
+// detection filter, as SExtractor's per-pixel thresholds use it (see reloadVariance).
 PreparedImage prepareImage(const std::string& imagePath, const RunSettings& settings,
-                           const CatalogRunValues& fromCatalog, bool keepCheckMaps);
+                           const CatalogRunValues& fromCatalog, bool keepCheckMaps,
+                           bool filterVariance = false);
 
 // Converts a threshold in THRESH_TYPE units to ADU (RELATIVE: multiples of sigma).
 double thresholdToAdu(double value, bool relative, double sigmaAdu);

@@ -15,6 +15,8 @@ class Config;
 
 enum class BackgroundType { Auto, Manual, Global };
 enum class ThresholdType { Relative, Absolute };
+// WEIGHT_TYPE; SExtractor's BACKGROUND (weights from the background RMS map) is not supported.
+enum class WeightType { None, MapWeight, MapRms, MapVariance };
 
 struct RunSettings {
   std::vector<std::string> imagePaths;  // positional arguments
@@ -29,41 +31,48 @@ struct RunSettings {
   ThresholdType analysisThresholdType = ThresholdType::Relative;
   double detectThreshold = 1.5;
   double analysisThreshold = 1.5;
-  double detectThresholdMax = 20.0;     // DETECT_THRESH_MAX
-  int detectLevelCount = 15;            // DETECT_NLEVELS
-  std::vector<double> detectLevels;     // DETECT_LEVELS (explicit list), empty if not given
-  int minAreaPix = 5;                   // DETECT_MINAREA
+  double detectThresholdMax = 20.0;  // DETECT_THRESH_MAX
+  int detectLevelCount = 15;         // DETECT_NLEVELS
+  std::vector<double> detectLevels;  // DETECT_LEVELS (explicit list), empty if not given
+  int minAreaPix = 5;                // DETECT_MINAREA
 
   bool filter = true;
   std::string filterPath = "default.conv";
 
   BackgroundType backgroundType = BackgroundType::Auto;
-  double backgroundValueAdu = 0.0;      // BACK_VALUE
+  double backgroundValueAdu = 0.0;  // BACK_VALUE
   int backMeshWidthPix = 64, backMeshHeightPix = 64;
   int backFilterWidth = 3, backFilterHeight = 3;
   double backFilterThresholdAdu = 0.0;
-  std::string backgroundMapPath;        // BACKGROUND_NAME (SExtractor BACKGROUND check-image)
-  std::string backgroundRmsMapPath;     // BACKGROUND_RMS_NAME
+  std::string backgroundMapPath;     // BACKGROUND_NAME (SExtractor BACKGROUND check-image)
+  std::string backgroundRmsMapPath;  // BACKGROUND_RMS_NAME
+
+  // Weight map (SEXTRACTOR.md section 4): a per-pixel variance for thresholds and FLUXERR_ISO.
+  WeightType weightType = WeightType::None;  // WEIGHT_TYPE (first value)
+  std::string weightImagePath;               // WEIGHT_IMAGE (first value)
+  std::optional<double> weightThreshold;     // WEIGHT_THRESH in the map's units; unset = default
+  bool rescaleWeights = true;                // RESCALE_WEIGHTS
+  bool weightGain = true;                    // WEIGHT_GAIN
 
   double magZeropoint = 0.0;
-  double gainElectronPerAdu = 0.0;      // GAIN; 0 = infinite
+  double gainElectronPerAdu = 0.0;  // GAIN; 0 = infinite
   std::string gainKey = "GAIN";
-  double saturationAdu = 50000.0;       // SATUR_LEVEL
+  double saturationAdu = 50000.0;  // SATUR_LEVEL
   std::string saturationKey = "SATURATE";
-  double pixelScaleArcsec = 0.0;        // PIXEL_SCALE (0 = from the WCS)
+  double pixelScaleArcsec = 0.0;  // PIXEL_SCALE (0 = from the WCS)
   double seeingFwhmArcsec = 1.2;
 
-  std::vector<std::string> segmentationPaths;   // SEGMENTATION_NAME (measure)
-  std::vector<std::string> inputCatalogPaths;   // INPUT_CATALOG (measure)
+  std::vector<std::string> segmentationPaths;  // SEGMENTATION_NAME (measure)
+  std::vector<std::string> inputCatalogPaths;  // INPUT_CATALOG (measure)
   bool appendColumns = true;  // APPEND_COLUMNS: with INPUT_CATALOG, append to each catalog (Y)
                               // or write one new catalog of every level (N)
 
-  std::vector<std::string> checkImageTypes;     // CHECKIMAGE_TYPE (detect)
-  std::vector<std::string> checkImageNames;     // CHECKIMAGE_NAME (detect)
+  std::vector<std::string> checkImageTypes;  // CHECKIMAGE_TYPE (detect)
+  std::vector<std::string> checkImageNames;  // CHECKIMAGE_NAME (detect)
 
-  bool assoc = false;                   // VECTOR_ASSOC or NUMBER_ASSOC requested (set later)
-  bool quiet = false;                   // VERBOSE_TYPE QUIET
-  int threads = 0;                      // NTHREADS; 0 = all cores
+  bool assoc = false;  // VECTOR_ASSOC or NUMBER_ASSOC requested (set later)
+  bool quiet = false;  // VERBOSE_TYPE QUIET
+  int threads = 0;     // NTHREADS; 0 = all cores
 };
 
 // Reads every key octarc uses from a loaded configuration; ConfigError on inconsistent values.
