@@ -104,7 +104,7 @@ def main():
                                  "-CATALOG_NAME", os.path.join(work, "sex%d.ldac" % k),
                                  "-DETECT_THRESH", "%.6f" % t, "-ANALYSIS_THRESH", "%.6f" % t,
                                  "-DEBLEND_NTHRESH", "1", "-CLEAN", "N", "-MASK_TYPE", "NONE",
-                                 "-MEMORY_PIXSTACK", "30000000", "-MEMORY_OBJSTACK", "300000",
+                                 "-MEMORY_PIXSTACK", "30000000", "-MEMORY_OBJSTACK", "65000",
                                  "-CHECKIMAGE_TYPE", "SEGMENTATION",
                                  "-CHECKIMAGE_NAME", os.path.join(work, "sex%d.seg.fits" % k),
                                  "-WRITE_XML", "N"] + common, work)

@@ -130,6 +130,10 @@ void createTable(fitsfile* f, const std::string& extname, std::int64_t rows,
   fits_create_tbl(f, BINARY_TBL, LONGLONG(rows), int(names.size()), ttype.data(), tform.data(),
                   nullptr, nullptr, &status);
   detail::throwIfFitsError(status, path, "cannot create table " + extname);
+  // The new HDU goes to disk before its header grows: cfitsio 4.2 fails ("tried to move past end
+  // of file") when inserting cards needs a new header block in a table not yet flushed.
+  fits_flush_file(f, &status);
+  detail::throwIfFitsError(status, path, "cannot create table " + extname);
   const std::string card = formatCard("EXTNAME", extname, "TABLE NAME");
   fits_insert_record(f, 9, card.c_str(), &status);  // after XTENSION..TFIELDS
   detail::throwIfFitsError(status, path, "cannot create table " + extname);

@@ -230,6 +230,35 @@ TEST_F(CatalogWriter, EmptyTableGivesAValidCatalog) {
   EXPECT_EQ(test::readFile(text), "");
 }
 
+// A catalog with every octarc column has a header of several FITS blocks; growing it used to
+// fail inside cfitsio ("tried to move past end of file") once it needed a new block.
+TEST_F(CatalogWriter, WideTableHeaderSpansSeveralBlocks) {
+  std::vector<ColumnSpec> columns;
+  for (int i = 1; i <= 120; ++i) {
+    columns.push_back({"COL" + std::to_string(i), "Column number " + std::to_string(i), "pixel",
+                       "src", ColumnType::Float32, "%11.4f", 1});
+  }
+  Table wide(columns);
+  for (int r = 0; r < 3; ++r) {
+    double* row = wide.appendRow();
+    for (int c = 0; c < wide.rowWidth(); ++c) row[c] = r * 1000 + c;
+  }
+  CatalogPart part = part_;
+  part.objects = &wide;
+  const auto ours = dir_ / "wide.ldac";
+  writeCatalog(ours.string(), CatalogType::FitsLdac, {part});
+  std::map<std::string, std::string> header;
+  for (const auto& c : test::headerCards(ours, 3)) header[c.key] = c.value;
+  EXPECT_EQ(header["TFIELDS"], "120");
+  EXPECT_EQ(header["TTYPE120"], "'COL120  '");
+  EXPECT_EQ(header["TDISP120"], "'F11.4   '");
+  if (test::haveProgram("fitsverify")) {
+    std::string report;
+    test::runCommand("fitsverify -q '" + ours.string() + "' 2>&1", &report);
+    EXPECT_NE(report.find("0 errors"), std::string::npos) << report;
+  }
+}
+
 TEST_F(CatalogWriter, DirectoryNamesAreNotTakenForCfitsioSyntax) {
   std::filesystem::create_directories(dir_ / "run[1](a)");
   const auto ours = dir_ / "run[1](a)" / "out.ldac";
