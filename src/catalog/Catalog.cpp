@@ -159,22 +159,20 @@ void writeObjects(fitsfile* f, const std::string& extname, const std::vector<con
   }
   std::int64_t rows = 0;
   for (const Table* t : tables) rows += t->rows();
+  // Created empty so that the column cards can still be inserted cheaply; the rows come after.
   createTable(f, extname, 0, names, tforms, path);
   for (int c = 0; c < first.columnCount(); ++c) {
     detail::writeColumnCards(f, c + 1, first.columns()[std::size_t(c)], path);
   }
-  if (tables.size() == 1) {
-    for (int c = 0; c < first.columnCount(); ++c) detail::writeColumnData(f, c + 1, first, c, path);
-    return;
-  }
-  Table merged(first.columns());  // several parts into one table (FITS_1.0)
-  merged.reserveRows(rows);
+  int status = 0;
+  fits_insert_rows(f, 0, LONGLONG(rows), &status);
+  detail::throwIfFitsError(status, path, "cannot write table " + extname);
+  // Several parts (FITS_1.0) follow each other in the one table.
+  std::int64_t firstRow = 0;
   for (const Table* t : tables) {
-    for (std::int64_t r = 0; r < t->rows(); ++r) {
-      std::copy_n(t->row(r), t->rowWidth(), merged.appendRow());
-    }
+    detail::writeTableRows(f, *t, firstRow, path);
+    firstRow += t->rows();
   }
-  for (int c = 0; c < merged.columnCount(); ++c) detail::writeColumnData(f, c + 1, merged, c, path);
 }
 
 // LDAC_IMHEAD: one row, one column holding the image cards, the run cards and END.

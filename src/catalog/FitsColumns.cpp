@@ -1,5 +1,6 @@
 #include "FitsColumns.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -136,6 +137,64 @@ void writeColumnData(fitsfile* f, int colnum, const Table& table, int column,
       writeTyped<double>(f, TDOUBLE, colnum, table, column, path,
                          [](ColumnType, double v) { return v; });
       break;
+  }
+}
+
+namespace {
+
+// Appends `bytes` bytes of `value`'s representation, most significant first (FITS order).
+template <typename T>
+void putBigEndian(unsigned char*& out, T value) {
+  unsigned char raw[sizeof(T)];
+  std::memcpy(raw, &value, sizeof(T));
+  for (std::size_t i = 0; i < sizeof(T); ++i) *out++ = raw[sizeof(T) - 1 - i];
+}
+
+std::size_t storageBytes(ColumnType type) {
+  switch (type) {
+    case ColumnType::Int16: return 2;
+    case ColumnType::Int32: return 4;
+    case ColumnType::Int64: return 8;
+    case ColumnType::Float32: return 4;
+    case ColumnType::Float64: return 8;
+  }
+  return 0;
+}
+
+}  // namespace
+
+void writeTableRows(fitsfile* f, const Table& table, std::int64_t firstRow,
+                    const std::string& path) {
+  std::size_t rowBytes = 0;
+  for (const ColumnSpec& c : table.columns()) rowBytes += storageBytes(c.type) * std::size_t(c.repeat);
+  if (rowBytes == 0 || table.rows() == 0) return;
+  // About 4 MB per write.
+  const std::int64_t rowsPerBlock = std::max<std::int64_t>(1, (std::int64_t(4) << 20) / std::int64_t(rowBytes));
+  std::vector<unsigned char> block;
+  for (std::int64_t r0 = 0; r0 < table.rows(); r0 += rowsPerBlock) {
+    const std::int64_t r1 = std::min(table.rows(), r0 + rowsPerBlock);
+    block.resize(std::size_t(r1 - r0) * rowBytes);
+    unsigned char* out = block.data();
+    for (std::int64_t r = r0; r < r1; ++r) {
+      const double* row = table.row(r);
+      for (int c = 0; c < table.columnCount(); ++c) {
+        const ColumnSpec& spec = table.columns()[std::size_t(c)];
+        const double* v = row + table.offset(c);
+        for (int e = 0; e < spec.repeat; ++e) {
+          switch (spec.type) {
+            case ColumnType::Int16: putBigEndian(out, std::int16_t(integerValue(spec.type, v[e]))); break;
+            case ColumnType::Int32: putBigEndian(out, std::int32_t(integerValue(spec.type, v[e]))); break;
+            case ColumnType::Int64: putBigEndian(out, std::int64_t(integerValue(spec.type, v[e]))); break;
+            case ColumnType::Float32: putBigEndian(out, float(v[e])); break;
+            case ColumnType::Float64: putBigEndian(out, v[e]); break;
+          }
+        }
+      }
+    }
+    int status = 0;
+    fits_write_tblbytes(f, LONGLONG(firstRow + r0 + 1), 1, LONGLONG(block.size()), block.data(),
+                        &status);
+    throwIfFitsError(status, path, "cannot write catalog rows");
   }
 }
 

@@ -1,6 +1,7 @@
 // Internal helpers shared by the FITS catalog writer and the column appender.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include "octarc/core/Table.h"
@@ -19,6 +20,11 @@ void writeColumnCards(fitsfile* f, int colnum, const ColumnSpec& column, const s
 void writeColumnData(fitsfile* f, int colnum, const Table& table, int column,
                      const std::string& path);
 
+// Writes every column of `table` as rows `firstRow`.. of a binary table whose columns are
+// exactly the table's (same order and types): rows are packed big-endian in memory and written
+// in large blocks, far faster than column by column for big catalogs.
+void writeTableRows(fitsfile* f, const Table& table, std::int64_t firstRow,
+                    const std::string& path);
 // Closes a file opened for writing and reports a failed close (a flush that did not reach disk).
 void closeWritten(fitsfile* f, const std::string& path);
 
