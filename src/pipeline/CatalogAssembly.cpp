@@ -59,6 +59,9 @@ ColumnPlan planColumns(const RunSettings& settings, bool quiet) {
     }
   }
   for (const ColumnRequest& r : requests) {
+    const bool seen = std::any_of(out.outputColumns.begin(), out.outputColumns.end(),
+                                  [&](const ColumnSpec& c) { return c.name == r.name; });
+    if (seen) continue;  // SExtractor ignores a repeated parameter
     for (const ColumnSpec& c : out.plan.columns()) {
       if (c.name == r.name) {
         out.outputColumns.push_back(c);
@@ -95,7 +98,20 @@ void measureSegments(const MeasurementPlan& plan, const std::vector<Segment>& se
   for (std::thread& t : pool) t.join();
 }
 
-void applyAssoc(const sexcompat::AssocList& list, sexcompat::AssocSelection selection, Table& table) {
+void applyAssoc(const sexcompat::AssocSettings& settings, int vectorSize,
+                const PreparedImage& image, Table& table, bool quiet) {
+  const Wcs* wcs = image.wcs ? &*image.wcs : nullptr;
+  std::vector<std::string> warnings;
+  const sexcompat::AssocList list = sexcompat::AssocList::load(
+      settings, vectorSize, image.hdu.pixels.height(),
+      [wcs](double lng, double lat) {
+        return wcs ? wcs->worldToPixel(lng, lat)
+                   : std::array<double, 2>{std::nan(""), std::nan("")};
+      },
+      &warnings);
+  if (!quiet) {
+    for (const std::string& w : warnings) std::cerr << "WARNING: " << w << "\n";
+  }
   const int xCol = table.findColumn("X_IMAGE");
   const int yCol = table.findColumn("Y_IMAGE");
   const int vecCol = table.findColumn("VECTOR_ASSOC");
@@ -110,10 +126,15 @@ void applyAssoc(const sexcompat::AssocList& list, sexcompat::AssocSelection sele
       }
     }
     if (numCol >= 0) table.setValue(r, numCol, m.count);
-    if (selection == sexcompat::AssocSelection::Matched) keep[std::size_t(r)] = m.count > 0;
-    if (selection == sexcompat::AssocSelection::NotMatched) keep[std::size_t(r)] = m.count == 0;
+    keep[std::size_t(r)] = list.keeps(m);
   }
   table.filterRows(keep);
+}
+
+Table outputTable(const ColumnPlan& plan, Table&& full) {
+  // Usually the catalog is the plan itself: hand it over rather than copy it.
+  if (full.columnCount() == int(plan.outputColumns.size())) return std::move(full);
+  return outputTable(plan, static_cast<const Table&>(full));
 }
 
 Table outputTable(const ColumnPlan& plan, const Table& full) {

@@ -67,25 +67,8 @@ void printUsage() {
 // The levels as given, in THRESH_TYPE units (DETECT_LEVELS, or DETECT_NLEVELS values spaced
 // logarithmically from DETECT_THRESH to DETECT_THRESH_MAX), lowest first.
 std::vector<double> levelValues(const RunSettings& s) {
-  std::vector<double> values = s.detectLevels;
-  if (values.empty()) {
-    const int n = s.detectLevelCount;
-    if (n < 1) throw ConfigError("DETECT_NLEVELS must be at least 1");
-    if (n == 1) {
-      values.push_back(s.detectThreshold);
-    } else {
-      if (!(s.detectThresholdMax > s.detectThreshold) || s.detectThreshold <= 0) {
-        throw ConfigError("DETECT_THRESH_MAX (" + std::to_string(s.detectThresholdMax) +
-                          ") must be above DETECT_THRESH (" + std::to_string(s.detectThreshold) +
-                          "), both positive, for several levels");
-      }
-      const double ratio = s.detectThresholdMax / s.detectThreshold;
-      for (int k = 0; k < n; ++k) {
-        values.push_back(s.detectThreshold * std::pow(ratio, double(k) / double(n - 1)));
-      }
-    }
-  }
-  return values;
+  if (!s.detectLevels.empty()) return s.detectLevels;
+  return logSpacedLevels(s.detectThreshold, s.detectThresholdMax, s.detectLevelCount);
 }
 
 // The detection levels in ADU, lowest first.
@@ -120,19 +103,28 @@ std::vector<ThresholdLevel> detectionLevels(const RunSettings& s, double sigmaAd
   return levels;
 }
 
-// Reorders the rows of `table` by (level, number).
+// Reorders the rows of `table` by (level, number), in place (the catalog can be large).
 void sortRows(Table& table, const std::vector<std::pair<int, std::int32_t>>& keys) {
   std::vector<std::size_t> order(keys.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return keys[a] < keys[b]; });
-  Table sorted(table.columns());
-  sorted.reserveRows(table.rows());
-  for (std::size_t i : order) {
-    double* row = sorted.appendRow();
-    std::copy_n(table.row(std::int64_t(i)), table.rowWidth(), row);
+  // Row i of the result is row order[i]: follow each cycle of the permutation with one spare row.
+  const std::size_t width = std::size_t(table.rowWidth());
+  std::vector<double> spare(width);
+  std::vector<bool> placed(order.size(), false);
+  for (std::size_t start = 0; start < order.size(); ++start) {
+    if (placed[start] || order[start] == start) continue;
+    std::copy_n(table.row(std::int64_t(start)), width, spare.begin());
+    std::size_t i = start;
+    while (order[i] != start) {
+      std::copy_n(table.row(std::int64_t(order[i])), width, table.row(std::int64_t(i)));
+      placed[i] = true;
+      i = order[i];
+    }
+    std::copy(spare.begin(), spare.end(), table.row(std::int64_t(i)));
+    placed[i] = true;
   }
-  table = std::move(sorted);
 }
 
 // The variance map and the detector's per-pixel threshold factor share one buffer: the
@@ -260,6 +252,16 @@ int runDetect(const std::vector<std::string>& args) {
   std::vector<std::string> fits10Cards;
   tables.reserve(std::size_t(extCount));
 
+  // VERBOSE_TYPE FULL reports where the time goes.
+  auto lap = [&, last = std::chrono::steady_clock::now()](const char* stage) mutable {
+    const auto now = std::chrono::steady_clock::now();
+    if (s.verboseFull) {
+      std::cerr << "> Time: " << stage << " " << std::chrono::duration<double>(now - last).count()
+                << " s\n";
+    }
+    last = now;
+  };
+
   for (int e = 0; e < extCount; ++e) {
     if (!s.quiet) std::cerr << "> Reading " << extensions[std::size_t(e)] << "\n";
     const bool relative = s.detectThresholdType == ThresholdType::Relative;
@@ -267,6 +269,7 @@ int runDetect(const std::vector<std::string>& args) {
     if (!s.quiet) {
       for (const std::string& w : image.warnings) std::cerr << "WARNING: " << w << "\n";
     }
+    lap("reading, background and filtering");
     const std::vector<ThresholdLevel> levels = detectionLevels(s, image.sigmaAdu);
     if (!s.quiet) {
       std::cerr << "> Background " << image.backgroundAdu << " ADU (" << image.origin.background
@@ -337,6 +340,7 @@ int runDetect(const std::vector<std::string>& args) {
         });
     restoreVariance();
     flush();
+    lap("detection and measurement");
     sortRows(full, keys);
     if (!s.quiet) {
       for (std::size_t k = 0; k < counts.size(); ++k) {
@@ -346,21 +350,9 @@ int runDetect(const std::vector<std::string>& args) {
     }
     const std::int64_t detected = full.rows();
     if (assocSettings) {
-      const Wcs* wcs = context.wcs;
-      std::vector<std::string> warnings;
-      const sexcompat::AssocList list = sexcompat::AssocList::load(
-          *assocSettings, columns.assocVectorSize, image.hdu.pixels.height(),
-          [wcs](double lng, double lat) {
-            return wcs ? wcs->worldToPixel(lng, lat)
-                       : std::array<double, 2>{std::nan(""), std::nan("")};
-          },
-          &warnings);
-      for (const std::string& w : warnings) {
-        if (!s.quiet) std::cerr << "WARNING: " << w << "\n";
-      }
-      applyAssoc(list, assocSettings->selection, full);
+      applyAssoc(*assocSettings, columns.assocVectorSize, image, full, s.quiet);
     }
-    tables.push_back(outputTable(columns, full));
+    tables.push_back(outputTable(columns, std::move(full)));
     headers.push_back(image.hdu.header);
     RunFacts facts;
     facts.imagePath = s.imagePaths[0];
@@ -389,7 +381,9 @@ int runDetect(const std::vector<std::string>& args) {
   for (int e = 0; e < extCount; ++e) {
     parts.push_back({headers[std::size_t(e)], cards[std::size_t(e)], &tables[std::size_t(e)]});
   }
+  lap("sorting and assembling the catalog");
   writeCatalog(s.catalogNames[0], catalogType, parts, fits10Cards);
+  lap("writing the catalog");
   if (!s.quiet && catalogType != CatalogType::None) {
     std::cerr << "> Wrote " << s.catalogNames[0] << " in "
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()

@@ -243,19 +243,7 @@ int runMeasure(const std::vector<std::string>& args) {
       }
     } else {
       if (assocSettings) {
-        const Wcs* wcs = context.wcs;
-        std::vector<std::string> warnings;
-        const sexcompat::AssocList list = sexcompat::AssocList::load(
-            *assocSettings, columns.assocVectorSize, image.hdu.pixels.height(),
-            [wcs](double lng, double lat) {
-              return wcs ? wcs->worldToPixel(lng, lat)
-                         : std::array<double, 2>{std::nan(""), std::nan("")};
-            },
-            &warnings);
-        for (const std::string& w : warnings) {
-          if (!s.quiet) std::cerr << "WARNING: " << w << "\n";
-        }
-        applyAssoc(list, assocSettings->selection, full);
+        applyAssoc(*assocSettings, columns.assocVectorSize, image, full, s.quiet);
       }
       tables.push_back(outputTable(columns, full));
       RunFacts facts;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 
@@ -52,17 +53,6 @@ void subtractConstant(ImageF& image, double level) {
   for (float& p : image.pixels()) p -= value;
 }
 
-// A .conv file named without a directory that is not in the working directory is looked up,
-// as a convenience, in octarc's params/ and then in Debian's source-extractor share directory.
-std::string resolveFilterFile(const std::string& path) {
-  namespace fs = std::filesystem;
-  if (fs::exists(path) || fs::path(path).has_parent_path()) return path;
-  for (const char* dir : {OCTARC_PARAMS_DIR, "/usr/share/source-extractor"}) {
-    const fs::path candidate = fs::path(dir) / path;
-    if (fs::exists(candidate)) return candidate.string();
-  }
-  return path;
-}
 
 // Weight-map pixels to variances (ADU^2), in place. WEIGHT_THRESH is in the map's own units:
 // weights at or below it, or RMS / variance values at or above it, are bad pixels (+Inf).
@@ -77,6 +67,34 @@ void weightsToVariance(ImageF& weights, const MeshBackground& mesh, const RunSet
 }
 
 }  // namespace
+
+std::string resolveFilterFile(const std::string& path) {
+  namespace fs = std::filesystem;
+  if (fs::exists(path) || fs::path(path).has_parent_path()) return path;
+  for (const char* dir : {OCTARC_PARAMS_DIR, "/usr/share/source-extractor"}) {
+    const fs::path candidate = fs::path(dir) / path;
+    if (fs::exists(candidate)) return candidate.string();
+  }
+  return path;
+}
+
+std::vector<double> logSpacedLevels(double low, double high, int count) {
+  if (count < 1) throw ConfigError("DETECT_NLEVELS must be at least 1");
+  if (count == 1) return {low};
+  if (!(low > 0) || !(high > low)) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "DETECT_THRESH_MAX (%g) must be above DETECT_THRESH (%g), both positive, for "
+                  "several levels",
+                  high, low);
+    throw ConfigError(text);
+  }
+  std::vector<double> levels;
+  for (int k = 0; k < count; ++k) {
+    levels.push_back(low * std::pow(high / low, double(k) / double(count - 1)));
+  }
+  return levels;
+}
 
 double thresholdToAdu(double value, bool relative, double sigmaAdu) {
   return relative ? value * sigmaAdu : value;

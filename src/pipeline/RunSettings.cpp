@@ -117,6 +117,7 @@ RunSettings settingsFromConfig(const sexcompat::Config& config) {
   }
 
   s.quiet = upper(config.getString("VERBOSE_TYPE")) == "QUIET";
+  s.verboseFull = upper(config.getString("VERBOSE_TYPE")) == "FULL";
   s.threads = config.getInt("NTHREADS");
   return s;
 }

@@ -38,12 +38,16 @@ ColumnPlan planColumns(const RunSettings& settings, bool quiet);
 void measureSegments(const MeasurementPlan& plan, const std::vector<Segment>& segments,
                      const MeasureContext& context, Table& table, int threads);
 
-// Fills VECTOR_ASSOC / NUMBER_ASSOC from the list and applies ASSOCSELEC_TYPE (rows not kept
-// are removed). `table` has the full plan's columns.
-void applyAssoc(const sexcompat::AssocList& list, sexcompat::AssocSelection selection, Table& table);
+// Loads the ASSOC list (ASSOC_NAME; through this image's WCS when ASSOCCOORD_TYPE is WORLD),
+// fills VECTOR_ASSOC / NUMBER_ASSOC and applies ASSOCSELEC_TYPE (rows not kept are removed).
+// `table` has the full plan's columns.
+void applyAssoc(const sexcompat::AssocSettings& settings, int vectorSize,
+                const PreparedImage& image, Table& table, bool quiet);
 
 // The catalog table the user asked for: the output columns of `full`, in .param order.
 Table outputTable(const ColumnPlan& plan, const Table& full);
+// The same, taking over `full` when it holds exactly the output columns.
+Table outputTable(const ColumnPlan& plan, Table&& full);
 
 // LDAC_IMHEAD cards after the image header: SExtractor's SEx* keywords followed by octarc's
 // OCT* keywords (levels, background and noise origin).

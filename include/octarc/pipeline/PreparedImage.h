@@ -85,4 +85,12 @@ PreparedImage prepareImage(const std::string& imagePath, const RunSettings& sett
 // Converts a threshold in THRESH_TYPE units to ADU (RELATIVE: multiples of sigma).
 double thresholdToAdu(double value, bool relative, double sigmaAdu);
 
+// `count` thresholds spaced logarithmically from `low` to `high` (both included), lowest first;
+// `count` 1 gives {low}. ConfigError unless 0 < low < high when count > 1.
+std::vector<double> logSpacedLevels(double low, double high, int count);
+
+// A FILTER_NAME given without a directory and absent from the working directory is looked up,
+// as a convenience, in octarc's params/ and then in Debian's source-extractor share directory.
+std::string resolveFilterFile(const std::string& path);
+
 }  // namespace octarc

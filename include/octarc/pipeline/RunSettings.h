@@ -72,6 +72,7 @@ struct RunSettings {
 
   bool assoc = false;  // VECTOR_ASSOC or NUMBER_ASSOC requested (set later)
   bool quiet = false;  // VERBOSE_TYPE QUIET
+  bool verboseFull = false;  // VERBOSE_TYPE FULL: also the time spent in each stage
   int threads = 0;     // NTHREADS; 0 = all cores
 };
 
