@@ -97,6 +97,14 @@ void addSersicLight(ImageD& image, const SurveyGrid& grid, const SersicLightPara
   // scale length |I / I'| = q (n r_e / b_n) (r / r_e)^(1 - 1/n) (r = distance, a lower bound of
   // the elliptical radius; q for the steeper minor axis). Leaves use 3x3 Gauss-Legendre points.
   constexpr int kMaxDepth = 14;
+  // x^(1 - 1/n); for de Vaucouleurs x^(3/4) = sqrt(x) sqrt(sqrt(x)), without pow.
+  auto rootPower = [n](double x) {
+    if (n == 4.0) {
+      const double r2 = std::sqrt(x);
+      return r2 * std::sqrt(r2);
+    }
+    return std::pow(x, 1.0 - 1.0 / n);
+  };
   const double scaleLengthFactor = q * n * re / bn;
   const double gl = std::sqrt(0.6);
   const double glNodes[3] = {-gl, 0.0, gl};
@@ -105,7 +113,7 @@ void addSersicLight(ImageD& image, const SurveyGrid& grid, const SersicLightPara
     const double dist2 = ox * ox + oy * oy;
     if (depth < kMaxDepth) {
       const double dist = std::sqrt(dist2);
-      const double scaleLength = scaleLengthFactor * std::pow(dist / re, 1.0 - 1.0 / n);
+      const double scaleLength = scaleLengthFactor * rootPower(dist / re);
       if (dist2 < 16.0 * h * h || h > 0.25 * scaleLength) {
         const double k = 0.5 * h;
         return self(self, ox - k, oy - k, k, depth + 1) + self(self, ox + k, oy - k, k, depth + 1) +

@@ -1,5 +1,7 @@
 #include "octarc/simulation/LensSystem.h"
 
+#include <time.h>
+
 #include <cmath>
 #include <numbers>
 
@@ -17,8 +19,37 @@ Vec2 drawUniformInDisc(double radiusArcsec, std::mt19937_64& rng) {
   return {r * std::cos(phi), r * std::sin(phi)};
 }
 
+namespace {
+
+double threadCpuSec() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+// Adds the CPU time since the last call to one of the timing fields (no-op without timings).
+class StepClock {
+ public:
+  explicit StepClock(RenderTimings* timings)
+      : timings_(timings), last_(timings ? threadCpuSec() : 0.0) {}
+  void charge(double RenderTimings::*field) {
+    if (!timings_) return;
+    const double now = threadCpuSec();
+    timings_->*field += now - last_;
+    last_ = now;
+  }
+
+ private:
+  RenderTimings* timings_;
+  double last_;
+};
+
+}  // namespace
+
 RenderedLensSystem renderLensSystem(const LensSystem& system, const SourceStamp& source,
-                                    const ObservingSetup& setup, std::mt19937_64& rng) {
+                                    const ObservingSetup& setup, std::mt19937_64& rng,
+                                    RenderTimings* timings) {
+  StepClock clock(timings);
   const double stampFlux = totalFlux(source);
   if (!(stampFlux > 0.0))
     throw ConfigError("lens system: source stamp '" + source.name + "' has no positive flux");
@@ -34,17 +65,21 @@ RenderedLensSystem renderLensSystem(const LensSystem& system, const SourceStamp&
   }
   out.lensedSourceFlux = traced;
   out.magnification = traced / fluxFromMagnitude(system.sourceMag, setup.magZeroPoint);
+  clock.charge(&RenderTimings::rayTraceSec);
 
   SersicLightParams light = system.light;
   light.totalFlux = fluxFromMagnitude(system.lensMag, setup.magZeroPoint);
   addSersicLight(out.image, setup.grid, light);
+  clock.charge(&RenderTimings::lensLightSec);
 
   out.image = setup.userPsf != nullptr
                   ? convolve(out.image, *setup.userPsf)
                   : convolveSeparable(out.image, gaussianPsfKernel1d(setup.seeingFwhmArcsec,
                                                                      setup.grid.pixelScaleArcsec));
+  clock.charge(&RenderTimings::psfSec);
   if (setup.addNoise)
     addPoissonSkyNoise(out.image, setup.skySigmaAdu, setup.gainElectronsPerAdu, rng);
+  clock.charge(&RenderTimings::noiseSec);
   return out;
 }
 

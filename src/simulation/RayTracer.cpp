@@ -11,29 +11,6 @@ namespace octarc::simulation {
 
 namespace {
 
-// Bilinear interpolation of the stamp at continuous 0-based pixel coordinates; pixels outside
-// the stamp count as zero, so the profile fades to zero over the outer half pixel.
-double bilinear(const ImageD& img, double px, double py) {
-  const double fx = std::floor(px);
-  const double fy = std::floor(py);
-  const auto x0 = static_cast<std::int64_t>(fx);
-  const auto y0 = static_cast<std::int64_t>(fy);
-  if (x0 < -1 || y0 < -1 || x0 >= img.width() || y0 >= img.height()) return 0.0;
-  const double tx = px - fx;
-  const double ty = py - fy;
-  if (x0 >= 0 && y0 >= 0 && x0 + 1 < img.width() && y0 + 1 < img.height()) {
-    const double* row0 = img.data() + img.index(x0, y0);
-    const double* row1 = row0 + img.width();
-    return (1.0 - ty) * ((1.0 - tx) * row0[0] + tx * row0[1]) +
-           ty * ((1.0 - tx) * row1[0] + tx * row1[1]);
-  }
-  auto at = [&img](std::int64_t x, std::int64_t y) {
-    return (x < 0 || y < 0 || x >= img.width() || y >= img.height()) ? 0.0 : img(x, y);
-  };
-  return (1.0 - ty) * ((1.0 - tx) * at(x0, y0) + tx * at(x0 + 1, y0)) +
-         ty * ((1.0 - tx) * at(x0, y0 + 1) + tx * at(x0 + 1, y0 + 1));
-}
-
 // Radius (stamp pixels) about the stamp centre outside which the interpolated stamp is zero.
 double supportRadiusPixels(const ImageD& img) {
   const double cx = 0.5 * (img.width() - 1);
@@ -118,7 +95,6 @@ ImageD traceLensedImage(const EllipticalPotentialLens& lens, const SourceStamp& 
   const double invScale = 1.0 / stampScale;
   const double surfaceBrightnessPerFlux = invScale * invScale;
   const double supportPix = supportRadiusPixels(stamp);
-  ImageD fine(nfx, nfy);
   RayTraceStats local;
   local.finePixelsTotal = static_cast<long long>(nfx) * nfy;
   if (supportPix < 0.0) {
@@ -150,45 +126,135 @@ ImageD traceLensedImage(const EllipticalPotentialLens& lens, const SourceStamp& 
   const double step = sf / ns;
   const double fineArea = sf * sf;
   const int block = options.blockFinePixels;
-  for (int by = 0; by < nfy; by += block) {
-    for (int bx = 0; bx < nfx; bx += block) {
-      const int ex = std::min(bx + block, nfx);
-      const int ey = std::min(by + block, nfy);
-      const Vec2 blockCentre{x0 + 0.5 * (bx + ex) * sf, y0 + 0.5 * (by + ey) * sf};
-      const double blockHalfDiag = 0.5 * std::hypot(ex - bx, ey - by) * sf;
+
+  // The inner loop works in the lens frame, where a step along the sky x axis is a constant
+  // increment, and maps the lens-frame source position straight to stamp pixels with one affine
+  // map (lens frame -> sky -> stamp frame -> pixels). Same rays, same arithmetic up to rounding.
+  const EllipticalPotentialParams& mass = lens.params();
+  const double cPa = std::cos(mass.positionAngleRad);
+  const double sPa = std::sin(mass.positionAngleRad);
+  const double core2 = mass.coreArcsec * mass.coreArcsec;
+  const double qx = 1.0 - mass.ellipticity;
+  const double qy = 1.0 + mass.ellipticity;
+  const double bx = mass.einsteinRadiusArcsec * qx;
+  const double by = mass.einsteinRadiusArcsec * qy;
+  // (u, v) = M (x - alpha_x, y - alpha_y)_lens + (u0, v0), M = S Rot(-rotation) Rot(pa).
+  const double m00 = invScale * (cosR * cPa + sinR * sPa);
+  const double m01 = invScale * (-cosR * sPa + sinR * cPa);
+  const double m10 = invScale * (-sinR * cPa + cosR * sPa);
+  const double m11 = invScale * (sinR * sPa + cosR * cPa);
+  const double u0 = stampCx - invScale * (cosR * betaC[0] + sinR * betaC[1]) + 1.0;
+  const double v0 = stampCy - invScale * (-sinR * betaC[0] + cosR * betaC[1]) + 1.0;
+  // The stamp with a one-pixel zero border: bilinear interpolation then needs no edge cases
+  // (coordinates above are shifted by +1 into it).
+  const std::int64_t pw = stamp.width() + 2;
+  const std::int64_t ph = stamp.height() + 2;
+  std::vector<double> padded(static_cast<std::size_t>(pw * ph), 0.0);
+  for (std::int64_t y = 0; y < stamp.height(); ++y)
+    std::copy_n(stamp.data() + y * stamp.width(), stamp.width(), padded.data() + (y + 1) * pw + 1);
+  const double uMax = double(pw - 1);
+  const double vMax = double(ph - 1);
+  // Source-plane stamp coordinates of n rays (lens-frame positions xl, yl), written to u, v.
+  // Branch-free so that the compiler can vectorise the square roots and divisions.
+  auto mapRays = [&](const double* xl, const double* yl, double* u, double* v, int n) {
+    for (int k = 0; k < n; ++k) {
+      const double d2 = core2 + qx * xl[k] * xl[k] + qy * yl[k] * yl[k];
+      // d2 == 0 only at the centre of a coreless lens, where the deflection is taken as zero.
+      const double invD = d2 > 0.0 ? 1.0 / std::sqrt(d2) : 0.0;
+      const double px = xl[k] - bx * xl[k] * invD;
+      const double py = yl[k] - by * yl[k] * invD;
+      u[k] = m00 * px + m01 * py + u0;
+      v[k] = m10 * px + m11 * py + v0;
+    }
+  };
+  auto sample = [&](double u, double v) {
+    if (!(u >= 0.0 && v >= 0.0 && u < uMax && v < vMax)) return 0.0;
+    const double fu = std::floor(u);
+    const double fv = std::floor(v);
+    const double tu = u - fu;
+    const double tv = v - fv;
+    const double* r0 =
+        padded.data() + static_cast<std::int64_t>(fv) * pw + static_cast<std::int64_t>(fu);
+    const double* r1 = r0 + pw;
+    return (1.0 - tv) * ((1.0 - tu) * r0[0] + tu * r0[1]) + tv * ((1.0 - tu) * r1[0] + tu * r1[1]);
+  };
+  const int raysPerFine = options.subSamples * options.subSamples;
+  std::vector<double> rayBuffer(4 * static_cast<std::size_t>(raysPerFine));
+  double* rxl = rayBuffer.data();
+  double* ryl = rxl + raysPerFine;
+  double* ru = ryl + raysPerFine;
+  double* rv = ru + raysPerFine;
+
+  // Each fine pixel overlaps at most a few survey pixels along each axis: its flux goes straight
+  // to them with the overlap fractions of rebinFluxConserving, so no fine-grid image is needed.
+  struct AxisShare {
+    int first = 0;  // index into the overlap list
+    int count = 0;
+  };
+  auto axisShares = [&](int nIn, int nOut, std::vector<Overlap>& overlaps) {
+    overlaps = axisOverlaps(nIn, sf, nOut, grid.pixelScaleArcsec);
+    std::vector<AxisShare> shares(static_cast<std::size_t>(nIn));
+    for (int k = 0; k < static_cast<int>(overlaps.size()); ++k) {
+      AxisShare& a = shares[static_cast<std::size_t>(overlaps[std::size_t(k)].in)];
+      if (a.count == 0) a.first = k;
+      ++a.count;
+    }
+    return shares;
+  };
+  std::vector<Overlap> overlapsX, overlapsY;
+  const std::vector<AxisShare> sharesX = axisShares(nfx, grid.width, overlapsX);
+  const std::vector<AxisShare> sharesY = axisShares(nfy, grid.height, overlapsY);
+  ImageD out(grid.width, grid.height);
+
+  const double fineScaleToFlux = surfaceBrightnessPerFlux * fineArea / (ns * ns);
+  for (int by0 = 0; by0 < nfy; by0 += block) {
+    for (int bx0 = 0; bx0 < nfx; bx0 += block) {
+      const int ex = std::min(bx0 + block, nfx);
+      const int ey = std::min(by0 + block, nfy);
+      const Vec2 blockCentre{x0 + 0.5 * (bx0 + ex) * sf, y0 + 0.5 * (by0 + ey) * sf};
+      const double blockHalfDiag = 0.5 * std::hypot(ex - bx0, ey - by0) * sf;
       if (unreachable(blockCentre, blockHalfDiag)) {
-        local.finePixelsSkipped += static_cast<long long>(ex - bx) * (ey - by);
+        local.finePixelsSkipped += static_cast<long long>(ex - bx0) * (ey - by0);
         continue;
       }
-      for (int fy = by; fy < ey; ++fy) {
-        for (int fx = bx; fx < ex; ++fx) {
+      for (int fy = by0; fy < ey; ++fy) {
+        for (int fx = bx0; fx < ex; ++fx) {
           const Vec2 centre{x0 + (fx + 0.5) * sf, y0 + (fy + 0.5) * sf};
           if (unreachable(centre, sf * std::sqrt(0.5))) {
             ++local.finePixelsSkipped;
             continue;
           }
-          double sum = 0.0;
+          // Sub-pixel ray positions in the lens frame, row by row.
           for (int sy = 0; sy < ns; ++sy) {
             const double ty = y0 + fy * sf + (sy + 0.5) * step;
             for (int sx = 0; sx < ns; ++sx) {
               const double tx = x0 + fx * sf + (sx + 0.5) * step;
-              const Vec2 beta = lens.sourcePositionArcsec({tx, ty});
-              const double dx = beta[0] - betaC[0];
-              const double dy = beta[1] - betaC[1];
-              // Into the stamp frame: rotate by -rotation, then to stamp pixels.
-              const double u = (cosR * dx + sinR * dy) * invScale + stampCx;
-              const double v = (-sinR * dx + cosR * dy) * invScale + stampCy;
-              sum += bilinear(stamp, u, v);
+              rxl[sy * ns + sx] = cPa * tx + sPa * ty;
+              ryl[sy * ns + sx] = -sPa * tx + cPa * ty;
             }
           }
+          mapRays(rxl, ryl, ru, rv, raysPerFine);
+          double sum = 0.0;
+          for (int k = 0; k < raysPerFine; ++k) sum += sample(ru[k], rv[k]);
           local.raysTraced += static_cast<long long>(ns) * ns;
-          fine(fx, fy) = sum / (ns * ns) * surfaceBrightnessPerFlux * fineArea;
+          if (sum == 0.0) continue;
+          const double flux = sum * fineScaleToFlux;
+          const AxisShare& ax = sharesX[static_cast<std::size_t>(fx)];
+          const AxisShare& ay = sharesY[static_cast<std::size_t>(fy)];
+          for (int j = ay.first; j < ay.first + ay.count; ++j) {
+            const Overlap& oy = overlapsY[static_cast<std::size_t>(j)];
+            double* row = out.data() + out.index(0, oy.out);
+            for (int i = ax.first; i < ax.first + ax.count; ++i) {
+              const Overlap& ox = overlapsX[static_cast<std::size_t>(i)];
+              row[ox.out] += ox.fraction * oy.fraction * flux;
+            }
+          }
         }
       }
     }
   }
   if (stats) *stats = local;
-  return rebinFluxConserving(fine, sf, grid.width, grid.height, grid.pixelScaleArcsec);
+  return out;
 }
 
 }  // namespace octarc::simulation

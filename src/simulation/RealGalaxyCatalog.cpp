@@ -123,7 +123,8 @@ RealGalaxyCatalog RealGalaxyCatalog::load(const std::string& catalogPath, bool c
     e.pixelScaleArcsec = scale[r];
     e.galaxyPath = resolve(dir, galFile[r]);
     e.galaxyHdu = static_cast<int>(galHdu[r]);
-    if (!psfFile.empty()) {
+    // An empty PSF_FILENAME means the row has no PSF (as the catalog writer leaves it).
+    if (!psfFile.empty() && !psfFile[r].empty()) {
       e.psfPath = resolve(dir, psfFile[r]);
       e.psfHdu = static_cast<int>(psfHdu[r]);
     }

@@ -41,13 +41,23 @@ struct RenderedLensSystem {
   RayTraceStats rayTrace;
 };
 
+// CPU seconds (of the calling thread) spent in each rendering step, for profiling.
+struct RenderTimings {
+  double rayTraceSec = 0.0;  // ray tracing and rebinning
+  double lensLightSec = 0.0;
+  double psfSec = 0.0;
+  double noiseSec = 0.0;
+};
+
 // A point drawn uniformly inside a disc of radiusArcsec about the origin.
 Vec2 drawUniformInDisc(double radiusArcsec, std::mt19937_64& rng);
 
 // Renders the stamp. The source stamp's flux is rescaled to sourceMag (its pixel sum is taken as
 // its total flux); the lens light is centred on the grid's lens position. Noise draws come from
 // rng. Throws ConfigError for invalid parameters and for a source with non-positive flux.
+// Adds the CPU time of each step to *timings when given.
 RenderedLensSystem renderLensSystem(const LensSystem& system, const SourceStamp& source,
-                                    const ObservingSetup& setup, std::mt19937_64& rng);
+                                    const ObservingSetup& setup, std::mt19937_64& rng,
+                                    RenderTimings* timings = nullptr);
 
 }  // namespace octarc::simulation

@@ -17,7 +17,9 @@
 //      square), and if no ray can then land within the circle holding the stamp's non-zero
 //      pixels, the square stays zero. The skipping is exact: the result is identical to tracing
 //      every ray.
-//   4. The fine grid is rebinned to the survey pixels conserving flux (rebinFluxConserving).
+//   4. The fine grid is rebinned to the survey pixels conserving flux: each traced fine pixel's
+//      flux goes straight to the survey pixels it overlaps, with rebinFluxConserving's overlap
+//      fractions (no fine-grid image is kept).
 // Surface brightness is conserved by lensing, so the traced flux is the source flux times the
 // magnification.
 #pragma once

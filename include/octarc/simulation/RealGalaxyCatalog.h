@@ -20,7 +20,7 @@ struct RealGalaxyEntry {
   double pixelScaleArcsec = 0.0;
   std::string galaxyPath;  // resolved file path (no HDU suffix)
   int galaxyHdu = 0;
-  std::string psfPath;  // resolved file path, "" if the catalog has no PSF column
+  std::string psfPath;  // resolved file path, "" if no PSF column or an empty PSF_FILENAME
   int psfHdu = 0;
 };
 
