@@ -19,6 +19,14 @@ void printUsage() {
                "      measure the objects of SExtractor segmentation check-images\n"
                "  detect IMAGE [-c file.sex] [-KEY value ...]\n"
                "      detect at every threshold in one pass and measure every object\n"
+               "  simulate lenses -n N --seed S -o OUT.fits [options]\n"
+               "      simulated galaxy-galaxy lenses through the detector and measurements\n"
+               "  simulate field -o FIELD.fits [options]\n"
+               "      a survey-like field with injected lenses, weight map and truth list\n"
+               "  simulate database IMAGE -o CATALOG.fits [options]\n"
+               "      cut a source-galaxy database (RealGalaxyCatalog format) out of a deep image\n"
+               "  demo [options]\n"
+               "      simulate a field with lenses, detect them and report\n"
                "\n"
                "`octarc COMMAND -h` describes a command; `-dd` prints its configuration keys and\n"
                "`-dp` its catalog columns.\n";
@@ -41,6 +49,17 @@ int main(int argc, char** argv) {
   try {
     if (command == "measure") return octarc::runMeasure(args);
     if (command == "detect") return octarc::runDetect(args);
+    if (command == "demo") return octarc::runDemo(args);
+    if (command == "simulate") {
+      const std::string what = args.empty() ? "" : args[0];
+      if (!args.empty()) args.erase(args.begin());
+      if (what == "lenses") return octarc::runSimulateLenses(args);
+      if (what == "field") return octarc::runSimulateField(args);
+      if (what == "database") return octarc::runBuildDatabase(args);
+      std::cerr << "octarc simulate: say what to simulate: lenses, field or database "
+                   "(try octarc -h)\n";
+      return 2;
+    }
     std::cerr << "octarc: unknown command '" << command << "' (try octarc -h)\n";
     return 2;
   } catch (const octarc::Error& e) {

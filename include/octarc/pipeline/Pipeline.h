@@ -15,4 +15,19 @@ int runMeasure(const std::vector<std::string>& args);
 // and measures every object of every level. Returns the process exit code.
 int runDetect(const std::vector<std::string>& args);
 
+// `octarc simulate lenses ...`: simulated galaxy-galaxy lenses pushed through the detector and
+// the measurements at the survey thresholds (src/pipeline/SimulateLenses.cpp).
+int runSimulateLenses(const std::vector<std::string>& args);
+
+// `octarc simulate field ...`: a survey-like image with injected lenses, its weight map and a
+// truth list (src/pipeline/SimulateField.cpp).
+int runSimulateField(const std::vector<std::string>& args);
+
+// `octarc simulate database ...`: a source-galaxy database in RealGalaxyCatalog format cut out
+// of a deep image (src/pipeline/BuildDatabase.cpp).
+int runBuildDatabase(const std::vector<std::string>& args);
+
+// `octarc demo`: simulate a field with lenses, detect, measure, and report (src/pipeline/Demo.cpp).
+int runDemo(const std::vector<std::string>& args);
+
 }  // namespace octarc

@@ -1,0 +1,156 @@
+// The strong-lens simulation engine (METHOD.md section 3): population draws, rendering with
+// octarc::simulation, detection and measurement with the code of `octarc detect`, and the arc
+// rules. `octarc simulate lenses` runs it over many systems; the field simulator and the demo
+// call it to make single systems.
+//
+// Reproducibility: everything random about system `index` comes from
+// simulation::systemRng(masterSeed, index), in a fixed order (population draw, then noise, then
+// the choice of the arc level), so any system can be remade on its own, on any thread.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "octarc/core/Image.h"
+#include "octarc/core/Table.h"
+#include "octarc/detection/Filter.h"
+#include "octarc/detection/Segment.h"
+#include "octarc/measure/Registry.h"
+#include "octarc/simulation/Cosmology.h"
+#include "octarc/simulation/LensSystem.h"
+#include "octarc/simulation/Population.h"
+#include "octarc/simulation/SourceStamp.h"
+#include "octarc/simulation/SyntheticGalaxy.h"
+
+namespace octarc {
+
+// METHOD.md section 3: an arc is an object at least minDistanceArcsec from the lens centre and
+// resolved, sqrt(2) * SIZE > minSizeArcsec; a system counts only if the level holding the arc
+// has at least minObjects objects (the lens and the arc).
+struct ArcRules {
+  double minDistanceArcsec = 1.0;
+  double minSizeArcsec = 1.0;
+  int minObjects = 2;
+};
+
+// Everything fixed for a run: survey, population, lens-light ranges, detection and arc rules.
+struct SimulationSetup {
+  simulation::ObservingSetup observing;  // stamp grid, PSF, sky sigma, gain, zero point
+  simulation::PopulationModel population;
+  simulation::FlatLambdaCdm cosmology;
+  // Lens light (de Vaucouleurs, same position angle as the mass): ellipticity 1 - b/a and
+  // half-light radius uniform in these ranges (the population file has no lens-size relation).
+  double lensEllipticityMin = 0.0, lensEllipticityMax = 0.5;
+  double lensHalfLightMinArcsec = 0.5, lensHalfLightMaxArcsec = 1.5;
+  double lensCoreArcsec = 0.0;  // theta_c of the potential
+  // Detection levels in ADU, strictly increasing (the survey's thresholds times sky sigma:
+  // a stamp has no background to estimate, its noise sigma is known exactly).
+  std::vector<double> thresholdsAdu;
+  int minAreaPix = 5;                // DETECT_MINAREA
+  std::optional<ConvKernel> filter;  // FILTER Y: the .conv kernel; empty for FILTER N
+  double saturationAdu = 50000.0;    // SATUR_LEVEL (FLAGS bit 4)
+  ArcRules arcRules;
+};
+
+// A source database: noise-free stamps that the population rescales (magnitude, size, rotation).
+class SourceDatabase {
+ public:
+  // `count` built-in synthetic galaxies (types in turn elliptical, spiral, irregular), made from
+  // systemRng(seed, i). Their stamps reach stampHalfLightRadii half-light radii (4 by default
+  // for speed: the ray tracer's work grows with the stamp's area; a de Vaucouleurs profile holds
+  // ~85% of its flux and an exponential disc ~99% inside 4 r_h).
+  static SourceDatabase synthetic(int count, std::uint64_t seed,
+                                  const simulation::SyntheticGalaxyOptions& options);
+  // Every galaxy of a RealGalaxyCatalog file, read once. Throws IoError naming the catalog or
+  // the stamp file that is missing or unreadable, or a stamp with no positive flux.
+  static SourceDatabase fromRealGalaxyCatalog(const std::string& path);
+  // Stamps given directly (tests). Throws ConfigError if empty or a stamp has no positive flux.
+  static SourceDatabase fromStamps(std::vector<simulation::SourceStamp> stamps,
+                                   std::string description);
+
+  std::size_t size() const { return stamps_.size(); }
+  const simulation::SourceStamp& stamp(std::size_t i) const { return stamps_.at(i); }
+  // Measured half-light radius of stamp i at its own pixel scale (arcsec).
+  double halfLightArcsec(std::size_t i) const { return halfLight_.at(i); }
+  const std::string& description() const { return description_; }
+
+ private:
+  void add(simulation::SourceStamp stamp);
+  std::vector<simulation::SourceStamp> stamps_;
+  std::vector<double> halfLight_;
+  std::string description_;
+};
+
+// One system's drawn parameters (the truth columns of the output).
+struct LensSystemDraw {
+  std::int64_t index = 0;
+  simulation::LensDraw lens;      // magnitude, redshift, absolute magnitude, sigma_v
+  simulation::SourceDraw source;  // magnitude, half-light radius, redshift
+  std::size_t sourceIndex = 0;    // row of the source database
+  double lensEllipticity = 0.0;   // light, 1 - b/a
+  double einsteinRadiusArcsec = 0.0;
+  simulation::LensSystem system;  // ready for simulation::renderLensSystem
+};
+
+// CPU seconds spent per stage (summed over systems and threads).
+struct StageTimings {
+  double drawSec = 0, rayTraceSec = 0, lensLightSec = 0, psfSec = 0, noiseSec = 0;
+  double detectionSec = 0, measurementSec = 0, arcRulesSec = 0;
+  void add(const StageTimings& other);
+  double totalSec() const;
+};
+
+// The population draw of system `index`: lens (magnitude, redshift, sigma_v by Faber-Jackson
+// within the sigma cuts), lens light shape, source (database pick, magnitude, size, redshift
+// behind the lens), Einstein radius, source position uniform inside it, random rotation.
+// Reads the first values of `rng`, which must be systemRng(masterSeed, index).
+LensSystemDraw drawLensSystem(const SimulationSetup& setup, const SourceDatabase& sources,
+                              std::int64_t index, std::mt19937_64& rng);
+LensSystemDraw drawLensSystem(const SimulationSetup& setup, const SourceDatabase& sources,
+                              std::uint64_t masterSeed, std::int64_t index);
+
+// The measured columns of every detected object (one table row per object per level).
+const std::vector<ColumnSpec>& measuredColumns();
+// The plan measuring measuredColumns().
+const MeasurementPlan& measuredPlan();
+
+// Which rows of `objects` (columns measuredColumns()) are arcs, and the chosen one.
+struct ArcSelection {
+  std::vector<std::int64_t> arcRows;   // every arc row at a qualifying level, in table order
+  std::int64_t chosenRow = -1;         // -1: no arc (ARC_FOUND = 0)
+  std::vector<double> distanceArcsec;  // distance to the lens of every row of `objects`
+};
+
+// Applies `rules` to measured objects. A level qualifies when it holds at least
+// rules.minObjects objects and at least one arc. One qualifying level is drawn uniformly with
+// `rng` (seeded per system); the arc of that level with the largest FLUX_ISO is chosen.
+// lensXPix/lensYPix are 0-based (X_IMAGE/Y_IMAGE are 1-based, as in SExtractor).
+ArcSelection selectArcs(const Table& objects, double lensXPix, double lensYPix,
+                        double pixelScaleArcsec, const ArcRules& rules, std::mt19937_64& rng);
+
+struct SimulatedSystem {
+  LensSystemDraw draw;
+  double magnification = 0.0;             // traced source flux / unlensed flux (before the PSF)
+  std::vector<std::int64_t> levelCounts;  // objects per level
+  Table objects;                          // every detected object, measuredColumns()
+  ArcSelection arcs;
+  ImageF image;  // the stamp (kept only when asked)
+};
+
+// Draws, renders, detects at setup.thresholdsAdu (the stamp is background-free with known
+// sigma: no background is estimated), measures every object with measuredPlan() and applies
+// the arc rules. Adds the time of each stage to *timings when given.
+SimulatedSystem simulateSystem(const SimulationSetup& setup, const SourceDatabase& sources,
+                               std::uint64_t masterSeed, std::int64_t index, bool keepImage,
+                               StageTimings* timings = nullptr);
+
+// Detection and measurement of one background-subtracted image with known noise sigma, as
+// `octarc detect` does it (filter, detectMultiThreshold, MeasurementPlan), one thread. Returns
+// the objects (measuredColumns(), ordered by level then NUMBER) and fills levelCounts.
+Table detectAndMeasure(const ImageF& image, const SimulationSetup& setup,
+                       std::vector<std::int64_t>* levelCounts, StageTimings* timings = nullptr);
+
+}  // namespace octarc

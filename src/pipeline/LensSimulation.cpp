@@ -1,0 +1,314 @@
+#include "octarc/pipeline/LensSimulation.h"
+
+#include <time.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <utility>
+
+#include "octarc/core/Error.h"
+#include "octarc/detection/MultiThresholdDetector.h"
+#include "octarc/pipeline/CatalogAssembly.h"
+#include "octarc/simulation/LensModel.h"
+#include "octarc/simulation/RealGalaxyCatalog.h"
+#include "octarc/simulation/Seeds.h"
+
+namespace octarc {
+
+namespace sim = octarc::simulation;
+
+namespace {
+
+double threadCpuSec() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+// The columns every detected object gets: position, isophotal photometry, shape and the
+// octopole arc statistics, as `octarc detect` measures them.
+const char* const kMeasuredNames[] = {
+    "NUMBER",      "THRESH_LEVEL",  "PARENT_NUMBER", "THRESHOLD",   "X_IMAGE",
+    "Y_IMAGE",     "ISOAREA_IMAGE", "FLUX_ISO",      "FLUXERR_ISO", "MAG_ISO",
+    "SNR_ISO",     "FLUX_MAX",      "A_IMAGE",       "B_IMAGE",     "THETA_IMAGE",
+    "ELLIPTICITY", "SIZE_IMAGE",    "E_IMAGE",       "ARCNESS",     "ANTIARCNESS",
+    "SKEW_MAJOR",  "SKEW_MINOR",    "ARC_SIDE",      "FLAGS",       "OCT_FLAGS"};
+
+int requireColumn(const Table& table, const char* name) {
+  const int c = table.findColumn(name);
+  if (c < 0) throw Error(std::string("arc rules: the object table has no column ") + name);
+  return c;
+}
+
+}  // namespace
+
+void StageTimings::add(const StageTimings& o) {
+  drawSec += o.drawSec;
+  rayTraceSec += o.rayTraceSec;
+  lensLightSec += o.lensLightSec;
+  psfSec += o.psfSec;
+  noiseSec += o.noiseSec;
+  detectionSec += o.detectionSec;
+  measurementSec += o.measurementSec;
+  arcRulesSec += o.arcRulesSec;
+}
+
+double StageTimings::totalSec() const {
+  return drawSec + rayTraceSec + lensLightSec + psfSec + noiseSec + detectionSec + measurementSec +
+         arcRulesSec;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Source databases
+
+void SourceDatabase::add(sim::SourceStamp stamp) {
+  const double rh = sim::halfLightRadiusArcsec(stamp);
+  if (!(sim::totalFlux(stamp) > 0.0) || !(rh > 0.0)) {
+    throw ConfigError("source database " + description_ + ": stamp '" + stamp.name +
+                      "' has no positive flux");
+  }
+  halfLight_.push_back(rh);
+  stamps_.push_back(std::move(stamp));
+}
+
+SourceDatabase SourceDatabase::synthetic(int count, std::uint64_t seed,
+                                         const sim::SyntheticGalaxyOptions& options) {
+  if (count < 1) throw ConfigError("--sources: the synthetic database needs at least 1 galaxy");
+  SourceDatabase db;
+  db.description_ = "synthetic (" + std::to_string(count) + " galaxies)";
+  constexpr sim::GalaxyType kTypes[] = {sim::GalaxyType::Elliptical, sim::GalaxyType::Spiral,
+                                        sim::GalaxyType::Irregular};
+  for (int i = 0; i < count; ++i) {
+    std::mt19937_64 rng = sim::systemRng(seed, std::uint64_t(i));
+    sim::SourceStamp s = sim::makeSyntheticGalaxy(kTypes[i % 3], rng, options);
+    s.name += " #" + std::to_string(i);
+    db.add(std::move(s));
+  }
+  return db;
+}
+
+SourceDatabase SourceDatabase::fromRealGalaxyCatalog(const std::string& path) {
+  const sim::RealGalaxyCatalog catalog = sim::RealGalaxyCatalog::load(path, true);
+  if (catalog.size() == 0) throw IoError(path + ": the galaxy catalog has no rows");
+  SourceDatabase db;
+  db.description_ = path;
+  for (std::size_t i = 0; i < catalog.size(); ++i) db.add(catalog.loadGalaxy(i));
+  return db;
+}
+
+SourceDatabase SourceDatabase::fromStamps(std::vector<sim::SourceStamp> stamps,
+                                          std::string description) {
+  SourceDatabase db;
+  db.description_ = std::move(description);
+  if (stamps.empty()) throw ConfigError("source database " + db.description_ + " is empty");
+  for (sim::SourceStamp& s : stamps) db.add(std::move(s));
+  return db;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Population draw
+
+LensSystemDraw drawLensSystem(const SimulationSetup& setup, const SourceDatabase& sources,
+                              std::int64_t index, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  LensSystemDraw d;
+  d.index = index;
+  d.lens = setup.population.drawLens(setup.cosmology, rng);
+  d.sourceIndex = std::uniform_int_distribution<std::size_t>(0, sources.size() - 1)(rng);
+  const sim::SourceStamp& stamp = sources.stamp(d.sourceIndex);
+  d.source = setup.population.drawSource(stamp.type, d.lens.redshift, rng);
+  d.einsteinRadiusArcsec = sim::sisEinsteinRadiusArcsec(d.lens.sigmaKmPerS, d.lens.redshift,
+                                                        d.source.redshift, setup.cosmology);
+  d.lensEllipticity =
+      setup.lensEllipticityMin + (setup.lensEllipticityMax - setup.lensEllipticityMin) * unit(rng);
+  const double paRad = std::numbers::pi * unit(rng);
+  const double reArcsec = setup.lensHalfLightMinArcsec +
+                          (setup.lensHalfLightMaxArcsec - setup.lensHalfLightMinArcsec) * unit(rng);
+
+  sim::LensSystem& sys = d.system;
+  sys.mass.einsteinRadiusArcsec = d.einsteinRadiusArcsec;
+  sys.mass.ellipticity = sim::potentialEllipticityFromLight(d.lensEllipticity);
+  sys.mass.coreArcsec = setup.lensCoreArcsec;
+  sys.mass.positionAngleRad = paRad;
+  sys.light.sersicIndex = 4.0;
+  sys.light.halfLightRadiusArcsec = reArcsec;
+  sys.light.axisRatio = 1.0 - d.lensEllipticity;
+  sys.light.positionAngleRad = paRad;
+  sys.lensMag = d.lens.mag;
+  sys.source.betaArcsec = sim::drawUniformInDisc(d.einsteinRadiusArcsec, rng);
+  sys.source.rotationRad = 2.0 * std::numbers::pi * unit(rng);
+  // Resizing by pixel scale: the stamp keeps its pixels, each now covers more or less sky.
+  sys.source.pixelScaleArcsec =
+      stamp.pixelScaleArcsec * d.source.halfLightArcsec / sources.halfLightArcsec(d.sourceIndex);
+  sys.sourceMag = d.source.mag;
+  return d;
+}
+
+LensSystemDraw drawLensSystem(const SimulationSetup& setup, const SourceDatabase& sources,
+                              std::uint64_t masterSeed, std::int64_t index) {
+  std::mt19937_64 rng = sim::systemRng(masterSeed, std::uint64_t(index));
+  return drawLensSystem(setup, sources, index, rng);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Detection, measurement, arc rules
+
+const std::vector<ColumnSpec>& measuredColumns() {
+  return measuredPlan().columns();
+}
+
+const MeasurementPlan& measuredPlan() {
+  static const MeasurementPlan plan = [] {
+    std::vector<ColumnRequest> requests;
+    for (const char* name : kMeasuredNames) requests.push_back({name, 1});
+    std::vector<std::string> unknown;
+    MeasurementPlan p = MeasurementPlan::build(requests, {}, &unknown);
+    if (!unknown.empty()) throw Error("lens simulation: unknown measured column " + unknown[0]);
+    return p;
+  }();
+  return plan;
+}
+
+Table detectAndMeasure(const ImageF& image, const SimulationSetup& setup,
+                       std::vector<std::int64_t>* levelCounts, StageTimings* timings) {
+  double t0 = timings ? threadCpuSec() : 0.0;
+  ImageF filtered;
+  if (setup.filter) filtered = applyFilter(image, *setup.filter, 1);
+  const ImageF& detection = setup.filter ? filtered : image;
+
+  DetectionSettings settings;
+  settings.thresholdsAdu = setup.thresholdsAdu;
+  settings.minArea = setup.minAreaPix;
+  settings.threads = 1;
+  std::vector<Segment> segments;
+  std::vector<std::int64_t> counts =
+      detectMultiThreshold(detection, settings, [&](std::vector<Segment>& objects) {
+        for (Segment& o : objects) segments.push_back(std::move(o));
+      });
+  // Rows ordered by (level, NUMBER), as `octarc detect` writes them.
+  std::sort(segments.begin(), segments.end(), [](const Segment& a, const Segment& b) {
+    return std::pair(a.level, a.number) < std::pair(b.level, b.number);
+  });
+  if (timings) {
+    const double t1 = threadCpuSec();
+    timings->detectionSec += t1 - t0;
+    t0 = t1;
+  }
+
+  const double sigmaAdu = setup.observing.skySigmaAdu;
+  MeasureContext context;
+  context.measurement = &image;
+  context.detection = &detection;
+  std::vector<std::int64_t> saturated;
+  for (std::int64_t i = 0; i < image.size(); ++i) {
+    if (image[i] >= setup.saturationAdu) saturated.push_back(i);
+  }
+  context.saturatedPixels = saturated.empty() ? nullptr : &saturated;
+  context.sigmaAdu = sigmaAdu;
+  context.gain = setup.observing.gainElectronsPerAdu;
+  context.magZeropoint = setup.observing.magZeroPoint;
+  context.pixelScaleArcsec = setup.observing.grid.pixelScaleArcsec;
+  for (std::size_t k = 0; k < setup.thresholdsAdu.size(); ++k) {
+    ThresholdLevel l;
+    l.level = int(k) + 1;
+    l.thresholdAdu = setup.thresholdsAdu[k];
+    l.analysisThresholdAdu = l.thresholdAdu;
+    l.thresholdSigma = l.thresholdAdu / sigmaAdu;
+    context.levels.push_back(l);
+  }
+  Table table(measuredColumns());
+  measureSegments(measuredPlan(), segments, context, table, 1);
+  if (timings) timings->measurementSec += threadCpuSec() - t0;
+  if (levelCounts) *levelCounts = std::move(counts);
+  return table;
+}
+
+ArcSelection selectArcs(const Table& objects, double lensXPix, double lensYPix,
+                        double pixelScaleArcsec, const ArcRules& rules, std::mt19937_64& rng) {
+  const int cx = requireColumn(objects, "X_IMAGE");
+  const int cy = requireColumn(objects, "Y_IMAGE");
+  const int cs = requireColumn(objects, "SIZE_IMAGE");
+  const int cl = requireColumn(objects, "THRESH_LEVEL");
+  const int cf = requireColumn(objects, "FLUX_ISO");
+  ArcSelection out;
+  const std::int64_t n = objects.rows();
+  std::vector<bool> isArc(std::size_t(n), false);
+  // Per level: number of objects and whether an arc is among them.
+  std::vector<int> count;
+  std::vector<bool> hasArc;
+  for (std::int64_t r = 0; r < n; ++r) {
+    // X_IMAGE/Y_IMAGE are 1-based.
+    const double dx = objects.value(r, cx) - 1.0 - lensXPix;
+    const double dy = objects.value(r, cy) - 1.0 - lensYPix;
+    const double distance = std::hypot(dx, dy) * pixelScaleArcsec;
+    out.distanceArcsec.push_back(distance);
+    const double sizeArcsec = std::sqrt(2.0) * objects.value(r, cs) * pixelScaleArcsec;
+    isArc[std::size_t(r)] = distance >= rules.minDistanceArcsec && sizeArcsec > rules.minSizeArcsec;
+    const int level = int(objects.value(r, cl));
+    if (level < 1) continue;
+    if (std::size_t(level) > count.size()) {
+      count.resize(std::size_t(level), 0);
+      hasArc.resize(std::size_t(level), false);
+    }
+    ++count[std::size_t(level - 1)];
+    if (isArc[std::size_t(r)]) hasArc[std::size_t(level - 1)] = true;
+  }
+  std::vector<int> qualifying;
+  for (std::size_t k = 0; k < count.size(); ++k) {
+    if (hasArc[k] && count[k] >= rules.minObjects) qualifying.push_back(int(k) + 1);
+  }
+  if (qualifying.empty()) return out;
+  for (std::int64_t r = 0; r < n; ++r) {
+    const int level = int(objects.value(r, cl));
+    if (isArc[std::size_t(r)] &&
+        std::find(qualifying.begin(), qualifying.end(), level) != qualifying.end()) {
+      out.arcRows.push_back(r);
+    }
+  }
+  const int chosenLevel =
+      qualifying[std::uniform_int_distribution<std::size_t>(0, qualifying.size() - 1)(rng)];
+  for (std::int64_t r : out.arcRows) {
+    if (int(objects.value(r, cl)) != chosenLevel) continue;
+    if (out.chosenRow < 0 || objects.value(r, cf) > objects.value(out.chosenRow, cf)) {
+      out.chosenRow = r;
+    }
+  }
+  return out;
+}
+
+SimulatedSystem simulateSystem(const SimulationSetup& setup, const SourceDatabase& sources,
+                               std::uint64_t masterSeed, std::int64_t index, bool keepImage,
+                               StageTimings* timings) {
+  double t0 = timings ? threadCpuSec() : 0.0;
+  std::mt19937_64 rng = sim::systemRng(masterSeed, std::uint64_t(index));
+  SimulatedSystem out;
+  out.draw = drawLensSystem(setup, sources, index, rng);
+  if (timings) timings->drawSec += threadCpuSec() - t0;
+
+  sim::RenderTimings render;
+  const sim::RenderedLensSystem rendered =
+      sim::renderLensSystem(out.draw.system, sources.stamp(out.draw.sourceIndex), setup.observing,
+                            rng, timings ? &render : nullptr);
+  out.magnification = rendered.magnification;
+  if (timings) {
+    timings->rayTraceSec += render.rayTraceSec;
+    timings->lensLightSec += render.lensLightSec;
+    timings->psfSec += render.psfSec;
+    timings->noiseSec += render.noiseSec;
+  }
+  // The detector and the measurements read single precision, like a FITS image of BITPIX -32.
+  ImageF image(rendered.image.width(), rendered.image.height());
+  for (std::int64_t i = 0; i < image.size(); ++i) image[i] = float(rendered.image[i]);
+
+  out.objects = detectAndMeasure(image, setup, &out.levelCounts, timings);
+  t0 = timings ? threadCpuSec() : 0.0;
+  const sim::SurveyGrid& grid = setup.observing.grid;
+  out.arcs = selectArcs(out.objects, grid.lensXPix, grid.lensYPix, grid.pixelScaleArcsec,
+                        setup.arcRules, rng);
+  if (timings) timings->arcRulesSec += threadCpuSec() - t0;
+  if (keepImage) out.image = std::move(image);
+  return out;
+}
+
+}  // namespace octarc

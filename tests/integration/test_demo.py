@@ -1,0 +1,113 @@
+"""`octarc demo`: a small field end to end (simulate, detect with ASSOC, report); the report's
+arc count recomputed from the catalog and the truth list; bad input (issue 4, acceptance 4, 5)."""
+import os
+import re
+import unittest
+
+import numpy as np
+
+from octarc_testlib import WorkDirTest, fitsverify_errors, ldac_objects, run_octarc
+
+PIXEL_SCALE = 0.257
+
+
+class SmallDemo(WorkDirTest):
+
+    def test_small_demo_runs_and_reports(self):
+        # Seeded, so the outcome is fixed: with this seed 3 of the 6 arcs are found.
+        out = self.path("demo")
+        proc = run_octarc("demo", "--size", 1024, "--lenses", 6, "--seed", 1, "--out", out,
+                          "--quiet")
+        self.assertEqual(proc.stderr, "")
+        text = proc.stdout
+        for needle in ("Field: ", "1024 x 1024 px of 0.257\"", "sky noise",
+                       "level  threshold [ADU]  objects",
+                       "Injected arcs detected:", "median best ARCNESS",
+                       "system  theta_E[\"]  best ARCNESS  level     S/N", "injected arcs",
+                       "other objects", "Outputs:"):
+            self.assertIn(needle, text)
+        names = ("field.fits", "field.weight.fits", "field.truth.txt", "field.ldac")
+        for name in names:
+            self.assertTrue(os.path.isfile(os.path.join(out, name)), name)
+            self.assertIn(os.path.join(out, name), text)
+        code, msg = fitsverify_errors(os.path.join(out, "field.ldac"))
+        self.assertEqual(code, 0, msg)
+
+        rows, _ = ldac_objects(os.path.join(out, "field.ldac"))
+        # Objects per level as printed = rows per THRESH_LEVEL of the catalog; 15 levels
+        # log-spaced from 2.5 to 20 sigma (params/octarc.sex), so the last is 8 times the first.
+        table = text.split("level  threshold [ADU]  objects")[1].split("Injected")[0]
+        printed = {int(a): (float(b), int(c)) for a, b, c in
+                   re.findall(r"^\s+(\d+)\s+([\d.]+)\s+(\d+)\s*$", table, re.M)}
+        self.assertEqual(sorted(printed), list(range(1, 16)))
+        for level, (threshold, count) in printed.items():
+            self.assertEqual(count, int(np.sum(rows["THRESH_LEVEL"] == level)))
+            self.assertAlmostEqual(
+                threshold, rows["THRESHOLD"][rows["THRESH_LEVEL"] == level][0], places=3)
+        self.assertAlmostEqual(printed[15][0] / printed[1][0], 8.0, places=3)
+        self.assertAlmostEqual(printed[2][0] / printed[1][0], 8.0 ** (1 / 14), places=3)
+        # The catalog carries the truth through ASSOC: VECTOR_ASSOC(5) = id, kind, mag, theta_E,
+        # system, and every injected lens galaxy's entry is matched by some object.
+        self.assertEqual(rows["VECTOR_ASSOC"].shape[1], 5)
+        truth = np.loadtxt(os.path.join(out, "field.truth.txt"), ndmin=2)
+        kinds = set(rows["VECTOR_ASSOC"][rows["NUMBER_ASSOC"] > 0, 1].astype(int))
+        self.assertIn(1, kinds)
+        self.assertTrue(kinds <= {1, 2, 3, 4})
+
+        # The arc count recomputed here with the report's rules: an object >= 1" from its lens,
+        # sqrt(2) SIZE > 1", within 2" of one of the system's lensed images, at any level.
+        found = {}
+        lenses = truth[truth[:, 5] == 1]
+        for lens in lenses:
+            system = int(lens[8])
+            images = truth[(truth[:, 5] == 2) & (truth[:, 8] == system)]
+            from_lens = np.hypot(rows["X_IMAGE"] - lens[1], rows["Y_IMAGE"] - lens[2]) * PIXEL_SCALE
+            ok = ((from_lens >= 1.0) & (np.sqrt(2) * rows["SIZE_IMAGE"] * PIXEL_SCALE > 1.0)
+                  & np.isfinite(rows["ARCNESS"]))
+            near = np.zeros(len(rows), bool)
+            for im in images:
+                dist = np.hypot(rows["X_IMAGE"] - im[1], rows["Y_IMAGE"] - im[2]) * PIXEL_SCALE
+                near |= dist < 2.0
+            if np.any(ok & near):
+                found[system] = rows["ARCNESS"][ok & near].max()
+        m = re.search(r"Injected arcs detected: (\d+) of (\d+) systems", text)
+        self.assertEqual(int(m.group(2)), 6)
+        self.assertEqual(int(m.group(1)), len(found))
+        self.assertGreaterEqual(len(found), 1)
+        # Each found system's best arcness is printed in its table row.
+        for system, best in found.items():
+            row = re.search(r"^\s+%d\s+([\d.]+)\s+([\d.]+)\s+(\d+)\s+([\d.]+)$" % system, text,
+                            re.M)
+            self.assertIsNotNone(row, "system %d" % system)
+            self.assertAlmostEqual(float(row.group(2)), best, places=3)
+        # The demo injects lenses whose arcs can separate from the lens: theta_E >= 1.5".
+        self.assertTrue(np.all(lenses[:, 7] >= 1.5))
+
+
+class BadInput(WorkDirTest):
+
+    def check_error(self, words, *args):
+        proc = run_octarc("demo", "--quiet", *args, check=False)
+        self.assertNotEqual(proc.returncode, 0, proc.stderr)
+        lines = proc.stderr.strip().splitlines()
+        self.assertEqual(len(lines), 1, proc.stderr)
+        for w in words:
+            self.assertIn(w, lines[0])
+
+    def test_nonsense_ranges_write_nothing(self):
+        out = self.path("demo")
+        self.check_error(["--size", "0"], "--size", 0, "--out", out)
+        self.check_error(["--lenses", "-1"], "--lenses", -1, "--out", out)
+        self.check_error(["--lenses", "do not fit"], "--size", 128, "--lenses", 40, "--out", out)
+        self.assertEqual(os.listdir(self.work), [])
+
+    def test_output_directory_that_cannot_be_made(self):
+        with open(self.path("file.txt"), "w") as f:
+            f.write("x")
+        self.check_error(["file.txt"], "--size", 128, "--lenses", 1, "--out",
+                         self.path("file.txt/demo"))
+        self.assertEqual(os.listdir(self.work), ["file.txt"])
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,239 @@
+#include "octarc/pipeline/LensSimulation.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <set>
+
+#include "TestPaths.h"
+#include "octarc/core/Error.h"
+#include "octarc/pipeline/Pipeline.h"
+#include "octarc/simulation/Seeds.h"
+
+namespace octarc {
+namespace {
+
+namespace sim = octarc::simulation;
+
+// One hand-made object row: only the columns the arc rules read matter.
+void addObject(Table& t, int level, double xImage, double yImage, double sizePix, double flux) {
+  double* row = t.appendRow();
+  (void)row;
+  const std::int64_t r = t.rows() - 1;
+  t.setValue(r, t.findColumn("THRESH_LEVEL"), level);
+  t.setValue(r, t.findColumn("X_IMAGE"), xImage);
+  t.setValue(r, t.findColumn("Y_IMAGE"), yImage);
+  t.setValue(r, t.findColumn("SIZE_IMAGE"), sizePix);
+  t.setValue(r, t.findColumn("FLUX_ISO"), flux);
+}
+
+// Lens at 0-based (50, 50), i.e. X_IMAGE = Y_IMAGE = 51; 0.25"/px, so 4 px = 1.0".
+constexpr double kLens = 50.0;
+constexpr double kScale = 0.25;
+// sqrt(2) * size * scale > 1.0" needs size > 2.828 px.
+constexpr double kResolved = 3.0;
+constexpr double kUnresolved = 2.8;
+
+TEST(SelectArcs, DistanceAndSizeRulesAtTheirEdges) {
+  Table t(measuredColumns());
+  addObject(t, 1, 51.0, 51.0, 6.0, 1000.0);         // the lens: distance 0
+  addObject(t, 1, 55.0, 51.0, kResolved, 50.0);     // exactly 1.0": an arc
+  addObject(t, 1, 51.0, 54.96, kResolved, 80.0);    // 0.99": too close
+  addObject(t, 1, 47.0, 51.0, kUnresolved, 500.0);  // 1.0" but unresolved
+  std::mt19937_64 rng(1);
+  const ArcSelection s = selectArcs(t, kLens, kLens, kScale, ArcRules{}, rng);
+  ASSERT_EQ(s.arcRows, (std::vector<std::int64_t>{1}));
+  EXPECT_EQ(s.chosenRow, 1);
+  EXPECT_NEAR(s.distanceArcsec[1], 1.0, 1e-12);
+  EXPECT_NEAR(s.distanceArcsec[2], 0.99, 1e-12);
+  EXPECT_DOUBLE_EQ(s.distanceArcsec[0], 0.0);
+}
+
+TEST(SelectArcs, AnArcAloneAtItsLevelDoesNotCount) {
+  Table t(measuredColumns());
+  addObject(t, 1, 51.0, 51.0, 8.0, 1000.0);      // level 1: the lens and the arc merged
+  addObject(t, 2, 59.0, 51.0, kResolved, 90.0);  // level 2: only the arc (2"), one object
+  std::mt19937_64 rng(1);
+  const ArcSelection s = selectArcs(t, kLens, kLens, kScale, ArcRules{}, rng);
+  EXPECT_TRUE(s.arcRows.empty());
+  EXPECT_EQ(s.chosenRow, -1);
+  // With the two-object rule relaxed the same arc counts.
+  ArcRules one;
+  one.minObjects = 1;
+  std::mt19937_64 rng2(1);
+  EXPECT_EQ(selectArcs(t, kLens, kLens, kScale, one, rng2).chosenRow, 1);
+}
+
+TEST(SelectArcs, RandomLevelThenBrightestArcAllRowsKept) {
+  Table t(measuredColumns());
+  for (int level = 1; level <= 3; ++level) {
+    addObject(t, level, 51.0, 51.0, 5.0, 1000.0);               // lens
+    addObject(t, level, 61.0, 51.0, kResolved, 100.0 / level);  // arc at 2.5"
+    addObject(t, level, 41.0, 51.0, kResolved, 200.0 / level);  // counter-arc, brighter
+  }
+  // Level 4: only the lens.
+  addObject(t, 4, 51.0, 51.0, 3.0, 500.0);
+  std::set<std::int64_t> chosen;
+  for (std::uint64_t seed = 0; seed < 60; ++seed) {
+    std::mt19937_64 rng = sim::systemRng(seed, 0);
+    const ArcSelection s = selectArcs(t, kLens, kLens, kScale, ArcRules{}, rng);
+    EXPECT_EQ(s.arcRows, (std::vector<std::int64_t>{1, 2, 4, 5, 7, 8}));
+    chosen.insert(s.chosenRow);
+    // The same stream gives the same choice.
+    std::mt19937_64 again = sim::systemRng(seed, 0);
+    EXPECT_EQ(selectArcs(t, kLens, kLens, kScale, ArcRules{}, again).chosenRow, s.chosenRow);
+  }
+  // Every qualifying level gets picked, always its brighter arc (rows 2, 5, 8).
+  EXPECT_EQ(chosen, (std::set<std::int64_t>{2, 5, 8}));
+}
+
+SimulationSetup testSetup() {
+  SimulationSetup setup;
+  setup.population = sim::readPopulationModel(sim::defaultPopulationModelPath());
+  setup.observing.skySigmaAdu = 1.0;
+  for (int k = 0; k < 15; ++k) setup.thresholdsAdu.push_back(2.5 * std::pow(8.0, k / 14.0));
+  return setup;
+}
+
+SourceDatabase testSources() {
+  sim::SyntheticGalaxyOptions options;
+  options.stampHalfLightRadii = 4.0;
+  return SourceDatabase::synthetic(6, 42, options);
+}
+
+TEST(SimulateSystem, BigEinsteinRadiusAndBrightSourceGiveAnArc) {
+  const SimulationSetup setup = testSetup();
+  const SourceDatabase sources = testSources();
+  // A spiral source (database row 1) of 22.5 mag, 1.5" from the centre of a b = 2.5" lens of
+  // 23 mag (sky sigma 1 ADU: the source has 1000 times the sky sigma in total flux).
+  sim::LensSystem sys;
+  sys.mass = {2.5, 0.05, 0.0, 0.3};
+  sys.light = {4.0, 0.5, 0.8, 0.3, 0.0};
+  sys.lensMag = 23.0;
+  sys.source.betaArcsec = {1.5, 0.0};
+  sys.sourceMag = 22.5;
+  std::mt19937_64 rng(7);
+  const sim::RenderedLensSystem r =
+      sim::renderLensSystem(sys, sources.stamp(1), setup.observing, rng);
+  ImageF image(r.image.width(), r.image.height());
+  for (std::int64_t i = 0; i < image.size(); ++i) image[i] = float(r.image[i]);
+  std::vector<std::int64_t> counts;
+  const Table objects = detectAndMeasure(image, setup, &counts);
+  ASSERT_EQ(counts.size(), 15u);
+  const ArcSelection s = selectArcs(objects, 50.0, 50.0, 0.257, ArcRules{}, rng);
+  ASSERT_GE(s.chosenRow, 0);
+  const double d = s.distanceArcsec[std::size_t(s.chosenRow)];
+  EXPECT_GE(d, 1.0);
+  // For a near-SIS the main image of a source at beta = 1.5" lies at b + beta = 4.0" (the
+  // counter-image at b - beta = 1.0", demagnified); the centroid of a curved arc sits a little
+  // inside its radius.
+  EXPECT_GT(d, 3.0);
+  EXPECT_LT(d, 4.5);
+  const double arcness = objects.value(s.chosenRow, objects.findColumn("ARCNESS"));
+  EXPECT_GT(arcness, 0.0);
+  EXPECT_LT(arcness, 0.25);
+}
+
+TEST(SimulateSystem, EachIndexIsReproducibleOnItsOwn) {
+  const SimulationSetup setup = testSetup();
+  const SourceDatabase sources = testSources();
+  const SimulatedSystem a = simulateSystem(setup, sources, 99, 5, true);
+  (void)simulateSystem(setup, sources, 99, 4, false);  // other systems in between change nothing
+  const SimulatedSystem b = simulateSystem(setup, sources, 99, 5, true);
+  EXPECT_EQ(a.image.pixels(), b.image.pixels());
+  ASSERT_EQ(a.objects.rows(), b.objects.rows());
+  for (std::int64_t r = 0; r < a.objects.rows(); ++r) {
+    for (int c = 0; c < a.objects.rowWidth(); ++c) {
+      const double x = a.objects.row(r)[c], y = b.objects.row(r)[c];
+      EXPECT_TRUE(x == y || (std::isnan(x) && std::isnan(y)));
+    }
+  }
+  EXPECT_EQ(a.arcs.chosenRow, b.arcs.chosenRow);
+  // The draw alone is the same as the one inside the simulation.
+  const LensSystemDraw d = drawLensSystem(setup, sources, std::uint64_t(99), 5);
+  EXPECT_EQ(d.lens.sigmaKmPerS, a.draw.lens.sigmaKmPerS);
+  EXPECT_EQ(d.source.redshift, a.draw.source.redshift);
+  EXPECT_EQ(d.system.source.betaArcsec, a.draw.system.source.betaArcsec);
+  // The source lies inside the Einstein radius, behind the lens, within the sigma cuts.
+  EXPECT_LE(std::hypot(d.system.source.betaArcsec[0], d.system.source.betaArcsec[1]),
+            d.einsteinRadiusArcsec);
+  EXPECT_GT(d.source.redshift, d.lens.redshift);
+  EXPECT_GT(d.lens.sigmaKmPerS, 250.0);
+  EXPECT_LT(d.lens.sigmaKmPerS, 400.0);
+  // Another index, another system.
+  EXPECT_NE(drawLensSystem(setup, sources, std::uint64_t(99), 6).lens.mag, d.lens.mag);
+}
+
+std::string readBytes(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST(SimulateLensesCommand, OutputDoesNotDependOnTheThreadCount) {
+  const auto dir = test::scratchDir();
+  auto run = [&](const std::string& threads, const std::string& name) {
+    const std::string out = (dir / name).string();
+    EXPECT_EQ(runSimulateLenses({"-n", "24", "--seed", "11", "-o", out, "--threads", threads,
+                                 "--quiet", "--sources", "6", "--stamps", out + ".stamps.fits",
+                                 "--stamp-count", "3"}),
+              0);
+    return out;
+  };
+  const std::string one = run("1", "one.fits");
+  const std::string two = run("2", "two.fits");
+  const std::string a = readBytes(one), b = readBytes(two);
+  ASSERT_FALSE(a.empty());
+  EXPECT_TRUE(a == b);
+  EXPECT_TRUE(readBytes(one + ".stamps.fits") == readBytes(two + ".stamps.fits"));
+  // A different seed gives a different file.
+  const std::string other = (dir / "other.fits").string();
+  ASSERT_EQ(
+      runSimulateLenses({"-n", "24", "--seed", "12", "-o", other, "--quiet", "--sources", "6"}), 0);
+  EXPECT_FALSE(readBytes(other) == a);
+}
+
+TEST(SimulateLensesCommand, BadInputThrowsAndWritesNothing) {
+  const auto dir = test::scratchDir();
+  const std::string out = (dir / "bad.fits").string();
+  EXPECT_THROW(runSimulateLenses({"-n", "-3", "-o", out}), ConfigError);
+  EXPECT_THROW(
+      runSimulateLenses({"-n", "5", "-o", out, "--lens-mag-min", "23", "--lens-mag-max", "21"}),
+      ConfigError);
+  EXPECT_THROW(runSimulateLenses(
+                   {"-n", "5", "-o", out, "--sigma-min", "1000", "--sigma-max", "1100", "--quiet"}),
+               ConfigError);
+  EXPECT_THROW(
+      runSimulateLenses({"-n", "5", "-o", out, "--database", (dir / "missing.fits").string()}),
+      IoError);
+  EXPECT_FALSE(std::filesystem::exists(out));
+  EXPECT_TRUE(std::filesystem::is_empty(dir));
+}
+
+TEST(SourceDatabase, RealGalaxyCatalogsLoadOrFailClearly) {
+  OCTARC_REQUIRE_SHARED_DATA(shared);
+  const auto hst = shared / "hst-galaxies";
+  const SourceDatabase aegis =
+      SourceDatabase::fromRealGalaxyCatalog((hst / "aegis" / "AEGIS_F606w_catalog.fits").string());
+  EXPECT_GT(aegis.size(), 0u);
+  for (std::size_t i = 0; i < aegis.size(); ++i) EXPECT_GT(aegis.halfLightArcsec(i), 0.0);
+  // The COSMOS catalog names a PSF file that is absent: galaxies alone still load.
+  EXPECT_GT(SourceDatabase::fromRealGalaxyCatalog(
+                (hst / "cosmos" / "real_galaxy_catalog_23.5.fits").string())
+                .size(),
+            0u);
+  // GalSim's example names an image file that is absent: one IoError naming the catalog.
+  const std::string example = (hst / "real_galaxy_catalog_23.5_example.fits").string();
+  try {
+    SourceDatabase::fromRealGalaxyCatalog(example);
+    FAIL() << "no error";
+  } catch (const IoError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(example), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+}
+
+}  // namespace
+}  // namespace octarc
