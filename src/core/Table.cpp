@@ -20,22 +20,28 @@ int Table::findColumn(std::string_view name) const {
 }
 
 double* Table::appendRow() {
-  values_.resize(values_.size() + std::size_t(rowWidth_), 0.0);
-  return values_.data() + values_.size() - std::size_t(rowWidth_);
+  if (rows_ % kChunkRows == 0) {
+    chunks_.emplace_back(std::size_t(kChunkRows * std::max(rowWidth_, 1)), 0.0);
+  }
+  ++rows_;
+  return row(rows_ - 1);
 }
 
 void Table::filterRows(const std::vector<bool>& keep) {
-  std::size_t out = 0;
-  const std::size_t width = std::size_t(rowWidth_);
-  for (std::int64_t r = 0; r < rows(); ++r) {
+  std::int64_t out = 0;
+  for (std::int64_t r = 0; r < rows_; ++r) {
     if (!keep[std::size_t(r)]) continue;
-    if (out != std::size_t(r)) {
-      std::copy_n(values_.begin() + std::ptrdiff_t(std::size_t(r) * width), width,
-                  values_.begin() + std::ptrdiff_t(out * width));
-    }
+    if (out != r) std::copy_n(row(r), rowWidth_, row(out));
     ++out;
   }
-  values_.resize(out * width);
+  rows_ = out;
+  // Whole chunks past the last row are released; the last one is zeroed beyond it, so that
+  // appendRow() keeps handing out zero-filled rows.
+  chunks_.resize(std::size_t((rows_ + kChunkRows - 1) / kChunkRows));
+  if (rows_ % kChunkRows != 0) {
+    std::vector<double>& last = chunks_.back();
+    std::fill(last.begin() + std::ptrdiff_t((rows_ % kChunkRows) * rowWidth_), last.end(), 0.0);
+  }
 }
 
 }  // namespace octarc

@@ -79,7 +79,6 @@ void measureSegments(const MeasurementPlan& plan, const std::vector<Segment>& se
                      const MeasureContext& context, Table& table, int threads) {
   const std::int64_t first = table.rows();
   const std::int64_t count = std::int64_t(segments.size());
-  table.reserveRows(first + count);
   for (std::int64_t i = 0; i < count; ++i) table.appendRow();
   // Rows are preallocated, so each worker writes only its own rows: the output does not depend
   // on the number of threads.
@@ -141,7 +140,6 @@ Table outputTable(const ColumnPlan& plan, const Table& full) {
   Table out(plan.outputColumns);
   std::vector<int> source;
   for (const ColumnSpec& c : plan.outputColumns) source.push_back(full.findColumn(c.name));
-  out.reserveRows(full.rows());
   for (std::int64_t r = 0; r < full.rows(); ++r) {
     double* row = out.appendRow();
     const double* in = full.row(r);

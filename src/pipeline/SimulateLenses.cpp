@@ -523,7 +523,6 @@ int runSimulateLenses(const std::vector<std::string>& args) {
   const int measuredWidth = measuredPlan().rowWidth();
   Table systems(systemColumns());
   Table arcs(arcColumns());
-  systems.reserveRows(count);
   std::int64_t found = 0;
   for (const SystemResult& r : results) {
     const LensSystemDraw& d = r.draw;

@@ -3,6 +3,8 @@
 // Values are held as double whatever the declared storage type (every int32 and float is exact
 // in a double); writers convert to the declared ColumnType. A row is a flat block of
 // rowWidth() doubles, column c occupying [offset(c), offset(c) + columns()[c].repeat).
+// Rows live in fixed-size chunks, so that a catalog of millions of rows grows without ever
+// being reallocated and copied; a row pointer stays valid until the table shrinks.
 #pragma once
 
 #include <cstdint>
@@ -25,17 +27,20 @@ class Table {
   // Index of the column with this name (exact match), or -1.
   int findColumn(std::string_view name) const;
 
-  std::int64_t rows() const { return rowWidth_ == 0 ? 0 : std::int64_t(values_.size()) / rowWidth_; }
-  void reserveRows(std::int64_t n) { values_.reserve(std::size_t(n * rowWidth_)); }
-  // Appends a row filled with zeros and returns a pointer to it (valid until the next append).
+  std::int64_t rows() const { return rows_; }
+  // Appends a row filled with zeros and returns a pointer to it.
   double* appendRow();
-  double* row(std::int64_t r) { return values_.data() + r * rowWidth_; }
-  const double* row(std::int64_t r) const { return values_.data() + r * rowWidth_; }
+  double* row(std::int64_t r) {
+    return chunks_[std::size_t(r / kChunkRows)].data() + (r % kChunkRows) * rowWidth_;
+  }
+  const double* row(std::int64_t r) const {
+    return chunks_[std::size_t(r / kChunkRows)].data() + (r % kChunkRows) * rowWidth_;
+  }
   double value(std::int64_t r, int column, int element = 0) const {
-    return values_[std::size_t(r * rowWidth_ + offsets_[column] + element)];
+    return row(r)[offsets_[column] + element];
   }
   void setValue(std::int64_t r, int column, double v, int element = 0) {
-    values_[std::size_t(r * rowWidth_ + offsets_[column] + element)] = v;
+    row(r)[offsets_[column] + element] = v;
   }
   // Keeps only the rows for which keep[r] is true, in order.
   void filterRows(const std::vector<bool>& keep);
@@ -44,7 +49,9 @@ class Table {
   std::vector<ColumnSpec> columns_;
   std::vector<int> offsets_;
   int rowWidth_ = 0;
-  std::vector<double> values_;
+  static constexpr std::int64_t kChunkRows = 4096;
+  std::int64_t rows_ = 0;
+  std::vector<std::vector<double>> chunks_;  // each sized for kChunkRows rows
 };
 
 }  // namespace octarc

@@ -42,5 +42,29 @@ TEST(Table, AppendSetAndFilterRows) {
   EXPECT_DOUBLE_EQ(t.value(1, 1, 2), 7.0);
 }
 
+TEST(Table, ManyRowsAcrossChunksKeepTheirValuesAndPointers) {
+  Table t = makeTable();
+  std::vector<double*> first;
+  for (int i = 0; i < 10000; ++i) {
+    double* row = t.appendRow();
+    EXPECT_EQ(row[4], 0.0);  // new rows are zero-filled
+    row[0] = i;
+    row[4] = 0.5 * i;
+    if (i < 3) first.push_back(row);
+  }
+  ASSERT_EQ(t.rows(), 10000);
+  EXPECT_EQ(first[2], t.row(2));  // growing never moves a row
+  EXPECT_DOUBLE_EQ(t.value(9999, 2), 0.5 * 9999);
+  std::vector<bool> keep(10000);
+  for (int i = 0; i < 10000; ++i) keep[std::size_t(i)] = i % 3 == 0;
+  t.filterRows(keep);
+  ASSERT_EQ(t.rows(), 3334);
+  EXPECT_DOUBLE_EQ(t.value(3333, 0), 9999.0);
+  EXPECT_DOUBLE_EQ(t.value(1000, 2), 0.5 * 3000);
+  double* again = t.appendRow();
+  EXPECT_EQ(again[0], 0.0);
+  EXPECT_EQ(again[4], 0.0);
+}
+
 }  // namespace
 }  // namespace octarc
