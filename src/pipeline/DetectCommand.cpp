@@ -265,7 +265,9 @@ int runDetect(const std::vector<std::string>& args) {
   for (int e = 0; e < extCount; ++e) {
     if (!s.quiet) std::cerr << "> Reading " << extensions[std::size_t(e)] << "\n";
     const bool relative = s.detectThresholdType == ThresholdType::Relative;
-    PreparedImage image = prepareImage(extensions[std::size_t(e)], s, {}, keepMaps, relative);
+    const RunSettings extensionSettings = settingsForExtension(s, e, extCount);
+    PreparedImage image =
+        prepareImage(extensions[std::size_t(e)], extensionSettings, {}, keepMaps, relative);
     if (!s.quiet) {
       for (const std::string& w : image.warnings) std::cerr << "WARNING: " << w << "\n";
     }
@@ -307,7 +309,7 @@ int runDetect(const std::vector<std::string>& args) {
     auto restoreVariance = [&]() {
       if (scaleIsVariance) return;
       if (image.varianceFiltered) {
-        image.reloadVariance(s);
+        image.reloadVariance(extensionSettings);
       } else {
         rmsToVariance(image.variance);
       }

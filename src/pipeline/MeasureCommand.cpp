@@ -25,16 +25,6 @@ namespace octarc {
 
 namespace {
 
-// The path of extension `e` of a file that must have `count` image extensions like the image.
-std::string extensionOf(const std::string& path, int e, int count, const char* what) {
-  if (count == 1) return path;
-  const std::vector<std::string> hdus = listImageHdus(path);
-  if (int(hdus.size()) != count) {
-    throw IoError(path + ": " + what + " has " + std::to_string(hdus.size()) +
-                  " image extensions but the image has " + std::to_string(count));
-  }
-  return hdus[std::size_t(e)];
-}
 
 CatalogRunValues runValuesOf(const InputCatalogPart& part) {
   CatalogRunValues v;
@@ -195,7 +185,7 @@ int runMeasure(const std::vector<std::string>& args) {
     }
     if (!s.quiet) std::cerr << "> Reading " << extensions[std::size_t(e)] << "\n";
     const PreparedImage image =
-        prepareImage(extensions[std::size_t(e)], s,
+        prepareImage(extensions[std::size_t(e)], settingsForExtension(s, e, extCount),
                      catalogValues.empty() ? CatalogRunValues{} : catalogValues[0], false);
     headers.push_back(image.hdu.header);
     if (!s.quiet) {
@@ -204,7 +194,7 @@ int runMeasure(const std::vector<std::string>& args) {
 
     std::vector<std::string> segPaths;
     for (const std::string& p : s.segmentationPaths) {
-      segPaths.push_back(extensionOf(p, e, extCount, "segmentation image"));
+      segPaths.push_back(extensionPath(p, e, extCount, "segmentation image"));
     }
     const std::vector<Segment> segments =
         readSegmentation(segPaths, image.hdu.pixels.width(), image.hdu.pixels.height());

@@ -68,6 +68,31 @@ void weightsToVariance(ImageF& weights, const MeshBackground& mesh, const RunSet
 
 }  // namespace
 
+std::string extensionPath(const std::string& path, int e, int count, const char* what) {
+  if (count == 1) return path;
+  const std::vector<std::string> hdus = listImageHdus(path);
+  if (int(hdus.size()) != count) {
+    throw IoError(path + ": " + what + " has " + std::to_string(hdus.size()) +
+                  " image extensions but the image has " + std::to_string(count));
+  }
+  return hdus[std::size_t(e)];
+}
+
+RunSettings settingsForExtension(const RunSettings& settings, int e, int count) {
+  RunSettings out = settings;
+  if (!out.backgroundMapPath.empty()) {
+    out.backgroundMapPath = extensionPath(out.backgroundMapPath, e, count, "BACKGROUND map");
+  }
+  if (!out.backgroundRmsMapPath.empty()) {
+    out.backgroundRmsMapPath =
+        extensionPath(out.backgroundRmsMapPath, e, count, "BACKGROUND_RMS map");
+  }
+  if (!out.weightImagePath.empty()) {
+    out.weightImagePath = extensionPath(out.weightImagePath, e, count, "weight map");
+  }
+  return out;
+}
+
 std::string resolveFilterFile(const std::string& path) {
   namespace fs = std::filesystem;
   if (fs::exists(path) || fs::path(path).has_parent_path()) return path;

@@ -129,3 +129,40 @@ class MeasureVersusSExtractor(WorkDirTest):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class MultiExtensionImage(WorkDirTest):
+    """A two-extension image is measured extension by extension, like SExtractor: one
+    LDAC_IMHEAD/LDAC_OBJECTS pair per image extension, NUMBER restarting at 1."""
+
+    def test_one_catalog_pair_per_extension(self):
+        from astropy.io import fits
+        image = require_shared(self, "ntt-emmi", "galaxies.fits")
+        data = fits.getdata(image).astype(np.float32)
+        mef = self.path("mef.fits")
+        fits.HDUList([fits.PrimaryHDU(),
+                      fits.ImageHDU(data[:512], name="CHIP1"),
+                      fits.ImageHDU(data[512:], name="CHIP2")]).writeto(mef)
+        param = write_param(self.path("sex.param"), SEX_COLUMNS)
+        extra = ["-FILTER", "N", "-DETECT_MINAREA", "5", "-THRESH_TYPE", "RELATIVE",
+                 "-BACK_TYPE", "AUTO"]
+        cat, checks = run_sextractor(mef, self.work, "mef", param, 5.0, extra,
+                                     ["SEGMENTATION", "BACKGROUND"])
+        out = self.path("octarc.ldac")
+        run_octarc("measure", mef, "-c", os.path.join(SEX_SHARE, "default.sex"),
+                   "-PARAMETERS_NAME", write_param(self.path("o.param"),
+                                                   ["THRESH_LEVEL"] + SEX_COLUMNS + ["ARCNESS"]),
+                   "-SEGMENTATION_NAME", checks["SEGMENTATION"], "-INPUT_CATALOG", cat,
+                   "-APPEND_COLUMNS", "N", "-BACKGROUND_NAME", checks["BACKGROUND"],
+                   "-FILTER", "N", "-CATALOG_TYPE", "FITS_LDAC", "-CATALOG_NAME", out,
+                   "-VERBOSE_TYPE", "QUIET")
+        with fits.open(cat) as theirs, fits.open(out) as ours:
+            self.assertEqual([h.name for h in ours],
+                             ["PRIMARY", "LDAC_IMHEAD", "LDAC_OBJECTS", "LDAC_IMHEAD",
+                              "LDAC_OBJECTS"])
+            self.assertEqual(len(theirs), len(ours))
+            for hdu in (2, 4):
+                self.assertEqual(ours[hdu].data["NUMBER"].min(), 1)
+                assert_catalogs_agree(self, ours[hdu].data, theirs[hdu].data, 1)
+        code, text = fitsverify_errors(out)
+        self.assertEqual(code, 0, text)

@@ -12,10 +12,10 @@
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/Wcs.h"
 #include "octarc/measure/MeasureContext.h"
+#include "octarc/pipeline/RunSettings.h"
 
 namespace octarc {
 
-struct RunSettings;
 
 // Where the background level and noise came from; written to the catalog header (OCTBKSRC).
 struct NoiseOrigin {
@@ -81,6 +81,15 @@ struct PreparedImage {
 PreparedImage prepareImage(const std::string& imagePath, const RunSettings& settings,
                            const CatalogRunValues& fromCatalog, bool keepCheckMaps,
                            bool filterVariance = false);
+
+// The path of extension `e` (0-based, among `count` image extensions) of a file that must have
+// as many image extensions as the measured image, like SExtractor's check-images and weight
+// maps of a multi-extension image; the path itself when count is 1. IoError naming `what`.
+std::string extensionPath(const std::string& path, int e, int count, const char* what);
+
+// The settings for extension `e` of `count`: the per-image inputs (BACKGROUND_NAME,
+// BACKGROUND_RMS_NAME, WEIGHT_IMAGE) point at their own extension `e`.
+RunSettings settingsForExtension(const RunSettings& settings, int e, int count);
 
 // Converts a threshold in THRESH_TYPE units to ADU (RELATIVE: multiples of sigma).
 double thresholdToAdu(double value, bool relative, double sigmaAdu);
