@@ -227,6 +227,25 @@ void writeFits(const std::string& path, CatalogType type, const std::vector<Cata
   out.commit();
 }
 
+void writeLdacTablesAt(const std::string& path, const std::vector<std::string>& runCards,
+                       const std::vector<NamedTable>& tables) {
+  fitsfile* created = nullptr;
+  int status = 0;
+  fits_create_diskfile(&created, path.c_str(), &status);
+  detail::throwIfFitsError(status, path, "cannot create");
+  detail::FitsPtr file(created);
+  fitsfile* f = file.get();
+  writePrimary(f, {}, path);
+  CatalogPart head;
+  head.runCards = runCards;
+  writeImhead(f, head, path);
+  for (const NamedTable& t : tables) {
+    checkColumns(*t.table);
+    writeObjects(f, t.extname, {t.table}, path);
+  }
+  detail::closeWritten(file.release(), path);
+}
+
 // --- ASCII ---------------------------------------------------------------------------------
 
 void writeAscii(const std::string& path, bool withHeader, const std::vector<CatalogPart>& parts) {
@@ -395,6 +414,11 @@ void writeCatalog(const std::string& path, CatalogType type, const std::vector<C
     case CatalogType::None:
       break;
   }
+}
+
+void writeLdacTables(const std::string& path, const std::vector<std::string>& runCards,
+                     const std::vector<NamedTable>& tables) {
+  writeLdacTablesAt(path, runCards, tables);
 }
 
 }  // namespace octarc

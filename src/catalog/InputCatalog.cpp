@@ -203,4 +203,32 @@ void writeAppendedCatalog(const std::string& inputPath, const std::string& outpu
   out.commit();
 }
 
+std::vector<std::vector<double>> readCatalogColumns(const std::string& path,
+                                                    const std::string& extname,
+                                                    const std::vector<std::string>& names) {
+  detail::FitsPtr file = detail::openFits(path);
+  fitsfile* f = file.get();
+  int status = 0;
+  fits_movnam_hdu(f, BINARY_TBL, const_cast<char*>(extname.c_str()), 0, &status);
+  detail::throwIfFitsError(status, path, "no table " + extname);
+  long rows = 0;
+  fits_get_num_rows(f, &rows, &status);
+  detail::throwIfFitsError(status, path, "cannot read table " + extname);
+  std::vector<std::vector<double>> columns;
+  for (const std::string& name : names) {
+    int col = 0;
+    fits_get_colnum(f, CASEINSEN, const_cast<char*>(name.c_str()), &col, &status);
+    detail::throwIfFitsError(status, path, "no column " + name + " in " + extname);
+    std::vector<double> values(std::size_t(rows), 0.0);
+    int anyNull = 0;
+    if (rows > 0) {
+      fits_read_col(f, TDOUBLE, col, 1, 1, LONGLONG(rows), nullptr, values.data(), &anyNull,
+                    &status);
+    }
+    detail::throwIfFitsError(status, path, "cannot read column " + name);
+    columns.push_back(std::move(values));
+  }
+  return columns;
+}
+
 }  // namespace octarc

@@ -386,4 +386,34 @@ void writeImageFile(const std::string& path, const std::vector<OutputImageHdu>& 
                            [&](int k, OutputImageHdu& hdu) { hdu = hdus[std::size_t(k)]; });
 }
 
+void writeImageCube(const std::string& path, const std::vector<const ImageF*>& planes,
+                    const FitsHeader& header) {
+  if (planes.empty()) throw IoError(path + ": nothing to write");
+  const ImageF& first = *planes.front();
+  for (const ImageF* p : planes) {
+    if (p->width() != first.width() || p->height() != first.height() || p->empty()) {
+      throw IoError(path + ": the planes of a cube must be non-empty and of one size");
+    }
+  }
+  FitsPtr f = detail::createFits(path);
+  long naxes[3] = {static_cast<long>(first.width()), static_cast<long>(first.height()),
+                   static_cast<long>(planes.size())};
+  int status = 0;
+  fits_create_img(f.get(), FLOAT_IMG, 3, naxes, &status);
+  throwIfFitsError(status, path, "cannot create image cube");
+  for (const std::string& card : header.cards) {
+    if (isStructural(card)) continue;
+    fits_write_record(f.get(), card.c_str(), &status);
+    throwIfFitsError(status, path, "cannot write header card '" + card.substr(0, 8) + "'");
+  }
+  for (std::size_t k = 0; k < planes.size(); ++k) {
+    long firstPixel[3] = {1, 1, static_cast<long>(k) + 1};
+    fits_write_pix(f.get(), TFLOAT, firstPixel, static_cast<LONGLONG>(first.size()),
+                   const_cast<float*>(planes[k]->data()), &status);
+    throwIfFitsError(status, path, "cannot write pixels");
+  }
+  fits_close_file(f.release(), &status);
+  throwIfFitsError(status, path, "cannot write file");
+}
+
 }  // namespace octarc

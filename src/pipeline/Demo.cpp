@@ -4,8 +4,6 @@
 //   MAP_WEIGHT, ASSOC with the truth list) --> read the catalog back --> report: objects per
 //   level, injected arcs found and their arcness, arcness of arcs versus everything else
 
-#include <fitsio.h>
-
 #include <algorithm>
 #include <boost/program_options.hpp>
 #include <chrono>
@@ -16,6 +14,7 @@
 #include <iostream>
 #include <map>
 
+#include "octarc/catalog/InputCatalog.h"
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Conventions.h"
 #include "octarc/core/Error.h"
@@ -49,40 +48,17 @@ struct CatalogRows {
 };
 
 CatalogRows readCatalog(const std::string& path) {
-  fitsfile* f = nullptr;
-  int status = 0;
-  auto check = [&](const std::string& what) {
-    if (status == 0) return;
-    char text[FLEN_STATUS] = {0};
-    fits_get_errstatus(status, text);
-    int ignored = 0;
-    if (f) fits_close_file(f, &ignored);
-    throw IoError(path + ": " + what + " (" + text + ")");
-  };
-  fits_open_table(&f, (path + "[LDAC_OBJECTS]").c_str(), READONLY, &status);
-  check("cannot open the LDAC_OBJECTS table");
-  long rows = 0;
-  fits_get_num_rows(f, &rows, &status);
-  check("cannot read the row count");
+  std::vector<std::vector<double>> columns = readCatalogColumns(
+      path, "LDAC_OBJECTS",
+      {"THRESH_LEVEL", "THRESHOLD", "X_IMAGE", "Y_IMAGE", "ARCNESS", "SIZE_IMAGE", "SNR_ISO"});
   CatalogRows c;
-  auto column = [&](const char* name, std::vector<double>& out) {
-    int col = 0;
-    fits_get_colnum(f, CASEINSEN, const_cast<char*>(name), &col, &status);
-    check(std::string("no column ") + name);
-    out.assign(std::size_t(rows), 0.0);
-    int anyNull = 0;
-    if (rows > 0)
-      fits_read_col(f, TDOUBLE, col, 1, 1, LONGLONG(rows), nullptr, out.data(), &anyNull, &status);
-    check(std::string("cannot read column ") + name);
-  };
-  column("THRESH_LEVEL", c.level);
-  column("THRESHOLD", c.threshold);
-  column("X_IMAGE", c.x);
-  column("Y_IMAGE", c.y);
-  column("ARCNESS", c.arcness);
-  column("SIZE_IMAGE", c.size);
-  column("SNR_ISO", c.snr);
-  fits_close_file(f, &status);
+  c.level = std::move(columns[0]);
+  c.threshold = std::move(columns[1]);
+  c.x = std::move(columns[2]);
+  c.y = std::move(columns[3]);
+  c.arcness = std::move(columns[4]);
+  c.size = std::move(columns[5]);
+  c.snr = std::move(columns[6]);
   return c;
 }
 

@@ -7,7 +7,6 @@
 // Systems run in parallel; each is reproducible from (seed, index) alone and its results are
 // placed by index, so the output does not depend on the thread count.
 
-#include <fitsio.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -28,6 +27,7 @@
 #include "octarc/catalog/FitsCard.h"
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
+#include "octarc/io/FitsImage.h"
 #include "octarc/pipeline/CatalogAssembly.h"
 #include "octarc/pipeline/LensSimulation.h"
 #include "octarc/pipeline/Pipeline.h"
@@ -171,81 +171,25 @@ void drawProgress(std::int64_t done, std::int64_t total, double elapsedSec) {
   std::fflush(stderr);
 }
 
-
-void checkFits(int status, const std::string& path, const char* what) {
-  if (status == 0) return;
-  char text[FLEN_STATUS] = {0};
-  fits_get_errstatus(status, text);
-  fits_clear_errmsg();
-  throw IoError(path + ": " + what + " (" + text + ")");
-}
-
-// Writes the systems table and the arc table into one FITS-LDAC file (the caller commits it):
-// each is written by writeCatalog (which requires one column set per file) to a scratch file,
-// and their HDUs are copied into the file.
+// Writes the systems table and the arc table into one FITS-LDAC file at the temporary path
+// of `out` (the caller commits it together with the stamps).
 void writeTables(AtomicFile& out, const Table& systems, const Table& arcs,
                  const std::vector<std::string>& runCards) {
-  const std::string& path = out.finalPath();
-  const std::string partA = out.tempPath() + ".systems";
-  const std::string partB = out.tempPath() + ".arcs";
-  struct Cleanup {
-    std::vector<std::string> paths;
-    ~Cleanup() {
-      for (const std::string& p : paths) std::remove(p.c_str());
-    }
-  } cleanup{{partA, partB}};
-  FitsHeader header;
-  writeCatalog(partA, CatalogType::FitsLdac, {{header, runCards, &systems}});
-  writeCatalog(partB, CatalogType::FitsLdac, {{header, runCards, &arcs}});
-
-  int status = 0;
-  fitsfile* dst = nullptr;
-  fits_create_file(&dst, out.tempPath().c_str(), &status);
-  checkFits(status, path, "cannot create");
-  auto copy = [&](const std::string& from, bool all) {
-    fitsfile* src = nullptr;
-    fits_open_file(&src, from.c_str(), READONLY, &status);
-    if (all) {
-      fits_copy_file(src, dst, 1, 1, 1, &status);
-    } else {
-      int type = 0;
-      fits_movabs_hdu(src, 3, &type, &status);
-      fits_copy_hdu(src, dst, 0, &status);
-    }
-    int ignored = 0;
-    if (src) fits_close_file(src, &ignored);
-  };
-  copy(partA, true);
-  copy(partB, false);
-  char extname[] = "ARCS";
-  fits_update_key_str(dst, "EXTNAME", extname, "every arc row at every level", &status);
-  fits_close_file(dst, &status);
-  checkFits(status, path, "cannot write the catalog");
+  writeLdacTables(out.tempPath(), runCards, {{"LDAC_OBJECTS", &systems}, {"ARCS", &arcs}});
 }
 
 // The stamps of the first systems as one float cube (NAXIS3 = system index).
 void writeStampCube(AtomicFile& out, const std::vector<SystemResult>& results, int count,
                     double pixelScaleArcsec) {
-  const std::string& path = out.finalPath();
-  const ImageF& first = results.front().image;
-  long naxes[3] = {long(first.width()), long(first.height()), long(count)};
-  int status = 0;
-  fitsfile* f = nullptr;
-  fits_create_file(&f, out.tempPath().c_str(), &status);
-  checkFits(status, path, "cannot create");
-  fits_create_img(f, FLOAT_IMG, 3, naxes, &status);
-  for (int k = 0; k < count; ++k) {
-    long first3[3] = {1, 1, long(k) + 1};
-    fits_write_pix(f, TFLOAT, first3, LONGLONG(first.size()),
-                   const_cast<float*>(results[std::size_t(k)].image.data()), &status);
-  }
-  double scale = pixelScaleArcsec;
-  fits_update_key_dbl(f, "PIXSCALE", scale, 6, "arcsec/pixel", &status);
-  char bunit[] = "ADU";
-  fits_update_key_str(f, "BUNIT", bunit, "background-subtracted counts", &status);
-  fits_write_comment(f, "Plane k (1-based) is simulated system k - 1 of the catalog.", &status);
-  fits_close_file(f, &status);
-  checkFits(status, path, "cannot write the stamps");
+  std::vector<const ImageF*> planes;
+  for (int k = 0; k < count; ++k) planes.push_back(&results[std::size_t(k)].image);
+  FitsHeader header;
+  char scale[32];
+  std::snprintf(scale, sizeof scale, "%.6f", pixelScaleArcsec);
+  header.set("PIXSCALE", scale, "arcsec/pixel");
+  header.set("BUNIT", quoteFitsString("ADU"), "background-subtracted counts");
+  header.set("COMMENT", "Plane k (1-based) is simulated system k - 1 of the catalog.");
+  writeImageCube(out.tempPath(), planes, header);
 }
 
 template <typename T>

@@ -37,6 +37,17 @@ struct CatalogPart {
 void writeCatalog(const std::string& path, CatalogType type, const std::vector<CatalogPart>& parts,
                   const std::vector<std::string>& fits10PrimaryCards = {});
 
+// A FITS-LDAC file holding several different tables after one LDAC_IMHEAD (whose cell holds
+// only `runCards`): e.g. a simulation's systems (LDAC_OBJECTS) and its arc rows (ARCS).
+// Written at `path` itself, not atomically: pass the temporary path of an AtomicFile that the
+// caller commits (so that several files can be committed together).
+struct NamedTable {
+  std::string extname;
+  const Table* table = nullptr;
+};
+void writeLdacTables(const std::string& path, const std::vector<std::string>& runCards,
+                     const std::vector<NamedTable>& tables);
+
 // FITS TDISP value for a printf format: "%10d" -> "I10", "%11.4f" -> "F11.4", "%18.10e" ->
 // "E18.10", "%12.7g" -> "G12.7", "%+6.2f" -> "F6.2". Empty when the format has no width or is
 // not one of d, i, f, e, E, g, G.

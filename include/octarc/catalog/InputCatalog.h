@@ -22,6 +22,12 @@ struct InputCatalogPart {
 // LDAC_OBJECTS/OBJECTS table, or a table has no NUMBER column.
 std::vector<InputCatalogPart> readInputCatalog(const std::string& path);
 
+// The named columns (scalars, any numeric type, as double) of the table `extname` of a FITS
+// catalog, in row order. IoError naming the file for a missing table or column.
+std::vector<std::vector<double>> readCatalogColumns(const std::string& path,
+                                                    const std::string& extname,
+                                                    const std::vector<std::string>& names);
+
 // Writes `outputPath` = the input catalog unchanged (every HDU, column, unit and LDAC_IMHEAD kept)
 // with the columns of appended[i] added at the end of the i-th objects table, row r of
 // appended[i] going to row r of that table. Written atomically: `outputPath` may equal

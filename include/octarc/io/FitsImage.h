@@ -49,6 +49,12 @@ struct OutputImageHdu {
   const ImageI32* intPixels = nullptr;  // written as BITPIX 32
 };
 
+// Writes a 3-D float cube (NAXIS3 = number of planes, all of the same size) with the given
+// header cards, at `path` itself, not atomically: pass the temporary path of an AtomicFile that
+// the caller commits (so that several files can be committed together).
+void writeImageCube(const std::string& path, const std::vector<const ImageF*>& planes,
+                    const FitsHeader& header);
+
 // Writes a FITS file atomically (temporary file + rename). One HDU: a primary image. Several:
 // SExtractor's MEF check-image layout (empty primary + one IMAGE extension each).
 void writeImageFile(const std::string& path, const std::vector<OutputImageHdu>& hdus);
