@@ -242,7 +242,8 @@ std::vector<KeySpec> octarcMeasureKeys() {
   // One output per INPUT_CATALOG when octarc appends columns to several catalogs.
   KeySpec* catalogName = findIn(keys, "CATALOG_NAME");
   catalogName->maxCount = 255;
-  catalogName->comment = "output catalog file name (with INPUT_CATALOG and\nAPPEND_COLUMNS Y: one per input catalog)";
+  catalogName->comment =
+      "output catalog file name (with INPUT_CATALOG and\nAPPEND_COLUMNS Y: one per input catalog)";
   KeySpec* threads = findIn(keys, "NTHREADS");
   threads->defaults = {"0"};
   threads->minValue = 0;

@@ -152,11 +152,16 @@ void putBigEndian(unsigned char*& out, T value) {
 
 std::size_t storageBytes(ColumnType type) {
   switch (type) {
-    case ColumnType::Int16: return 2;
-    case ColumnType::Int32: return 4;
-    case ColumnType::Int64: return 8;
-    case ColumnType::Float32: return 4;
-    case ColumnType::Float64: return 8;
+    case ColumnType::Int16:
+      return 2;
+    case ColumnType::Int32:
+      return 4;
+    case ColumnType::Int64:
+      return 8;
+    case ColumnType::Float32:
+      return 4;
+    case ColumnType::Float64:
+      return 8;
   }
   return 0;
 }
@@ -166,10 +171,12 @@ std::size_t storageBytes(ColumnType type) {
 void writeTableRows(fitsfile* f, const Table& table, std::int64_t firstRow,
                     const std::string& path) {
   std::size_t rowBytes = 0;
-  for (const ColumnSpec& c : table.columns()) rowBytes += storageBytes(c.type) * std::size_t(c.repeat);
+  for (const ColumnSpec& c : table.columns())
+    rowBytes += storageBytes(c.type) * std::size_t(c.repeat);
   if (rowBytes == 0 || table.rows() == 0) return;
   // About 4 MB per write.
-  const std::int64_t rowsPerBlock = std::max<std::int64_t>(1, (std::int64_t(4) << 20) / std::int64_t(rowBytes));
+  const std::int64_t rowsPerBlock =
+      std::max<std::int64_t>(1, (std::int64_t(4) << 20) / std::int64_t(rowBytes));
   std::vector<unsigned char> block;
   for (std::int64_t r0 = 0; r0 < table.rows(); r0 += rowsPerBlock) {
     const std::int64_t r1 = std::min(table.rows(), r0 + rowsPerBlock);
@@ -182,11 +189,21 @@ void writeTableRows(fitsfile* f, const Table& table, std::int64_t firstRow,
         const double* v = row + table.offset(c);
         for (int e = 0; e < spec.repeat; ++e) {
           switch (spec.type) {
-            case ColumnType::Int16: putBigEndian(out, std::int16_t(integerValue(spec.type, v[e]))); break;
-            case ColumnType::Int32: putBigEndian(out, std::int32_t(integerValue(spec.type, v[e]))); break;
-            case ColumnType::Int64: putBigEndian(out, std::int64_t(integerValue(spec.type, v[e]))); break;
-            case ColumnType::Float32: putBigEndian(out, float(v[e])); break;
-            case ColumnType::Float64: putBigEndian(out, v[e]); break;
+            case ColumnType::Int16:
+              putBigEndian(out, std::int16_t(integerValue(spec.type, v[e])));
+              break;
+            case ColumnType::Int32:
+              putBigEndian(out, std::int32_t(integerValue(spec.type, v[e])));
+              break;
+            case ColumnType::Int64:
+              putBigEndian(out, std::int64_t(integerValue(spec.type, v[e])));
+              break;
+            case ColumnType::Float32:
+              putBigEndian(out, float(v[e]));
+              break;
+            case ColumnType::Float64:
+              putBigEndian(out, v[e]);
+              break;
           }
         }
       }

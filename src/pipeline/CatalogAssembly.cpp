@@ -24,7 +24,8 @@ int workerThreads(int requested) {
 
 ColumnPlan planColumns(const RunSettings& settings, bool quiet) {
   ColumnPlan out;
-  const std::vector<sexcompat::ParamRequest> params = sexcompat::readParamFile(settings.parametersPath);
+  const std::vector<sexcompat::ParamRequest> params =
+      sexcompat::readParamFile(settings.parametersPath);
   std::vector<ColumnRequest> requests;
   std::vector<ColumnSpec> external;
   for (const sexcompat::ParamRequest& p : params) {
@@ -54,8 +55,8 @@ ColumnPlan planColumns(const RunSettings& settings, bool quiet) {
   out.plan = MeasurementPlan::build(measured, external, &unknown);
   for (const std::string& name : unknown) {
     if (!quiet) {
-      std::cerr << "WARNING: " << settings.parametersPath << ": catalog parameter unknown: "
-                << name << "\n";
+      std::cerr << "WARNING: " << settings.parametersPath << ": catalog parameter unknown: " << name
+                << "\n";
     }
   }
   for (const ColumnRequest& r : requests) {
@@ -206,8 +207,7 @@ RunSummary runSummary(const RunSettings& settings, const PreparedImage& image,
   r.imageHeightPix = image.hdu.pixels.height();
   r.imageBitpix = image.hdu.bitpix;
   r.configFile = baseName(settings.configPath);
-  r.thresholdType =
-      settings.detectThresholdType == ThresholdType::Relative ? "SIGMA" : "ABSOLUTE";
+  r.thresholdType = settings.detectThresholdType == ThresholdType::Relative ? "SIGMA" : "ABSOLUTE";
   r.thresholdSetting = settings.detectThreshold;
   if (auto object = image.hdu.header.value("OBJECT")) r.object = *object;
   return r;
@@ -222,7 +222,8 @@ std::vector<std::string> runHeaderCards(const RunSummary& summary, const Prepare
     cards.push_back(formatCard("OCTTH" + n, RealValue(l.thresholdAdu),
                                "Detection threshold of level " + n + " (ADU)"));
   }
-  cards.push_back(formatCard("OCTBKSRC", image.origin.background, "Origin of the background level"));
+  cards.push_back(
+      formatCard("OCTBKSRC", image.origin.background, "Origin of the background level"));
   cards.push_back(formatCard("OCTSGSRC", image.origin.sigma, "Origin of the noise sigma SEXBKDEV"));
   return cards;
 }

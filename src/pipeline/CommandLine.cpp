@@ -29,7 +29,9 @@ void printColumns() {
 
 }  // namespace
 
-const char* octarcVersion() { return kVersion; }
+const char* octarcVersion() {
+  return kVersion;
+}
 
 std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std::string& command,
                                  const std::function<void()>& printUsage) {

@@ -25,7 +25,6 @@ namespace octarc {
 
 namespace {
 
-
 CatalogRunValues runValuesOf(const InputCatalogPart& part) {
   CatalogRunValues v;
   v.backgroundAdu = part.imageHeader.number("SEXBKGND");
@@ -76,8 +75,7 @@ std::vector<ThresholdLevel> levelThresholds(const RunSettings& s, double sigmaAd
 // catalog row, the index of its segment.
 std::vector<std::size_t> joinByNumber(const std::vector<Segment>& segments, int level,
                                       const InputCatalogPart& catalog,
-                                      const std::string& catalogPath,
-                                      const std::string& segPath) {
+                                      const std::string& catalogPath, const std::string& segPath) {
   std::map<std::int64_t, std::size_t> byNumber;
   for (std::size_t i = 0; i < segments.size(); ++i) {
     if (segments[i].level == level) byNumber[segments[i].number] = i;
@@ -105,21 +103,22 @@ std::vector<std::size_t> joinByNumber(const std::vector<Segment>& segments, int 
 }
 
 void printUsage() {
-  std::cout <<
-      "Usage: octarc measure IMAGE [-c config.sex] [-KEY value ...]\n"
-      "\n"
-      "Measures every object of SExtractor SEGMENTATION check-images (one per threshold, lowest\n"
-      "first: -SEGMENTATION_NAME seg1.fits[,seg2.fits,...]) on IMAGE and writes a catalog with\n"
-      "SExtractor's isophotal columns and octarc's octopole (arcness) columns. With\n"
-      "-INPUT_CATALOG cat1.ldac[,...] the output is each SExtractor catalog with the requested\n"
-      "octarc columns appended, joined by NUMBER (one CATALOG_NAME per input catalog).\n"
-      "\n"
-      "Options:\n"
-      "  -c FILE      configuration file (SExtractor .sex syntax)\n"
-      "  -KEY value   override a configuration key (e.g. -CATALOG_NAME out.cat)\n"
-      "  -d, -dd      print the default configuration (-dd: every key)\n"
-      "  -dp          list every catalog column with its description and unit\n"
-      "  -h           this help;  -v  version\n";
+  std::cout
+      << "Usage: octarc measure IMAGE [-c config.sex] [-KEY value ...]\n"
+         "\n"
+         "Measures every object of SExtractor SEGMENTATION check-images (one per threshold, "
+         "lowest\n"
+         "first: -SEGMENTATION_NAME seg1.fits[,seg2.fits,...]) on IMAGE and writes a catalog with\n"
+         "SExtractor's isophotal columns and octarc's octopole (arcness) columns. With\n"
+         "-INPUT_CATALOG cat1.ldac[,...] the output is each SExtractor catalog with the requested\n"
+         "octarc columns appended, joined by NUMBER (one CATALOG_NAME per input catalog).\n"
+         "\n"
+         "Options:\n"
+         "  -c FILE      configuration file (SExtractor .sex syntax)\n"
+         "  -KEY value   override a configuration key (e.g. -CATALOG_NAME out.cat)\n"
+         "  -d, -dd      print the default configuration (-dd: every key)\n"
+         "  -dp          list every catalog column with its description and unit\n"
+         "  -h           this help;  -v  version\n";
 }
 
 }  // namespace
@@ -165,7 +164,7 @@ int runMeasure(const std::vector<std::string>& args) {
   const std::vector<std::string> extensions = listImageHdus(imagePath);
   const int extCount = int(extensions.size());
   std::vector<CatalogPart> parts;
-  std::vector<Table> tables;  // per extension (new-catalog mode)
+  std::vector<Table> tables;                             // per extension (new-catalog mode)
   std::vector<std::vector<Table>> appended(levelCount);  // [level][extension]
   std::vector<std::vector<std::string>> cards;
   std::vector<std::string> fits10Cards;

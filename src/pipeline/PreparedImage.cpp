@@ -53,7 +53,6 @@ void subtractConstant(ImageF& image, double level) {
   for (float& p : image.pixels()) p -= value;
 }
 
-
 // Weight-map pixels to variances (ADU^2), in place. WEIGHT_THRESH is in the map's own units:
 // weights at or below it, or RMS / variance values at or above it, are bad pixels (+Inf).
 void weightsToVariance(ImageF& weights, const MeshBackground& mesh, const RunSettings& settings) {

@@ -32,9 +32,10 @@ inline std::filesystem::path sharedDataDir() {
   return {};
 }
 
-#define OCTARC_REQUIRE_SHARED_DATA(dir)                                                      \
-  const std::filesystem::path dir = ::octarc::test::sharedDataDir();                          \
-  if (dir.empty()) GTEST_SKIP() << "shared reference data (../shared/data/real) not found; " \
-                                   "set OCTARC_SHARED_DIR to run this test"
+#define OCTARC_REQUIRE_SHARED_DATA(dir)                                     \
+  const std::filesystem::path dir = ::octarc::test::sharedDataDir();        \
+  if (dir.empty())                                                          \
+  GTEST_SKIP() << "shared reference data (../shared/data/real) not found; " \
+                  "set OCTARC_SHARED_DIR to run this test"
 
 }  // namespace octarc::test

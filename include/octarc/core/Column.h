@@ -16,10 +16,10 @@ enum class ColumnType {
 };
 
 struct ColumnSpec {
-  std::string name;          // catalog name, e.g. "X_IMAGE"
-  std::string description;   // one line, goes into the TTYPE comment
-  std::string unit;          // SExtractor unit string ("pixel", "pixel**2", "deg", "count"), or ""
-  std::string ucd;           // IVOA UCD, e.g. "pos.cartesian.x;instr.det"
+  std::string name;         // catalog name, e.g. "X_IMAGE"
+  std::string description;  // one line, goes into the TTYPE comment
+  std::string unit;         // SExtractor unit string ("pixel", "pixel**2", "deg", "count"), or ""
+  std::string ucd;          // IVOA UCD, e.g. "pos.cartesian.x;instr.det"
   ColumnType type = ColumnType::Float32;
   std::string printfFormat;  // e.g. "%11.4f": ASCII output and TDISP
   int repeat = 1;            // vector size (VECTOR_ASSOC(n)); 1 for scalars

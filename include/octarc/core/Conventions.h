@@ -29,9 +29,13 @@
 namespace octarc {
 
 // 1-based FITS pixel coordinate of the centre of the pixel with 0-based index i.
-constexpr double toFitsPixel(double zeroBasedIndex) { return zeroBasedIndex + 1.0; }
+constexpr double toFitsPixel(double zeroBasedIndex) {
+  return zeroBasedIndex + 1.0;
+}
 // 0-based index coordinate of a 1-based FITS pixel coordinate.
-constexpr double fromFitsPixel(double fitsPixel) { return fitsPixel - 1.0; }
+constexpr double fromFitsPixel(double fitsPixel) {
+  return fitsPixel - 1.0;
+}
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 constexpr double kRadPerDeg = std::numbers::pi / 180.0;

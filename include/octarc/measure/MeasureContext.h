@@ -23,11 +23,11 @@ struct MeasureContext {
   // Optional per-pixel variance (ADU^2); nullptr means the global sigma for every pixel.
   const ImageF* variance = nullptr;
 
-  double sigmaAdu = 0.0;        // global background noise (SEXBKDEV)
-  double gain = 0.0;            // e-/ADU; 0 = infinite (no Poisson term)
-  double magZeropoint = 0.0;    // MAG_ZEROPOINT
-  double pixelScaleArcsec = 0.0;// PIXEL_SCALE; 0 = from the WCS
-  const Wcs* wcs = nullptr;     // celestial WCS or nullptr
+  double sigmaAdu = 0.0;          // global background noise (SEXBKDEV)
+  double gain = 0.0;              // e-/ADU; 0 = infinite (no Poisson term)
+  double magZeropoint = 0.0;      // MAG_ZEROPOINT
+  double pixelScaleArcsec = 0.0;  // PIXEL_SCALE; 0 = from the WCS
+  const Wcs* wcs = nullptr;       // celestial WCS or nullptr
 
   std::vector<ThresholdLevel> levels;  // levels[segment.level - 1]
 };

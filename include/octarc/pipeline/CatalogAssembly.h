@@ -23,10 +23,10 @@ struct PreparedImage;
 // What the catalog will hold: the user's columns in .param order, plus what octarc needs
 // internally (X_IMAGE/Y_IMAGE for ASSOC) and drops before writing.
 struct ColumnPlan {
-  MeasurementPlan plan;                  // every measured column, output ones first
-  std::vector<ColumnSpec> outputColumns; // what the catalog holds, in .param order
-  int assocVectorSize = 0;               // VECTOR_ASSOC(n); 0 when ASSOC is off
-  bool assoc = false;                    // VECTOR_ASSOC or NUMBER_ASSOC requested
+  MeasurementPlan plan;                   // every measured column, output ones first
+  std::vector<ColumnSpec> outputColumns;  // what the catalog holds, in .param order
+  int assocVectorSize = 0;                // VECTOR_ASSOC(n); 0 when ASSOC is off
+  bool assoc = false;                     // VECTOR_ASSOC or NUMBER_ASSOC requested
 };
 
 // Reads PARAMETERS_NAME and builds the plan; warns "catalog parameter unknown" for unknown

@@ -16,7 +16,6 @@
 
 namespace octarc {
 
-
 // Where the background level and noise came from; written to the catalog header (OCTBKSRC).
 struct NoiseOrigin {
   std::string background;  // "MANUAL", "AUTO", "GLOBAL", "CATALOG", "CHECKIMAGE"

@@ -70,10 +70,10 @@ struct RunSettings {
   std::vector<std::string> checkImageTypes;  // CHECKIMAGE_TYPE (detect)
   std::vector<std::string> checkImageNames;  // CHECKIMAGE_NAME (detect)
 
-  bool assoc = false;  // VECTOR_ASSOC or NUMBER_ASSOC requested (set later)
-  bool quiet = false;  // VERBOSE_TYPE QUIET
+  bool assoc = false;        // VECTOR_ASSOC or NUMBER_ASSOC requested (set later)
+  bool quiet = false;        // VERBOSE_TYPE QUIET
   bool verboseFull = false;  // VERBOSE_TYPE FULL: also the time spent in each stage
-  int threads = 0;     // NTHREADS; 0 = all cores
+  int threads = 0;           // NTHREADS; 0 = all cores
 };
 
 // Reads every key octarc uses from a loaded configuration; ConfigError on inconsistent values.

@@ -39,8 +39,8 @@ void Footprint::measure(const Segment& segment, const MeasureContext& context, O
     yMin = std::min(yMin, y);
     yMax = std::max(yMax, y);
     if (context.saturatedPixels != nullptr && !saturated) {
-      saturated = std::binary_search(context.saturatedPixels->begin(),
-                                     context.saturatedPixels->end(), p);
+      saturated =
+          std::binary_search(context.saturatedPixels->begin(), context.saturatedPixels->end(), p);
     }
   }
   state.footprintPixels = static_cast<std::int64_t>(segment.pixels.size());

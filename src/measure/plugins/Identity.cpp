@@ -11,8 +11,8 @@ std::vector<ColumnSpec> Identity::columns() const {
       {"NUMBER", "Running object number", "", "meta.record", ColumnType::Int32, "%10d"},
       {"THRESH_LEVEL", "Threshold level of the object (1 = lowest)", "", "meta.id.part",
        ColumnType::Int16, "%3d"},
-      {"PARENT_NUMBER", "NUMBER of the parent one level below (0: none)", "",
-       "meta.id.parent", ColumnType::Int32, "%10d"},
+      {"PARENT_NUMBER", "NUMBER of the parent one level below (0: none)", "", "meta.id.parent",
+       ColumnType::Int32, "%10d"},
       {"THRESHOLD", "Detection threshold above background", "count",
        "instr.sensitivity;phot.flux.sb", ColumnType::Float32, "%12.7g"},
   };

@@ -22,8 +22,7 @@ std::vector<ColumnSpec> IsophotalPhotometry::columns() const {
       {"MAG_ISO", "Isophotal magnitude", "mag", "phot.mag", f, "%8.4f"},
       {"MAGERR_ISO", "RMS error for isophotal magnitude", "mag", "stat.stdev;phot.mag", f, "%8.4f"},
       {"FLUX_MAX", "Peak flux above background", "count", "phot.flux.sb;stat.max", f, "%12.7g"},
-      {"SNR_ISO", "Isophotal S/N, FLUX_ISO/FLUXERR_ISO", "", "stat.snr", f,
-       "%10.4g"},
+      {"SNR_ISO", "Isophotal S/N, FLUX_ISO/FLUXERR_ISO", "", "stat.snr", f, "%10.4g"},
   };
 }
 

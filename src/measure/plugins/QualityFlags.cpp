@@ -3,9 +3,8 @@
 namespace octarc {
 
 std::vector<ColumnSpec> QualityFlags::columns() const {
-  return {{"OCT_FLAGS",
-           "octarc flags (see README: Flags)",
-           "", "meta.code.qual", ColumnType::Int16, "%3d"}};
+  return {{"OCT_FLAGS", "octarc flags (see README: Flags)", "", "meta.code.qual", ColumnType::Int16,
+           "%3d"}};
 }
 
 void QualityFlags::measure(const Segment&, const MeasureContext&, ObjectState& state,

@@ -7,10 +7,10 @@ namespace {
 
 Table makeTable() {
   ColumnSpec number{"NUMBER", "Running object number", "", "meta.id", ColumnType::Int32, "%10d", 1};
-  ColumnSpec vec{"VECTOR_ASSOC", "ASSOCiated parameter vector", "", "src", ColumnType::Float64,
-                 "%12.7g", 3};
-  ColumnSpec x{"X_IMAGE", "Object position along x", "pixel", "pos", ColumnType::Float32,
-               "%11.4f", 1};
+  ColumnSpec vec{
+      "VECTOR_ASSOC", "ASSOCiated parameter vector", "", "src", ColumnType::Float64, "%12.7g", 3};
+  ColumnSpec x{"X_IMAGE", "Object position along x", "pixel", "pos", ColumnType::Float32, "%11.4f",
+               1};
   return Table({number, vec, x});
 }
 

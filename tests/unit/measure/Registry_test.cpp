@@ -47,10 +47,9 @@ TEST(Registry, EveryColumnOnceWithDescription) {
 // and `octarc measure -dp` show the same text.
 TEST(Registry, OctarcDescriptionsFitInATtypeCard) {
   const std::set<std::string> own = {
-      "THRESH_LEVEL", "PARENT_NUMBER", "ARCNESS",  "ANTIARCNESS", "SKEW_MAJOR",
-      "SKEW_MINOR",   "I_AAB_IMAGE",   "I_ABB_IMAGE", "I_AAA_IMAGE", "I_BBB_IMAGE",
-      "ARC_SIDE",     "E1_IMAGE",      "E2_IMAGE", "E_IMAGE",     "SIZE_IMAGE",
-      "SNR_ISO",      "OCT_FLAGS"};
+      "THRESH_LEVEL", "PARENT_NUMBER", "ARCNESS",     "ANTIARCNESS", "SKEW_MAJOR", "SKEW_MINOR",
+      "I_AAB_IMAGE",  "I_ABB_IMAGE",   "I_AAA_IMAGE", "I_BBB_IMAGE", "ARC_SIDE",   "E1_IMAGE",
+      "E2_IMAGE",     "E_IMAGE",       "SIZE_IMAGE",  "SNR_ISO",     "OCT_FLAGS"};
   for (const ColumnSpec& c : allBuiltinColumns()) {
     if (own.count(c.name)) {
       EXPECT_LE(c.description.size(), 47u) << c.name;
