@@ -16,9 +16,10 @@ octarc=build/release/src/apps/octarc
   -CATALOG_TYPE ASCII_HEAD -CATALOG_NAME out/example.cat -VERBOSE_TYPE QUIET
 
 echo
-echo "Objects of every level, highest arcness first (out/example.cat; FITS-LDAC: out/example.ldac):"
+echo "Resolved objects (sqrt(2) SIZE > 1\" at 0.257\"/px) of every level, highest arcness first"
+echo "(out/example.cat; FITS-LDAC: out/example.ldac):"
 awk '/^#/ { split($0, f, " "); col[f[3]] = f[2]; next }
-     { printf "%5d %5d %6d %9.2f %9.2f %8.3f %6.3f %7.1f %4d\n", $col["THRESH_LEVEL"], $col["NUMBER"],
+     sqrt(2) * $col["SIZE_IMAGE"] * 0.257 > 1.0 { printf "%5d %5d %6d %9.2f %9.2f %8.3f %6.3f %7.1f %4d\n", $col["THRESH_LEVEL"], $col["NUMBER"],
        $col["PARENT_NUMBER"], $col["X_IMAGE"], $col["Y_IMAGE"], $col["ARCNESS"], $col["E_IMAGE"],
        $col["SNR_ISO"], $col["ARC_SIDE"] }' out/example.cat |
   sort -k6,6gr | head -12 |
