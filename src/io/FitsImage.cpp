@@ -194,8 +194,9 @@ ImageF readPixels(fitsfile* f, const std::string& path, int bitpix, long width, 
   int status = 0;
   const LONGLONG count = static_cast<LONGLONG>(width) * height;
   if (bitpix < 0) {
-    float nullValue = std::numeric_limits<float>::quiet_NaN();
-    fits_read_pix(f, TFLOAT, first, count, &nullValue, pixels.data(), &anyNull, &status);
+    // No null value: IEEE NaNs come through as NaN unchanged, and cfitsio skips its
+    // per-pixel null test.
+    fits_read_pix(f, TFLOAT, first, count, nullptr, pixels.data(), &anyNull, &status);
     throwIfFitsError(status, path, "cannot read pixels, file truncated or corrupt");
     return pixels;
   }

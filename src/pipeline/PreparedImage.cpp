@@ -4,12 +4,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <thread>
 #include <limits>
 
 #include "octarc/background/GlobalBackground.h"
 #include "octarc/background/MeshBackground.h"
 #include "octarc/core/Error.h"
 #include "octarc/detection/Filter.h"
+#include "octarc/pipeline/CatalogAssembly.h"
 #include "octarc/pipeline/RunSettings.h"
 #include "octarc/sexcompat/ConvFile.h"
 
@@ -270,10 +272,18 @@ PreparedImage prepareImage(const std::string& imagePath, const RunSettings& sett
     out.backgroundAdu = m.globalLevelAdu();
     out.origin.background = "AUTO";
     sigmaFromMesh();
-    // Row by row, so that no image-sized background map is needed.
-    for (std::int64_t y = 0; y < pixels.height(); ++y) {
-      m.subtractRow(y, pixels.data() + y * pixels.width());
-    }
+    // Row by row, so that no image-sized background map is needed; rows split between threads.
+    const std::int64_t height = pixels.height();
+    const int workers = int(std::min<std::int64_t>(workerThreads(settings.threads), height));
+    auto subtractRows = [&](int w) {
+      for (std::int64_t y = height * w / workers; y < height * (w + 1) / workers; ++y) {
+        m.subtractRow(y, pixels.data() + y * pixels.width());
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int w = 1; w < workers; ++w) pool.emplace_back(subtractRows, w);
+    subtractRows(0);
+    for (std::thread& t : pool) t.join();
   }
   if (mesh) {
     // The background stage's warnings already start with the file name.
