@@ -5,8 +5,6 @@
 //         --> per object: skip border / small / saturated, cut the clean stamp (GalaxyCutout.h)
 //         --> magnitude, position --> RealGalaxyCatalog table + stamp file (+ PSF file)
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <boost/program_options.hpp>
 #include <chrono>
@@ -25,6 +23,7 @@
 #include "octarc/io/Wcs.h"
 #include "octarc/pipeline/CommandLine.h"
 #include "octarc/pipeline/Pipeline.h"
+#include "octarc/pipeline/Progress.h"
 #include "octarc/sexcompat/Config.h"
 #include "octarc/sexcompat/Keys.h"
 #include "octarc/simulation/GalaxyCutout.h"
@@ -85,44 +84,6 @@ template <typename T>
 struct Sourced {
   T value{};
   std::string origin;
-};
-
-// A one-line progress bar on stderr with rate and time left; silent unless enabled.
-class ProgressBar {
- public:
-  ProgressBar(std::string label, std::int64_t total, bool enabled)
-      : label_(std::move(label)), total_(total), enabled_(enabled && total > 0) {}
-  ~ProgressBar() { finish(); }
-
-  void update(std::int64_t done) {
-    if (!enabled_) return;
-    const auto now = std::chrono::steady_clock::now();
-    if (done < total_ && now - lastDraw_ < std::chrono::milliseconds(100)) return;
-    lastDraw_ = now;
-    const double seconds = std::chrono::duration<double>(now - start_).count();
-    const double rate = seconds > 0 ? double(done) / seconds : 0.0;
-    const double left = rate > 0 ? double(total_ - done) / rate : 0.0;
-    constexpr int kWidth = 30;
-    const int filled = int(kWidth * done / total_);
-    std::fprintf(stderr, "\r%s [%s%s] %lld/%lld  %.0f/s  %.0f s left ", label_.c_str(),
-                 std::string(std::size_t(filled), '#').c_str(),
-                 std::string(std::size_t(kWidth - filled), ' ').c_str(), (long long)done,
-                 (long long)total_, rate, left);
-    drawn_ = true;
-  }
-  void finish() {
-    if (drawn_) std::fprintf(stderr, "\n");
-    drawn_ = false;
-    enabled_ = false;
-  }
-
- private:
-  std::string label_;
-  std::int64_t total_;
-  bool enabled_;
-  bool drawn_ = false;
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-  std::chrono::steady_clock::time_point lastDraw_{};
 };
 
 // Parses the arguments; nullopt after --help.
@@ -281,7 +242,6 @@ int runBuildDatabase(const std::vector<std::string>& args) {
   const std::optional<DatabaseOptions> parsed = parseOptions(args);
   if (!parsed) return 0;
   const DatabaseOptions& o = *parsed;
-  const bool showProgress = !o.quiet && ::isatty(STDERR_FILENO);
 
   std::optional<sexcompat::Config> config;
   if (!o.configPath.empty()) {
@@ -373,7 +333,7 @@ int runBuildDatabase(const std::vector<std::string>& args) {
   std::map<CutoutVerdict, std::int64_t> verdicts;
   std::vector<RealGalaxyRecord> records;
   {
-    ProgressBar bar("cutting stamps", std::int64_t(objects.size()), showProgress);
+    const ProgressFn progress = terminalProgress("cutting stamps", "objects", o.quiet);
     for (std::size_t i = 0; i < objects.size(); ++i) {
       GalaxyCutout c = cutGalaxy(pixels, objects[i], saturated, cut);
       ++verdicts[c.verdict];
@@ -395,7 +355,7 @@ int runBuildDatabase(const std::vector<std::string>& args) {
         records.push_back(std::move(r));
       }
       std::vector<std::int64_t>().swap(objects[i].pixels);
-      bar.update(std::int64_t(i + 1));
+      if (progress) progress(std::int64_t(i + 1), std::int64_t(objects.size()));
     }
   }
   if (records.empty()) {

@@ -5,8 +5,6 @@
 //   --> Gaussian PSF --> star stamps --> Poisson sky noise (per row band) --> saturation
 //   --> FIELD.fits + FIELD.weight.fits + FIELD.truth.txt
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <atomic>
 #include <boost/program_options.hpp>
@@ -243,29 +241,6 @@ void FieldSimulationSettings::validate() const {
   const double sigma = skySigmaAdu();
   require(sigma < saturationAdu, "--saturate: " + fmt(saturationAdu) +
                                      " ADU is below the sky noise (" + fmt(sigma) + " ADU)");
-}
-
-ProgressFn terminalProgress(const std::string& label, const std::string& unit, bool quiet) {
-  if (quiet || !isatty(STDERR_FILENO)) return {};
-  const auto start = std::chrono::steady_clock::now();
-  auto last = std::make_shared<std::chrono::steady_clock::time_point>(start);
-  return [=](std::int64_t done, std::int64_t total) {
-    const auto now = std::chrono::steady_clock::now();
-    if (done < total && now - *last < std::chrono::milliseconds(200)) return;
-    *last = now;
-    const double elapsed = std::chrono::duration<double>(now - start).count();
-    const double fraction = total > 0 ? double(done) / double(total) : 1.0;
-    const int width = 30;
-    const int filled = int(fraction * width);
-    const double rate = elapsed > 0 ? double(done) / elapsed : 0.0;
-    const double left = rate > 0 ? double(total - done) / rate : 0.0;
-    std::fprintf(stderr, "\r%s [%s%s] %3d%% %.0f %s/s, %.0f s left ", label.c_str(),
-                 std::string(std::size_t(filled), '#').c_str(),
-                 std::string(std::size_t(width - filled), ' ').c_str(), int(100 * fraction), rate,
-                 unit.c_str(), left);
-    if (done >= total) std::fprintf(stderr, "\n");
-    std::fflush(stderr);
-  };
 }
 
 SimulatedField simulateField(const FieldSimulationSettings& s, const ProgressFn& progress) {

@@ -7,8 +7,6 @@
 // Systems run in parallel; each is reproducible from (seed, index) alone and its results are
 // placed by index, so the output does not depend on the thread count.
 
-#include <unistd.h>
-
 #include <atomic>
 #include <boost/program_options.hpp>
 #include <chrono>
@@ -32,6 +30,7 @@
 #include "octarc/pipeline/LensSimulation.h"
 #include "octarc/pipeline/Pipeline.h"
 #include "octarc/pipeline/PreparedImage.h"
+#include "octarc/pipeline/Progress.h"
 #include "octarc/pipeline/RunSettings.h"
 #include "octarc/sexcompat/Config.h"
 #include "octarc/sexcompat/ConvFile.h"
@@ -143,32 +142,6 @@ void printUsage(const po::options_description& options) {
          "then the options below. The output depends only on the seed, never on --threads.\n"
          "\n"
       << options << "\n";
-}
-
-std::string formatDuration(double seconds) {
-  if (!std::isfinite(seconds) || seconds < 0) return "--";
-  const long s = long(std::lround(seconds));
-  char text[32];
-  if (s >= 3600) {
-    std::snprintf(text, sizeof text, "%ldh%02ldm", s / 3600, (s / 60) % 60);
-  } else {
-    std::snprintf(text, sizeof text, "%ldm%02lds", s / 60, s % 60);
-  }
-  return text;
-}
-
-void drawProgress(std::int64_t done, std::int64_t total, double elapsedSec) {
-  constexpr int kWidth = 30;
-  const double fraction = total > 0 ? double(done) / double(total) : 1.0;
-  const int filled = int(fraction * kWidth);
-  const double rate = elapsedSec > 0 ? double(done) / elapsedSec : 0.0;
-  const double left = rate > 0 ? double(total - done) / rate : std::nan("");
-  std::string bar(std::size_t(filled), '#');
-  bar.append(std::size_t(kWidth - filled), '-');
-  std::fprintf(stderr, "\r[%s] %lld/%lld  %.1f systems/s  %s left ", bar.c_str(),
-               static_cast<long long>(done), static_cast<long long>(total), rate,
-               formatDuration(left).c_str());
-  std::fflush(stderr);
 }
 
 // Writes the systems table and the arc table into one FITS-LDAC file at the temporary path
@@ -442,19 +415,15 @@ int runSimulateLenses(const std::vector<std::string>& args) {
   };
   std::vector<std::thread> pool;
   for (int t = 0; t < threads; ++t) pool.emplace_back(worker, t);
-  const bool showProgress = !quiet && isatty(STDERR_FILENO);
+  const ProgressFn progress = terminalProgress("simulating", "systems", quiet);
   while (done < count && !stop && !gInterrupted) {
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    if (showProgress) {
-      drawProgress(done, count,
-                   std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-    }
+    if (progress) progress(done, count);
   }
   for (std::thread& t : pool) t.join();
-  if (showProgress) {
-    drawProgress(done, count,
-                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-    std::fputc('\n', stderr);
+  if (progress) {
+    progress(done, count);
+    if (done < count) std::fputc('\n', stderr);  // interrupted: end the bar's line
   }
   if (failure) std::rethrow_exception(failure);
   if (gInterrupted) {

@@ -14,6 +14,7 @@
 
 #include "octarc/core/Image.h"
 #include "octarc/io/FitsHeader.h"
+#include "octarc/pipeline/Progress.h"
 #include "octarc/simulation/FieldPopulation.h"
 
 namespace octarc {
@@ -65,13 +66,6 @@ struct SimulatedField {
   std::int64_t galaxyCount = 0, starCount = 0, saturatedPixels = 0;
   std::vector<simulation::FieldLens> lenses;  // without their stamps
 };
-
-// Progress of a long step: called with (done, total).
-using ProgressFn = std::function<void(std::int64_t done, std::int64_t total)>;
-
-// A progress bar with rate and time left on stderr, or nothing when stderr is not a terminal or
-// `quiet` is set. `unit` names what is counted ("objects").
-ProgressFn terminalProgress(const std::string& label, const std::string& unit, bool quiet);
 
 // Simulates the field (settings are validated first). Reproducible from settings.seed whatever
 // the thread count.
