@@ -1,5 +1,5 @@
-// FITS and process helpers for the background tests. Images are read and written with cfitsio
-// directly so that these tests depend on nothing but the background stage.
+// Helpers of the background tests (SExtractor runs, synthetic skies); the FITS basics are in
+// tests/support/FitsTestFiles.h.
 #pragma once
 
 #include <fitsio.h>
@@ -16,37 +16,10 @@
 #include <string>
 #include <vector>
 
+#include "FitsTestFiles.h"
 #include "octarc/core/Image.h"
 
 namespace octarc::test {
-
-inline void checkFits(int status, const std::string& what) {
-  if (status != 0) {
-    char text[FLEN_STATUS];
-    fits_get_errstatus(status, text);
-    throw std::runtime_error(what + ": cfitsio: " + text);
-  }
-}
-
-// Reads the first image HDU as float (BSCALE/BZERO applied by cfitsio).
-inline ImageF readFitsFloat(const std::filesystem::path& path) {
-  fitsfile* f = nullptr;
-  int status = 0;
-  fits_open_image(&f, path.c_str(), READONLY, &status);
-  checkFits(status, path.string());
-  int naxis = 0;
-  long naxes[2] = {0, 0};
-  fits_get_img_dim(f, &naxis, &status);
-  fits_get_img_size(f, 2, naxes, &status);
-  checkFits(status, path.string());
-  ImageF image(naxes[0], naxes[1]);
-  float nulval = 0.0f;
-  int anynul = 0;
-  fits_read_img(f, TFLOAT, 1, image.size(), &nulval, image.data(), &anynul, &status);
-  fits_close_file(f, &status);
-  checkFits(status, path.string());
-  return image;
-}
 
 // Reads the first image HDU the way SExtractor does: integer pixels are scaled in float,
 // (float)raw * (float)BSCALE + (float)BZERO, where cfitsio computes in double. The two differ by
@@ -61,7 +34,7 @@ inline ImageF readFitsAsSExtractor(const std::filesystem::path& path) {
   checkFits(status, path.string());
   if (bitpix < 0) {
     fits_close_file(f, &status);
-    return readFitsFloat(path);
+    return readFits<float>(path);
   }
   long naxes[2] = {0, 0};
   fits_get_img_size(f, 2, naxes, &status);
@@ -87,25 +60,9 @@ inline ImageF readFitsAsSExtractor(const std::filesystem::path& path) {
   return image;
 }
 
-inline void writeFitsFloat(const std::filesystem::path& path, const ImageF& image) {
-  std::filesystem::remove(path);
-  fitsfile* f = nullptr;
-  int status = 0;
-  long naxes[2] = {static_cast<long>(image.width()), static_cast<long>(image.height())};
-  fits_create_file(&f, path.c_str(), &status);
-  fits_create_img(f, FLOAT_IMG, 2, naxes, &status);
-  fits_write_img(f, TFLOAT, 1, image.size(), const_cast<float*>(image.data()), &status);
-  fits_close_file(f, &status);
-  checkFits(status, path.string());
-}
-
 // Runs a shell command; returns its exit status.
 inline int run(const std::string& command) {
-  return std::system((command + " >/dev/null 2>&1").c_str());
-}
-
-inline bool haveProgram(const std::string& name) {
-  return run("command -v " + name) == 0;
+  return runQuiet(command);
 }
 
 // Value of a numeric card (e.g. SEXBKDEV) stored in a FITS_LDAC catalog's LDAC_IMHEAD cell.

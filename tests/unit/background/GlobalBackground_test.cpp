@@ -117,7 +117,7 @@ TEST(GlobalBackground, MatchesAstropySigmaClippedStats) {
   test::addSources(image, 800, 30000.0, 6);
   image(3, 4) = std::numeric_limits<float>::quiet_NaN();
   const fs::path dir = test::scratchDir();
-  test::writeFitsFloat(dir / "clip.fits", image);
+  test::writeFloatFits(dir / "clip.fits", image);
   const std::string cmd = "/usr/bin/python3 '" + std::string(OCTARC_SOURCE_DIR) +
                           "/tests/unit/background/astropy_sigma_clip.py' '" +
                           (dir / "clip.fits").string() + "' 3 2>/dev/null";

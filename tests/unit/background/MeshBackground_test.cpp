@@ -47,10 +47,10 @@ Comparison compareWithSExtractor(const fs::path& imagePath, const fs::path& dir,
   storage = MeshBackground::estimate(image, s, imagePath.filename().string());
   *out = &storage;
   Comparison c;
-  const ImageF sexLevel = test::readFitsFloat(dir / "b.fits");
-  const ImageF sexRms = test::readFitsFloat(dir / "r.fits");
-  const ImageF sexMiniLevel = test::readFitsFloat(dir / "mb.fits");
-  const ImageF sexMiniRms = test::readFitsFloat(dir / "mr.fits");
+  const ImageF sexLevel = test::readFits<float>(dir / "b.fits");
+  const ImageF sexRms = test::readFits<float>(dir / "r.fits");
+  const ImageF sexMiniLevel = test::readFits<float>(dir / "mb.fits");
+  const ImageF sexMiniRms = test::readFits<float>(dir / "mr.fits");
   const ImageF level = storage.levelImage();
   const ImageF rms = storage.rmsImage();
   EXPECT_EQ(sexLevel.width(), level.width());
@@ -135,11 +135,11 @@ TEST(MeshBackground, SepReferenceCheckImages) {
   // 256x256 cutout, independently of this machine's source-extractor.
   OCTARC_REQUIRE_SHARED_DATA(shared);
   const fs::path ref = shared / "sep-reference";
-  const ImageF image = test::readFitsFloat(ref / "image.fits");
+  const ImageF image = test::readFits<float>(ref / "image.fits");
   const MeshBackground b = MeshBackground::estimate(image, MeshBackgroundSettings{});
   const double sigma = b.globalSigmaAdu();
-  const double dl = maxAbsDiff(b.levelImage(), test::readFitsFloat(ref / "back.fits"));
-  const double dr = maxAbsDiff(b.rmsImage(), test::readFitsFloat(ref / "rms.fits"));
+  const double dl = maxAbsDiff(b.levelImage(), test::readFits<float>(ref / "back.fits"));
+  const double dr = maxAbsDiff(b.rmsImage(), test::readFits<float>(ref / "rms.fits"));
   std::cout << "  sep-reference: max |diff| / sigma: BACKGROUND " << dl / sigma
             << ", BACKGROUND_RMS " << dr / sigma << "\n";
   // Written by another SExtractor version on another machine: agreement to 1.4e-4 sigma.
@@ -174,7 +174,7 @@ TEST(MeshBackground, SyntheticGradientMatchesTruthAndSExtractor) {
 
   if (!test::haveProgram("source-extractor")) GTEST_SKIP() << "source-extractor not installed";
   const fs::path dir = test::scratchDir();
-  test::writeFitsFloat(dir / "sky.fits", image);
+  test::writeFloatFits(dir / "sky.fits", image);
   MeshBackground storage;
   const MeshBackground* ours = nullptr;
   const Comparison c =
@@ -190,7 +190,7 @@ TEST(MeshBackground, SampledStatisticsOfWideImagesMatchSExtractor) {
   ImageF image = test::skyWithGradient(17000, 200, 200.0, 0.001, 0.1, 4.0, 7);
   test::addSources(image, 3000, 2000.0, 8);
   const fs::path dir = test::scratchDir();
-  test::writeFitsFloat(dir / "wide.fits", image);
+  test::writeFloatFits(dir / "wide.fits", image);
   MeshBackground storage;
   const MeshBackground* b = nullptr;
   const Comparison c =
@@ -225,13 +225,13 @@ TEST(MeshBackground, ConstantImageWarnsAndUsesUnitSigma) {
 TEST(MeshBackground, ConstantImageMatchesSExtractor) {
   if (!test::haveProgram("source-extractor")) GTEST_SKIP() << "source-extractor not installed";
   const fs::path dir = test::scratchDir();
-  test::writeFitsFloat(dir / "flat.fits", ImageF(150, 100, 3.0f));
+  test::writeFloatFits(dir / "flat.fits", ImageF(150, 100, 3.0f));
   test::runSExtractorBackground(dir / "flat.fits", dir, "-BACK_SIZE 64",
                                 "BACKGROUND,BACKGROUND_RMS", "b.fits,r.fits");
   const MeshBackground b =
       MeshBackground::estimate(ImageF(150, 100, 3.0f), MeshBackgroundSettings{});
-  EXPECT_EQ(maxAbsDiff(b.levelImage(), test::readFitsFloat(dir / "b.fits")), 0.0);
-  EXPECT_EQ(maxAbsDiff(b.rmsImage(), test::readFitsFloat(dir / "r.fits")), 0.0);
+  EXPECT_EQ(maxAbsDiff(b.levelImage(), test::readFits<float>(dir / "b.fits")), 0.0);
+  EXPECT_EQ(maxAbsDiff(b.rmsImage(), test::readFits<float>(dir / "r.fits")), 0.0);
   EXPECT_EQ(b.globalSigmaAdu(), test::ldacHeaderValue(dir / "cat.ldac", "SEXBKDEV"));
 }
 
@@ -300,7 +300,7 @@ TEST(MeshBackground, NanPixelsAndBadMeshesMatchSExtractor) {
     for (int x = 576; x < 576 + 39; ++x) image(x, y) = nan;
   for (std::int64_t i = 7; i < image.size(); i += 97) image[i] = nan;
   const fs::path dir = test::scratchDir();
-  test::writeFitsFloat(dir / "holes.fits", image);
+  test::writeFloatFits(dir / "holes.fits", image);
   MeshBackground storage;
   const MeshBackground* b = nullptr;
   const Comparison c =
@@ -346,8 +346,8 @@ TEST_P(WeightedBackground, MatchesSExtractor) {
       }
   }
   const fs::path dir = test::scratchDir();
-  test::writeFitsFloat(dir / "img.fits", image);
-  test::writeFitsFloat(dir / "wgt.fits", weight);
+  test::writeFloatFits(dir / "img.fits", image);
+  test::writeFloatFits(dir / "wgt.fits", weight);
   std::string args = std::string("-BACK_SIZE 64 -BACK_FILTERSIZE 3 -WEIGHT_IMAGE wgt.fits ") +
                      "-WEIGHT_TYPE " + p.sexType + " -RESCALE_WEIGHTS " + (p.rescale ? "Y" : "N");
   if (p.threshold >= 0) args += " -WEIGHT_THRESH " + std::to_string(p.threshold);
@@ -362,10 +362,10 @@ TEST_P(WeightedBackground, MatchesSExtractor) {
   const MeshBackground b = MeshBackground::estimate(image, MeshBackgroundSettings{}, wm);
   const double sexBkdev = test::ldacHeaderValue(dir / "cat.ldac", "SEXBKDEV");
   const double sexScale = test::ldacHeaderValue(dir / "cat.ldac", "SEXDWSCL");
-  const double dl = maxAbsDiff(b.levelImage(), test::readFitsFloat(dir / "b.fits"));
-  const double dr = maxAbsDiff(b.rmsImage(), test::readFitsFloat(dir / "r.fits"));
-  const double dml = maxAbsDiff(b.meshLevels(), test::readFitsFloat(dir / "mb.fits"));
-  const double dmr = maxAbsDiff(b.meshRms(), test::readFitsFloat(dir / "mr.fits"));
+  const double dl = maxAbsDiff(b.levelImage(), test::readFits<float>(dir / "b.fits"));
+  const double dr = maxAbsDiff(b.rmsImage(), test::readFits<float>(dir / "r.fits"));
+  const double dml = maxAbsDiff(b.meshLevels(), test::readFits<float>(dir / "mb.fits"));
+  const double dmr = maxAbsDiff(b.meshRms(), test::readFits<float>(dir / "mr.fits"));
   std::cout << "  weights " << p.sexType << " rescale " << p.rescale << ": max |diff| / sigma "
             << dl / sexBkdev << ", " << dr / sexBkdev << ", " << dml / sexBkdev << ", "
             << dmr / sexBkdev << "; SEXDWSCL " << sexScale << " vs " << b.weightScale() << "\n";
@@ -461,7 +461,7 @@ TEST_P(GalaxiesSep, MatchesPythonSep) {
   const MeshCase p = GetParam();
   const fs::path dir = test::scratchDir();
   const ImageF image = test::readFitsAsSExtractor(shared / "ntt-emmi" / "galaxies.fits");
-  test::writeFitsFloat(dir / "in.fits", image);
+  test::writeFloatFits(dir / "in.fits", image);
   const std::string cmd = "/usr/bin/python3 '" + std::string(OCTARC_SOURCE_DIR) +
                           "/tests/unit/background/sep_background.py' '" +
                           (dir / "in.fits").string() + "' '" + (dir / "sb.fits").string() + "' '" +
@@ -476,8 +476,8 @@ TEST_P(GalaxiesSep, MatchesPythonSep) {
   s.filterHeight = p.filterHeight;
   const MeshBackground b = MeshBackground::estimate(image, s);
   const double sigma = b.globalSigmaAdu();
-  const double dl = maxAbsDiff(b.levelImage(), test::readFitsFloat(dir / "sb.fits"));
-  const double dr = maxAbsDiff(b.rmsImage(), test::readFitsFloat(dir / "sr.fits"));
+  const double dl = maxAbsDiff(b.levelImage(), test::readFits<float>(dir / "sb.fits"));
+  const double dr = maxAbsDiff(b.rmsImage(), test::readFits<float>(dir / "sr.fits"));
   std::cout << "  sep BACK_SIZE " << p.meshWidth << "," << p.meshHeight << " FILTER "
             << p.filterWidth << "," << p.filterHeight << ": max |diff| / sigma: back " << dl / sigma
             << ", rms " << dr / sigma << "\n";
