@@ -113,7 +113,11 @@ std::vector<std::string> MeasurementPlan::measurementNames() const {
 void MeasurementPlan::measure(const Segment& segment, const MeasureContext& context,
                               double* row) const {
   for (const int o : builtinOffsets_) row[o] = 0.0;
+  // One gathering buffer per thread, reused from object to object.
+  thread_local ObjectPixels pixels;
+  pixels.gather(segment, context);
   ObjectState state;
+  state.pixels = &pixels;
   for (const Step& step : steps_) {
     step.measurement->measure(segment, context, state, RowWriter(row, step.offsets.data()));
   }

@@ -18,6 +18,7 @@
 #include "octarc/io/FitsImage.h"
 #include "octarc/pipeline/CatalogAssembly.h"
 #include "octarc/pipeline/CommandLine.h"
+#include "octarc/pipeline/MeasurementQueue.h"
 #include "octarc/pipeline/Pipeline.h"
 #include "octarc/pipeline/PreparedImage.h"
 #include "octarc/pipeline/RunSettings.h"
@@ -28,11 +29,6 @@ namespace {
 
 const std::set<std::string> kCheckImageTypes = {"SEGMENTATION", "BACKGROUND", "BACKGROUND_RMS",
                                                 "-BACKGROUND",  "FILTERED",   "OBJECTS"};
-
-// Objects are measured in batches of at most this many objects or pixels, so that pixel lists
-// never pile up (a batch of large low-level objects would otherwise hold many image rows).
-constexpr std::size_t kMeasureBatch = 16384;
-constexpr std::size_t kMeasureBatchPixels = std::size_t(1) << 21;
 
 // clang-format off
 void printUsage() {
@@ -103,28 +99,17 @@ std::vector<ThresholdLevel> detectionLevels(const RunSettings& s, double sigmaAd
   return levels;
 }
 
-// Reorders the rows of `table` by (level, number), in place (the catalog can be large).
-void sortRows(Table& table, const std::vector<std::pair<int, std::int32_t>>& keys) {
-  std::vector<std::size_t> order(keys.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return keys[a] < keys[b]; });
-  // Row i of the result is row order[i]: follow each cycle of the permutation with one spare row.
-  const std::size_t width = std::size_t(table.rowWidth());
-  std::vector<double> spare(width);
-  std::vector<bool> placed(order.size(), false);
-  for (std::size_t start = 0; start < order.size(); ++start) {
-    if (placed[start] || order[start] == start) continue;
-    std::copy_n(table.row(std::int64_t(start)), width, spare.begin());
-    std::size_t i = start;
-    while (order[i] != start) {
-      std::copy_n(table.row(std::int64_t(order[i])), width, table.row(std::int64_t(i)));
-      placed[i] = true;
-      i = order[i];
+// The rows of every table, in order, in one table; each table is freed once copied.
+Table concatenateRows(std::vector<Table>& tables, const std::vector<ColumnSpec>& columns) {
+  if (tables.size() == 1) return std::move(tables.front());
+  Table all(columns);
+  for (Table& t : tables) {
+    for (std::int64_t r = 0; r < t.rows(); ++r) {
+      std::copy_n(t.row(r), t.rowWidth(), all.appendRow());
     }
-    std::copy(spare.begin(), spare.end(), table.row(std::int64_t(i)));
-    placed[i] = true;
+    t = Table();
   }
+  return all;
 }
 
 // The variance map and the detector's per-pixel threshold factor share one buffer: the
@@ -320,30 +305,26 @@ int runDetect(const std::vector<std::string>& args) {
     if (wantSegmentation) {
       runs.emplace(image.hdu.pixels.width(), image.hdu.pixels.height(), int(levels.size()));
     }
-    Table full(columns.plan.columns());
-    std::vector<std::pair<int, std::int32_t>> keys;
-    std::vector<Segment> batch;
-    std::size_t batchPixels = 0;
-    auto flush = [&]() {
-      measureSegments(columns.plan, batch, context, full, threads);
-      batch.clear();
-      batchPixels = 0;
-    };
-    const std::vector<std::int64_t> counts =
-        detectMultiThreshold(image.detectionImage(), detection, [&](std::vector<Segment>& objs) {
-          restoreVariance();
-          if (runs) runs->add(objs);
-          for (Segment& o : objs) {
-            keys.emplace_back(o.level, o.number);
-            batchPixels += o.pixels.size();
-            batch.push_back(std::move(o));
-          }
-          if (batch.size() >= kMeasureBatch || batchPixels >= kMeasureBatchPixels) flush();
-        });
-    restoreVariance();
-    flush();
+    // One table per level: objects come out of the detector numbered in order within each
+    // level, so each level's rows are in NUMBER order as they are appended.
+    std::vector<Table> levelTables(levels.size(), Table(columns.plan.columns()));
+    std::vector<std::int64_t> counts;
+    {
+      MeasurementQueue queue(columns.plan, context, threads);
+      counts =
+          detectMultiThreshold(image.detectionImage(), detection, [&](std::vector<Segment>& objs) {
+            restoreVariance();
+            if (runs) runs->add(objs);
+            for (Segment& o : objs) {
+              double* row = levelTables[std::size_t(o.level - 1)].appendRow();
+              queue.add(std::move(o), row);
+            }
+          });
+      restoreVariance();
+      queue.finish();
+    }
     lap("detection and measurement");
-    sortRows(full, keys);
+    Table full = concatenateRows(levelTables, columns.plan.columns());
     if (!s.quiet) {
       for (std::size_t k = 0; k < counts.size(); ++k) {
         std::cerr << "> Level " << (k + 1) << " (" << levels[k].thresholdAdu

@@ -6,10 +6,14 @@
 #include <cstdint>
 
 #include "octarc/measure/MomentsMath.h"
+#include "octarc/measure/ObjectPixels.h"
 
 namespace octarc {
 
 struct ObjectState {
+  // The object's pixels, gathered by the plan before the first measurement runs.
+  const ObjectPixels* pixels = nullptr;
+
   // Footprint (measurement "Footprint"): bounding box in 0-based indices, pixel count.
   bool haveFootprint = false;
   std::int64_t xMin = 0, xMax = -1, yMin = 0, yMax = -1;

@@ -30,17 +30,23 @@ void Footprint::measure(const Segment& segment, const MeasureContext& context, O
                         const RowWriter& out) const {
   const ImageF& image = *context.measurement;
   const std::int64_t width = image.width();
-  std::int64_t xMin = width, xMax = -1, yMin = image.height(), yMax = -1;
+  const ObjectPixels& pixels = *state.pixels;
+  double xMinPix = double(width), xMaxPix = -1.0, yMinPix = double(image.height()), yMaxPix = -1.0;
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    xMinPix = std::min(xMinPix, pixels.x[i]);
+    xMaxPix = std::max(xMaxPix, pixels.x[i]);
+    yMinPix = std::min(yMinPix, pixels.y[i]);
+    yMaxPix = std::max(yMaxPix, pixels.y[i]);
+  }
+  const auto xMin = std::int64_t(xMinPix), xMax = std::int64_t(xMaxPix);
+  const auto yMin = std::int64_t(yMinPix), yMax = std::int64_t(yMaxPix);
   bool saturated = false;
-  for (const std::int64_t p : segment.pixels) {
-    const std::int64_t x = p % width, y = p / width;
-    xMin = std::min(xMin, x);
-    xMax = std::max(xMax, x);
-    yMin = std::min(yMin, y);
-    yMax = std::max(yMax, y);
-    if (context.saturatedPixels != nullptr && !saturated) {
-      saturated =
-          std::binary_search(context.saturatedPixels->begin(), context.saturatedPixels->end(), p);
+  if (context.saturatedPixels != nullptr && !context.saturatedPixels->empty()) {
+    for (const std::int64_t p : segment.pixels) {
+      if (std::binary_search(context.saturatedPixels->begin(), context.saturatedPixels->end(), p)) {
+        saturated = true;
+        break;
+      }
     }
   }
   state.footprintPixels = static_cast<std::int64_t>(segment.pixels.size());

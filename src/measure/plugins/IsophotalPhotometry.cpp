@@ -28,7 +28,6 @@ std::vector<ColumnSpec> IsophotalPhotometry::columns() const {
 
 void IsophotalPhotometry::measure(const Segment& segment, const MeasureContext& context,
                                   ObjectState& state, const RowWriter& out) const {
-  const ImageF& image = *context.measurement;
   const std::size_t level = static_cast<std::size_t>(segment.level - 1);
   const bool haveLevel = level < context.levels.size();
   const double analysisAdu = haveLevel ? context.levels[level].analysisThresholdAdu : 0.0;
@@ -38,9 +37,10 @@ void IsophotalPhotometry::measure(const Segment& segment, const MeasureContext& 
 
   double flux = 0.0, fluxMax = -HUGE_VAL, varianceSum = 0.0, poissonVar = 0.0;
   std::int64_t used = 0, isoArea = 0;
-  for (const std::int64_t p : segment.pixels) {
-    const double v = image[p];
-    const double var = context.variance ? double((*context.variance)[p]) : sigma2;
+  const ObjectPixels& pixels = *state.pixels;
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    const double v = pixels.value[i];
+    const double var = context.variance ? pixels.variance[i] : sigma2;
     if (!std::isfinite(v) || !std::isfinite(var)) {
       state.octFlags |= octflag::kBadPixels;  // left out of every sum
       continue;

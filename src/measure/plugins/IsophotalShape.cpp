@@ -61,22 +61,24 @@ std::vector<ColumnSpec> IsophotalShape::columns() const {
 
 void IsophotalShape::measure(const Segment& segment, const MeasureContext& context,
                              ObjectState& state, const RowWriter& out) const {
-  const ImageF& image = context.detection ? *context.detection : *context.measurement;
-  const std::int64_t width = image.width();
+  const std::int64_t width = context.measurement->width();
+  const ObjectPixels& pixels = *state.pixels;
   // SExtractor sums relative to (xmin, ymin) to limit round-off; keep the same origin.
   IsoMomentAccumulator sums(double(state.xMin), double(state.yMin));
   double peak = -HUGE_VAL;
   std::int64_t peakIndex = -1;
-  for (const std::int64_t p : segment.pixels) {
-    const double f = image[p];
+  const std::vector<double>& detection = pixels.detectionValues();
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    const double f = detection[i];
     if (!std::isfinite(f)) {
       state.octFlags |= octflag::kBadPixels;  // left out of every sum
       continue;
     }
-    sums.add(double(p % width), double(p / width), f);
-    if (f > peak || (f == peak && p < peakIndex)) {  // ties: first pixel in raster order
+    sums.add(pixels.x[i], pixels.y[i], f);
+    // Ties go to the first pixel in raster order.
+    if (f > peak || (f == peak && segment.pixels[i] < peakIndex)) {
       peak = f;
-      peakIndex = p;
+      peakIndex = segment.pixels[i];
     }
   }
   state.iso = sums.result();

@@ -1,6 +1,7 @@
 #include "octarc/measure/plugins/Octopole.h"
 
 #include <cmath>
+#include <vector>
 
 #include "octarc/core/Flags.h"
 
@@ -53,26 +54,23 @@ std::vector<ColumnSpec> Octopole::columns() const {
   };
 }
 
-void Octopole::measure(const Segment& segment, const MeasureContext& context, ObjectState& state,
+void Octopole::measure(const Segment&, const MeasureContext&, ObjectState& state,
                        const RowWriter& out) const {
-  const ImageF& image = *context.measurement;
-  const std::int64_t width = image.width();
-  const std::size_t n = segment.pixels.size();
-  std::vector<double> xs, ys, ws;
-  xs.reserve(n);
-  ys.reserve(n);
-  ws.reserve(n);
-  for (const std::int64_t p : segment.pixels) {
-    const double v = image[p];
-    if (!std::isfinite(v)) {
-      state.octFlags |= octflag::kBadPixels;  // left out of every sum
-      continue;
+  const ObjectPixels& pixels = *state.pixels;
+  if (pixels.valuesFinite) {
+    state.central = centralMoments(pixels.x, pixels.y, pixels.value);
+  } else {
+    // Non-finite pixels are left out of every sum.
+    state.octFlags |= octflag::kBadPixels;
+    std::vector<double> xs, ys, ws;
+    for (std::size_t i = 0; i < pixels.size(); ++i) {
+      if (!std::isfinite(pixels.value[i])) continue;
+      xs.push_back(pixels.x[i]);
+      ys.push_back(pixels.y[i]);
+      ws.push_back(pixels.value[i]);
     }
-    xs.push_back(double(p % width));
-    ys.push_back(double(p / width));
-    ws.push_back(v);
+    state.central = centralMoments(xs, ys, ws);
   }
-  state.central = centralMoments(xs, ys, ws);
   state.octopole = octopoleStats(state.central);
   state.haveCentral = state.central.valid;
   if (!state.central.valid)
