@@ -231,7 +231,7 @@ int runDetect(const std::vector<std::string>& args) {
   std::optional<PreparedImage> checkImage;
   std::optional<SegmentationRuns> checkRuns;
   std::vector<ThresholdLevel> checkLevels;
-  std::vector<Table> tables;
+  std::vector<std::vector<Table>> tables;  // per extension: the rows of each level, in order
   std::vector<FitsHeader> headers;
   std::vector<std::vector<std::string>> cards;
   std::vector<std::string> fits10Cards;
@@ -324,25 +324,34 @@ int runDetect(const std::vector<std::string>& args) {
       queue.finish();
     }
     lap("detection and measurement");
-    Table full = concatenateRows(levelTables, columns.plan.columns());
     if (!s.quiet) {
       for (std::size_t k = 0; k < counts.size(); ++k) {
         std::cerr << "> Level " << (k + 1) << " (" << levels[k].thresholdAdu
                   << " ADU): " << counts[k] << " objects\n";
       }
     }
-    const std::int64_t detected = full.rows();
+    std::int64_t detected = 0;
+    for (const Table& t : levelTables) detected += t.rows();
     if (assocSettings) {
-      applyAssoc(*assocSettings, columns.assocVectorSize, image, full, s.quiet);
+      // ASSOC reads its list once for the whole catalog.
+      Table all = concatenateRows(levelTables, columns.plan.columns());
+      applyAssoc(*assocSettings, columns.assocVectorSize, image, all, s.quiet);
+      levelTables.clear();
+      levelTables.push_back(std::move(all));
     }
-    tables.push_back(outputTable(columns, std::move(full)));
+    std::int64_t kept = 0;
+    for (Table& t : levelTables) {
+      t = outputTable(columns, std::move(t));
+      kept += t.rows();
+    }
+    tables.push_back(std::move(levelTables));
     headers.push_back(image.hdu.header);
     RunFacts facts;
     facts.imagePath = s.imagePaths[0];
     facts.extension = e;
     facts.extensionCount = extCount;
     facts.detectedCount = detected;
-    facts.finalCount = tables.back().rows();
+    facts.finalCount = kept;
     facts.parameterCount = int(columns.outputColumns.size());
     facts.elapsedSec =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -360,9 +369,12 @@ int runDetect(const std::vector<std::string>& args) {
     }
   }
 
+  std::vector<Table> joined;
+  joined.reserve(tables.size());
+  for (std::vector<Table>& t : tables) joined.push_back(concatenateRows(t, columns.outputColumns));
   std::vector<CatalogPart> parts;
   for (int e = 0; e < extCount; ++e) {
-    parts.push_back({headers[std::size_t(e)], cards[std::size_t(e)], &tables[std::size_t(e)]});
+    parts.push_back({headers[std::size_t(e)], cards[std::size_t(e)], &joined[std::size_t(e)]});
   }
   lap("sorting and assembling the catalog");
   writeCatalog(s.catalogNames[0], catalogType, parts, fits10Cards);
