@@ -1,10 +1,17 @@
 #include "octarc/io/FitsImage.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
@@ -181,18 +188,91 @@ ImageHdu readHduInfo(fitsfile* f, const std::string& path) {
   return hdu;
 }
 
+// cfitsio reads an image serially through its own buffers. A plain BITPIX -32 image in a disk
+// file (not tile-compressed, not scaled) is one block of big-endian floats: read it straight into
+// the pixels, in slices on several threads, and swap the bytes in place. Returns false, having
+// read nothing usable, whenever that does not apply or fails; cfitsio then reads the image (and
+// reports any error itself).
+bool readPlainFloatData(fitsfile* f, ImageF& pixels) {
+  if constexpr (std::endian::native != std::endian::little) return false;
+  int status = 0;
+  if (fits_is_compressed_image(f, &status) || status != 0) return false;
+  char urlType[FLEN_FILENAME] = {0};
+  if (fits_url_type(f, urlType, &status) != 0 || std::strcmp(urlType, "file://") != 0) {
+    return false;
+  }
+  for (const char* key : {"BSCALE", "BZERO"}) {
+    double value = 0.0;
+    int keyStatus = 0;
+    if (fits_read_key(f, TDOUBLE, key, &value, nullptr, &keyStatus) == 0 &&
+        value != (std::strcmp(key, "BSCALE") == 0 ? 1.0 : 0.0)) {
+      return false;
+    }
+  }
+  LONGLONG headStart = 0, dataStart = 0, dataEnd = 0;
+  char openedName[FLEN_FILENAME] = {0};
+  char fileName[FLEN_FILENAME] = {0};
+  // The name as opened may carry an HDU selection ("f.fits[1]"): keep the file's own name.
+  if (fits_get_hduaddrll(f, &headStart, &dataStart, &dataEnd, &status) != 0 ||
+      fits_file_name(f, openedName, &status) != 0 ||
+      fits_parse_rootname(openedName, fileName, &status) != 0) {
+    return false;
+  }
+  const char* diskName = fileName;
+  if (std::strncmp(diskName, "file://", 7) == 0) diskName += 7;
+  const std::int64_t count = pixels.size();
+  if (dataEnd - dataStart < LONGLONG(count) * LONGLONG(sizeof(float))) return false;
+  const int fd = ::open(diskName, O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  constexpr std::int64_t kSlicePixels = std::int64_t(1) << 20;  // 4 MB per read
+  const int threads =
+      count < 4 * kSlicePixels ? 1 : int(std::clamp(std::thread::hardware_concurrency(), 1u, 4u));
+  std::vector<char> ok(std::size_t(threads), 1);
+  auto readRange = [&](int t) {
+    const std::int64_t begin = count * t / threads, end = count * (t + 1) / threads;
+    for (std::int64_t i = begin; i < end; i += kSlicePixels) {
+      const std::int64_t n = std::min(kSlicePixels, end - i);
+      char* out = reinterpret_cast<char*>(pixels.data() + i);
+      std::int64_t done = 0;
+      while (done < n * 4) {
+        const ssize_t got =
+            ::pread(fd, out + done, std::size_t(n * 4 - done), off_t(dataStart + i * 4 + done));
+        if (got <= 0) {
+          ok[std::size_t(t)] = 0;
+          return;
+        }
+        done += got;
+      }
+      // Through memcpy: the bytes belong to float objects.
+      for (std::int64_t k = 0; k < n; ++k) {
+        std::uint32_t word;
+        std::memcpy(&word, out + 4 * k, 4);
+        word = __builtin_bswap32(word);
+        std::memcpy(out + 4 * k, &word, 4);
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(readRange, t);
+  readRange(0);
+  for (std::thread& t : pool) t.join();
+  ::close(fd);
+  return std::all_of(ok.begin(), ok.end(), [](char c) { return c != 0; });
+}
+
 // Reads the pixels of the current HDU as float; undefined pixels (BLANK or NaN) become NaN.
 // Integer data are scaled the way SExtractor scales them, in single precision:
 // float(BSCALE) * float(raw) + float(BZERO). The result is within one float ulp of the exact
 // value, and identical to the pixels SExtractor measures, so that catalogs can agree with
 // SExtractor's to the last digit.
 ImageF readPixels(fitsfile* f, const std::string& path, int bitpix, long width, long height) {
-  ImageF pixels(width, height);
+  ImageF pixels(width, height, UninitializedPixels{});  // every pixel is read below
   long first[kMaxAxes];
   std::fill(std::begin(first), std::end(first), 1L);
   int anyNull = 0;
   int status = 0;
   const LONGLONG count = static_cast<LONGLONG>(width) * height;
+  if (bitpix == FLOAT_IMG && readPlainFloatData(f, pixels)) return pixels;
   if (bitpix < 0) {
     // No null value: IEEE NaNs come through as NaN unchanged, and cfitsio skips its
     // per-pixel null test.

@@ -4,9 +4,37 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace octarc {
+
+// An allocator that leaves new elements of trivial types uninitialised when no value is given:
+// a large image that is about to be overwritten (read from a file) is then not zero-filled
+// first, and its pages are first touched by the threads that fill them.
+template <typename T>
+class UninitializedAllocator : public std::allocator<T> {
+ public:
+  template <typename U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  UninitializedAllocator() = default;
+  template <typename U>
+  UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+  template <typename U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <typename U, typename... Args>
+  void construct(U* p, Args&&... args) {
+    std::allocator_traits<std::allocator<U>>::construct(*reinterpret_cast<std::allocator<U>*>(this),
+                                                        p, std::forward<Args>(args)...);
+  }
+};
+
+// Tag for the Image constructor that leaves the pixels unset.
+struct UninitializedPixels {};
 
 template <typename T>
 class Image {
@@ -14,6 +42,9 @@ class Image {
   Image() = default;
   Image(std::int64_t width, std::int64_t height, T fill = T{})
       : width_(width), height_(height), pixels_(static_cast<std::size_t>(width * height), fill) {}
+  // Pixels left unset, for a caller that writes every one of them.
+  Image(std::int64_t width, std::int64_t height, UninitializedPixels)
+      : width_(width), height_(height), pixels_(static_cast<std::size_t>(width * height)) {}
 
   std::int64_t width() const { return width_; }
   std::int64_t height() const { return height_; }
@@ -30,13 +61,14 @@ class Image {
 
   T* data() { return pixels_.data(); }
   const T* data() const { return pixels_.data(); }
-  std::vector<T>& pixels() { return pixels_; }
-  const std::vector<T>& pixels() const { return pixels_; }
+  using PixelVector = std::vector<T, UninitializedAllocator<T>>;
+  PixelVector& pixels() { return pixels_; }
+  const PixelVector& pixels() const { return pixels_; }
 
  private:
   std::int64_t width_ = 0;
   std::int64_t height_ = 0;
-  std::vector<T> pixels_;
+  PixelVector pixels_;
 };
 
 using ImageF = Image<float>;
