@@ -164,8 +164,12 @@ void writeObjects(fitsfile* f, const std::string& extname, const std::vector<con
   for (int c = 0; c < first.columnCount(); ++c) {
     detail::writeColumnCards(f, c + 1, first.columns()[std::size_t(c)], path);
   }
+  // The header is final: declare the rows and let cfitsio re-read the HDU's layout, so that the
+  // rows below are written once, straight after the header. (Inserting rows instead would first
+  // write the whole data area full of zeros.)
   int status = 0;
-  fits_insert_rows(f, 0, LONGLONG(rows), &status);
+  fits_modify_key_lng(f, "NAXIS2", LONGLONG(rows), "&", &status);
+  fits_set_hdustruc(f, &status);
   detail::throwIfFitsError(status, path, "cannot write table " + extname);
   // Several parts (FITS_1.0) follow each other in the one table.
   std::int64_t firstRow = 0;

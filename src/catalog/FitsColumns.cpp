@@ -36,6 +36,31 @@ int columnOfKeyword(const std::string& key) {
   return n;
 }
 
+// std::nearbyint() in the default rounding mode (to nearest, ties to even) without a library
+// call: below 2^52 in magnitude, adding and removing 2^52 rounds to an integer, as the sum has
+// no fraction bits left; larger values (and infinities) are integers already.
+inline double roundToNearestEven(double value) {
+  constexpr double kTwo52 = 4503599627370496.0;
+  if (!(std::fabs(value) < kTwo52)) return value;
+  const double shift = std::copysign(kTwo52, value);
+  return (value + shift) - shift;
+}
+
+// integerValue() for one storage type: the bounds are compile-time constants, so that the row
+// packer's inner loops stay free of branches on the type.
+template <typename Int>
+long long storedInteger(double value) {
+  if (std::isnan(value)) return 0;
+  constexpr double lo = double(std::numeric_limits<Int>::min());
+  // For 64 bits the largest double below 2^63 (2^63 - 1 is not a double).
+  constexpr double hi =
+      sizeof(Int) == 8 ? 9.2233720368547748e18 : double(std::numeric_limits<Int>::max());
+  const double rounded = roundToNearestEven(value);
+  if (rounded <= lo) return static_cast<long long>(lo);
+  if (rounded >= hi) return static_cast<long long>(hi);
+  return static_cast<long long>(rounded);
+}
+
 template <typename T>
 void writeTyped(fitsfile* f, int datatype, int colnum, const Table& table, int column,
                 const std::string& path, T (*convert)(ColumnType, double)) {
@@ -61,20 +86,14 @@ bool isIntegerType(ColumnType type) {
 }
 
 long long integerValue(ColumnType type, double value) {
-  if (std::isnan(value)) return 0;
-  double lo = double(std::numeric_limits<std::int64_t>::min());
-  double hi = 9.2233720368547748e18;  // largest double below 2^63
-  if (type == ColumnType::Int16) {
-    lo = std::numeric_limits<std::int16_t>::min();
-    hi = std::numeric_limits<std::int16_t>::max();
-  } else if (type == ColumnType::Int32) {
-    lo = std::numeric_limits<std::int32_t>::min();
-    hi = std::numeric_limits<std::int32_t>::max();
+  switch (type) {
+    case ColumnType::Int16:
+      return storedInteger<std::int16_t>(value);
+    case ColumnType::Int32:
+      return storedInteger<std::int32_t>(value);
+    default:
+      return storedInteger<std::int64_t>(value);
   }
-  const double rounded = std::nearbyint(value);
-  if (rounded <= lo) return static_cast<long long>(lo);
-  if (rounded >= hi) return static_cast<long long>(hi);
-  return static_cast<long long>(rounded);
 }
 
 void writeColumnCards(fitsfile* f, int colnum, const ColumnSpec& column, const std::string& path) {
@@ -142,12 +161,90 @@ void writeColumnData(fitsfile* f, int colnum, const Table& table, int column,
 
 namespace {
 
-// Appends `bytes` bytes of `value`'s representation, most significant first (FITS order).
+// Stores `bits` most significant byte first (FITS order).
+inline void putBig(unsigned char* out, std::uint16_t bits) {
+  bits = __builtin_bswap16(bits);
+  std::memcpy(out, &bits, sizeof bits);
+}
+inline void putBig(unsigned char* out, std::uint32_t bits) {
+  bits = __builtin_bswap32(bits);
+  std::memcpy(out, &bits, sizeof bits);
+}
+inline void putBig(unsigned char* out, std::uint64_t bits) {
+  bits = __builtin_bswap64(bits);
+  std::memcpy(out, &bits, sizeof bits);
+}
+
 template <typename T>
-void putBigEndian(unsigned char*& out, T value) {
-  unsigned char raw[sizeof(T)];
-  std::memcpy(raw, &value, sizeof(T));
-  for (std::size_t i = 0; i < sizeof(T); ++i) *out++ = raw[sizeof(T) - 1 - i];
+std::uint32_t bits32(T value) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  return bits;
+}
+
+template <typename T>
+std::uint64_t bits64(T value) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  return bits;
+}
+
+// Packs `n` row values of one storage type; returns the end of what it wrote.
+template <ColumnType Type>
+unsigned char* packValues(const double* in, int n, unsigned char* out);
+
+template <>
+unsigned char* packValues<ColumnType::Int16>(const double* in, int n, unsigned char* out) {
+  for (int i = 0; i < n; ++i) {
+    putBig(out + 2 * i, std::uint16_t(std::int16_t(storedInteger<std::int16_t>(in[i]))));
+  }
+  return out + 2 * n;
+}
+
+template <>
+unsigned char* packValues<ColumnType::Int32>(const double* in, int n, unsigned char* out) {
+  for (int i = 0; i < n; ++i) {
+    putBig(out + 4 * i, bits32(std::int32_t(storedInteger<std::int32_t>(in[i]))));
+  }
+  return out + 4 * n;
+}
+
+template <>
+unsigned char* packValues<ColumnType::Int64>(const double* in, int n, unsigned char* out) {
+  for (int i = 0; i < n; ++i) {
+    putBig(out + 8 * i, bits64(std::int64_t(storedInteger<std::int64_t>(in[i]))));
+  }
+  return out + 8 * n;
+}
+
+template <>
+unsigned char* packValues<ColumnType::Float32>(const double* in, int n, unsigned char* out) {
+  for (int i = 0; i < n; ++i) putBig(out + 4 * i, bits32(float(in[i])));
+  return out + 4 * n;
+}
+
+template <>
+unsigned char* packValues<ColumnType::Float64>(const double* in, int n, unsigned char* out) {
+  for (int i = 0; i < n; ++i) putBig(out + 8 * i, bits64(in[i]));
+  return out + 8 * n;
+}
+
+using PackFunction = unsigned char* (*)(const double*, int, unsigned char*);
+
+PackFunction packFunction(ColumnType type) {
+  switch (type) {
+    case ColumnType::Int16:
+      return packValues<ColumnType::Int16>;
+    case ColumnType::Int32:
+      return packValues<ColumnType::Int32>;
+    case ColumnType::Int64:
+      return packValues<ColumnType::Int64>;
+    case ColumnType::Float32:
+      return packValues<ColumnType::Float32>;
+    case ColumnType::Float64:
+      break;
+  }
+  return packValues<ColumnType::Float64>;
 }
 
 std::size_t storageBytes(ColumnType type) {
@@ -155,15 +252,40 @@ std::size_t storageBytes(ColumnType type) {
     case ColumnType::Int16:
       return 2;
     case ColumnType::Int32:
-      return 4;
-    case ColumnType::Int64:
-      return 8;
     case ColumnType::Float32:
       return 4;
+    case ColumnType::Int64:
     case ColumnType::Float64:
-      return 8;
+      break;
   }
-  return 0;
+  return 8;
+}
+
+// A stretch of consecutive row values (one or more adjacent columns) of one storage type.
+struct PackRun {
+  PackFunction pack;
+  int first;  // index of the first value in Table::row()
+  int count;
+};
+
+// The packing plan of a table, made once: adjacent columns of one type become one run, so that a
+// catalog of float columns packs each row in a single tight loop.
+std::vector<PackRun> packPlan(const Table& table, std::size_t& rowBytes) {
+  std::vector<PackRun> runs;
+  rowBytes = 0;
+  ColumnType previous = ColumnType::Float32;
+  for (int c = 0; c < table.columnCount(); ++c) {
+    const ColumnSpec& spec = table.columns()[std::size_t(c)];
+    rowBytes += storageBytes(spec.type) * std::size_t(spec.repeat);
+    if (!runs.empty() && spec.type == previous &&
+        runs.back().first + runs.back().count == table.offset(c)) {
+      runs.back().count += spec.repeat;
+    } else {
+      runs.push_back({packFunction(spec.type), table.offset(c), spec.repeat});
+    }
+    previous = spec.type;
+  }
+  return runs;
 }
 
 }  // namespace
@@ -171,10 +293,9 @@ std::size_t storageBytes(ColumnType type) {
 void writeTableRows(fitsfile* f, const Table& table, std::int64_t firstRow,
                     const std::string& path) {
   std::size_t rowBytes = 0;
-  for (const ColumnSpec& c : table.columns())
-    rowBytes += storageBytes(c.type) * std::size_t(c.repeat);
+  const std::vector<PackRun> plan = packPlan(table, rowBytes);
   if (rowBytes == 0 || table.rows() == 0) return;
-  // About 4 MB per write.
+  // About 4 MB per write: large enough that cfitsio writes it straight to the file.
   const std::int64_t rowsPerBlock =
       std::max<std::int64_t>(1, (std::int64_t(4) << 20) / std::int64_t(rowBytes));
   std::vector<unsigned char> block;
@@ -184,29 +305,7 @@ void writeTableRows(fitsfile* f, const Table& table, std::int64_t firstRow,
     unsigned char* out = block.data();
     for (std::int64_t r = r0; r < r1; ++r) {
       const double* row = table.row(r);
-      for (int c = 0; c < table.columnCount(); ++c) {
-        const ColumnSpec& spec = table.columns()[std::size_t(c)];
-        const double* v = row + table.offset(c);
-        for (int e = 0; e < spec.repeat; ++e) {
-          switch (spec.type) {
-            case ColumnType::Int16:
-              putBigEndian(out, std::int16_t(integerValue(spec.type, v[e])));
-              break;
-            case ColumnType::Int32:
-              putBigEndian(out, std::int32_t(integerValue(spec.type, v[e])));
-              break;
-            case ColumnType::Int64:
-              putBigEndian(out, std::int64_t(integerValue(spec.type, v[e])));
-              break;
-            case ColumnType::Float32:
-              putBigEndian(out, float(v[e]));
-              break;
-            case ColumnType::Float64:
-              putBigEndian(out, v[e]);
-              break;
-          }
-        }
-      }
+      for (const PackRun& run : plan) out = run.pack(row + run.first, run.count, out);
     }
     int status = 0;
     fits_write_tblbytes(f, LONGLONG(firstRow + r0 + 1), 1, LONGLONG(block.size()), block.data(),

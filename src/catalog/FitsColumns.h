@@ -21,8 +21,10 @@ void writeColumnData(fitsfile* f, int colnum, const Table& table, int column,
                      const std::string& path);
 
 // Writes every column of `table` as rows `firstRow`.. of a binary table whose columns are
-// exactly the table's (same order and types): rows are packed big-endian in memory and written
-// in large blocks, far faster than column by column for big catalogs.
+// exactly the table's (same order and types): rows are packed big-endian in memory (one tight
+// loop per run of same-type columns) and written in large blocks, far faster than column by
+// column for big catalogs. The table's NAXIS2 should already count these rows (then cfitsio
+// writes each byte once, with no zero fill first).
 void writeTableRows(fitsfile* f, const Table& table, std::int64_t firstRow,
                     const std::string& path);
 // Closes a file opened for writing and reports a failed close (a flush that did not reach disk).
