@@ -54,26 +54,32 @@ std::string upper(std::string s) {
   return s;
 }
 
-const Table& partTable(const CatalogPart& part, std::size_t index) {
-  if (part.objects == nullptr) {
-    throw std::invalid_argument("catalog part " + std::to_string(index + 1) + " has no table");
+// The tables of one part, in output order.
+std::vector<const Table*> partTables(const CatalogPart& part, std::size_t index) {
+  std::vector<const Table*> tables{part.objects};
+  tables.insert(tables.end(), part.moreObjects.begin(), part.moreObjects.end());
+  for (const Table* t : tables) {
+    if (t == nullptr) {
+      throw std::invalid_argument("catalog part " + std::to_string(index + 1) + " has no table");
+    }
   }
-  return *part.objects;
+  return tables;
 }
 
 void checkSameColumns(const std::string& path, const std::vector<CatalogPart>& parts) {
-  const Table& first = partTable(parts.front(), 0);
-  for (std::size_t p = 1; p < parts.size(); ++p) {
-    const Table& t = partTable(parts[p], p);
-    bool same = t.columnCount() == first.columnCount();
-    for (int c = 0; same && c < t.columnCount(); ++c) {
-      same = t.columns()[std::size_t(c)].name == first.columns()[std::size_t(c)].name &&
-             t.columns()[std::size_t(c)].type == first.columns()[std::size_t(c)].type &&
-             t.columns()[std::size_t(c)].repeat == first.columns()[std::size_t(c)].repeat;
-    }
-    if (!same) {
-      throw ConfigError(path + ": image extension " + std::to_string(p + 1) +
-                        " has other catalog columns than the first one");
+  const Table& first = *partTables(parts.front(), 0).front();
+  for (std::size_t p = 0; p < parts.size(); ++p) {
+    for (const Table* t : partTables(parts[p], p)) {
+      bool same = t->columnCount() == first.columnCount();
+      for (int c = 0; same && c < t->columnCount(); ++c) {
+        same = t->columns()[std::size_t(c)].name == first.columns()[std::size_t(c)].name &&
+               t->columns()[std::size_t(c)].type == first.columns()[std::size_t(c)].type &&
+               t->columns()[std::size_t(c)].repeat == first.columns()[std::size_t(c)].repeat;
+      }
+      if (!same) {
+        throw ConfigError(path + ": image extension " + std::to_string(p + 1) +
+                          " has other catalog columns than the first one");
+      }
     }
   }
 }
@@ -219,12 +225,14 @@ void writeFits(const std::string& path, CatalogType type, const std::vector<Cata
     writePrimary(f, {}, path);
     for (std::size_t p = 0; p < parts.size(); ++p) {
       writeImhead(f, parts[p], path);
-      writeObjects(f, "LDAC_OBJECTS", {&partTable(parts[p], p)}, path);
+      writeObjects(f, "LDAC_OBJECTS", partTables(parts[p], p), path);
     }
   } else {
     writePrimary(f, fits10PrimaryCards, path);
     std::vector<const Table*> tables;
-    for (std::size_t p = 0; p < parts.size(); ++p) tables.push_back(&partTable(parts[p], p));
+    for (std::size_t p = 0; p < parts.size(); ++p) {
+      for (const Table* t : partTables(parts[p], p)) tables.push_back(t);
+    }
     writeObjects(f, "OBJECTS", tables, path);
   }
   detail::closeWritten(file.release(), path);
@@ -257,7 +265,7 @@ void writeAscii(const std::string& path, bool withHeader, const std::vector<Cata
   std::FILE* file = std::fopen(out.tempPath().c_str(), "w");
   if (file == nullptr) throw IoError(path + ": cannot create (" + std::strerror(errno) + ")");
   std::string text;
-  const Table& first = partTable(parts.front(), 0);
+  const Table& first = *partTables(parts.front(), 0).front();
   if (withHeader) {
     int index = 1;
     char line[256];
@@ -271,8 +279,12 @@ void writeAscii(const std::string& path, bool withHeader, const std::vector<Cata
     }
   }
   bool ok = std::fwrite(text.data(), 1, text.size(), file) == text.size();
-  for (std::size_t p = 0; p < parts.size() && ok; ++p) {
-    const Table& t = partTable(parts[p], p);
+  std::vector<const Table*> tables;
+  for (std::size_t p = 0; p < parts.size(); ++p) {
+    for (const Table* t : partTables(parts[p], p)) tables.push_back(t);
+  }
+  for (const Table* table : tables) {
+    const Table& t = *table;
     for (std::int64_t r = 0; r < t.rows() && ok; ++r) {
       text.clear();
       for (int c = 0; c < t.columnCount(); ++c) {
@@ -405,7 +417,7 @@ void writeCatalog(const std::string& path, CatalogType type, const std::vector<C
   if (type == CatalogType::None) return;
   if (parts.empty()) throw std::invalid_argument("writeCatalog: no catalog part");
   checkSameColumns(path, parts);
-  checkColumns(*parts.front().objects);
+  checkColumns(*partTables(parts.front(), 0).front());
   switch (type) {
     case CatalogType::FitsLdac:
     case CatalogType::Fits10:

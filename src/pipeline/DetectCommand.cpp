@@ -369,14 +369,14 @@ int runDetect(const std::vector<std::string>& args) {
     }
   }
 
-  std::vector<Table> joined;
-  joined.reserve(tables.size());
-  for (std::vector<Table>& t : tables) joined.push_back(concatenateRows(t, columns.outputColumns));
   std::vector<CatalogPart> parts;
   for (int e = 0; e < extCount; ++e) {
-    parts.push_back({headers[std::size_t(e)], cards[std::size_t(e)], &joined[std::size_t(e)]});
+    const std::vector<Table>& levelRows = tables[std::size_t(e)];
+    CatalogPart part{headers[std::size_t(e)], cards[std::size_t(e)], &levelRows.front(), {}};
+    for (std::size_t k = 1; k < levelRows.size(); ++k) part.moreObjects.push_back(&levelRows[k]);
+    parts.push_back(std::move(part));
   }
-  lap("sorting and assembling the catalog");
+  lap("assembling the catalog");
   writeCatalog(s.catalogNames[0], catalogType, parts, fits10Cards);
   lap("writing the catalog");
   if (!s.quiet && catalogType != CatalogType::None) {

@@ -24,6 +24,9 @@ struct CatalogPart {
   FitsHeader imageHeader;             // header of the measured image (copied into LDAC_IMHEAD)
   std::vector<std::string> runCards;  // 80-char cards appended after the image cards (SEx*, OCT*)
   const Table* objects = nullptr;     // one row per object, in output order
+  // Further rows of the same part, written after `objects` in this order, with the same columns
+  // (e.g. one table per threshold level, so that the levels need not be copied into one table).
+  std::vector<const Table*> moreObjects;
 };
 
 // Writes a catalog atomically (temporary file + rename); CatalogType::None writes nothing.

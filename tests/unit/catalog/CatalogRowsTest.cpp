@@ -14,6 +14,7 @@
 #include "CatalogTestSupport.h"
 #include "TestPaths.h"
 #include "octarc/catalog/Catalog.h"
+#include "octarc/core/Error.h"
 #include "octarc/io/detail/Cfitsio.h"
 
 namespace octarc {
@@ -352,6 +353,41 @@ TEST(CatalogRows, TablesWithoutRowsAreValid) {
   EXPECT_NE(fitsverify(fits10).find("verification OK"), std::string::npos) << fitsverify(fits10);
   EXPECT_NE(fitsverify(mixed).find("verification OK"), std::string::npos) << fitsverify(mixed);
   EXPECT_NE(fitsverify(ldac).find(" 0 errors"), std::string::npos) << fitsverify(ldac);
+}
+
+// A part given as several tables (objects + moreObjects) is written as if its rows were one
+// table: the same bytes in every format, and a table with other columns is refused.
+TEST(CatalogRows, PartOfSeveralTablesIsWrittenAsOneTable) {
+  const auto dir = test::scratchDir();
+  const Table whole = makeTable(9001, 0);
+  const Table first = makeTable(4096, 0);
+  const Table none = makeTable(0, 4096);
+  const Table second = makeTable(4905, 4096);
+  CatalogPart one;
+  one.runCards.push_back(std::string("OCTNLEV =                    3") + std::string(50, ' '));
+  one.objects = &whole;
+  CatalogPart split = one;
+  split.objects = &first;
+  split.moreObjects = {&none, &second};
+  for (const CatalogType type :
+       {CatalogType::FitsLdac, CatalogType::Fits10, CatalogType::AsciiHead}) {
+    const std::string name = catalogTypeName(type);
+    const auto a = dir / (name + "-one");
+    const auto b = dir / (name + "-split");
+    writeCatalog(a.string(), type, {one});
+    writeCatalog(b.string(), type, {split, one});
+    writeCatalog(a.string() + "2", type, {one, one});
+    EXPECT_EQ(test::readFile(b), test::readFile(a.string() + "2")) << name;
+  }
+  expectRowsReadBack(dir / "FITS_LDAC-split", 3, {&first, &second});
+
+  std::vector<ColumnSpec> other = mixedColumns();
+  other.pop_back();
+  const Table narrow(other);
+  split.moreObjects = {&narrow};
+  EXPECT_THROW(writeCatalog((dir / "bad.fits").string(), CatalogType::Fits10, {split}),
+               ConfigError);
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad.fits"));
 }
 
 }  // namespace
