@@ -10,7 +10,7 @@ namespace {
 constexpr std::size_t kJobObjects = 256;
 constexpr std::size_t kJobPixels = std::size_t(1) << 15;
 // The caller waits while this many pixels are queued (8 bytes each in the pixel lists).
-constexpr std::size_t kMaxPendingPixels = std::size_t(1) << 22;
+constexpr std::size_t kMaxPendingPixels = std::size_t(1) << 20;
 }  // namespace
 
 MeasurementQueue::MeasurementQueue(const MeasurementPlan& plan, const MeasureContext& context,

@@ -49,7 +49,8 @@ class Table {
   std::vector<ColumnSpec> columns_;
   std::vector<int> offsets_;
   int rowWidth_ = 0;
-  static constexpr std::int64_t kChunkRows = 4096;
+  // Small enough that many short tables (one per threshold level) waste little.
+  static constexpr std::int64_t kChunkRows = 1024;
   std::int64_t rows_ = 0;
   std::vector<std::vector<double>> chunks_;  // each sized for kChunkRows rows
 };
