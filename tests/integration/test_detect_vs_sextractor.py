@@ -341,5 +341,24 @@ class DetectParentLinks(WorkDirTest):
                           "random field %d" % seed)
 
 
+
+class DetectThreadCount(WorkDirTest):
+    """Detection and measurement run on several threads: the catalog must not depend on how
+    many (every row and value equal, in the same order)."""
+
+    def test_same_catalog_for_any_thread_count(self):
+        image = write_synthetic_field(self.path("field.fits"), size=1024, sources=800)
+        catalogs = []
+        for threads in (1, 2, 5):
+            out, _ = run_detect(self, image, self.work, False, checks=(),
+                                extra=["-NTHREADS", str(threads)],
+                                tag="t%d" % threads)
+            catalogs.append(ldac_objects(out)[0])
+        self.assertGreater(len(catalogs[0]), 1000)
+        for other in catalogs[1:]:
+            self.assertEqual(len(other), len(catalogs[0]))
+            for name in catalogs[0].dtype.names:
+                np.testing.assert_array_equal(other[name], catalogs[0][name], err_msg=name)
+
 if __name__ == "__main__":
     unittest.main()
