@@ -5,13 +5,17 @@
 #include "octarc/background/MeshBackground.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <span>
 #include <string>
 #include <thread>
+#include <type_traits>
 
 #include "BackgroundDetail.h"
+#include "octarc/background/MeshHistogram.h"
 #include "octarc/core/Error.h"
 
 namespace octarc {
@@ -26,6 +30,11 @@ constexpr double kMinModePixels = 4.0;  // pixels per histogram bin near the mod
 // SExtractor's value of pi (its define.h); it sets the number of histogram bins.
 constexpr double kSexPi = 3.1415926535898;
 
+// The float nearest to SExtractor's blank value -1e30 lies below it, so a float v is above -1e30
+// (as a double) exactly when v > kBlankFloat: no float lies between the two.
+constexpr float kBlankFloat = -1e30f;
+static_assert(static_cast<double>(kBlankFloat) < -1e30);
+
 // Statistics of one mesh, kept in SExtractor's precision (floats).
 struct MeshStat {
   float mean = 0.0f;
@@ -36,59 +45,12 @@ struct MeshStat {
 };
 
 // Clipped mode and rms from a mesh histogram (SExtractor's backguess).
-void histogramMode(const MeshStat& m, const std::vector<std::int64_t>& histo, float& level,
-                   float& rms) {
-  constexpr double kEps = 1e-4;
-  const int lastBin = m.nlevels - 1;
-  int lcut = 0;
-  int hcut = lastBin;
-  double sig = 10.0 * lastBin;
-  double sigPrev = 1.0;
-  double mea = m.mean;
-  double med = m.mean;
-  for (int n = 100; n-- && sig >= 0.1 && std::fabs(sig / sigPrev - 1.0) > kEps;) {
-    sigPrev = sig;
-    std::uint64_t sum = 0, lowSum = 0, highSum = 0;
-    mea = sig = 0.0;
-    // Walk in from both ends, always feeding the lighter side, to locate the median bin.
-    int lo = lcut;
-    int hi = hcut;
-    for (int i = lcut; i <= hcut; ++i) {
-      if (lowSum < highSum)
-        lowSum += static_cast<std::uint64_t>(histo[lo++]);
-      else
-        highSum += static_cast<std::uint64_t>(histo[hi--]);
-      const std::int64_t count = histo[i];
-      sum += static_cast<std::uint64_t>(count);
-      const double weighted = static_cast<double>(count) * i;
-      mea += weighted;
-      sig += weighted * i;
-    }
-    if (hi >= 0) {
-      const double peak = static_cast<double>(std::max(histo[lo], histo[hi]));
-      med = hi + 0.5 + (static_cast<double>(highSum) - static_cast<double>(lowSum)) / (2.0 * peak);
-    } else {
-      med = 0.0;
-    }
-    if (sum) {
-      mea /= static_cast<double>(sum);
-      sig = sig / static_cast<double>(sum) - mea * mea;
-    }
-    sig = sig > 0.0 ? std::sqrt(sig) : 0.0;
-    double t = med - 3.0 * sig;
-    lcut = t > 0.0 ? static_cast<int>(t + 0.5) : 0;
-    t = med + 3.0 * sig;
-    hcut = t < lastBin ? static_cast<int>(t > 0.0 ? t + 0.5 : t - 0.5) : lastBin;
-  }
-  double value;
-  if (std::fabs(sig) > 0.0) {
-    value = std::fabs((mea - med) / sig) < 0.3 ? m.qzero + (2.5 * med - 1.5 * mea) * m.qscale
-                                               : m.qzero + med * m.qscale;
-  } else {
-    value = m.qzero + mea * m.qscale;
-  }
-  level = static_cast<float>(value);
-  rms = static_cast<float>(sig * m.qscale);
+void histogramMode(const MeshStat& m, std::span<const std::int64_t> histo,
+                   std::vector<std::uint64_t>& scratch, float& level, float& rms) {
+  const MeshMode mode =
+      meshHistogramMode(histo, MeshHistogramScale{m.mean, m.qzero, m.qscale}, scratch);
+  level = mode.levelAdu;
+  rms = mode.rmsAdu;
 }
 
 // Mean/sigma of a set of pixels, then the SExtractor histogram parameters derived from them.
@@ -116,7 +78,62 @@ struct Binner {
     const float b = v / qscale + offset;
     return (b > -1.0f && b < top) ? static_cast<int>(b) : -1;
   }
+  // The bin shifted by one into a histogram with a spare bin at each end: 0 below, nlevels + 1
+  // above (and for NaN). The value is clamped before the conversion, so that no out-of-range
+  // float is converted and the loop over a row has no branch (it vectorises).
+  int shiftedIndex(float v) const {
+    float b = v / qscale + offset;
+    b = b > -1.0f ? b : -1.0f;
+    b = b < top ? b : top;
+    return static_cast<int>(b) + 1;
+  }
 };
+
+// Sums of the pixels that pass `keep`, for K meshes of width mw side by side: mesh k starts at
+// p + k * meshStride, and rowStride separates the rows used. Each mesh has its own summation
+// chain in SExtractor's order (row by row, left to right), so the sums are bit-identical to one
+// mesh at a time, while the processor overlaps the K chains. A rejected pixel adds +0.0, which
+// leaves a sum that started at +0.0 unchanged, so there is no branch.
+template <int K, typename Keep>
+void maskedSums(const float* p, std::int64_t rowStride, int rows, int mw, std::int64_t meshStride,
+                Keep keep, double* sum, double* sumSq, std::int64_t* npix) {
+  double s[K], q[K];
+  std::int64_t n[K];
+  for (int k = 0; k < K; ++k) {
+    s[k] = q[k] = 0.0;
+    n[k] = 0;
+  }
+  for (int r = 0; r < rows; ++r, p += rowStride) {
+#if defined(__GNUC__)
+    // Successive rows of a group are a whole image row apart (16 KB for 4096 pixels), a jump
+    // the hardware prefetchers do not follow: ask for the row after next, one cache line at a
+    // time. This pass is the first to read the pixels of a mesh row.
+    if (r + 2 < rows) {
+      const float* ahead = p + 2 * rowStride;
+      for (std::int64_t o = 0; o < (K - 1) * meshStride + mw; o += 16)
+        __builtin_prefetch(ahead + o);
+    }
+#endif
+    for (int x = 0; x < mw; ++x) {
+      for (int k = 0; k < K; ++k) {
+        const float v = p[k * meshStride + x];
+        const bool ok = keep(k, v);
+        // The selection by bit mask rather than `ok ? v : 0.0`, which compilers turn into a
+        // branch that the noise in the cut pass mispredicts.
+        const double d = std::bit_cast<double>(
+            std::bit_cast<std::uint64_t>(static_cast<double>(v)) & (std::uint64_t{0} - ok));
+        s[k] += d;
+        q[k] += d * d;
+        n[k] += ok;
+      }
+    }
+  }
+  for (int k = 0; k < K; ++k) {
+    sum[k] = s[k];
+    sumSq[k] = q[k];
+    npix[k] = n[k];
+  }
+}
 
 // SExtractor's weight_to_var: a weight-map pixel as a variance, for a given scale^2 (float).
 inline float toVariance(WeightMapType type, float v, float scale2) {
@@ -140,32 +157,125 @@ struct WeightRow {
   float* rms = nullptr;
 };
 
-// Everything about one row of meshes: statistics, histogram, mode; the same for the variance
-// map when `wr` is given (SExtractor's backstat / backhisto / backguess).
-void measureMeshRow(const ImageF& image, const WeightRow* wr, int bw, int bh, int nx, int ny, int j,
-                    float* level, float* rms, unsigned char* bad) {
+// Rows of a mesh row used for the mean/sigma statistics: all of them, or an evenly spaced subset
+// when a mesh row is larger than SExtractor's statistics buffer.
+struct StatRows {
+  int first = 0, step = 1, count = 0;
+  StatRows(std::int64_t w, int bh, int rows) : count(rows) {
+    if (w * bh > kStatBuffer) {
+      const int maxLines = static_cast<int>(std::max<std::int64_t>(1, kStatBuffer / w));
+      step = (rows - 1) / maxLines + 1;
+      count = rows / step;
+      first = step / 2;
+    }
+  }
+};
+
+// The mesh statistics of measureMeshRow without a weight map. The two statistics passes run on
+// up to eight meshes at a time (see maskedSums); the results are those of one mesh at a time.
+void measurePlainMeshRow(const ImageF& image, int bw, int bh, int nx, int ny, int j, float* level,
+                         float* rms, unsigned char* bad) {
   const std::int64_t w = image.width();
   const std::int64_t h = image.height();
   const std::int64_t y0 = static_cast<std::int64_t>(j) * bh;
   const int rows = (j == ny - 1 && h % bh) ? static_cast<int>(h % bh) : bh;
-  const float* wmap = wr ? wr->map->data() : nullptr;
-  const WeightMapType wtype = wr ? wr->type : WeightMapType::Weight;
-  const float wthresh = wr ? wr->threshold : 0.0f;
+  const StatRows stat(w, bh, rows);
+  const float* statBase = image.data() + (y0 + stat.first) * w;
+  const std::int64_t statStride = static_cast<std::int64_t>(stat.step) * w;
+  auto meshWidth = [&](int i) { return (i == nx - 1 && w % bw) ? static_cast<int>(w % bw) : bw; };
 
-  // Rows used for the mean/sigma statistics: all of them, or an evenly spaced subset when a
-  // mesh row is larger than SExtractor's statistics buffer.
-  int statFirst = 0, statStep = 1, statCount = rows;
-  if (w * bh > kStatBuffer) {
-    const int maxLines = static_cast<int>(std::max<std::int64_t>(1, kStatBuffer / w));
-    statStep = (rows - 1) / maxLines + 1;
-    statCount = rows / statStep;
-    statFirst = statStep / 2;
+  // Runs kernel<K>(i) over groups of K = 8 meshes of full width (enough independent chains to
+  // hide the latency of the additions), then 4, then mesh by mesh.
+  const int fullMeshes = w % bw ? nx - 1 : nx;
+  auto forMeshGroups = [&](auto&& kernel) {
+    int i = 0;
+    for (; i + 8 <= fullMeshes; i += 8) kernel(std::integral_constant<int, 8>{}, i, bw);
+    for (; i + 4 <= fullMeshes; i += 4) kernel(std::integral_constant<int, 4>{}, i, bw);
+    for (; i < nx; ++i) kernel(std::integral_constant<int, 1>{}, i, meshWidth(i));
+  };
+
+  const std::size_t n = static_cast<std::size_t>(nx);
+  std::vector<double> sum(n), sumSq(n);
+  std::vector<std::int64_t> npix(n);
+  std::vector<float> lcut(n), hcut(n);
+  // Pass 1: plain mean and sigma of the valid pixels.
+  forMeshGroups([&](auto group, int i, int mw) {
+    maskedSums<decltype(group)::value>(
+        statBase + static_cast<std::int64_t>(i) * bw, statStride, stat.count, mw, bw,
+        [](int, float v) {
+          // detail::isValidPixel as two float comparisons that vectorise (NaN fails both).
+          return (v > kBlankFloat) & (v < std::numeric_limits<float>::infinity());
+        },
+        &sum[i], &sumSq[i], &npix[i]);
+  });
+  // Pass 2: the same within mean +- 2 sigma (cuts rounded to float, as SExtractor does). A bad
+  // mesh gets cuts too (possibly NaN, which keep nothing); its sums are not used.
+  std::vector<unsigned char> isBad(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const int mw = meshWidth(static_cast<int>(i));
+    isBad[i] = static_cast<float>(npix[i]) <
+               static_cast<float>(static_cast<double>(mw) * stat.count * kMinGoodFraction);
+    const double mean = sum[i] / static_cast<double>(npix[i]);
+    const double v2 = sumSq[i] / static_cast<double>(npix[i]) - mean * mean;
+    const double sigma = v2 > 0.0 ? std::sqrt(v2) : 0.0;
+    lcut[i] = static_cast<float>(mean - 2.0 * sigma);
+    hcut[i] = static_cast<float>(mean + 2.0 * sigma);
   }
+  forMeshGroups([&](auto group, int i, int mw) {
+    const float* lc = &lcut[i];
+    const float* hc = &hcut[i];
+    maskedSums<decltype(group)::value>(
+        statBase + static_cast<std::int64_t>(i) * bw, statStride, stat.count, mw, bw,
+        [lc, hc](int k, float v) { return (v <= hc[k]) & (v >= lc[k]); }, &sum[i], &sumSq[i],
+        &npix[i]);
+  });
+
+  // Pass 3: histograms of every pixel of the mesh (not only the sampled rows), with a spare bin
+  // at each end for the pixels outside.
+  std::vector<std::int64_t> histo;
+  std::vector<std::uint64_t> scratch;
+  std::vector<int> index(static_cast<std::size_t>(bw));
+  for (int i = 0; i < nx; ++i) {
+    const std::size_t k = static_cast<std::size_t>(j) * nx + i;
+    if (isBad[i] || npix[i] == 0) {
+      bad[k] = 1;
+      level[k] = rms[k] = 0.0f;
+      continue;
+    }
+    MeshStat m;
+    finishStat(m, sum[i], sumSq[i], npix[i]);
+    histo.assign(static_cast<std::size_t>(m.nlevels) + 2, 0);
+    const Binner bin(m);
+    const int mw = meshWidth(i);
+    for (int r = 0; r < rows; ++r) {
+      const float* p = image.data() + (y0 + r) * w + static_cast<std::int64_t>(i) * bw;
+      for (int x = 0; x < mw; ++x) index[x] = bin.shiftedIndex(p[x]);
+      for (int x = 0; x < mw; ++x) ++histo[static_cast<std::size_t>(index[x])];
+    }
+    bad[k] = 0;
+    histogramMode(m, std::span<const std::int64_t>(histo).subspan(1, m.nlevels), scratch, level[k],
+                  rms[k]);
+  }
+}
+
+// The mesh statistics of measureMeshRow with a weight map: pixels whose variance reaches the
+// threshold are left out, and the variance map gets its own statistics and histogram.
+void measureWeightedMeshRow(const ImageF& image, const WeightRow& wr, int bw, int bh, int nx,
+                            int ny, int j, float* level, float* rms, unsigned char* bad) {
+  const std::int64_t w = image.width();
+  const std::int64_t h = image.height();
+  const std::int64_t y0 = static_cast<std::int64_t>(j) * bh;
+  const int rows = (j == ny - 1 && h % bh) ? static_cast<int>(h % bh) : bh;
+  const float* wmap = wr.map->data();
+  const WeightMapType wtype = wr.type;
+  const float wthresh = wr.threshold;
+  const StatRows stat(w, bh, rows);
   auto statRow = [&](int r) {
-    return (y0 + statFirst + static_cast<std::int64_t>(r) * statStep) * w;
+    return (y0 + stat.first + static_cast<std::int64_t>(r) * stat.step) * w;
   };
 
   std::vector<std::int64_t> histo, whisto;
+  std::vector<std::uint64_t> scratch;
   for (int i = 0; i < nx; ++i) {
     const std::int64_t x0 = static_cast<std::int64_t>(i) * bw;
     const int mw = (i == nx - 1 && w % bw) ? static_cast<int>(w % bw) : bw;
@@ -175,37 +285,25 @@ void measureMeshRow(const ImageF& image, const WeightRow* wr, int bw, int bh, in
     // Pass 1: plain mean and sigma of the valid pixels (double sums in SExtractor's order).
     double sum = 0.0, sumSq = 0.0, wsum = 0.0, wsumSq = 0.0;
     std::int64_t npix = 0;
-    for (int r = 0; r < statCount; ++r) {
+    for (int r = 0; r < stat.count; ++r) {
       const std::int64_t o = statRow(r) + x0;
       const float* p = image.data() + o;
-      if (!wr) {
-        for (int x = 0; x < mw; ++x) {
-          const float v = p[x];
-          if (detail::isValidPixel(v)) {
-            const double d = v;
-            sum += d;
-            sumSq += d * d;
-            ++npix;
-          }
-        }
-      } else {
-        const float* q = wmap + o;
-        for (int x = 0; x < mw; ++x) {
-          const float v = p[x];
-          const double wv = toVariance(wtype, q[x], 1.0f);
-          if (wv < wthresh && detail::isValidPixel(v)) {
-            wsum += wv;
-            wsumSq += wv * wv;
-            const double d = v;
-            sum += d;
-            sumSq += d * d;
-            ++npix;
-          }
+      const float* q = wmap + o;
+      for (int x = 0; x < mw; ++x) {
+        const float v = p[x];
+        const double wv = toVariance(wtype, q[x], 1.0f);
+        if (wv < wthresh && detail::isValidPixel(v)) {
+          wsum += wv;
+          wsumSq += wv * wv;
+          const double d = v;
+          sum += d;
+          sumSq += d * d;
+          ++npix;
         }
       }
     }
     bool isBad = static_cast<float>(npix) <
-                 static_cast<float>(static_cast<double>(mw) * statCount * kMinGoodFraction);
+                 static_cast<float>(static_cast<double>(mw) * stat.count * kMinGoodFraction);
     if (!isBad) {
       // Pass 2: the same within mean +- 2 sigma (cuts rounded to float, as SExtractor does);
       // the variance map is clipped the same way, among the pixels the image pass keeps.
@@ -214,46 +312,31 @@ void measureMeshRow(const ImageF& image, const WeightRow* wr, int bw, int bh, in
       double sigma = v2 > 0.0 ? std::sqrt(v2) : 0.0;
       const float lcut = static_cast<float>(mean - 2.0 * sigma);
       const float hcut = static_cast<float>(mean + 2.0 * sigma);
-      float wlcut = 0.0f, whcut = 0.0f;
-      if (wr) {
-        const double wmean = wsum / static_cast<double>(npix);
-        const double wv2 = wsumSq / static_cast<double>(npix) - wmean * wmean;
-        const double wsigma = wv2 > 0.0 ? std::sqrt(wv2) : 0.0;
-        wlcut = static_cast<float>(wmean - 2.0 * wsigma);
-        whcut = static_cast<float>(wmean + 2.0 * wsigma);
-      }
+      const double wmean = wsum / static_cast<double>(npix);
+      const double wv2 = wsumSq / static_cast<double>(npix) - wmean * wmean;
+      const double wsigma = wv2 > 0.0 ? std::sqrt(wv2) : 0.0;
+      const float wlcut = static_cast<float>(wmean - 2.0 * wsigma);
+      const float whcut = static_cast<float>(wmean + 2.0 * wsigma);
       sum = sumSq = wsum = wsumSq = 0.0;
       npix = 0;
       std::int64_t wnpix = 0;
-      for (int r = 0; r < statCount; ++r) {
+      for (int r = 0; r < stat.count; ++r) {
         const std::int64_t o = statRow(r) + x0;
         const float* p = image.data() + o;
-        if (!wr) {
-          for (int x = 0; x < mw; ++x) {
-            const float v = p[x];
-            if (v <= hcut && v >= lcut) {
-              const double d = v;
-              sum += d;
-              sumSq += d * d;
-              ++npix;
-            }
-          }
-        } else {
-          const float* q = wmap + o;
-          for (int x = 0; x < mw; ++x) {
-            const float v = p[x];
-            const float wv = toVariance(wtype, q[x], 1.0f);
-            if (wv < wthresh && v <= hcut && v >= lcut) {
-              const double d = v;
-              sum += d;
-              sumSq += d * d;
-              ++npix;
-              if (wv <= whcut && wv >= wlcut) {
-                const double dw = wv;
-                wsum += dw;
-                wsumSq += dw * dw;
-                ++wnpix;
-              }
+        const float* q = wmap + o;
+        for (int x = 0; x < mw; ++x) {
+          const float v = p[x];
+          const float wv = toVariance(wtype, q[x], 1.0f);
+          if (wv < wthresh && v <= hcut && v >= lcut) {
+            const double d = v;
+            sum += d;
+            sumSq += d * d;
+            ++npix;
+            if (wv <= whcut && wv >= wlcut) {
+              const double dw = wv;
+              wsum += dw;
+              wsumSq += dw * dw;
+              ++wnpix;
             }
           }
         }
@@ -263,49 +346,49 @@ void measureMeshRow(const ImageF& image, const WeightRow* wr, int bw, int bh, in
       } else {
         finishStat(m, sum, sumSq, npix);
         // An empty variance selection gives NaN statistics, as in SExtractor.
-        if (wr) finishStat(wm, wsum, wsumSq, wnpix);
+        finishStat(wm, wsum, wsumSq, wnpix);
       }
     }
 
     if (isBad) {
       bad[k] = 1;
       level[k] = rms[k] = 0.0f;
-      if (wr) wr->level[k] = wr->rms[k] = 0.0f;
+      wr.level[k] = wr.rms[k] = 0.0f;
       continue;
     }
     // Pass 3: histograms of every pixel of the mesh (not only the sampled rows).
     histo.assign(static_cast<std::size_t>(m.nlevels), 0);
+    whisto.assign(static_cast<std::size_t>(std::max(wm.nlevels, 1)), 0);
     const Binner bin(m);
-    if (!wr) {
-      for (int r = 0; r < rows; ++r) {
-        const float* p = image.data() + (y0 + r) * w + x0;
-        for (int x = 0; x < mw; ++x) {
-          const int b = bin(p[x]);
-          if (b >= 0) ++histo[static_cast<std::size_t>(b)];
-        }
-      }
-    } else {
-      whisto.assign(static_cast<std::size_t>(std::max(wm.nlevels, 1)), 0);
-      const Binner wbin(wm);
-      for (int r = 0; r < rows; ++r) {
-        const std::int64_t o = (y0 + r) * w + x0;
-        const float* p = image.data() + o;
-        const float* q = wmap + o;
-        for (int x = 0; x < mw; ++x) {
-          const int b = bin(p[x]);
-          const float wv = toVariance(wtype, q[x], 1.0f);
-          if (wv < wthresh && b >= 0) {
-            ++histo[static_cast<std::size_t>(b)];
-            const int wb = wbin(wv);
-            if (wb >= 0) ++whisto[static_cast<std::size_t>(wb)];
-          }
+    const Binner wbin(wm);
+    for (int r = 0; r < rows; ++r) {
+      const std::int64_t o = (y0 + r) * w + x0;
+      const float* p = image.data() + o;
+      const float* q = wmap + o;
+      for (int x = 0; x < mw; ++x) {
+        const int b = bin(p[x]);
+        const float wv = toVariance(wtype, q[x], 1.0f);
+        if (wv < wthresh && b >= 0) {
+          ++histo[static_cast<std::size_t>(b)];
+          const int wb = wbin(wv);
+          if (wb >= 0) ++whisto[static_cast<std::size_t>(wb)];
         }
       }
     }
     bad[k] = 0;
-    histogramMode(m, histo, level[k], rms[k]);
-    if (wr) histogramMode(wm, whisto, wr->level[k], wr->rms[k]);
+    histogramMode(m, histo, scratch, level[k], rms[k]);
+    histogramMode(wm, whisto, scratch, wr.level[k], wr.rms[k]);
   }
+}
+
+// Everything about one row of meshes: statistics, histogram, mode; the same for the variance
+// map when `wr` is given (SExtractor's backstat / backhisto / backguess).
+void measureMeshRow(const ImageF& image, const WeightRow* wr, int bw, int bh, int nx, int ny, int j,
+                    float* level, float* rms, unsigned char* bad) {
+  if (wr)
+    measureWeightedMeshRow(image, *wr, bw, bh, nx, ny, j, level, rms, bad);
+  else
+    measurePlainMeshRow(image, bw, bh, nx, ny, j, level, rms, bad);
 }
 
 // Natural-spline second derivatives along y for every mesh column, with SExtractor's scaling
@@ -505,9 +588,9 @@ MeshBackground MeshBackground::estimate(const ImageF& image, const MeshBackgroun
 
   // Global level and noise: medians of the grids. A zero median rms falls back on the median of
   // the positive meshes, and to 1 (with a warning) when no mesh has any noise.
-  std::vector<float> all(b.meshLevel_.pixels());
+  std::vector<float> all(b.meshLevel_.data(), b.meshLevel_.data() + b.meshLevel_.size());
   b.globalLevelAdu_ = detail::medianInPlace(all);
-  all = b.meshRms_.pixels();
+  all.assign(b.meshRms_.data(), b.meshRms_.data() + b.meshRms_.size());
   float sigma = detail::medianInPlace(all);  // `all` is sorted now
   if (sigma <= 0.0f) {
     const auto firstPositive = std::upper_bound(all.begin(), all.end(), 0.0f);
@@ -557,7 +640,6 @@ MeshBackground MeshBackground::estimate(const ImageF& image, const MeshBackgroun
   // first pixel and resets it at the first pixel past each mesh centre; replaying that walk
   // once gives the exact per-column values, the same for every row.
   const std::int64_t w = b.width_;
-  b.xNode_.assign(static_cast<std::size_t>(w), 0);
   b.xDx_.assign(static_cast<std::size_t>(w), 0.0f);
   b.xCdx_.assign(static_cast<std::size_t>(w), 0.0f);
   b.xDx3_.assign(static_cast<std::size_t>(w), 0.0f);
@@ -575,7 +657,8 @@ MeshBackground MeshBackground::estimate(const ImageF& image, const MeshBackgroun
         dx = dxAfterNode;
       }
       const float cdx = 1.0f - dx;
-      b.xNode_[x] = node;
+      if (b.xRuns_.empty() || b.xRuns_.back().node != node) b.xRuns_.push_back({x, x, node});
+      b.xRuns_.back().end = x + 1;
       b.xDx_[x] = dx;
       b.xCdx_[x] = cdx;
       b.xDx3_[x] = dx * dx - 1.0f;
@@ -590,10 +673,15 @@ MeshBackground MeshBackground::estimate(const ImageF& image, const MeshBackgroun
 }
 
 void MeshBackground::interpolateRow(const ImageF& grid, const std::vector<float>& d2y,
-                                    std::int64_t y, float* out) const {
+                                    std::int64_t y, float* out, bool subtract) const {
   const int nx = nx_, ny = ny_;
   // Nodes of this row: spline along y through each mesh column (float, SExtractor's order).
-  std::vector<float> node(static_cast<std::size_t>(nx)), dnode(static_cast<std::size_t>(nx), 0.0f);
+  // The buffers are kept per thread: rows are interpolated one by one, often by several threads.
+  thread_local std::vector<float> buffers;
+  buffers.assign(3 * static_cast<std::size_t>(nx), 0.0f);
+  float* node = buffers.data();
+  float* dnode = node + nx;
+  float* u = dnode + nx;
   if (ny > 1) {
     float dy = static_cast<float>(static_cast<float>(y) / static_cast<float>(meshHeight_) - 0.5);
     int yl = static_cast<int>(dy);
@@ -615,7 +703,6 @@ void MeshBackground::interpolateRow(const ImageF& grid, const std::vector<float>
     for (int x = 0; x < nx; ++x) node[x] = cdy * lo[x] + dy * hi[x] + cdy3 * dlo[x] + dy3 * dhi[x];
     // Second derivatives along x through the nodes.
     if (nx > 1) {
-      std::vector<float> u(static_cast<std::size_t>(nx), 0.0f);
       for (int k = 1; k < nx - 1; ++k) {
         float t = -1.0f / (dnode[k - 1] + 4.0f);
         dnode[k] = t;
@@ -629,32 +716,41 @@ void MeshBackground::interpolateRow(const ImageF& grid, const std::vector<float>
   } else {
     // One mesh row: SExtractor uses the grid itself with zero second derivatives, which makes
     // the interpolation along x linear.
-    std::copy(grid.data(), grid.data() + nx, node.begin());
+    std::copy(grid.data(), grid.data() + nx, node);
   }
 
   const std::int64_t w = width_;
+  // The same arithmetic for both uses: the row value is computed in float, then stored or
+  // subtracted (so that subtracting gives exactly row - levelRow).
+  auto emit = [out, subtract](std::int64_t x, float value) {
+    if (subtract)
+      out[x] -= value;
+    else
+      out[x] = value;
+  };
   if (nx == 1) {
-    std::fill(out, out + w, node[0]);
+    for (std::int64_t x = 0; x < w; ++x) emit(x, node[0]);
     return;
   }
   if (meshWidth_ == 1) {  // one node per column
-    std::copy(node.begin(), node.begin() + w, out);
+    for (std::int64_t x = 0; x < w; ++x) emit(x, node[x]);
     return;
   }
-  // Columns sharing a node interval form contiguous runs; the inner loop vectorises.
-  std::int64_t x = 0;
-  while (x < w) {
-    const int k = xNode_[x];
-    std::int64_t end = x;
-    while (end < w && xNode_[end] == k) ++end;
+  // Columns sharing a node interval form contiguous runs; the inner loops vectorise.
+  const float* dx = xDx_.data();
+  const float* cdx = xCdx_.data();
+  const float* dx3 = xDx3_.data();
+  const float* cdx3 = xCdx3_.data();
+  for (const XRun& run : xRuns_) {
+    const int k = run.node;
     const float blo = node[k], bhi = node[k + 1], dlo = dnode[k], dhi = dnode[k + 1];
-    const float* dx = xDx_.data();
-    const float* cdx = xCdx_.data();
-    const float* dx3 = xDx3_.data();
-    const float* cdx3 = xCdx3_.data();
-    for (std::int64_t i = x; i < end; ++i)
-      out[i] = cdx[i] * (blo + cdx3[i] * dlo) + dx[i] * (bhi + dx3[i] * dhi);
-    x = end;
+    if (subtract) {
+      for (std::int64_t i = run.begin; i < run.end; ++i)
+        out[i] -= cdx[i] * (blo + cdx3[i] * dlo) + dx[i] * (bhi + dx3[i] * dhi);
+    } else {
+      for (std::int64_t i = run.begin; i < run.end; ++i)
+        out[i] = cdx[i] * (blo + cdx3[i] * dlo) + dx[i] * (bhi + dx3[i] * dhi);
+    }
   }
 }
 
@@ -664,17 +760,15 @@ float MeshBackground::pixelVariance(float weightPixel) const {
 }
 
 void MeshBackground::levelRow(std::int64_t y, float* out) const {
-  interpolateRow(meshLevel_, levelD2y_, y, out);
+  interpolateRow(meshLevel_, levelD2y_, y, out, false);
 }
 
 void MeshBackground::rmsRow(std::int64_t y, float* out) const {
-  interpolateRow(meshRms_, rmsD2y_, y, out);
+  interpolateRow(meshRms_, rmsD2y_, y, out, false);
 }
 
 void MeshBackground::subtractRow(std::int64_t y, float* row) const {
-  std::vector<float> line(static_cast<std::size_t>(width_));
-  levelRow(y, line.data());
-  for (std::int64_t x = 0; x < width_; ++x) row[x] -= line[x];
+  interpolateRow(meshLevel_, levelD2y_, y, row, true);
 }
 
 void MeshBackground::fillImage(ImageF& out, bool isLevel) const {

@@ -123,8 +123,9 @@ class MeshBackground {
   const ImageF& meshRms() const { return meshRms_; }
 
  private:
-  void interpolateRow(const ImageF& grid, const std::vector<float>& d2y, std::int64_t y,
-                      float* out) const;
+  // Writes the interpolated row into out, or subtracts it from out when `subtract`.
+  void interpolateRow(const ImageF& grid, const std::vector<float>& d2y, std::int64_t y, float* out,
+                      bool subtract) const;
   void fillImage(ImageF& out, bool isLevel) const;
 
   std::int64_t width_ = 0;
@@ -147,7 +148,13 @@ class MeshBackground {
   std::vector<float> levelD2y_;  // spline second derivatives along y (SExtractor's scaling)
   std::vector<float> rmsD2y_;
   // Per-column interpolation coefficients along x (they do not depend on the row).
-  std::vector<std::int32_t> xNode_;  // left node of the interval used at column x
+  // Columns [begin, end) interpolate between nodes `node` and `node + 1`; the runs are
+  // contiguous and in increasing order.
+  struct XRun {
+    std::int64_t begin, end;
+    int node;
+  };
+  std::vector<XRun> xRuns_;
   std::vector<float> xDx_, xCdx_, xDx3_, xCdx3_;
 };
 

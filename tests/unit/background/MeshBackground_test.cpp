@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -417,6 +418,69 @@ TEST(MeshBackground, ResultsDoNotDependOnThreadCount) {
   EXPECT_EQ(one.globalSigmaAdu(), five.globalSigmaAdu());
 }
 
+// Number of pixels whose bit patterns differ (NaN included).
+std::int64_t bitDifferences(const ImageF& a, const ImageF& b) {
+  if (a.width() != b.width() || a.height() != b.height()) return -1;
+  std::int64_t n = 0;
+  for (std::int64_t i = 0; i < a.size(); ++i)
+    n += std::bit_cast<std::uint32_t>(a[i]) != std::bit_cast<std::uint32_t>(b[i]);
+  return n;
+}
+
+TEST(MeshBackground, PlainStatisticsMatchTheUnitWeightPath) {
+  // Without a weight map the mesh statistics run several meshes at a time with branch-free
+  // selections; with a weight map of ones (all variances 1, below the default threshold) the
+  // mesh-by-mesh loops select exactly the same pixels. The image maps must agree bit for bit, on
+  // images with NaN, infinite and blank (-1e30) pixels, bad meshes, a constant mesh, partial
+  // meshes and groups of 8, 4 and single meshes.
+  struct Case {
+    std::int64_t width, height;
+    int meshWidth, meshHeight;
+  };
+  for (const Case c : {Case{64 * 13 + 17, 64 * 3 + 5, 64, 64}, Case{64 * 16, 64 * 2, 64, 64},
+                       Case{301, 97, 7, 5}, Case{250, 90, 32, 16}, Case{17000, 130, 64, 64}}) {
+    ImageF image = test::skyWithGradient(c.width, c.height, 100.0, 0.003, -0.01, 3.0, 99);
+    test::addSources(image, static_cast<int>(c.width * c.height / 3000), 800.0, 100);
+    std::mt19937 rng(5);
+    std::uniform_int_distribution<std::int64_t> pick(0, image.size() - 1);
+    // The float just above -1e30 is a valid pixel; -1e30f itself is blank.
+    const float specials[] = {std::numeric_limits<float>::quiet_NaN(),
+                              std::numeric_limits<float>::infinity(),
+                              -std::numeric_limits<float>::infinity(),
+                              -1e30f,
+                              -1.1e30f,
+                              std::nextafter(-1e30f, 0.0f),
+                              9e29f};
+    for (int k = 0; k < 700; ++k) image[pick(rng)] = specials[k % 7];
+    // Mesh (1, 1) entirely blank, mesh (2, 0) more than half NaN, mesh (0, 1) constant.
+    for (int y = 0; y < c.meshHeight; ++y)
+      for (int x = 0; x < c.meshWidth; ++x) {
+        image(c.meshWidth + x, c.meshHeight + y) = -1e30f;
+        if (x * 3 < c.meshWidth * 2)
+          image(2 * c.meshWidth + x, y) = std::numeric_limits<float>::quiet_NaN();
+        image(x, c.meshHeight + y) = 42.0f;
+      }
+    ImageF ones(c.width, c.height);
+    for (std::int64_t i = 0; i < ones.size(); ++i) ones[i] = 1.0f;
+    WeightMap unit;
+    unit.pixels = &ones;
+    MeshBackgroundSettings s;
+    s.meshWidth = c.meshWidth;
+    s.meshHeight = c.meshHeight;
+    s.threadCount = 2;
+    const MeshBackground plain = MeshBackground::estimate(image, s);
+    const MeshBackground weighted = MeshBackground::estimate(image, s, unit);
+    SCOPED_TRACE(std::to_string(c.width) + "x" + std::to_string(c.height) + " mesh " +
+                 std::to_string(c.meshWidth) + "x" + std::to_string(c.meshHeight));
+    EXPECT_EQ(bitDifferences(plain.meshLevels(), weighted.meshLevels()), 0);
+    EXPECT_EQ(bitDifferences(plain.meshRms(), weighted.meshRms()), 0);
+    EXPECT_EQ(bitDifferences(plain.levelImage(), weighted.levelImage()), 0);
+    EXPECT_EQ(bitDifferences(plain.rmsImage(), weighted.rmsImage()), 0);
+    EXPECT_EQ(plain.globalLevelAdu(), weighted.globalLevelAdu());
+    EXPECT_EQ(plain.globalSigmaAdu(), weighted.globalSigmaAdu());
+  }
+}
+
 TEST(MeshBackground, RowApiMatchesFullMaps) {
   ImageF image = test::skyWithGradient(333, 222, 10.0, 0.02, 0.03, 1.0, 5);
   MeshBackgroundSettings s;
@@ -434,6 +498,33 @@ TEST(MeshBackground, RowApiMatchesFullMaps) {
     std::copy(image.data() + y * 333, image.data() + (y + 1) * 333, row.begin());
     b.subtractRow(y, row.data());
     for (std::int64_t x = 0; x < 333; ++x) ASSERT_EQ(row[x], image(x, y) - level(x, y));
+  }
+}
+
+TEST(MeshBackground, SubtractRowIsRowMinusLevelForEveryGridShape) {
+  // subtractRow interpolates and subtracts in one pass; it must equal row - levelRow exactly for
+  // the general spline, one mesh column (constant rows), 1-pixel-wide meshes (one node per
+  // column) and one mesh row (linear interpolation along x).
+  struct Shape {
+    std::int64_t width, height;
+    int meshWidth, meshHeight;
+  };
+  for (const Shape c : {Shape{333, 222, 40, 30}, Shape{50, 70, 64, 16}, Shape{40, 90, 1, 30},
+                        Shape{300, 20, 32, 64}, Shape{129, 65, 64, 64}}) {
+    const ImageF image = test::skyWithGradient(c.width, c.height, 10.0, 0.02, 0.03, 1.0, 8);
+    MeshBackgroundSettings s;
+    s.meshWidth = c.meshWidth;
+    s.meshHeight = c.meshHeight;
+    const MeshBackground b = MeshBackground::estimate(image, s);
+    std::vector<float> level(static_cast<std::size_t>(c.width)), row(level.size());
+    for (std::int64_t y = 0; y < c.height; ++y) {
+      b.levelRow(y, level.data());
+      std::copy(image.data() + y * c.width, image.data() + (y + 1) * c.width, row.begin());
+      b.subtractRow(y, row.data());
+      for (std::int64_t x = 0; x < c.width; ++x)
+        ASSERT_EQ(row[x], image(x, y) - level[x])
+            << "x " << x << " y " << y << " shape " << c.width << "x" << c.height;
+    }
   }
 }
 
