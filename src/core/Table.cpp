@@ -20,8 +20,15 @@ int Table::findColumn(std::string_view name) const {
 }
 
 double* Table::appendRow() {
+  double* r = appendRowUnset();
+  std::fill_n(r, rowWidth_, 0.0);
+  return r;
+}
+
+double* Table::appendRowUnset() {
   if (rows_ % kChunkRows == 0) {
-    chunks_.emplace_back(std::size_t(kChunkRows * std::max(rowWidth_, 1)), 0.0);
+    // Not zero-filled here: each row's memory is first written by whoever fills the row.
+    chunks_.emplace_back(std::size_t(kChunkRows * std::max(rowWidth_, 1)));
   }
   ++rows_;
   return row(rows_ - 1);
@@ -39,7 +46,7 @@ void Table::filterRows(const std::vector<bool>& keep) {
   // appendRow() keeps handing out zero-filled rows.
   chunks_.resize(std::size_t((rows_ + kChunkRows - 1) / kChunkRows));
   if (rows_ % kChunkRows != 0) {
-    std::vector<double>& last = chunks_.back();
+    auto& last = chunks_.back();
     std::fill(last.begin() + std::ptrdiff_t((rows_ % kChunkRows) * rowWidth_), last.end(), 0.0);
   }
 }

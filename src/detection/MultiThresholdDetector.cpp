@@ -206,7 +206,9 @@ struct Detector {
       std::int64_t* dst = seg.pixels.data();
       for (const Run& run : s.cur) {
         const std::int64_t base = static_cast<std::int64_t>(run.y) * width;
-        for (std::int32_t x = run.x0; x <= run.x1; ++x) *dst++ = base + x;
+        const std::int32_t length = run.x1 - run.x0 + 1;
+        for (std::int32_t i = 0; i < length; ++i) dst[i] = base + run.x0 + i;
+        dst += length;
       }
     }
     s.curNode.assign(s.cur.size(), 0);
@@ -255,19 +257,23 @@ struct Detector {
         out.parentIndex.push_back(s.nextNode[s.firstRun[c]]);
         Segment& seg = out.segments.back();
         seg.level = level;
-        seg.pixels.reserve(static_cast<std::size_t>(s.area[c]));
+        seg.pixels.resize(static_cast<std::size_t>(s.area[c]));
+        s.area[c] = 0;  // from here on: pixels written so far
       }
       s.cur.clear();
       s.curNode.clear();
       for (std::int32_t r = 0; r < n; ++r) {
-        const std::int32_t node = s.labelNode[s.label[r]];
+        const std::int32_t c = s.label[r];
+        const std::int32_t node = s.labelNode[c];
         if (node < 0) continue;
         const Run& run = s.next[r];
         s.cur.push_back(run);
         s.curNode.push_back(node);
-        std::vector<std::int64_t>& pixels = out.segments[node].pixels;
-        const std::int64_t base = static_cast<std::int64_t>(run.y) * width;
-        for (std::int32_t x = run.x0; x <= run.x1; ++x) pixels.push_back(base + x);
+        std::int64_t* dst = out.segments[node].pixels.data() + s.area[c];
+        const std::int64_t first = static_cast<std::int64_t>(run.y) * width + run.x0;
+        const std::int32_t length = run.x1 - run.x0 + 1;
+        for (std::int32_t i = 0; i < length; ++i) dst[i] = first + i;
+        s.area[c] += length;
       }
     }
   }

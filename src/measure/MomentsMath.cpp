@@ -6,6 +6,27 @@
 
 namespace octarc {
 
+void IsoMomentAccumulator::addAll(std::span<const double> x, std::span<const double> y,
+                                  std::span<const double> w) {
+  double sw = sw_, swx = swx_, swy = swy_, swxx = swxx_, swyy = swyy_, swxy = swxy_;
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    const float dx = float(x[i] - x0_), dy = float(y[i] - y0_), wf = float(w[i]);
+    const float wdx = wf * dx, wdy = wf * dy;
+    sw += wf;
+    swx += wdx;
+    swy += wdy;
+    swxx += wdx * dx;
+    swyy += wdy * dy;
+    swxy += wdx * dy;
+  }
+  sw_ = sw;
+  swx_ = swx;
+  swy_ = swy;
+  swxx_ = swxx;
+  swyy_ = swyy;
+  swxy_ = swxy;
+}
+
 IsoMoments IsoMomentAccumulator::result() const {
   IsoMoments m;
   m.flux = sw_;

@@ -316,7 +316,7 @@ int runDetect(const std::vector<std::string>& args) {
             restoreVariance();
             if (runs) runs->add(objs);
             for (Segment& o : objs) {
-              double* row = levelTables[std::size_t(o.level - 1)].appendRow();
+              double* row = levelTables[std::size_t(o.level - 1)].appendRowUnset();
               queue.add(std::move(o), row);
             }
           });

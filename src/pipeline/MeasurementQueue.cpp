@@ -30,13 +30,20 @@ MeasurementQueue::~MeasurementQueue() {
 
 void MeasurementQueue::add(Segment&& segment, double* row) {
   if (workers_.empty()) {
-    plan_.measure(segment, context_, row);
+    measureInto(segment, row);
     return;
   }
   open_.pixels += segment.pixels.size();
   open_.segments.push_back(std::move(segment));
   open_.rows.push_back(row);
   if (open_.segments.size() >= kJobObjects || open_.pixels >= kJobPixels) submit();
+}
+
+void MeasurementQueue::measureInto(const Segment& segment, double* row) const {
+  // Rows may come unset (Table::appendRowUnset): the first write to them happens here, on the
+  // measuring thread.
+  std::fill_n(row, plan_.rowWidth(), 0.0);
+  plan_.measure(segment, context_, row);
 }
 
 void MeasurementQueue::submit() {
@@ -67,7 +74,7 @@ void MeasurementQueue::work() {
     }
     try {
       for (std::size_t i = 0; i < job.segments.size(); ++i) {
-        plan_.measure(job.segments[i], context_, job.rows[i]);
+        measureInto(job.segments[i], job.rows[i]);
       }
     } catch (...) {
       std::lock_guard lock(mutex_);

@@ -4,34 +4,11 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <memory>
 #include <vector>
 
-namespace octarc {
+#include "octarc/core/UninitializedAllocator.h"
 
-// An allocator that leaves new elements of trivial types uninitialised when no value is given:
-// a large image that is about to be overwritten (read from a file) is then not zero-filled
-// first, and its pages are first touched by the threads that fill them.
-template <typename T>
-class UninitializedAllocator : public std::allocator<T> {
- public:
-  template <typename U>
-  struct rebind {
-    using other = UninitializedAllocator<U>;
-  };
-  UninitializedAllocator() = default;
-  template <typename U>
-  UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
-  template <typename U>
-  void construct(U* p) noexcept {
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <typename U, typename... Args>
-  void construct(U* p, Args&&... args) {
-    std::allocator_traits<std::allocator<U>>::construct(*reinterpret_cast<std::allocator<U>*>(this),
-                                                        p, std::forward<Args>(args)...);
-  }
-};
+namespace octarc {
 
 // Tag for the Image constructor that leaves the pixels unset.
 struct UninitializedPixels {};

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "octarc/core/Column.h"
+#include "octarc/core/UninitializedAllocator.h"
 
 namespace octarc {
 
@@ -30,6 +31,9 @@ class Table {
   std::int64_t rows() const { return rows_; }
   // Appends a row filled with zeros and returns a pointer to it.
   double* appendRow();
+  // Appends a row whose values are unset, for a caller that writes all of them (possibly on
+  // another thread: the row's memory is then first touched there).
+  double* appendRowUnset();
   double* row(std::int64_t r) {
     return chunks_[std::size_t(r / kChunkRows)].data() + (r % kChunkRows) * rowWidth_;
   }
@@ -52,7 +56,8 @@ class Table {
   // Small enough that many short tables (one per threshold level) waste little.
   static constexpr std::int64_t kChunkRows = 1024;
   std::int64_t rows_ = 0;
-  std::vector<std::vector<double>> chunks_;  // each sized for kChunkRows rows
+  // Each sized for kChunkRows rows.
+  std::vector<std::vector<double, UninitializedAllocator<double>>> chunks_;
 };
 
 }  // namespace octarc

@@ -48,6 +48,8 @@ class IsoMomentAccumulator {
     swyy_ += w * dy * dy;
     swxy_ += w * dx * dy;
   }
+  // add() for every sample in order (the same sums, kept in registers).
+  void addAll(std::span<const double> x, std::span<const double> y, std::span<const double> w);
   // X2 = sum w dx^2 / F - <dx>^2 etc., then the singular fix of core/Conventions.h.
   IsoMoments result() const;
 

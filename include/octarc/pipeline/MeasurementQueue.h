@@ -27,9 +27,9 @@ class MeasurementQueue {
   MeasurementQueue(const MeasurementQueue&) = delete;
   MeasurementQueue& operator=(const MeasurementQueue&) = delete;
 
-  // Queues `segment` to be measured into `row` (plan.rowWidth() values that stay valid until
-  // finish() returns). Blocks while too much work is pending, so that pixel lists never pile
-  // up. Rethrows the first error of a worker.
+  // Queues `segment` to be measured into `row` (plan.rowWidth() values, set here whatever they
+  // held, that stay valid until finish() returns). Blocks while too much work is pending, so that
+  // pixel lists never pile up. Rethrows the first error of a worker.
   void add(Segment&& segment, double* row);
   // Waits until every queued object is measured; rethrows the first error of a worker.
   void finish();
@@ -40,6 +40,7 @@ class MeasurementQueue {
     std::vector<double*> rows;
     std::size_t pixels = 0;
   };
+  void measureInto(const Segment& segment, double* row) const;
   void submit();
   void work();
   void rethrow();

@@ -38,7 +38,17 @@ void IsophotalPhotometry::measure(const Segment& segment, const MeasureContext& 
   double flux = 0.0, fluxMax = -HUGE_VAL, varianceSum = 0.0, poissonVar = 0.0;
   std::int64_t used = 0, isoArea = 0;
   const ObjectPixels& pixels = *state.pixels;
-  for (std::size_t i = 0; i < pixels.size(); ++i) {
+  const bool fast = !context.variance && pixels.valuesFinite && std::isfinite(sigma2);
+  if (fast) {
+    // The usual case (no variance map, no bad pixel), without tests per pixel.
+    const std::size_t n = pixels.size();
+    const double threshold = haveLevel ? analysisAdu : -HUGE_VAL;
+    for (std::size_t i = 0; i < n; ++i) flux += pixels.value[i];
+    for (std::size_t i = 0; i < n; ++i) fluxMax = std::max(fluxMax, pixels.value[i]);
+    for (std::size_t i = 0; i < n; ++i) isoArea += pixels.value[i] > threshold;
+    used = std::int64_t(n);
+  }
+  for (std::size_t i = 0; i < pixels.size() && !fast; ++i) {
     const double v = pixels.value[i];
     const double var = context.variance ? pixels.variance[i] : sigma2;
     if (!std::isfinite(v) || !std::isfinite(var)) {

@@ -1,5 +1,6 @@
 #include "octarc/measure/plugins/IsophotalShape.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "octarc/core/Conventions.h"
@@ -68,16 +69,24 @@ void IsophotalShape::measure(const Segment& segment, const MeasureContext& conte
   double peak = -HUGE_VAL;
   std::int64_t peakIndex = -1;
   const std::vector<double>& detection = pixels.detectionValues();
-  for (std::size_t i = 0; i < pixels.size(); ++i) {
-    const double f = detection[i];
-    if (!std::isfinite(f)) {
-      state.octFlags |= octflag::kBadPixels;  // left out of every sum
-      continue;
+  const std::size_t n = pixels.size();
+  bool allFinite = true;
+  for (std::size_t i = 0; i < n; ++i) allFinite &= std::fabs(detection[i]) < HUGE_VAL;
+  if (allFinite) {
+    // The usual case, without a test per pixel: the sums, then the peak.
+    sums.addAll(pixels.x, pixels.y, detection);
+    for (std::size_t i = 0; i < n; ++i) peak = std::max(peak, detection[i]);
+  } else {
+    state.octFlags |= octflag::kBadPixels;  // left out of every sum
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!std::isfinite(detection[i])) continue;
+      sums.add(pixels.x[i], pixels.y[i], detection[i]);
+      peak = std::max(peak, detection[i]);
     }
-    sums.add(pixels.x[i], pixels.y[i], f);
-    // Ties go to the first pixel in raster order.
-    if (f > peak || (f == peak && segment.pixels[i] < peakIndex)) {
-      peak = f;
+  }
+  // Ties go to the first pixel in raster order.
+  for (std::size_t i = 0; i < n && std::isfinite(peak); ++i) {
+    if (detection[i] == peak && (peakIndex < 0 || segment.pixels[i] < peakIndex)) {
       peakIndex = segment.pixels[i];
     }
   }
