@@ -66,5 +66,18 @@ TEST(Table, ManyRowsAcrossChunksKeepTheirValuesAndPointers) {
   EXPECT_EQ(again[4], 0.0);
 }
 
+TEST(Table, UnsetRowsAreWrittenByTheCallerAndZeroRowsStayZero) {
+  Table t = makeTable();
+  for (int i = 0; i < 3000; ++i) {
+    double* row = t.appendRowUnset();
+    for (int c = 0; c < t.rowWidth(); ++c) row[c] = i + 0.25 * c;
+  }
+  double* zero = t.appendRow();  // a zero-filled row after unset ones, in a used chunk
+  for (int c = 0; c < t.rowWidth(); ++c) EXPECT_EQ(zero[c], 0.0) << c;
+  ASSERT_EQ(t.rows(), 3001);
+  EXPECT_DOUBLE_EQ(t.value(2999, 0), 2999.0);
+  EXPECT_DOUBLE_EQ(t.row(1234)[t.rowWidth() - 1], 1234 + 0.25 * (t.rowWidth() - 1));
+}
+
 }  // namespace
 }  // namespace octarc
