@@ -116,6 +116,7 @@ struct Detector {
   std::vector<float> thresholds;
   int levelCount;
   std::int64_t minArea;
+  bool footprintRuns;
 
   // Pixel above the lowest level. A NaN value or factor fails every comparison.
   bool aboveLowest(std::int64_t i) const {
@@ -199,7 +200,12 @@ struct Detector {
     }
     out.segments.emplace_back();
     out.parentIndex.push_back(-1);
-    {
+    if (footprintRuns) {
+      Segment& seg = out.segments.back();
+      seg.level = 1;
+      seg.runs.clear();
+      for (const Run& run : s.cur) seg.runs.push_back({run.y, run.x0, run.x1});
+    } else {
       Segment& seg = out.segments.back();
       seg.level = 1;
       seg.pixels.resize(static_cast<std::size_t>(pixelCount));
@@ -257,7 +263,7 @@ struct Detector {
         out.parentIndex.push_back(s.nextNode[s.firstRun[c]]);
         Segment& seg = out.segments.back();
         seg.level = level;
-        seg.pixels.resize(static_cast<std::size_t>(s.area[c]));
+        if (!footprintRuns) seg.pixels.resize(static_cast<std::size_t>(s.area[c]));
         s.area[c] = 0;  // from here on: pixels written so far
       }
       s.cur.clear();
@@ -269,6 +275,10 @@ struct Detector {
         const Run& run = s.next[r];
         s.cur.push_back(run);
         s.curNode.push_back(node);
+        if (footprintRuns) {
+          out.segments[node].runs.push_back({run.y, run.x0, run.x1});
+          continue;
+        }
         std::int64_t* dst = out.segments[node].pixels.data() + s.area[c];
         const std::int64_t first = static_cast<std::int64_t>(run.y) * width + run.x0;
         const std::int32_t length = run.x1 - run.x0 + 1;
@@ -413,9 +423,12 @@ std::vector<std::int64_t> detectMultiThreshold(
   threads = static_cast<int>(std::min<std::int64_t>(threads, height));
 
   const Detector detector{
-      detection, settings.thresholdScale ? settings.thresholdScale->data() : nullptr,
-      std::vector<float>(settings.thresholdsAdu.begin(), settings.thresholdsAdu.end()), levelCount,
-      settings.minArea};
+      detection,
+      settings.thresholdScale ? settings.thresholdScale->data() : nullptr,
+      std::vector<float>(settings.thresholdsAdu.begin(), settings.thresholdsAdu.end()),
+      levelCount,
+      settings.minArea,
+      settings.footprintRuns};
 
   // 1. Runs above the lowest level, by row bands; each band also links its own runs.
   std::vector<std::vector<Run>> bandRuns(threads);
@@ -577,6 +590,12 @@ void SegmentationRuns::add(const std::vector<Segment>& objects) {
       pixels = &sorted;
     }
     std::vector<Run>& runs = levels_[seg.level - 1];
+    if (seg.pixels.empty()) {
+      for (const PixelRun& r : seg.runs) {
+        runs.push_back({r.y, r.x0, static_cast<std::int32_t>(r.length()), seg.number});
+      }
+      continue;
+    }
     for (std::size_t i = 0; i < pixels->size();) {
       const std::int64_t start = (*pixels)[i];
       const std::int64_t y = start / width_;

@@ -271,6 +271,7 @@ int runDetect(const std::vector<std::string>& args) {
     for (const ThresholdLevel& l : levels) detection.thresholdsAdu.push_back(l.thresholdAdu);
     detection.minArea = s.minAreaPix;
     detection.threads = threads;
+    detection.footprintRuns = true;
     // With a weight map, RELATIVE levels follow the local noise: pixel i is above level k when
     // f_i > t_k sqrt(var_i) (SEXTRACTOR.md section 4); ABSOLUTE levels stay in ADU. Bad weight
     // pixels (+Inf variance) and NaN weights never pass either way.

@@ -33,7 +33,7 @@ void MeasurementQueue::add(Segment&& segment, double* row) {
     measureInto(segment, row);
     return;
   }
-  open_.pixels += segment.pixels.size();
+  open_.pixels += std::size_t(segment.pixelCount());
   open_.segments.push_back(std::move(segment));
   open_.rows.push_back(row);
   if (open_.segments.size() >= kJobObjects || open_.pixels >= kJobPixels) submit();

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <thread>
 #include <limits>
+#include <thread>
 
 #include "octarc/background/GlobalBackground.h"
 #include "octarc/background/MeshBackground.h"

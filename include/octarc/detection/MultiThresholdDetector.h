@@ -33,6 +33,8 @@ struct DetectionSettings {
   const ImageF* thresholdScale = nullptr;
   // Worker threads (<= 0: all hardware threads). Results do not depend on it.
   int threads = 1;
+  // Footprints as Segment::runs (raster order, `pixels` left empty) instead of pixel lists.
+  bool footprintRuns = false;
 };
 
 // Detects every level and calls `sink` once per lowest-level component that has at least one
@@ -41,7 +43,8 @@ struct DetectionSettings {
 // first pixel in raster order (y, then x). NUMBER counts within each level (1, 2, ... in the order
 // of emission; inside a component, by first pixel in raster order); parentNumber is the NUMBER of
 // the level-below object that contains the object (0 at level 1). Pixel lists are ascending
-// linear indices y * width + x. The sink may move from or clear `objects`.
+// linear indices y * width + x (or, with footprintRuns, runs in raster order). The sink may move
+// from or clear `objects`.
 //
 // Pixels that are NaN or infinite never join an object. As in SExtractor, comparisons are in
 // single precision: f > (float)threshold, or f > (float)threshold * scale (float product).

@@ -42,15 +42,29 @@ void Footprint::measure(const Segment& segment, const MeasureContext& context, O
   const auto yMin = std::int64_t(yMinPix), yMax = std::int64_t(yMaxPix);
   bool saturated = false;
   if (context.saturatedPixels != nullptr && !context.saturatedPixels->empty()) {
-    for (const std::int64_t p : segment.pixels) {
-      if (std::binary_search(context.saturatedPixels->begin(), context.saturatedPixels->end(), p)) {
-        saturated = true;
-        break;
+    const std::vector<std::int64_t>& sat = *context.saturatedPixels;
+    if (segment.pixels.empty()) {
+      // A run holds a saturated pixel when the first saturated index at or after its start
+      // is not beyond its end.
+      for (const PixelRun& r : segment.runs) {
+        const std::int64_t first = std::int64_t(r.y) * width + r.x0;
+        const auto it = std::lower_bound(sat.begin(), sat.end(), first);
+        if (it != sat.end() && *it < first + r.length()) {
+          saturated = true;
+          break;
+        }
+      }
+    } else {
+      for (const std::int64_t p : segment.pixels) {
+        if (std::binary_search(sat.begin(), sat.end(), p)) {
+          saturated = true;
+          break;
+        }
       }
     }
   }
-  state.footprintPixels = static_cast<std::int64_t>(segment.pixels.size());
-  if (segment.pixels.empty()) {
+  state.footprintPixels = static_cast<std::int64_t>(pixels.size());
+  if (pixels.size() == 0) {
     out.set(kIsoAreaF, 0);
     out.set(kFlags, 0);
     return;

@@ -60,7 +60,7 @@ std::vector<ColumnSpec> IsophotalShape::columns() const {
   };
 }
 
-void IsophotalShape::measure(const Segment& segment, const MeasureContext& context,
+void IsophotalShape::measure(const Segment&, const MeasureContext& context,
                              ObjectState& state, const RowWriter& out) const {
   const std::int64_t width = context.measurement->width();
   const ObjectPixels& pixels = *state.pixels;
@@ -86,9 +86,9 @@ void IsophotalShape::measure(const Segment& segment, const MeasureContext& conte
   }
   // Ties go to the first pixel in raster order.
   for (std::size_t i = 0; i < n && std::isfinite(peak); ++i) {
-    if (detection[i] == peak && (peakIndex < 0 || segment.pixels[i] < peakIndex)) {
-      peakIndex = segment.pixels[i];
-    }
+    if (detection[i] != peak) continue;
+    const std::int64_t p = std::int64_t(pixels.y[i]) * width + std::int64_t(pixels.x[i]);
+    if (peakIndex < 0 || p < peakIndex) peakIndex = p;
   }
   state.iso = sums.result();
   if (peakIndex >= 0) {

@@ -379,6 +379,45 @@ TEST(MultiThresholdDetector, OutputIndependentOfThreadCount) {
   expectSameOutput(one, detect(image, settingsOf(thresholds, 3, 0)));  // all hardware threads
 }
 
+// Footprints as runs: the same objects, the runs covering exactly the pixel list, in raster
+// order, and SegmentationRuns renders the same images from either form.
+TEST(MultiThresholdDetector, FootprintRunsHoldTheSamePixels) {
+  const ImageF image = randomImage(300, 280, 77, 0.002);
+  const std::vector<double> thresholds = {1.0, 1.8, 2.6, 3.4, 5.0};
+  const Detected pixels = detect(image, settingsOf(thresholds, 3, 2));
+  DetectionSettings runSettings = settingsOf(thresholds, 3, 2);
+  runSettings.footprintRuns = true;
+  const Detected runs = detect(image, runSettings);
+  ASSERT_GT(pixels.objects.size(), 100u);
+  ASSERT_EQ(runs.objects.size(), pixels.objects.size());
+  EXPECT_EQ(runs.perLevel, pixels.perLevel);
+  SegmentationRuns fromPixels(300, 280, 5), fromRuns(300, 280, 5);
+  for (std::size_t i = 0; i < runs.objects.size(); ++i) {
+    const Segment& r = runs.objects[i];
+    const Segment& p = pixels.objects[i];
+    ASSERT_EQ(r.number, p.number);
+    ASSERT_EQ(r.parentNumber, p.parentNumber);
+    EXPECT_TRUE(r.pixels.empty());
+    EXPECT_EQ(r.pixelCount(), std::int64_t(p.pixels.size()));
+    Pixels expanded;
+    r.forEachIndex(300, [&](std::int64_t q) { expanded.push_back(q); });
+    ASSERT_EQ(expanded, p.pixels) << "object " << i;
+    for (std::size_t k = 1; k < r.runs.size(); ++k) {
+      const PixelRun& a = r.runs[k - 1];
+      const PixelRun& b = r.runs[k];
+      ASSERT_TRUE(a.y < b.y || (a.y == b.y && a.x1 + 1 < b.x0)) << "object " << i;
+    }
+  }
+  fromPixels.add(pixels.objects);
+  fromRuns.add(runs.objects);
+  ImageI32 a, b;
+  for (int level = 1; level <= 5; ++level) {
+    fromPixels.render(level, a);
+    fromRuns.render(level, b);
+    ASSERT_EQ(labelsOf(a), labelsOf(b)) << "level " << level;
+  }
+}
+
 TEST(MultiThresholdDetector, SinkExceptionPropagatesFromWorkers) {
   const ImageF image = randomImage(300, 300, 9, 0.0);
   int calls = 0;

@@ -73,5 +73,30 @@ TEST(ObjectPixels, UnfilteredDetectionIsTheMeasurementAndBuffersAreReused) {
   EXPECT_TRUE(p.valuesFinite);
 }
 
+TEST(ObjectPixels, RunsGiveTheSameArraysAsIndices) {
+  Images im;
+  im.measured[16] = std::numeric_limits<float>::infinity();
+  MeasureContext c;
+  c.measurement = &im.measured;
+  c.detection = &im.detected;
+  c.variance = &im.variance;
+  Segment indices;
+  indices.pixels = {2, 3, 4, 14, 15, 16, 17, 34};
+  Segment runs;
+  runs.runs = {{0, 2, 4}, {2, 0, 3}, {4, 6, 6}};
+  ObjectPixels a, b;
+  a.gather(indices, c);
+  b.gather(runs, c);
+  EXPECT_EQ(a.x, b.x);
+  EXPECT_EQ(a.y, b.y);
+  EXPECT_EQ(a.detectionValues(), b.detectionValues());
+  EXPECT_EQ(a.variance, b.variance);
+  ASSERT_EQ(b.size(), 8u);
+  EXPECT_EQ(b.value[2], 4.0);
+  EXPECT_EQ(b.value[7], 46.0);
+  EXPECT_FALSE(a.valuesFinite);
+  EXPECT_FALSE(b.valuesFinite);
+}
+
 }  // namespace
 }  // namespace octarc

@@ -317,8 +317,8 @@ TEST(Plugins, DegenerateObjectsGiveFlagsAndNaN) {
   ImageF img(6, 6, 0.0f);
   img(2, 2) = 7.0f;   // single pixel
   img(4, 4) = -3.0f;  // negative-flux object (possible on an unfiltered image)
-  Segment one{1, 1, 0, {img.index(2, 2)}};
-  Segment neg{2, 1, 0, {img.index(4, 4)}};
+  Segment one{1, 1, 0, {img.index(2, 2)}, {}};
+  Segment neg{2, 1, 0, {img.index(4, 4)}, {}};
   MeasureContext c;
   c.measurement = &img;
   c.detection = &img;
@@ -350,7 +350,7 @@ TEST(Plugins, DegenerateObjectsGiveFlagsAndNaN) {
 
 TEST(Plugins, SaturationAndBorderFlags) {
   ImageF img(10, 10, 0.0f);
-  Segment edge{1, 1, 0, {}}, bright{2, 1, 0, {}};
+  Segment edge{1, 1, 0, {}, {}}, bright{2, 1, 0, {}, {}};
   for (int x = 0; x < 3; ++x) {
     img(x, 5) = 1.0f;
     edge.pixels.push_back(img.index(x, 5));
@@ -367,14 +367,54 @@ TEST(Plugins, SaturationAndBorderFlags) {
   const MeasurementPlan plan = MeasurementPlan::build({{"FLAGS"}}, {}, nullptr);
   EXPECT_EQ(Row(plan, edge, c)["FLAGS"], sexflag::kTouchesBorder);
   EXPECT_EQ(Row(plan, bright, c)["FLAGS"], sexflag::kSaturated);
+  // The same footprints given as runs.
+  Segment edgeRuns{1, 1, 0, {}, {{5, 0, 2}}}, brightRuns{2, 1, 0, {}, {{2, 5, 6}}};
+  EXPECT_EQ(Row(plan, edgeRuns, c)["FLAGS"], sexflag::kTouchesBorder);
+  EXPECT_EQ(Row(plan, brightRuns, c)["FLAGS"], sexflag::kSaturated);
+  const std::vector<std::int64_t> justOutside = {img.index(4, 2), img.index(7, 2)};
+  c.saturatedPixels = &justOutside;
+  EXPECT_EQ(Row(plan, brightRuns, c)["FLAGS"], 0);
   c.saturatedPixels = nullptr;  // no saturated pixel in the image
   EXPECT_EQ(Row(plan, bright, c)["FLAGS"], 0);
+}
+
+// Every column is the same whether a footprint comes as pixel indices or as runs.
+TEST(Plugins, RunsAndPixelListsMeasureTheSame) {
+  ImageF img = smallImage();
+  MeasureContext c;
+  c.measurement = &img;
+  c.detection = &img;
+  c.sigmaAdu = 1.5;
+  c.gain = 2.0;
+  c.levels = {ThresholdLevel{1, 0.5, 0.5, 0.5}};
+  std::vector<ColumnRequest> all;
+  for (const ColumnSpec& spec : allBuiltinColumns()) all.push_back({spec.name, spec.repeat});
+  const MeasurementPlan plan = MeasurementPlan::build(all, {}, nullptr);
+  for (const Segment& s : segmentsAbove(img, 0.5)) {
+    Segment runs = s;
+    runs.pixels.clear();
+    for (const std::int64_t p : s.pixels) {
+      const std::int32_t y = std::int32_t(p / img.width()), x = std::int32_t(p % img.width());
+      if (!runs.runs.empty() && runs.runs.back().y == y && runs.runs.back().x1 + 1 == x) {
+        runs.runs.back().x1 = x;
+      } else {
+        runs.runs.push_back({y, x, x});
+      }
+    }
+    std::vector<double> a(std::size_t(plan.rowWidth())), b(a.size());
+    plan.measure(s, c, a.data());
+    plan.measure(runs, c, b.data());
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      EXPECT_TRUE(a[k] == b[k] || (std::isnan(a[k]) && std::isnan(b[k])))
+          << "object " << s.number << " value " << k;
+    }
+  }
 }
 
 TEST(Plugins, FarFromOriginGivesSameMoments) {
   // The same lopsided blob at x = 10 and x = 10000 of one wide image.
   ImageF img(10030, 24, 0.0f);
-  Segment nearObj{1, 1, 0, {}}, farObj{2, 1, 0, {}};
+  Segment nearObj{1, 1, 0, {}, {}}, farObj{2, 1, 0, {}, {}};
   for (int y = 2; y < 22; ++y)
     for (int x = 0; x < 20; ++x) {
       const double dx = x - 9.3, dy = y - 11.6;
@@ -420,7 +460,7 @@ TEST(Plugins, VarianceMapErrorsAndAnalysisThreshold) {
   var(0, 0) = 1.0f;
   var(1, 0) = 4.0f;
   var(2, 0) = 9.0f;
-  Segment s{1, 1, 0, {0, 1, 2}};
+  Segment s{1, 1, 0, {0, 1, 2}, {}};
   MeasureContext c;
   c.measurement = &img;
   c.detection = &img;
@@ -439,7 +479,7 @@ TEST(Plugins, VarianceMapErrorsAndAnalysisThreshold) {
 
 TEST(Plugins, LevelsFillIdentityColumns) {
   ImageF img(5, 5, 1.0f);
-  Segment s{7, 2, 3, {img.index(2, 2), img.index(3, 2)}};
+  Segment s{7, 2, 3, {img.index(2, 2), img.index(3, 2)}, {}};
   MeasureContext c;
   c.measurement = &img;
   c.levels = {ThresholdLevel{1, 0.5, 0.5, 1.0}, ThresholdLevel{2, 0.75, 0.9, 1.5}};

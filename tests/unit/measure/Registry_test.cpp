@@ -140,7 +140,7 @@ TEST(Registry, PlanKeepsRequestedOrderAndReportsUnknown) {
   ImageF img(4, 4, 0.0f);
   img(1, 1) = 2.0f;
   img(2, 1) = 1.0f;
-  Segment s{5, 1, 0, {img.index(1, 1), img.index(2, 1)}};
+  Segment s{5, 1, 0, {img.index(1, 1), img.index(2, 1)}, {}};
   MeasureContext c;
   c.measurement = &img;
   c.detection = &img;
