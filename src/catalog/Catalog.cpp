@@ -177,12 +177,8 @@ void writeObjects(fitsfile* f, const std::string& extname, const std::vector<con
   fits_modify_key_lng(f, "NAXIS2", LONGLONG(rows), "&", &status);
   fits_set_hdustruc(f, &status);
   detail::throwIfFitsError(status, path, "cannot write table " + extname);
-  // Several parts (FITS_1.0) follow each other in the one table.
-  std::int64_t firstRow = 0;
-  for (const Table* t : tables) {
-    detail::writeTableRows(f, *t, firstRow, path);
-    firstRow += t->rows();
-  }
+  // Several parts (FITS_1.0, or one table per level) follow each other in the one table.
+  detail::writeTableRows(f, tables, path);
 }
 
 // LDAC_IMHEAD: one row, one column holding the image cards, the run cards and END.

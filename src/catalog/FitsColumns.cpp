@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <thread>
 #include <vector>
 
 #include "octarc/catalog/Catalog.h"
@@ -290,26 +291,52 @@ std::vector<PackRun> packPlan(const Table& table, std::size_t& rowBytes) {
 
 }  // namespace
 
-void writeTableRows(fitsfile* f, const Table& table, std::int64_t firstRow,
-                    const std::string& path) {
-  std::size_t rowBytes = 0;
-  const std::vector<PackRun> plan = packPlan(table, rowBytes);
-  if (rowBytes == 0 || table.rows() == 0) return;
-  // About 4 MB per write: large enough that cfitsio writes it straight to the file.
-  const std::int64_t rowsPerBlock =
-      std::max<std::int64_t>(1, (std::int64_t(4) << 20) / std::int64_t(rowBytes));
-  std::vector<unsigned char> block;
-  for (std::int64_t r0 = 0; r0 < table.rows(); r0 += rowsPerBlock) {
-    const std::int64_t r1 = std::min(table.rows(), r0 + rowsPerBlock);
-    block.resize(std::size_t(r1 - r0) * rowBytes);
-    unsigned char* out = block.data();
-    for (std::int64_t r = r0; r < r1; ++r) {
-      const double* row = table.row(r);
+void writeTableRows(fitsfile* f, const std::vector<const Table*>& tables, const std::string& path) {
+  // Blocks of about 4 MB (large enough that cfitsio writes them straight to the file), taken
+  // across the tables in order.
+  struct Block {
+    const Table* table;
+    std::int64_t r0, r1;   // rows of `table`
+    std::int64_t fileRow;  // 0-based row in the FITS table
+  };
+  std::vector<Block> blocks;
+  std::int64_t fileRow = 0;
+  for (const Table* t : tables) {
+    std::size_t rowBytes = 0;
+    packPlan(*t, rowBytes);
+    if (rowBytes == 0) continue;
+    const std::int64_t rowsPerBlock =
+        std::max<std::int64_t>(1, (std::int64_t(4) << 20) / std::int64_t(rowBytes));
+    for (std::int64_t r0 = 0; r0 < t->rows(); r0 += rowsPerBlock) {
+      const std::int64_t r1 = std::min(t->rows(), r0 + rowsPerBlock);
+      blocks.push_back({t, r0, r1, fileRow + r0});
+    }
+    fileRow += t->rows();
+  }
+  if (blocks.empty()) return;
+  auto pack = [](const Block& b, std::vector<unsigned char>& buffer) {
+    std::size_t rowBytes = 0;
+    const std::vector<PackRun> plan = packPlan(*b.table, rowBytes);
+    buffer.resize(std::size_t(b.r1 - b.r0) * rowBytes);
+    unsigned char* out = buffer.data();
+    for (std::int64_t r = b.r0; r < b.r1; ++r) {
+      const double* row = b.table->row(r);
       for (const PackRun& run : plan) out = run.pack(row + run.first, run.count, out);
     }
+  };
+  // The next block is packed on a second thread while this one is written.
+  std::vector<unsigned char> buffers[2];
+  pack(blocks[0], buffers[0]);
+  for (std::size_t k = 0; k < blocks.size(); ++k) {
+    std::thread packer;
+    if (k + 1 < blocks.size()) {
+      packer = std::thread(pack, std::cref(blocks[k + 1]), std::ref(buffers[(k + 1) % 2]));
+    }
+    std::vector<unsigned char>& block = buffers[k % 2];
     int status = 0;
-    fits_write_tblbytes(f, LONGLONG(firstRow + r0 + 1), 1, LONGLONG(block.size()), block.data(),
+    fits_write_tblbytes(f, LONGLONG(blocks[k].fileRow + 1), 1, LONGLONG(block.size()), block.data(),
                         &status);
+    if (packer.joinable()) packer.join();
     throwIfFitsError(status, path, "cannot write catalog rows");
   }
 }

@@ -20,13 +20,12 @@ void writeColumnCards(fitsfile* f, int colnum, const ColumnSpec& column, const s
 void writeColumnData(fitsfile* f, int colnum, const Table& table, int column,
                      const std::string& path);
 
-// Writes every column of `table` as rows `firstRow`.. of a binary table whose columns are
-// exactly the table's (same order and types): rows are packed big-endian in memory (one tight
-// loop per run of same-type columns) and written in large blocks, far faster than column by
-// column for big catalogs. The table's NAXIS2 should already count these rows (then cfitsio
-// writes each byte once, with no zero fill first).
-void writeTableRows(fitsfile* f, const Table& table, std::int64_t firstRow,
-                    const std::string& path);
+// Writes the rows of `tables`, one after the other, as the rows of a binary table whose columns
+// are exactly theirs (same order and types): rows are packed big-endian in memory (one tight
+// loop per run of same-type columns), the next block while the previous one is written, and
+// written in large blocks, far faster than column by column for big catalogs. NAXIS2 should
+// already count these rows (then cfitsio writes each byte once, with no zero fill first).
+void writeTableRows(fitsfile* f, const std::vector<const Table*>& tables, const std::string& path);
 // Closes a file opened for writing and reports a failed close (a flush that did not reach disk).
 void closeWritten(fitsfile* f, const std::string& path);
 

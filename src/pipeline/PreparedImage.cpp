@@ -182,8 +182,25 @@ PreparedImage prepareImage(const std::string& imagePath, const RunSettings& sett
       out.hdu.header.number(settings.saturationKey).value_or(settings.saturationAdu);
   // SATUR_LEVEL applies to raw values, so saturated pixels are found before the background goes.
   if (out.saturationAdu > 0) {
-    for (std::int64_t p = 0; p < pixels.size(); ++p) {
-      if (pixels[p] >= out.saturationAdu) out.saturatedPixels.push_back(p);
+    // Bands of rows on every core, each listing its own pixels; joined in order.
+    const int workers =
+        int(std::min<std::int64_t>(workerThreads(settings.threads), pixels.height()));
+    std::vector<std::vector<std::int64_t>> found(std::size_t(std::max(workers, 1)));
+    const float* data = pixels.data();
+    const double level = out.saturationAdu;
+    auto scan = [&](int w) {
+      const std::int64_t begin = pixels.size() * w / workers;
+      const std::int64_t end = pixels.size() * (w + 1) / workers;
+      for (std::int64_t p = begin; p < end; ++p) {
+        if (data[p] >= level) found[std::size_t(w)].push_back(p);
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int w = 1; w < workers; ++w) pool.emplace_back(scan, w);
+    if (workers > 0) scan(0);
+    for (std::thread& t : pool) t.join();
+    for (const std::vector<std::int64_t>& band : found) {
+      out.saturatedPixels.insert(out.saturatedPixels.end(), band.begin(), band.end());
     }
   }
 
