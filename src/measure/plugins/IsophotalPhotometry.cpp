@@ -43,9 +43,12 @@ void IsophotalPhotometry::measure(const Segment& segment, const MeasureContext& 
     // The usual case (no variance map, no bad pixel), without tests per pixel.
     const std::size_t n = pixels.size();
     const double threshold = haveLevel ? analysisAdu : -HUGE_VAL;
-    for (std::size_t i = 0; i < n; ++i) flux += pixels.value[i];
-    for (std::size_t i = 0; i < n; ++i) fluxMax = std::max(fluxMax, pixels.value[i]);
-    for (std::size_t i = 0; i < n; ++i) isoArea += pixels.value[i] > threshold;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double v = pixels.value[i];
+      flux += v;
+      fluxMax = std::max(fluxMax, v);
+      isoArea += v > threshold;
+    }
     used = std::int64_t(n);
   }
   for (std::size_t i = 0; i < pixels.size() && !fast; ++i) {

@@ -60,8 +60,8 @@ std::vector<ColumnSpec> IsophotalShape::columns() const {
   };
 }
 
-void IsophotalShape::measure(const Segment&, const MeasureContext& context,
-                             ObjectState& state, const RowWriter& out) const {
+void IsophotalShape::measure(const Segment&, const MeasureContext& context, ObjectState& state,
+                             const RowWriter& out) const {
   const std::int64_t width = context.measurement->width();
   const ObjectPixels& pixels = *state.pixels;
   // SExtractor sums relative to (xmin, ymin) to limit round-off; keep the same origin.
@@ -70,13 +70,17 @@ void IsophotalShape::measure(const Segment&, const MeasureContext& context,
   std::int64_t peakIndex = -1;
   const std::vector<double>& detection = pixels.detectionValues();
   const std::size_t n = pixels.size();
-  bool allFinite = true;
-  for (std::size_t i = 0; i < n; ++i) allFinite &= std::fabs(detection[i]) < HUGE_VAL;
-  if (allFinite) {
-    // The usual case, without a test per pixel: the sums, then the peak.
+  // The usual case has no bad pixel: the peak and a check for NaN or infinities in one pass,
+  // then the sums without a test per pixel.
+  int bad = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    peak = std::max(peak, detection[i]);
+    bad |= int(!(std::fabs(detection[i]) < HUGE_VAL));
+  }
+  if (bad == 0) {
     sums.addAll(pixels.x, pixels.y, detection);
-    for (std::size_t i = 0; i < n; ++i) peak = std::max(peak, detection[i]);
   } else {
+    peak = -HUGE_VAL;
     state.octFlags |= octflag::kBadPixels;  // left out of every sum
     for (std::size_t i = 0; i < n; ++i) {
       if (!std::isfinite(detection[i])) continue;
