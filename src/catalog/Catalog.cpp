@@ -54,32 +54,31 @@ std::string upper(std::string s) {
   return s;
 }
 
-// The tables of one part, in output order.
-std::vector<const Table*> partTables(const CatalogPart& part, std::size_t index) {
-  std::vector<const Table*> tables{part.objects};
-  tables.insert(tables.end(), part.moreObjects.begin(), part.moreObjects.end());
-  for (const Table* t : tables) {
-    if (t == nullptr) {
-      throw std::invalid_argument("catalog part " + std::to_string(index + 1) + " has no table");
-    }
+// The rows of one part, in output order.
+detail::TableRows partRows(const CatalogPart& part, std::size_t index) {
+  if (part.objects == nullptr) {
+    throw std::invalid_argument("catalog part " + std::to_string(index + 1) + " has no table");
   }
-  return tables;
+  if (part.rowOrder != nullptr && std::int64_t(part.rowOrder->size()) != part.objects->rows()) {
+    throw std::invalid_argument("catalog part " + std::to_string(index + 1) +
+                                ": the row order does not list every row once");
+  }
+  return {part.objects, part.rowOrder};
 }
 
 void checkSameColumns(const std::string& path, const std::vector<CatalogPart>& parts) {
-  const Table& first = *partTables(parts.front(), 0).front();
+  const Table& first = *partRows(parts.front(), 0).table;
   for (std::size_t p = 0; p < parts.size(); ++p) {
-    for (const Table* t : partTables(parts[p], p)) {
-      bool same = t->columnCount() == first.columnCount();
-      for (int c = 0; same && c < t->columnCount(); ++c) {
-        same = t->columns()[std::size_t(c)].name == first.columns()[std::size_t(c)].name &&
-               t->columns()[std::size_t(c)].type == first.columns()[std::size_t(c)].type &&
-               t->columns()[std::size_t(c)].repeat == first.columns()[std::size_t(c)].repeat;
-      }
-      if (!same) {
-        throw ConfigError(path + ": image extension " + std::to_string(p + 1) +
-                          " has other catalog columns than the first one");
-      }
+    const Table* t = partRows(parts[p], p).table;
+    bool same = t->columnCount() == first.columnCount();
+    for (int c = 0; same && c < t->columnCount(); ++c) {
+      same = t->columns()[std::size_t(c)].name == first.columns()[std::size_t(c)].name &&
+             t->columns()[std::size_t(c)].type == first.columns()[std::size_t(c)].type &&
+             t->columns()[std::size_t(c)].repeat == first.columns()[std::size_t(c)].repeat;
+    }
+    if (!same) {
+      throw ConfigError(path + ": image extension " + std::to_string(p + 1) +
+                        " has other catalog columns than the first one");
     }
   }
 }
@@ -154,9 +153,9 @@ void createTable(fitsfile* f, const std::string& extname, std::int64_t rows,
 }
 
 // One objects table holding the rows of `tables` in order (all with the same columns).
-void writeObjects(fitsfile* f, const std::string& extname, const std::vector<const Table*>& tables,
-                  const std::string& path) {
-  const Table& first = *tables.front();
+void writeObjects(fitsfile* f, const std::string& extname,
+                  const std::vector<detail::TableRows>& tables, const std::string& path) {
+  const Table& first = *tables.front().table;
   std::vector<std::string> names;
   std::vector<std::string> tforms;
   for (const ColumnSpec& c : first.columns()) {
@@ -164,7 +163,7 @@ void writeObjects(fitsfile* f, const std::string& extname, const std::vector<con
     tforms.push_back(tformOf(c));
   }
   std::int64_t rows = 0;
-  for (const Table* t : tables) rows += t->rows();
+  for (const detail::TableRows& t : tables) rows += t.rows();
   // Created empty so that the column cards can still be inserted cheaply; the rows come after.
   createTable(f, extname, 0, names, tforms, path);
   for (int c = 0; c < first.columnCount(); ++c) {
@@ -221,14 +220,12 @@ void writeFits(const std::string& path, CatalogType type, const std::vector<Cata
     writePrimary(f, {}, path);
     for (std::size_t p = 0; p < parts.size(); ++p) {
       writeImhead(f, parts[p], path);
-      writeObjects(f, "LDAC_OBJECTS", partTables(parts[p], p), path);
+      writeObjects(f, "LDAC_OBJECTS", {partRows(parts[p], p)}, path);
     }
   } else {
     writePrimary(f, fits10PrimaryCards, path);
-    std::vector<const Table*> tables;
-    for (std::size_t p = 0; p < parts.size(); ++p) {
-      for (const Table* t : partTables(parts[p], p)) tables.push_back(t);
-    }
+    std::vector<detail::TableRows> tables;
+    for (std::size_t p = 0; p < parts.size(); ++p) tables.push_back(partRows(parts[p], p));
     writeObjects(f, "OBJECTS", tables, path);
   }
   detail::closeWritten(file.release(), path);
@@ -249,7 +246,7 @@ void writeLdacTablesAt(const std::string& path, const std::vector<std::string>& 
   writeImhead(f, head, path);
   for (const NamedTable& t : tables) {
     checkColumns(*t.table);
-    writeObjects(f, t.extname, {t.table}, path);
+    writeObjects(f, t.extname, {{t.table, nullptr}}, path);
   }
   detail::closeWritten(file.release(), path);
 }
@@ -261,7 +258,7 @@ void writeAscii(const std::string& path, bool withHeader, const std::vector<Cata
   std::FILE* file = std::fopen(out.tempPath().c_str(), "w");
   if (file == nullptr) throw IoError(path + ": cannot create (" + std::strerror(errno) + ")");
   std::string text;
-  const Table& first = *partTables(parts.front(), 0).front();
+  const Table& first = *partRows(parts.front(), 0).table;
   if (withHeader) {
     int index = 1;
     char line[256];
@@ -275,13 +272,11 @@ void writeAscii(const std::string& path, bool withHeader, const std::vector<Cata
     }
   }
   bool ok = std::fwrite(text.data(), 1, text.size(), file) == text.size();
-  std::vector<const Table*> tables;
-  for (std::size_t p = 0; p < parts.size(); ++p) {
-    for (const Table* t : partTables(parts[p], p)) tables.push_back(t);
-  }
-  for (const Table* table : tables) {
-    const Table& t = *table;
-    for (std::int64_t r = 0; r < t.rows() && ok; ++r) {
+  for (std::size_t p = 0; p < parts.size() && ok; ++p) {
+    const detail::TableRows rows = partRows(parts[p], p);
+    const Table& t = *rows.table;
+    for (std::int64_t k = 0; k < rows.rows() && ok; ++k) {
+      const std::int64_t r = rows.rowAt(k);
       text.clear();
       for (int c = 0; c < t.columnCount(); ++c) {
         for (int e = 0; e < t.columns()[std::size_t(c)].repeat; ++e) {
@@ -413,7 +408,7 @@ void writeCatalog(const std::string& path, CatalogType type, const std::vector<C
   if (type == CatalogType::None) return;
   if (parts.empty()) throw std::invalid_argument("writeCatalog: no catalog part");
   checkSameColumns(path, parts);
-  checkColumns(*partTables(parts.front(), 0).front());
+  checkColumns(*partRows(parts.front(), 0).table);
   switch (type) {
     case CatalogType::FitsLdac:
     case CatalogType::Fits10:

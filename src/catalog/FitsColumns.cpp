@@ -291,36 +291,43 @@ std::vector<PackRun> packPlan(const Table& table, std::size_t& rowBytes) {
 
 }  // namespace
 
-void writeTableRows(fitsfile* f, const std::vector<const Table*>& tables, const std::string& path) {
+void writeTableRows(fitsfile* f, const std::vector<TableRows>& tables, const std::string& path) {
   // Blocks of about 4 MB (large enough that cfitsio writes them straight to the file), taken
   // across the tables in order.
   struct Block {
-    const Table* table;
-    std::int64_t r0, r1;   // rows of `table`
+    const TableRows* rows;
+    std::int64_t k0, k1;   // positions in `rows`
     std::int64_t fileRow;  // 0-based row in the FITS table
   };
   std::vector<Block> blocks;
   std::int64_t fileRow = 0;
-  for (const Table* t : tables) {
+  for (const TableRows& t : tables) {
     std::size_t rowBytes = 0;
-    packPlan(*t, rowBytes);
+    packPlan(*t.table, rowBytes);
     if (rowBytes == 0) continue;
     const std::int64_t rowsPerBlock =
         std::max<std::int64_t>(1, (std::int64_t(4) << 20) / std::int64_t(rowBytes));
-    for (std::int64_t r0 = 0; r0 < t->rows(); r0 += rowsPerBlock) {
-      const std::int64_t r1 = std::min(t->rows(), r0 + rowsPerBlock);
-      blocks.push_back({t, r0, r1, fileRow + r0});
+    for (std::int64_t k0 = 0; k0 < t.rows(); k0 += rowsPerBlock) {
+      const std::int64_t k1 = std::min(t.rows(), k0 + rowsPerBlock);
+      blocks.push_back({&t, k0, k1, fileRow + k0});
     }
-    fileRow += t->rows();
+    fileRow += t.rows();
   }
   if (blocks.empty()) return;
   auto pack = [](const Block& b, std::vector<unsigned char>& buffer) {
     std::size_t rowBytes = 0;
-    const std::vector<PackRun> plan = packPlan(*b.table, rowBytes);
-    buffer.resize(std::size_t(b.r1 - b.r0) * rowBytes);
+    const std::vector<PackRun> plan = packPlan(*b.rows->table, rowBytes);
+    buffer.resize(std::size_t(b.k1 - b.k0) * rowBytes);
     unsigned char* out = buffer.data();
-    for (std::int64_t r = b.r0; r < b.r1; ++r) {
-      const double* row = b.table->row(r);
+    const std::int64_t rowWidth = b.rows->table->rowWidth();
+    for (std::int64_t k = b.k0; k < b.k1; ++k) {
+      if (b.rows->order != nullptr && k + 8 < b.k1) {
+        // Rows taken out of storage order: fetch a few rows ahead.
+        const char* ahead = reinterpret_cast<const char*>(b.rows->table->row(b.rows->rowAt(k + 8)));
+        for (std::int64_t byte = 0; byte < rowWidth * 8; byte += 64)
+          __builtin_prefetch(ahead + byte);
+      }
+      const double* row = b.rows->table->row(b.rows->rowAt(k));
       for (const PackRun& run : plan) out = run.pack(row + run.first, run.count, out);
     }
   };

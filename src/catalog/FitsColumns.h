@@ -20,12 +20,21 @@ void writeColumnCards(fitsfile* f, int colnum, const ColumnSpec& column, const s
 void writeColumnData(fitsfile* f, int colnum, const Table& table, int column,
                      const std::string& path);
 
+// The rows of one table in the order they are written: `order` lists row indices (each once),
+// or nullptr for the stored order.
+struct TableRows {
+  const Table* table = nullptr;
+  const std::vector<std::int64_t>* order = nullptr;
+  std::int64_t rows() const { return order ? std::int64_t(order->size()) : table->rows(); }
+  std::int64_t rowAt(std::int64_t k) const { return order ? (*order)[std::size_t(k)] : k; }
+};
+
 // Writes the rows of `tables`, one after the other, as the rows of a binary table whose columns
 // are exactly theirs (same order and types): rows are packed big-endian in memory (one tight
 // loop per run of same-type columns), the next block while the previous one is written, and
 // written in large blocks, far faster than column by column for big catalogs. NAXIS2 should
 // already count these rows (then cfitsio writes each byte once, with no zero fill first).
-void writeTableRows(fitsfile* f, const std::vector<const Table*>& tables, const std::string& path);
+void writeTableRows(fitsfile* f, const std::vector<TableRows>& tables, const std::string& path);
 // Closes a file opened for writing and reports a failed close (a flush that did not reach disk).
 void closeWritten(fitsfile* f, const std::string& path);
 

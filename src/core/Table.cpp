@@ -4,12 +4,21 @@
 
 namespace octarc {
 
-Table::Table(std::vector<ColumnSpec> columns) : columns_(std::move(columns)) {
+Table::Table(std::vector<ColumnSpec> columns, Chunks chunks) : columns_(std::move(columns)) {
   offsets_.reserve(columns_.size());
   for (const ColumnSpec& c : columns_) {
     offsets_.push_back(rowWidth_);
     rowWidth_ += c.repeat;
   }
+  if (chunks == Chunks::Large) {
+    // At least the allocator's large block, so that chunks come as huge pages.
+    const std::size_t rowBytes = sizeof(double) * std::size_t(std::max(rowWidth_, 1));
+    while ((std::size_t(1) << chunkShift_) * rowBytes <
+           UninitializedAllocator<double>::kLargeBlock) {
+      ++chunkShift_;
+    }
+  }
+  chunkMask_ = (std::int64_t(1) << chunkShift_) - 1;
 }
 
 int Table::findColumn(std::string_view name) const {
@@ -26,9 +35,9 @@ double* Table::appendRow() {
 }
 
 double* Table::appendRowUnset() {
-  if (rows_ % kChunkRows == 0) {
+  if ((rows_ & chunkMask_) == 0) {
     // Not zero-filled here: each row's memory is first written by whoever fills the row.
-    chunks_.emplace_back(std::size_t(kChunkRows * std::max(rowWidth_, 1)));
+    chunks_.emplace_back(std::size_t((chunkMask_ + 1) * std::max(rowWidth_, 1)));
   }
   ++rows_;
   return row(rows_ - 1);
@@ -44,10 +53,10 @@ void Table::filterRows(const std::vector<bool>& keep) {
   rows_ = out;
   // Whole chunks past the last row are released; the last one is zeroed beyond it, so that
   // appendRow() keeps handing out zero-filled rows.
-  chunks_.resize(std::size_t((rows_ + kChunkRows - 1) / kChunkRows));
-  if (rows_ % kChunkRows != 0) {
+  chunks_.resize(std::size_t((rows_ + chunkMask_) >> chunkShift_));
+  if ((rows_ & chunkMask_) != 0) {
     auto& last = chunks_.back();
-    std::fill(last.begin() + std::ptrdiff_t((rows_ % kChunkRows) * rowWidth_), last.end(), 0.0);
+    std::fill(last.begin() + std::ptrdiff_t((rows_ & chunkMask_) * rowWidth_), last.end(), 0.0);
   }
 }
 

@@ -99,17 +99,12 @@ std::vector<ThresholdLevel> detectionLevels(const RunSettings& s, double sigmaAd
   return levels;
 }
 
-// The rows of every table, in order, in one table; each table is freed once copied.
-Table concatenateRows(std::vector<Table>& tables, const std::vector<ColumnSpec>& columns) {
-  if (tables.size() == 1) return std::move(tables.front());
-  Table all(columns);
-  for (Table& t : tables) {
-    for (std::int64_t r = 0; r < t.rows(); ++r) {
-      std::copy_n(t.row(r), t.rowWidth(), all.appendRow());
-    }
-    t = Table();
-  }
-  return all;
+// A copy of `table` holding its rows in `order`.
+Table rowsInOrder(const Table& table, const std::vector<std::int64_t>& order) {
+  Table out(table.columns(), Table::Chunks::Large);
+  for (const std::int64_t r : order)
+    std::copy_n(table.row(r), table.rowWidth(), out.appendRowUnset());
+  return out;
 }
 
 // The variance map and the detector's per-pixel threshold factor share one buffer: the
@@ -231,7 +226,8 @@ int runDetect(const std::vector<std::string>& args) {
   std::optional<PreparedImage> checkImage;
   std::optional<SegmentationRuns> checkRuns;
   std::vector<ThresholdLevel> checkLevels;
-  std::vector<std::vector<Table>> tables;  // per extension: the rows of each level, in order
+  std::vector<Table> tables;                      // per extension: its rows, as measured
+  std::vector<std::vector<std::int64_t>> orders;  // per extension: the catalog's row order
   std::vector<FitsHeader> headers;
   std::vector<std::vector<std::string>> cards;
   std::vector<std::string> fits10Cards;
@@ -306,9 +302,11 @@ int runDetect(const std::vector<std::string>& args) {
     if (wantSegmentation) {
       runs.emplace(image.hdu.pixels.width(), image.hdu.pixels.height(), int(levels.size()));
     }
-    // One table per level: objects come out of the detector numbered in order within each
-    // level, so each level's rows are in NUMBER order as they are appended.
-    std::vector<Table> levelTables(levels.size(), Table(columns.plan.columns()));
+    // Rows are appended as objects are emitted (component by component); the catalog lists
+    // them level by level. Within a level, emission order is NUMBER order, so the row indices
+    // of each level, in the order they are appended, give the catalog's order.
+    Table full(columns.plan.columns(), Table::Chunks::Large);
+    std::vector<std::vector<std::int64_t>> levelRows(levels.size());
     std::vector<std::int64_t> counts;
     {
       MeasurementQueue queue(columns.plan, context, threads);
@@ -317,8 +315,8 @@ int runDetect(const std::vector<std::string>& args) {
             restoreVariance();
             if (runs) runs->add(objs);
             for (Segment& o : objs) {
-              double* row = levelTables[std::size_t(o.level - 1)].appendRowUnset();
-              queue.add(std::move(o), row);
+              levelRows[std::size_t(o.level - 1)].push_back(full.rows());
+              queue.add(std::move(o), full.appendRowUnset());
             }
           });
       restoreVariance();
@@ -331,21 +329,22 @@ int runDetect(const std::vector<std::string>& args) {
                   << " ADU): " << counts[k] << " objects\n";
       }
     }
-    std::int64_t detected = 0;
-    for (const Table& t : levelTables) detected += t.rows();
+    std::vector<std::int64_t> order;
+    order.reserve(std::size_t(full.rows()));
+    for (std::vector<std::int64_t>& rows : levelRows) {
+      order.insert(order.end(), rows.begin(), rows.end());
+      std::vector<std::int64_t>().swap(rows);
+    }
+    const std::int64_t detected = full.rows();
     if (assocSettings) {
-      // ASSOC reads its list once for the whole catalog.
-      Table all = concatenateRows(levelTables, columns.plan.columns());
-      applyAssoc(*assocSettings, columns.assocVectorSize, image, all, s.quiet);
-      levelTables.clear();
-      levelTables.push_back(std::move(all));
+      // ASSOC removes rows: put them in catalog order first.
+      full = rowsInOrder(full, order);
+      order.clear();
+      applyAssoc(*assocSettings, columns.assocVectorSize, image, full, s.quiet);
     }
-    std::int64_t kept = 0;
-    for (Table& t : levelTables) {
-      t = outputTable(columns, std::move(t));
-      kept += t.rows();
-    }
-    tables.push_back(std::move(levelTables));
+    tables.push_back(outputTable(columns, std::move(full)));
+    const std::int64_t kept = tables.back().rows();
+    orders.push_back(std::move(order));
     headers.push_back(image.hdu.header);
     RunFacts facts;
     facts.imagePath = s.imagePaths[0];
@@ -372,10 +371,9 @@ int runDetect(const std::vector<std::string>& args) {
 
   std::vector<CatalogPart> parts;
   for (int e = 0; e < extCount; ++e) {
-    const std::vector<Table>& levelRows = tables[std::size_t(e)];
-    CatalogPart part{headers[std::size_t(e)], cards[std::size_t(e)], &levelRows.front(), {}};
-    for (std::size_t k = 1; k < levelRows.size(); ++k) part.moreObjects.push_back(&levelRows[k]);
-    parts.push_back(std::move(part));
+    const std::vector<std::int64_t>& order = orders[std::size_t(e)];
+    parts.push_back({headers[std::size_t(e)], cards[std::size_t(e)], &tables[std::size_t(e)],
+                     order.empty() ? nullptr : &order});
   }
   lap("assembling the catalog");
   writeCatalog(s.catalogNames[0], catalogType, parts, fits10Cards);

@@ -260,7 +260,7 @@ int runMeasure(const std::vector<std::string>& args) {
   } else {
     for (int e = 0; e < extCount; ++e) {
       parts.push_back(
-          {headers[std::size_t(e)], cards[std::size_t(e)], &tables[std::size_t(e)], {}});
+          {headers[std::size_t(e)], cards[std::size_t(e)], &tables[std::size_t(e)], nullptr});
     }
     writeCatalog(s.catalogNames[0], catalogType, parts, fits10Cards);
     if (!s.quiet && catalogType != CatalogType::None) {

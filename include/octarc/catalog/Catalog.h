@@ -1,6 +1,7 @@
 // Catalog writers: SExtractor's FITS_LDAC, FITS_1.0, ASCII_HEAD and ASCII formats.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -23,10 +24,11 @@ std::string catalogTypeName(CatalogType type);
 struct CatalogPart {
   FitsHeader imageHeader;             // header of the measured image (copied into LDAC_IMHEAD)
   std::vector<std::string> runCards;  // 80-char cards appended after the image cards (SEx*, OCT*)
-  const Table* objects = nullptr;     // one row per object, in output order
-  // Further rows of the same part, written after `objects` in this order, with the same columns
-  // (e.g. one table per threshold level, so that the levels need not be copied into one table).
-  std::vector<const Table*> moreObjects;
+  const Table* objects = nullptr;     // one row per object
+  // The order in which the rows of `objects` are written (each row index once), e.g. by
+  // threshold level while the table holds them in the order they were measured; nullptr: as
+  // stored.
+  const std::vector<std::int64_t>* rowOrder = nullptr;
 };
 
 // Writes a catalog atomically (temporary file + rename); CatalogType::None writes nothing.

@@ -18,8 +18,12 @@ namespace octarc {
 
 class Table {
  public:
+  // Rows are kept in chunks: small ones by default; a table that will hold a whole survey
+  // catalog asks for large ones (several MiB, which the allocator puts on huge pages).
+  enum class Chunks { Small, Large };
+
   Table() = default;
-  explicit Table(std::vector<ColumnSpec> columns);
+  explicit Table(std::vector<ColumnSpec> columns, Chunks chunks = Chunks::Small);
 
   const std::vector<ColumnSpec>& columns() const { return columns_; }
   int columnCount() const { return static_cast<int>(columns_.size()); }
@@ -35,10 +39,10 @@ class Table {
   // another thread: the row's memory is then first touched there).
   double* appendRowUnset();
   double* row(std::int64_t r) {
-    return chunks_[std::size_t(r / kChunkRows)].data() + (r % kChunkRows) * rowWidth_;
+    return chunks_[std::size_t(r >> chunkShift_)].data() + (r & chunkMask_) * rowWidth_;
   }
   const double* row(std::int64_t r) const {
-    return chunks_[std::size_t(r / kChunkRows)].data() + (r % kChunkRows) * rowWidth_;
+    return chunks_[std::size_t(r >> chunkShift_)].data() + (r & chunkMask_) * rowWidth_;
   }
   double value(std::int64_t r, int column, int element = 0) const {
     return row(r)[offsets_[column] + element];
@@ -53,10 +57,10 @@ class Table {
   std::vector<ColumnSpec> columns_;
   std::vector<int> offsets_;
   int rowWidth_ = 0;
-  // Small enough that many short tables (one per threshold level) waste little.
-  static constexpr std::int64_t kChunkRows = 1024;
+  // 2^chunkShift_ rows per chunk.
+  int chunkShift_ = 10;
+  std::int64_t chunkMask_ = (std::int64_t(1) << 10) - 1;
   std::int64_t rows_ = 0;
-  // Each sized for kChunkRows rows.
   std::vector<std::vector<double, UninitializedAllocator<double>>> chunks_;
 };
 

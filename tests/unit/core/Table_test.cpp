@@ -79,5 +79,30 @@ TEST(Table, UnsetRowsAreWrittenByTheCallerAndZeroRowsStayZero) {
   EXPECT_DOUBLE_EQ(t.row(1234)[t.rowWidth() - 1], 1234 + 0.25 * (t.rowWidth() - 1));
 }
 
+TEST(Table, LargeChunksHoldManyRowsLikeSmallOnes) {
+  // 1.2 million values per column set: more than one large chunk for this row width.
+  Table big(makeTable().columns(), Table::Chunks::Large);
+  Table small(makeTable().columns());
+  std::vector<double*> rows;
+  for (int i = 0; i < 300000; ++i) {
+    double* a = big.appendRowUnset();
+    double* b = small.appendRow();
+    for (int c = 0; c < big.rowWidth(); ++c) a[c] = b[c] = i * 10.0 + c;
+    if (i % 65536 == 0) rows.push_back(a);
+  }
+  ASSERT_EQ(big.rows(), small.rows());
+  for (std::int64_t r = 0; r < big.rows(); r += 997) {
+    for (int c = 0; c < big.rowWidth(); ++c) ASSERT_EQ(big.row(r)[c], small.row(r)[c]);
+  }
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    EXPECT_EQ(rows[k], big.row(std::int64_t(k) * 65536));
+  std::vector<bool> keep(300000);
+  for (std::size_t i = 0; i < keep.size(); ++i) keep[i] = i % 7 == 3;
+  big.filterRows(keep);
+  ASSERT_EQ(big.rows(), 42857);
+  EXPECT_EQ(big.value(42856, 0), 299995 * 10.0);
+  EXPECT_EQ(big.appendRow()[1], 0.0);
+}
+
 }  // namespace
 }  // namespace octarc
