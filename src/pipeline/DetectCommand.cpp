@@ -383,7 +383,11 @@ int runDetect(const std::vector<std::string>& args) {
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
               << " s\n";
   }
-  // Check images last, so that a failure anywhere before leaves no output behind.
+  // Check images last, so that a failure anywhere before leaves no output behind. The catalog
+  // is written: its rows make room for the check images' buffer.
+  parts.clear();
+  std::vector<Table>().swap(tables);
+  std::vector<std::vector<std::int64_t>>().swap(orders);
   if (checkImage) writeCheckImages(s, *checkImage, checkRuns ? &*checkRuns : nullptr, checkLevels);
   return 0;
 }

@@ -2,7 +2,7 @@
 #pragma once
 
 #include <cstddef>
-#include <cstdlib>
+#include <cstdint>
 #include <memory>
 #include <new>
 #include <utility>
@@ -24,31 +24,29 @@ class UninitializedAllocator : public std::allocator<T> {
   };
   UninitializedAllocator() = default;
 
-  // Image-sized blocks are aligned on 2 MiB and offered to the kernel for transparent huge
-  // pages: one page fault per 2 MiB instead of per 4 KiB, which is most of the cost of first
-  // touching a large image on Linux. Smaller blocks come from the usual allocator.
+  // Image-sized blocks are mapped on their own, aligned on 2 MiB and offered to the kernel for
+  // transparent huge pages: one page fault per 2 MiB instead of per 4 KiB, which is most of the
+  // cost of first touching a large image, and the memory goes back to the system as soon as the
+  // block is freed (a heap would keep it). Smaller blocks come from the usual allocator.
   static constexpr std::size_t kHugePage = std::size_t(2) << 20;
   static constexpr std::size_t kLargeBlock = std::size_t(8) << 20;
   T* allocate(std::size_t n) {
     const std::size_t bytes = n * sizeof(T);
-    if (bytes < kLargeBlock) return std::allocator<T>::allocate(n);
-    const std::size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
-    void* p = std::aligned_alloc(kHugePage, rounded);
-    if (p == nullptr) throw std::bad_alloc();
-#if defined(MADV_HUGEPAGE)
-    ::madvise(p, rounded, MADV_HUGEPAGE);  // advice only: ignored where unsupported
+#if defined(__linux__)
+    if (bytes >= kLargeBlock) return static_cast<T*>(mapHuge(bytes));
 #endif
-    return static_cast<T*>(p);
+    return std::allocator<T>::allocate(n);
   }
   void deallocate(T* p, std::size_t n) noexcept {
-    if (n * sizeof(T) < kLargeBlock) {
-      std::allocator<T>::deallocate(p, n);
-    } else {
-      std::free(p);
+#if defined(__linux__)
+    if (n * sizeof(T) >= kLargeBlock) {
+      ::munmap(p, roundedToHugePage(n * sizeof(T)));
+      return;
     }
+#endif
+    std::allocator<T>::deallocate(p, n);
   }
-  template <typename U>
-  UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+
   template <typename U>
   void construct(U* p) noexcept {
     ::new (static_cast<void*>(p)) U;
@@ -57,6 +55,29 @@ class UninitializedAllocator : public std::allocator<T> {
   void construct(U* p, Args&&... args) {
     ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
   }
+
+ private:
+  static std::size_t roundedToHugePage(std::size_t bytes) {
+    return (bytes + kHugePage - 1) / kHugePage * kHugePage;
+  }
+#if defined(__linux__)
+  // Maps a little more than asked, keeps the 2 MiB-aligned part and unmaps the rest.
+  static void* mapHuge(std::size_t bytes) {
+    const std::size_t size = roundedToHugePage(bytes);
+    void* raw = ::mmap(nullptr, size + kHugePage, PROT_READ | PROT_WRITE,
+                       MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (raw == MAP_FAILED) throw std::bad_alloc();
+    const std::uintptr_t start = reinterpret_cast<std::uintptr_t>(raw);
+    const std::uintptr_t aligned = (start + kHugePage - 1) / kHugePage * kHugePage;
+    if (aligned > start) ::munmap(raw, aligned - start);
+    const std::size_t tail = start + size + kHugePage - (aligned + size);
+    if (tail > 0) ::munmap(reinterpret_cast<void*>(aligned + size), tail);
+#if defined(MADV_HUGEPAGE)
+    ::madvise(reinterpret_cast<void*>(aligned), size, MADV_HUGEPAGE);  // advice only
+#endif
+    return reinterpret_cast<void*>(aligned);
+  }
+#endif
 };
 
 }  // namespace octarc
