@@ -196,6 +196,31 @@ std::array<double, 2> Wcs::pixelToWorld(double xFits, double yFits) const {
   return {world[impl_->wcs.lng], world[impl_->wcs.lat]};
 }
 
+void Wcs::pixelsToWorld(const double* pixelXY, int count, double* worldLngLat) const {
+  if (count <= 0) return;
+  constexpr int kMaxBatch = 8;  // per call: the scratch arrays live on the stack
+  for (int first = 0; first < count; first += kMaxBatch) {
+    const int n = std::min(kMaxBatch, count - first);
+    double intermediate[2 * kMaxBatch];
+    double world[2 * kMaxBatch];
+    double phi[kMaxBatch], theta[kMaxBatch];
+    int stat[kMaxBatch] = {0};
+    int status = 0;
+    {
+      std::lock_guard<std::mutex> lock(impl_->mutex);
+      status =
+          wcsp2s(&impl_->wcs, n, 2, pixelXY + 2 * first, intermediate, phi, theta, world, stat);
+    }
+    for (int i = 0; i < n; ++i) {
+      // wcslib flags the failing positions in stat (status 8 when only some fail).
+      const bool ok = status == 0 || (status == 8 && stat[i] == 0);
+      double* out = worldLngLat + 2 * (first + i);
+      out[0] = ok ? world[2 * i + impl_->wcs.lng] : kNaN;
+      out[1] = ok ? world[2 * i + impl_->wcs.lat] : kNaN;
+    }
+  }
+}
+
 std::array<double, 2> Wcs::worldToPixel(double lngDeg, double latDeg) const {
   double world[2];
   world[impl_->wcs.lng] = lngDeg;
@@ -231,6 +256,11 @@ std::string Wcs::radesys() const {
 
 std::array<double, 2> Wcs::pixelToJ2000(double xFits, double yFits) const {
   const std::array<double, 2> world = pixelToWorld(xFits, yFits);
+  return worldToJ2000(world[0], world[1]);
+}
+
+std::array<double, 2> Wcs::worldToJ2000(double lngDeg, double latDeg) const {
+  const std::array<double, 2> world = {lngDeg, latDeg};
   if (std::isnan(world[0]) || std::isnan(world[1])) return world;
   if (!impl_->equatorial()) {
     if (std::string(impl_->wcs.ctype[impl_->wcs.lng]).compare(0, 4, "GLON") == 0) {

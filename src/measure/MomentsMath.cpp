@@ -165,10 +165,13 @@ double magnitudeError(double fluxAdu, double fluxErrAdu) {
 }
 
 WorldJacobian finiteDifferenceJacobian(const PixelToWorld& toWorld, double xFits, double yFits) {
+  return jacobianFromSamples(toWorld(xFits, yFits), toWorld(xFits + 1.0, yFits),
+                             toWorld(xFits, yFits + 1.0));
+}
+
+WorldJacobian jacobianFromSamples(const std::array<double, 2>& w0, const std::array<double, 2>& wx,
+                                  const std::array<double, 2>& wy) {
   WorldJacobian j;
-  const std::array<double, 2> w0 = toWorld(xFits, yFits);
-  const std::array<double, 2> wx = toWorld(xFits + 1.0, yFits);
-  const std::array<double, 2> wy = toWorld(xFits, yFits + 1.0);
   auto wrap = [](double dLngDeg) {
     if (dLngDeg > 180.0) return dLngDeg - 360.0;
     if (dLngDeg < -180.0) return dLngDeg + 360.0;

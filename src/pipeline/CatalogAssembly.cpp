@@ -5,11 +5,13 @@
 #include <ctime>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <thread>
 
 #include "octarc/catalog/FitsCard.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Version.h"
+#include "octarc/io/Wcs.h"
 #include "octarc/pipeline/PreparedImage.h"
 #include "octarc/pipeline/RunSettings.h"
 #include "octarc/sexcompat/ParamFile.h"
@@ -85,8 +87,15 @@ void measureSegments(const MeasurementPlan& plan, const std::vector<Segment>& se
   // on the number of threads.
   const int workers = std::max(1, std::min<int>(threads, int(count / 64) + 1));
   auto work = [&](int w) {
+    // A WCS serialises its transforms: with several workers, each has its own copy.
+    MeasureContext local = context;
+    std::optional<Wcs> wcs;
+    if (workers > 1 && local.wcs != nullptr) {
+      wcs.emplace(*local.wcs);
+      local.wcs = &*wcs;
+    }
     for (std::int64_t i = w; i < count; i += workers) {
-      plan.measure(segments[std::size_t(i)], context, table.row(first + i));
+      plan.measure(segments[std::size_t(i)], local, table.row(first + i));
     }
   };
   if (workers == 1) {

@@ -1,6 +1,9 @@
 #include "octarc/pipeline/MeasurementQueue.h"
 
 #include <algorithm>
+#include <optional>
+
+#include "octarc/io/Wcs.h"
 
 namespace octarc {
 
@@ -30,7 +33,7 @@ MeasurementQueue::~MeasurementQueue() {
 
 void MeasurementQueue::add(Segment&& segment, double* row) {
   if (workers_.empty()) {
-    measureInto(segment, row);
+    measureInto(segment, context_, row);
     return;
   }
   open_.pixels += std::size_t(segment.pixelCount());
@@ -39,11 +42,12 @@ void MeasurementQueue::add(Segment&& segment, double* row) {
   if (open_.segments.size() >= kJobObjects || open_.pixels >= kJobPixels) submit();
 }
 
-void MeasurementQueue::measureInto(const Segment& segment, double* row) const {
+void MeasurementQueue::measureInto(const Segment& segment, const MeasureContext& context,
+                                   double* row) const {
   // Rows may come unset (Table::appendRowUnset): the first write to them happens here, on the
   // measuring thread.
   std::fill_n(row, plan_.rowWidth(), 0.0);
-  plan_.measure(segment, context_, row);
+  plan_.measure(segment, context, row);
 }
 
 void MeasurementQueue::submit() {
@@ -62,6 +66,13 @@ void MeasurementQueue::submit() {
 }
 
 void MeasurementQueue::work() {
+  // A WCS serialises its transforms: each worker measures with its own copy.
+  MeasureContext context = context_;
+  std::optional<Wcs> wcs;
+  if (context.wcs != nullptr) {
+    wcs.emplace(*context.wcs);
+    context.wcs = &*wcs;
+  }
   for (;;) {
     Job job;
     {
@@ -74,7 +85,7 @@ void MeasurementQueue::work() {
     }
     try {
       for (std::size_t i = 0; i < job.segments.size(); ++i) {
-        measureInto(job.segments[i], job.rows[i]);
+        measureInto(job.segments[i], context, job.rows[i]);
       }
     } catch (...) {
       std::lock_guard lock(mutex_);

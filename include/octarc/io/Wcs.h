@@ -29,6 +29,9 @@ class Wcs {
   // Thread-safe: wcslib keeps scratch arrays inside its struct even after set-up, so the
   // transforms of one Wcs are serialised by a mutex (copy the Wcs per thread to avoid waiting).
   std::array<double, 2> pixelToWorld(double xFits, double yFits) const;
+  // The same for `count` positions at once (pixelXY: x0, y0, x1, y1, ...; worldLngLat likewise,
+  // NaN, NaN for a position that fails): one transform call for all of them.
+  void pixelsToWorld(const double* pixelXY, int count, double* worldLngLat) const;
   // Inverse; NaN, NaN on failure. Thread-safe like pixelToWorld.
   std::array<double, 2> worldToPixel(double lngDeg, double latDeg) const;
   // (RA, Dec) in degrees referred to the mean equator and equinox J2000 (ALPHA_J2000,
@@ -38,6 +41,8 @@ class Wcs {
   // (GLON/GLAT) positions are rotated to J2000; other frames (ecliptic, ...) and failures give
   // NaN, NaN.
   std::array<double, 2> pixelToJ2000(double xFits, double yFits) const;
+  // The same from a world position of this WCS (as pixelToWorld gives it).
+  std::array<double, 2> worldToJ2000(double lngDeg, double latDeg) const;
   // EQUINOX of the header (or EPOCH); if absent 1950 for FK4, else 2000.
   double equinox() const;
   // RADESYS: "ICRS", "FK5", "FK4", ...; if absent, the FITS default for an equatorial frame

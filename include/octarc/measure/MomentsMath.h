@@ -145,6 +145,10 @@ struct WorldJacobian {
   bool valid = false;
 };
 WorldJacobian finiteDifferenceJacobian(const PixelToWorld& toWorld, double xFits, double yFits);
+// The same from the world positions of (x, y), (x + 1, y) and (x, y + 1).
+WorldJacobian jacobianFromSamples(const std::array<double, 2>& atPixel,
+                                  const std::array<double, 2>& stepX,
+                                  const std::array<double, 2>& stepY);
 
 // Second moments in the world frame, deg^2, with SExtractor's formulas, including the missing
 // factor 2 of the cross term in X2/Y2_WORLD (X2W = l0^2 X2 + l1^2 Y2 + l0 l1 XY).

@@ -40,7 +40,7 @@ class MeasurementQueue {
     std::vector<double*> rows;
     std::size_t pixels = 0;
   };
-  void measureInto(const Segment& segment, double* row) const;
+  void measureInto(const Segment& segment, const MeasureContext& context, double* row) const;
   void submit();
   void work();
   void rethrow();

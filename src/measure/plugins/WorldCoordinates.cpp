@@ -42,11 +42,12 @@ void WorldCoordinates::measure(const Segment&, const MeasureContext& context, Ob
     return;
   }
   const Wcs& wcs = *context.wcs;
-  const PixelToWorld toWorld = [&wcs](double xFits, double yFits) {
-    return wcs.pixelToWorld(xFits, yFits);
-  };
+  // The centroid and one pixel along each axis from it (for the local Jacobian), in one call.
   const double xFits = toFitsPixel(state.iso.xMean), yFits = toFitsPixel(state.iso.yMean);
-  const std::array<double, 2> world = toWorld(xFits, yFits);
+  const double pixels[6] = {xFits, yFits, xFits + 1.0, yFits, xFits, yFits + 1.0};
+  double worlds[6];
+  wcs.pixelsToWorld(pixels, 3, worlds);
+  const std::array<double, 2> world = {worlds[0], worlds[1]};
   if (!std::isfinite(world[0]) || !std::isfinite(world[1])) {
     state.octFlags |= octflag::kNoWorld;
     return;
@@ -57,11 +58,12 @@ void WorldCoordinates::measure(const Segment&, const MeasureContext& context, Ob
   out.set(kXWorld, world[0]);
   out.set(kYWorld, world[1]);
   // NaN for non-equatorial frames: ALPHA/DELTA_J2000 have no meaning there.
-  const std::array<double, 2> j2000 = wcs.pixelToJ2000(xFits, yFits);
+  const std::array<double, 2> j2000 = wcs.worldToJ2000(world[0], world[1]);
   out.set(kAlpha, j2000[0]);
   out.set(kDelta, j2000[1]);
 
-  const WorldJacobian jacobian = finiteDifferenceJacobian(toWorld, xFits, yFits);
+  const WorldJacobian jacobian =
+      jacobianFromSamples(world, {worlds[2], worlds[3]}, {worlds[4], worlds[5]});
   if (!jacobian.valid) {
     state.octFlags |= octflag::kNoWorld;
     return;

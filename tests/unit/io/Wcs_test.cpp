@@ -184,6 +184,36 @@ TEST(Wcs, TpvMatchesHandComputedPolynomialPlusTan) {
   EXPECT_GT(std::fabs(wcs->pixelToWorld(1, 1)[1] - plain->pixelToWorld(1, 1)[1]), 1e-5);
 }
 
+// Many positions in one call: each exactly as alone (batches of more than one transform call),
+// and a position the projection cannot take gives NaN for itself only.
+TEST(Wcs, PixelsToWorldEqualsOneByOne) {
+  const auto wcs = Wcs::fromHeader(sipHeader(), "sip.fits");
+  ASSERT_TRUE(wcs.has_value());
+  std::vector<double> pixels;
+  for (int i = 0; i < 21; ++i) {
+    pixels.push_back(1.0 + 37.25 * i);
+    pixels.push_back(500.0 - 11.5 * i);
+  }
+  std::vector<double> world(pixels.size());
+  wcs->pixelsToWorld(pixels.data(), 21, world.data());
+  for (int i = 0; i < 21; ++i) {
+    const auto one = wcs->pixelToWorld(pixels[2 * i], pixels[2 * i + 1]);
+    EXPECT_EQ(world[2 * i], one[0]) << i;
+    EXPECT_EQ(world[2 * i + 1], one[1]) << i;
+  }
+  // SIN: pixels beyond the projection's limb have no world position.
+  const auto sin = Wcs::fromHeader(makeHeader(linearCards("SIN")), "sin.fits");
+  ASSERT_TRUE(sin.has_value());
+  const double mixed[6] = {kCrpix1, kCrpix2, kCrpix1 + 1e7, kCrpix2, kCrpix1 + 3.0, kCrpix2};
+  double out[6];
+  sin->pixelsToWorld(mixed, 3, out);
+  EXPECT_EQ(out[0], sin->pixelToWorld(kCrpix1, kCrpix2)[0]);
+  EXPECT_TRUE(std::isnan(out[2]) && std::isnan(out[3]));
+  EXPECT_TRUE(std::isnan(sin->pixelToWorld(kCrpix1 + 1e7, kCrpix2)[0]));
+  EXPECT_EQ(out[4], sin->pixelToWorld(kCrpix1 + 3.0, kCrpix2)[0]);
+  EXPECT_EQ(out[5], sin->pixelToWorld(kCrpix1 + 3.0, kCrpix2)[1]);
+}
+
 TEST(Wcs, WorldToPixelInvertsPixelToWorld) {
   for (const FitsHeader& h :
        {makeHeader(linearCards("TAN")), makeHeader(linearCards("SIN")), sipHeader(), tpvHeader()}) {
@@ -304,6 +334,8 @@ TEST(Wcs, PixelToJ2000LeavesIcrsAndJ2000Unchanged) {
     cards.insert(cards.end(), extra.begin(), extra.end());
     const auto wcs = Wcs::fromHeader(makeHeader(cards), "j2000.fits");
     EXPECT_EQ(wcs->pixelToJ2000(12.0, 34.0), wcs->pixelToWorld(12.0, 34.0));
+    const auto world = wcs->pixelToWorld(12.0, 34.0);
+    EXPECT_EQ(wcs->worldToJ2000(world[0], world[1]), wcs->pixelToJ2000(12.0, 34.0));
   }
   auto ecliptic = linearCards("TAN");
   ecliptic[0].second = "'ELON-TAN'";

@@ -486,6 +486,13 @@ TEST(World, JacobianScalesLongitudeByCosLatitude) {
   EXPECT_NEAR(j.l0, 0.125, 1e-12);
   EXPECT_NEAR(j.l1, 0.0, 1e-12);
   EXPECT_NEAR(j.l3, 0.001, 1e-12);
+  // The same from the three world positions given directly.
+  const WorldJacobian k = jacobianFromSamples(map(1.0, 1.0), map(2.0, 1.0), map(1.0, 2.0));
+  EXPECT_EQ(k.l0, j.l0);
+  EXPECT_EQ(k.l1, j.l1);
+  EXPECT_EQ(k.l2, j.l2);
+  EXPECT_EQ(k.l3, j.l3);
+  EXPECT_TRUE(k.valid);
 }
 
 TEST(World, MomentsUseSExtractorFormulaWithoutFactorTwo) {
