@@ -119,7 +119,21 @@ struct Wcs::Impl {
     }
   }
   Impl& operator=(const Impl&) = delete;
-  ~Impl() { wcsfree(&wcs); }
+  ~Impl() {
+    clearErrors();
+    wcsfree(&wcs);
+  }
+
+  // A failed transform records its message in the struct and its sub-structures; the next
+  // failure would write over (and lose) them, and wcsfree() does not free them all. Called
+  // after every failed transform, under the mutex, and on destruction.
+  void clearErrors() {
+    wcserr_clear(&wcs.err);
+    wcserr_clear(&wcs.lin.err);
+    wcserr_clear(&wcs.cel.err);
+    wcserr_clear(&wcs.cel.prj.err);
+    wcserr_clear(&wcs.spc.err);
+  }
 
   bool equatorial() const {
     return wcs.lng >= 0 && std::string(wcs.ctype[wcs.lng]).compare(0, 2, "RA") == 0;
@@ -191,6 +205,7 @@ std::array<double, 2> Wcs::pixelToWorld(double xFits, double yFits) const {
   {
     std::lock_guard<std::mutex> lock(impl_->mutex);
     status = wcsp2s(&impl_->wcs, 1, 2, pixel, intermediate, &phi, &theta, world, stat);
+    if (status != 0) impl_->clearErrors();
   }
   if (status != 0) return {kNaN, kNaN};
   return {world[impl_->wcs.lng], world[impl_->wcs.lat]};
@@ -210,6 +225,7 @@ void Wcs::pixelsToWorld(const double* pixelXY, int count, double* worldLngLat) c
       std::lock_guard<std::mutex> lock(impl_->mutex);
       status =
           wcsp2s(&impl_->wcs, n, 2, pixelXY + 2 * first, intermediate, phi, theta, world, stat);
+      if (status != 0) impl_->clearErrors();
     }
     for (int i = 0; i < n; ++i) {
       // wcslib flags the failing positions in stat (status 8 when only some fail).
@@ -234,6 +250,7 @@ std::array<double, 2> Wcs::worldToPixel(double lngDeg, double latDeg) const {
   {
     std::lock_guard<std::mutex> lock(impl_->mutex);
     status = wcss2p(&impl_->wcs, 1, 2, world, &phi, &theta, intermediate, pixel, stat);
+    if (status != 0) impl_->clearErrors();
   }
   if (status != 0) return {kNaN, kNaN};
   return {pixel[0], pixel[1]};
