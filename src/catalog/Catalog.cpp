@@ -54,6 +54,53 @@ std::string upper(std::string s) {
   return s;
 }
 
+// One column's ASCII conversion, parsed once: the printf format rebuilt without length
+// modifiers plus the one the stored value needs.
+class AsciiFormat {
+ public:
+  explicit AsciiFormat(const ColumnSpec& column) : type_(column.type) {
+    PrintfSpec spec;
+    if (!parsePrintf(column.printfFormat, spec)) {
+      throw ConfigError("catalog column " + column.name + ": unsupported printf format '" +
+                        column.printfFormat + "'");
+    }
+    format_ = "%" + spec.flags;
+    if (spec.width >= 0) format_ += std::to_string(spec.width);
+    if (spec.precision >= 0) format_ += "." + std::to_string(spec.precision);
+    integerConversion_ = spec.conversion == 'd' || spec.conversion == 'i';
+    if (integerConversion_) {
+      format_ += "lld";
+    } else {
+      format_ += spec.conversion;
+    }
+  }
+  // Appends the value as the column's storage type holds it (integers rounded and clamped,
+  // floats rounded to float first).
+  void append(double value, std::string& text) const {
+    const bool integerColumn = detail::isIntegerType(type_);
+    double stored = value;
+    if (integerColumn) {
+      stored = double(detail::integerValue(type_, value));
+    } else if (type_ == ColumnType::Float32) {
+      stored = double(float(value));  // print what the FITS column holds
+    }
+    char buffer[128];
+    if (integerConversion_) {
+      const long long integer = integerColumn ? static_cast<long long>(stored)
+                                              : detail::integerValue(ColumnType::Int64, stored);
+      std::snprintf(buffer, sizeof buffer, format_.c_str(), integer);
+    } else {
+      std::snprintf(buffer, sizeof buffer, format_.c_str(), stored);
+    }
+    text += buffer;
+  }
+
+ private:
+  ColumnType type_;
+  std::string format_;
+  bool integerConversion_ = false;
+};
+
 // The rows of one part, in output order.
 detail::TableRows partRows(const CatalogPart& part, std::size_t index) {
   if (part.objects == nullptr) {
@@ -272,6 +319,8 @@ void writeAscii(const std::string& path, bool withHeader, const std::vector<Cata
     }
   }
   bool ok = std::fwrite(text.data(), 1, text.size(), file) == text.size();
+  std::vector<AsciiFormat> formats;
+  for (const ColumnSpec& c : first.columns()) formats.emplace_back(c);
   for (std::size_t p = 0; p < parts.size() && ok; ++p) {
     const detail::TableRows rows = partRows(parts[p], p);
     const Table& t = *rows.table;
@@ -281,7 +330,7 @@ void writeAscii(const std::string& path, bool withHeader, const std::vector<Cata
       for (int c = 0; c < t.columnCount(); ++c) {
         for (int e = 0; e < t.columns()[std::size_t(c)].repeat; ++e) {
           if (!text.empty()) text += ' ';
-          text += formatAsciiValue(t.columns()[std::size_t(c)], t.value(r, c, e));
+          formats[std::size_t(c)].append(t.value(r, c, e), text);
         }
       }
       text += '\n';
@@ -374,33 +423,9 @@ std::string tformOf(const ColumnSpec& column) {
 }
 
 std::string formatAsciiValue(const ColumnSpec& column, double value) {
-  PrintfSpec spec;
-  if (!parsePrintf(column.printfFormat, spec)) {
-    throw ConfigError("catalog column " + column.name + ": unsupported printf format '" +
-                      column.printfFormat + "'");
-  }
-  // Rebuild the conversion without length modifiers, then add the one the value needs.
-  std::string format = "%" + spec.flags;
-  if (spec.width >= 0) format += std::to_string(spec.width);
-  if (spec.precision >= 0) format += "." + std::to_string(spec.precision);
-  const bool integerColumn = detail::isIntegerType(column.type);
-  double stored = value;
-  if (integerColumn) {
-    stored = double(detail::integerValue(column.type, value));
-  } else if (column.type == ColumnType::Float32) {
-    stored = double(float(value));  // print what the FITS column holds
-  }
-  char buffer[128];
-  if (spec.conversion == 'd' || spec.conversion == 'i') {
-    format += "lld";
-    const long long integer = integerColumn ? static_cast<long long>(stored)
-                                            : detail::integerValue(ColumnType::Int64, stored);
-    std::snprintf(buffer, sizeof buffer, format.c_str(), integer);
-  } else {
-    format += spec.conversion;
-    std::snprintf(buffer, sizeof buffer, format.c_str(), stored);
-  }
-  return buffer;
+  std::string text;
+  AsciiFormat(column).append(value, text);
+  return text;
 }
 
 void writeCatalog(const std::string& path, CatalogType type, const std::vector<CatalogPart>& parts,

@@ -294,30 +294,36 @@ std::vector<PackRun> packPlan(const Table& table, std::size_t& rowBytes) {
 void writeTableRows(fitsfile* f, const std::vector<TableRows>& tables, const std::string& path) {
   // Blocks of about 4 MB (large enough that cfitsio writes them straight to the file), taken
   // across the tables in order.
+  struct Plan {
+    std::vector<PackRun> runs;
+    std::size_t rowBytes = 0;
+  };
   struct Block {
     const TableRows* rows;
+    const Plan* plan;
     std::int64_t k0, k1;   // positions in `rows`
     std::int64_t fileRow;  // 0-based row in the FITS table
   };
+  std::vector<Plan> plans(tables.size());
   std::vector<Block> blocks;
   std::int64_t fileRow = 0;
-  for (const TableRows& t : tables) {
-    std::size_t rowBytes = 0;
-    packPlan(*t.table, rowBytes);
+  for (std::size_t i = 0; i < tables.size(); ++i) {
+    const TableRows& t = tables[i];
+    plans[i].runs = packPlan(*t.table, plans[i].rowBytes);
+    const std::size_t rowBytes = plans[i].rowBytes;
     if (rowBytes == 0) continue;
     const std::int64_t rowsPerBlock =
         std::max<std::int64_t>(1, (std::int64_t(4) << 20) / std::int64_t(rowBytes));
     for (std::int64_t k0 = 0; k0 < t.rows(); k0 += rowsPerBlock) {
       const std::int64_t k1 = std::min(t.rows(), k0 + rowsPerBlock);
-      blocks.push_back({&t, k0, k1, fileRow + k0});
+      blocks.push_back({&t, &plans[i], k0, k1, fileRow + k0});
     }
     fileRow += t.rows();
   }
   if (blocks.empty()) return;
   auto pack = [](const Block& b, std::vector<unsigned char>& buffer) {
-    std::size_t rowBytes = 0;
-    const std::vector<PackRun> plan = packPlan(*b.rows->table, rowBytes);
-    buffer.resize(std::size_t(b.k1 - b.k0) * rowBytes);
+    const std::vector<PackRun>& plan = b.plan->runs;
+    buffer.resize(std::size_t(b.k1 - b.k0) * b.plan->rowBytes);
     unsigned char* out = buffer.data();
     const std::int64_t rowWidth = b.rows->table->rowWidth();
     for (std::int64_t k = b.k0; k < b.k1; ++k) {

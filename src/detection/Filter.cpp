@@ -82,8 +82,8 @@ ImageF applyFilter(const ImageF& image, const ConvKernel& kernel, int threads) {
                       std::to_string(kernel.height) + " with " +
                       std::to_string(kernel.coefficients.size()) + " coefficients");
   }
-  // Uninitialised would do (every row is written), but Image has no such constructor.
-  ImageF out(image.width(), image.height());
+  // Every row is written (zeroed, then summed into) by the band that owns it.
+  ImageF out(image.width(), image.height(), UninitializedPixels{});
   const std::int64_t height = image.height();
   if (image.width() == 0 || height == 0) return out;
 
