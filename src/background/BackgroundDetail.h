@@ -9,45 +9,9 @@
 #include <vector>
 
 #include "octarc/core/Image.h"
+#include "octarc/core/Parallel.h"
 
 namespace octarc::detail {
-
-// Runs fn(y0, y1) on `threads` contiguous blocks of [0, n). Exceptions are rethrown.
-template <typename Fn>
-void parallelBlocks(std::int64_t n, int threads, Fn&& fn) {
-  threads = static_cast<int>(std::clamp<std::int64_t>(threads, 1, std::max<std::int64_t>(n, 1)));
-  if (threads == 1) {
-    fn(std::int64_t{0}, n);
-    return;
-  }
-  std::vector<std::thread> pool;
-  std::vector<std::exception_ptr> errors(static_cast<std::size_t>(threads));
-  for (int t = 0; t < threads; ++t) {
-    const std::int64_t y0 = n * t / threads;
-    const std::int64_t y1 = n * (t + 1) / threads;
-    pool.emplace_back([&, t, y0, y1] {
-      try {
-        fn(y0, y1);
-      } catch (...) {
-        errors[static_cast<std::size_t>(t)] = std::current_exception();
-      }
-    });
-  }
-  for (auto& th : pool) th.join();
-  for (auto& e : errors)
-    if (e) std::rethrow_exception(e);
-}
-
-// Runs fn(i) for every i in [0, n), items interleaved over the threads (mesh rows at the
-// bottom of an image may be shorter, interleaving keeps the load even).
-template <typename Fn>
-void parallelFor(std::int64_t n, int threads, Fn&& fn) {
-  threads = static_cast<int>(std::clamp<std::int64_t>(threads, 1, std::max<std::int64_t>(n, 1)));
-  parallelBlocks(threads, threads, [&](std::int64_t t0, std::int64_t t1) {
-    for (std::int64_t t = t0; t < t1; ++t)
-      for (std::int64_t i = t; i < n; i += threads) fn(i);
-  });
-}
 
 // SExtractor's median of floats: middle value, or the mean of the two middle values (summed in
 // float) for an even count. Sorts `v`.

@@ -79,7 +79,7 @@ Selection select(const ImageF& image, double lo, double hi, double origin, int t
   std::vector<ChunkMoments> chunks(static_cast<std::size_t>(nChunks));
   std::vector<std::vector<std::int64_t>> high(static_cast<std::size_t>(threads),
                                               std::vector<std::int64_t>(kBins, 0));
-  detail::parallelBlocks(threads, threads, [&](std::int64_t t0, std::int64_t t1) {
+  parallelBlocks(threads, threads, [&](std::int64_t t0, std::int64_t t1) {
     for (std::int64_t t = t0; t < t1; ++t) {
       auto& h = high[static_cast<std::size_t>(t)];
       for (std::int64_t c = nChunks * t / threads; c < nChunks * (t + 1) / threads; ++c) {
@@ -134,7 +134,7 @@ Selection select(const ImageF& image, double lo, double hi, double origin, int t
   // Second pass: low halves of the keys inside those bins.
   std::vector<std::vector<std::int64_t>> low(static_cast<std::size_t>(threads) * 2,
                                              std::vector<std::int64_t>(kBins, 0));
-  detail::parallelBlocks(threads, threads, [&](std::int64_t t0, std::int64_t t1) {
+  parallelBlocks(threads, threads, [&](std::int64_t t0, std::int64_t t1) {
     for (std::int64_t t = t0; t < t1; ++t) {
       auto& l0 = low[static_cast<std::size_t>(2 * t)];
       auto& l1 = low[static_cast<std::size_t>(2 * t + 1)];
@@ -176,9 +176,7 @@ GlobalBackground estimateGlobalBackground(const ImageF& image, double clipSigma,
                       std::to_string(clipSigma));
   if (maxIterations < 0)
     throw ConfigError("maxIterations: must be >= 0, got " + std::to_string(maxIterations));
-  int threads = threadCount > 0
-                    ? threadCount
-                    : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  int threads = resolveThreads(threadCount);
 
   // Local origin for the sums: the first valid pixel, then the current median.
   double origin = 0.0;

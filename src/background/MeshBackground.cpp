@@ -502,12 +502,6 @@ void filterMeshGrid(const ImageF& level, ImageF rms, const std::vector<unsigned 
   }
 }
 
-int resolveThreads(int requested) {
-  if (requested > 0) return requested;
-  const unsigned hw = std::thread::hardware_concurrency();
-  return hw == 0 ? 1 : static_cast<int>(hw);
-}
-
 }  // namespace
 
 MeshBackground MeshBackground::estimate(const ImageF& image, const MeshBackgroundSettings& s,
@@ -566,7 +560,7 @@ MeshBackground MeshBackground::estimate(const ImageF& image, const MeshBackgroun
     wr.level = wlevel.data();
     wr.rms = wrms.data();
   }
-  detail::parallelFor(ny, std::min(b.threadCount_, ny), [&](std::int64_t j) {
+  parallelFor(ny, std::min(b.threadCount_, ny), [&](std::int64_t j) {
     measureMeshRow(image, b.hasWeights_ ? &wr : nullptr, b.meshWidth_, b.meshHeight_, nx, ny,
                    static_cast<int>(j), level.data(), rms.data(), bad.data());
   });
@@ -772,8 +766,8 @@ void MeshBackground::subtractRow(std::int64_t y, float* row) const {
 }
 
 void MeshBackground::fillImage(ImageF& out, bool isLevel) const {
-  out = ImageF(width_, height_);
-  detail::parallelBlocks(height_, threadCount_, [&](std::int64_t y0, std::int64_t y1) {
+  out = ImageF(width_, height_, UninitializedPixels{});  // every row is written below
+  parallelBlocks(height_, threadCount_, [&](std::int64_t y0, std::int64_t y1) {
     for (std::int64_t y = y0; y < y1; ++y) {
       float* row = out.data() + y * width_;
       if (isLevel)

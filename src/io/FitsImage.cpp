@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -15,6 +16,7 @@
 
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
+#include "octarc/core/Parallel.h"
 #include "octarc/io/detail/Cfitsio.h"
 
 namespace octarc {
@@ -225,12 +227,10 @@ bool readPlainFloatData(fitsfile* f, ImageF& pixels) {
   const int fd = ::open(diskName, O_RDONLY | O_CLOEXEC);
   if (fd < 0) return false;
   constexpr std::int64_t kSlicePixels = std::int64_t(1) << 20;  // 4 MB per read
-  const int threads =
-      count < 4 * kSlicePixels ? 1 : int(std::clamp(std::thread::hardware_concurrency(), 1u, 4u));
-  std::vector<char> ok(std::size_t(threads), 1);
-  auto readRange = [&](int t) {
-    const std::int64_t begin = count * t / threads, end = count * (t + 1) / threads;
-    for (std::int64_t i = begin; i < end; i += kSlicePixels) {
+  const int threads = count < 4 * kSlicePixels ? 1 : std::min(resolveThreads(0), 4);
+  std::atomic<bool> ok{true};
+  parallelBlocks(count, threads, [&](std::int64_t begin, std::int64_t end) {
+    for (std::int64_t i = begin; i < end && ok; i += kSlicePixels) {
       const std::int64_t n = std::min(kSlicePixels, end - i);
       char* out = reinterpret_cast<char*>(pixels.data() + i);
       std::int64_t done = 0;
@@ -238,7 +238,7 @@ bool readPlainFloatData(fitsfile* f, ImageF& pixels) {
         const ssize_t got =
             ::pread(fd, out + done, std::size_t(n * 4 - done), off_t(dataStart + i * 4 + done));
         if (got <= 0) {
-          ok[std::size_t(t)] = 0;
+          ok = false;
           return;
         }
         done += got;
@@ -251,13 +251,9 @@ bool readPlainFloatData(fitsfile* f, ImageF& pixels) {
         std::memcpy(out + 4 * k, &word, 4);
       }
     }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(readRange, t);
-  readRange(0);
-  for (std::thread& t : pool) t.join();
+  });
   ::close(fd);
-  return std::all_of(ok.begin(), ok.end(), [](char c) { return c != 0; });
+  return ok;
 }
 
 // Reads the pixels of the current HDU as float; undefined pixels (BLANK or NaN) become NaN.
@@ -371,7 +367,7 @@ ImageI32 readIntImage(const std::string& path, FitsHeader* header) {
                   (bzero != std::floor(bzero) ? ", non-integer BZERO" : "") +
                   "), expected integer labels");
   }
-  ImageI32 pixels(shape.naxes[0], shape.naxes[1]);
+  ImageI32 pixels(shape.naxes[0], shape.naxes[1], UninitializedPixels{});  // all read below
   long first[kMaxAxes];
   std::fill(std::begin(first), std::end(first), 1L);
   int anyNull = 0;

@@ -195,20 +195,10 @@ Wcs::~Wcs() = default;
 
 std::array<double, 2> Wcs::pixelToWorld(double xFits, double yFits) const {
   // wcslib pixel coordinates are 1-based, like xFits/yFits.
-  double pixel[2] = {xFits, yFits};
-  double intermediate[2];
-  double world[2];
-  double phi = 0.0;
-  double theta = 0.0;
-  int stat[1] = {0};
-  int status = 0;
-  {
-    std::lock_guard<std::mutex> lock(impl_->mutex);
-    status = wcsp2s(&impl_->wcs, 1, 2, pixel, intermediate, &phi, &theta, world, stat);
-    if (status != 0) impl_->clearErrors();
-  }
-  if (status != 0) return {kNaN, kNaN};
-  return {world[impl_->wcs.lng], world[impl_->wcs.lat]};
+  const double pixel[2] = {xFits, yFits};
+  std::array<double, 2> world{};
+  pixelsToWorld(pixel, 1, world.data());
+  return world;
 }
 
 void Wcs::pixelsToWorld(const double* pixelXY, int count, double* worldLngLat) const {

@@ -10,6 +10,7 @@
 
 #include "octarc/catalog/FitsCard.h"
 #include "octarc/core/Error.h"
+#include "octarc/core/Parallel.h"
 #include "octarc/core/Version.h"
 #include "octarc/io/Wcs.h"
 #include "octarc/pipeline/PreparedImage.h"
@@ -18,10 +19,13 @@
 
 namespace octarc {
 
-int workerThreads(int requested) {
-  if (requested > 0) return requested;
-  const unsigned cores = std::thread::hardware_concurrency();
-  return cores == 0 ? 1 : int(cores);
+MeasureContext withOwnWcs(const MeasureContext& context, std::optional<Wcs>& storage) {
+  MeasureContext local = context;
+  if (local.wcs != nullptr) {
+    storage.emplace(*local.wcs);
+    local.wcs = &*storage;
+  }
+  return local;
 }
 
 ColumnPlan planColumns(const RunSettings& settings, bool quiet) {
@@ -86,25 +90,15 @@ void measureSegments(const MeasurementPlan& plan, const std::vector<Segment>& se
   // Rows are preallocated, so each worker writes only its own rows: the output does not depend
   // on the number of threads.
   const int workers = std::max(1, std::min<int>(threads, int(count / 64) + 1));
-  auto work = [&](int w) {
-    // A WCS serialises its transforms: with several workers, each has its own copy.
-    MeasureContext local = context;
-    std::optional<Wcs> wcs;
-    if (workers > 1 && local.wcs != nullptr) {
-      wcs.emplace(*local.wcs);
-      local.wcs = &*wcs;
+  parallelBlocks(workers, workers, [&](std::int64_t w0, std::int64_t w1) {
+    for (std::int64_t w = w0; w < w1; ++w) {
+      std::optional<Wcs> wcs;
+      const MeasureContext local = workers > 1 ? withOwnWcs(context, wcs) : context;
+      for (std::int64_t i = w; i < count; i += workers) {
+        plan.measure(segments[std::size_t(i)], local, table.row(first + i));
+      }
     }
-    for (std::int64_t i = w; i < count; i += workers) {
-      plan.measure(segments[std::size_t(i)], local, table.row(first + i));
-    }
-  };
-  if (workers == 1) {
-    work(0);
-    return;
-  }
-  std::vector<std::thread> pool;
-  for (int w = 0; w < workers; ++w) pool.emplace_back(work, w);
-  for (std::thread& t : pool) t.join();
+  });
 }
 
 void applyAssoc(const sexcompat::AssocSettings& settings, int vectorSize,

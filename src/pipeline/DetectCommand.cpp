@@ -14,6 +14,7 @@
 
 #include "octarc/catalog/Catalog.h"
 #include "octarc/core/Error.h"
+#include "octarc/core/Parallel.h"
 #include "octarc/detection/MultiThresholdDetector.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/pipeline/CatalogAssembly.h"
@@ -156,9 +157,18 @@ void writeCheckImages(const RunSettings& s, PreparedImage& image, const Segmenta
         hdu.floatPixels = nullptr;
       });
     } else if (type == "BACKGROUND") {
-      writeFloat(path, image.backgroundImage());
+      // A map read from a file is written as it is, not copied first.
+      if (image.backgroundMap) {
+        writeFloat(path, *image.backgroundMap);
+      } else {
+        writeFloat(path, image.backgroundImage());
+      }
     } else if (type == "BACKGROUND_RMS") {
-      writeFloat(path, image.backgroundRmsImage());
+      if (image.backgroundRmsMap) {
+        writeFloat(path, *image.backgroundRmsMap);
+      } else {
+        writeFloat(path, image.backgroundRmsImage());
+      }
     } else if (type == "-BACKGROUND") {
       writeFloat(path, image.hdu.pixels);
     } else if (type == "FILTERED") {
@@ -215,7 +225,7 @@ int runDetect(const std::vector<std::string>& args) {
   const ColumnPlan columns = planColumns(s, s.quiet);
   std::optional<sexcompat::AssocSettings> assocSettings;
   if (columns.assoc) assocSettings = sexcompat::AssocSettings::fromConfig(run->config);
-  const int threads = workerThreads(s.threads);
+  const int threads = resolveThreads(s.threads);
 
   const std::vector<std::string> extensions = listImageHdus(s.imagePaths[0]);
   const int extCount = int(extensions.size());

@@ -13,6 +13,7 @@
 #include "octarc/catalog/Catalog.h"
 #include "octarc/catalog/InputCatalog.h"
 #include "octarc/core/Error.h"
+#include "octarc/core/Parallel.h"
 #include "octarc/detection/SegmentationReader.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/pipeline/CatalogAssembly.h"
@@ -205,7 +206,7 @@ int runMeasure(const std::vector<std::string>& args) {
                 << " level(s)\n";
     }
     Table full(columns.plan.columns());
-    measureSegments(columns.plan, segments, context, full, workerThreads(s.threads));
+    measureSegments(columns.plan, segments, context, full, resolveThreads(s.threads));
 
     // Every label must have its catalog row and every row its label.
     std::vector<std::vector<std::size_t>> rowOrder;
@@ -234,7 +235,7 @@ int runMeasure(const std::vector<std::string>& args) {
       if (assocSettings) {
         applyAssoc(*assocSettings, columns.assocVectorSize, image, full, s.quiet);
       }
-      tables.push_back(outputTable(columns, full));
+      tables.push_back(outputTable(columns, std::move(full)));
       RunFacts facts;
       facts.imagePath = imagePath;
       facts.extension = e;

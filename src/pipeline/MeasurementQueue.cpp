@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <optional>
 
-#include "octarc/io/Wcs.h"
+#include "octarc/pipeline/CatalogAssembly.h"
 
 namespace octarc {
 
@@ -67,12 +67,8 @@ void MeasurementQueue::submit() {
 
 void MeasurementQueue::work() {
   // A WCS serialises its transforms: each worker measures with its own copy.
-  MeasureContext context = context_;
   std::optional<Wcs> wcs;
-  if (context.wcs != nullptr) {
-    wcs.emplace(*context.wcs);
-    context.wcs = &*wcs;
-  }
+  const MeasureContext context = withOwnWcs(context_, wcs);
   for (;;) {
     Job job;
     {

@@ -10,6 +10,7 @@
 #include "octarc/background/GlobalBackground.h"
 #include "octarc/background/MeshBackground.h"
 #include "octarc/core/Error.h"
+#include "octarc/core/Parallel.h"
 #include "octarc/detection/Filter.h"
 #include "octarc/pipeline/CatalogAssembly.h"
 #include "octarc/pipeline/RunSettings.h"
@@ -182,23 +183,19 @@ PreparedImage prepareImage(const std::string& imagePath, const RunSettings& sett
       out.hdu.header.number(settings.saturationKey).value_or(settings.saturationAdu);
   // SATUR_LEVEL applies to raw values, so saturated pixels are found before the background goes.
   if (out.saturationAdu > 0) {
-    // Bands of rows on every core, each listing its own pixels; joined in order.
-    const int workers =
-        int(std::min<std::int64_t>(workerThreads(settings.threads), pixels.height()));
-    std::vector<std::vector<std::int64_t>> found(std::size_t(std::max(workers, 1)));
+    // Blocks of pixels on every core, each listing its own; joined in order.
+    const int workers = resolveThreads(settings.threads);
+    std::vector<std::vector<std::int64_t>> found(static_cast<std::size_t>(workers));
     const float* data = pixels.data();
     const double level = out.saturationAdu;
-    auto scan = [&](int w) {
-      const std::int64_t begin = pixels.size() * w / workers;
-      const std::int64_t end = pixels.size() * (w + 1) / workers;
-      for (std::int64_t p = begin; p < end; ++p) {
-        if (data[p] >= level) found[std::size_t(w)].push_back(p);
+    parallelBlocks(workers, workers, [&](std::int64_t w0, std::int64_t w1) {
+      for (std::int64_t w = w0; w < w1; ++w) {
+        const std::int64_t end = pixels.size() * (w + 1) / workers;
+        for (std::int64_t p = pixels.size() * w / workers; p < end; ++p) {
+          if (data[p] >= level) found[std::size_t(w)].push_back(p);
+        }
       }
-    };
-    std::vector<std::thread> pool;
-    for (int w = 1; w < workers; ++w) pool.emplace_back(scan, w);
-    if (workers > 0) scan(0);
-    for (std::thread& t : pool) t.join();
+    });
     for (const std::vector<std::int64_t>& band : found) {
       out.saturatedPixels.insert(out.saturatedPixels.end(), band.begin(), band.end());
     }
@@ -290,17 +287,12 @@ PreparedImage prepareImage(const std::string& imagePath, const RunSettings& sett
     out.origin.background = "AUTO";
     sigmaFromMesh();
     // Row by row, so that no image-sized background map is needed; rows split between threads.
-    const std::int64_t height = pixels.height();
-    const int workers = int(std::min<std::int64_t>(workerThreads(settings.threads), height));
-    auto subtractRows = [&](int w) {
-      for (std::int64_t y = height * w / workers; y < height * (w + 1) / workers; ++y) {
-        m.subtractRow(y, pixels.data() + y * pixels.width());
-      }
-    };
-    std::vector<std::thread> pool;
-    for (int w = 1; w < workers; ++w) pool.emplace_back(subtractRows, w);
-    subtractRows(0);
-    for (std::thread& t : pool) t.join();
+    parallelBlocks(pixels.height(), resolveThreads(settings.threads),
+                   [&](std::int64_t y0, std::int64_t y1) {
+                     for (std::int64_t y = y0; y < y1; ++y) {
+                       m.subtractRow(y, pixels.data() + y * pixels.width());
+                     }
+                   });
   }
   if (mesh) {
     // The background stage's warnings already start with the file name.

@@ -20,6 +20,7 @@
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Conventions.h"
 #include "octarc/core/Error.h"
+#include "octarc/core/Parallel.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/Wcs.h"
 #include "octarc/pipeline/CatalogAssembly.h"
@@ -245,7 +246,7 @@ void FieldSimulationSettings::validate() const {
 
 SimulatedField simulateField(const FieldSimulationSettings& s, const ProgressFn& progress) {
   s.validate();
-  const int threads = workerThreads(s.threads);
+  const int threads = resolveThreads(s.threads);
   const int n = s.sizePix;
   const double sigma = s.skySigmaAdu();
   SimulatedField field;

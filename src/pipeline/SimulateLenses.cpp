@@ -25,6 +25,7 @@
 #include "octarc/catalog/FitsCard.h"
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
+#include "octarc/core/Parallel.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/pipeline/CatalogAssembly.h"
 #include "octarc/pipeline/LensSimulation.h"
@@ -378,7 +379,7 @@ int runSimulateLenses(const std::vector<std::string>& args) {
   // with one message, before any thread starts.
   (void)drawLensSystem(setup, sources, seed, 0);
 
-  const int threads = workerThreads(vm["threads"].as<int>());
+  const int threads = resolveThreads(vm["threads"].as<int>());
   std::vector<SystemResult> results(static_cast<std::size_t>(count));
   std::atomic<std::int64_t> next{0}, done{0};
   std::exception_ptr failure;

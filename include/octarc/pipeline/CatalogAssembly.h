@@ -11,6 +11,7 @@
 #include "octarc/catalog/RunSummary.h"
 #include "octarc/core/Table.h"
 #include "octarc/detection/Segment.h"
+#include "octarc/io/Wcs.h"
 #include "octarc/measure/MeasureContext.h"
 #include "octarc/measure/Registry.h"
 #include "octarc/sexcompat/Assoc.h"
@@ -63,7 +64,8 @@ RunSummary runSummary(const RunSettings& settings, const PreparedImage& image,
 std::vector<std::string> runHeaderCards(const RunSummary& summary, const PreparedImage& image,
                                         const std::vector<ThresholdLevel>& levels);
 
-// Number of worker threads for NTHREADS (0 = all cores).
-int workerThreads(int requested);
+// `context` with its WCS replaced by a copy held in `storage`: a WCS serialises its
+// transforms, so each measuring thread uses its own.
+MeasureContext withOwnWcs(const MeasureContext& context, std::optional<Wcs>& storage);
 
 }  // namespace octarc

@@ -43,7 +43,6 @@ class MeasurementQueue {
   void measureInto(const Segment& segment, const MeasureContext& context, double* row) const;
   void submit();
   void work();
-  void rethrow();
 
   const MeasurementPlan& plan_;
   const MeasureContext& context_;
