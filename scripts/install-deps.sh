@@ -1,13 +1,10 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages octarc needs to build and test, if any is missing.
+# Installs the Debian 12 packages of scripts/debian-packages.txt that are missing (with sudo when
+# not root). Recommended packages are not installed: whatever a test needs is listed explicitly.
 set -euo pipefail
+cd "$(dirname "$0")/.."
 
-packages=(
-  build-essential cmake ninja-build pkg-config
-  libcfitsio-dev libcfitsio-bin wcslib-dev libeigen3-dev libboost-program-options-dev
-  libgtest-dev googletest
-  source-extractor fitsverify python3-astropy python3-numpy python3-sep python3-photutils
-)
+mapfile -t packages < <(sed -e 's/#.*//' -e 's/[[:space:]]//g' scripts/debian-packages.txt | grep -v '^$')
 
 missing=()
 for p in "${packages[@]}"; do
