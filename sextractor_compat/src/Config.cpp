@@ -207,6 +207,7 @@ Config Config::load(const std::vector<KeySpec>& schema, const std::string& sexFi
 const Config::Value& Config::find(std::string_view key) const {
   auto it = values_.find(upper(key));
   if (it == values_.end()) throw ConfigError(std::string(key) + ": unknown configuration keyword");
+  read_.insert(it->first);
   return it->second;
 }
 
@@ -282,7 +283,7 @@ std::string Config::dump(const std::vector<KeySpec>& schema, bool full) const {
     line.append(line.size() < kValueColumn - 1 ? kValueColumn - 1 - line.size() : 0, ' ');
     line += ' ';
     std::string joined;
-    for (const auto& t : find(spec.name).text) joined += (joined.empty() ? "" : ",") + t;
+    for (const auto& t : values_.at(spec.name).text) joined += (joined.empty() ? "" : ",") + t;
     line += joined;
     std::istringstream comment(spec.comment);
     std::string part;

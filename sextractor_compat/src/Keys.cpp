@@ -97,15 +97,15 @@ std::vector<KeySpec> buildSextractorKeys() {
     Row("WEIGHT_TYPE", Kind::Keyword, {"NONE"},
         "NONE, BACKGROUND, MAP_RMS, MAP_VAR or MAP_WEIGHT")
         .keywords({"NONE", "BACKGROUND", "MAP_RMS", "MAP_VAR", "MAP_WEIGHT"})
-        .list(0, kMaxImages).expert().ignored(),
+        .list(0, kMaxImages).expert(),
     Row("RESCALE_WEIGHTS", Kind::Bool, {"Y"}, "rescale the weight maps (Y/N)")
-        .list(1, kMaxImages).expert().ignored(),
+        .list(1, kMaxImages).expert(),
     Row("WEIGHT_IMAGE", Kind::String, {"weight.fits"}, "weight map file name(s)")
-        .list(0, kMaxImages).expert().ignored(),
+        .list(0, kMaxImages).expert(),
     Row("WEIGHT_GAIN", Kind::Bool, {"Y"}, "scale the gain with the weights (Y/N)")
-        .expert().ignored(),
+        .expert(),
     Row("WEIGHT_THRESH", Kind::Float, {}, "weight threshold(s) for bad pixels")
-        .range(0, kBig).list(0, kMaxImages).expert().ignored(),
+        .range(0, kBig).list(0, kMaxImages).expert(),
     // Flagging
     Row("FLAG_IMAGE", Kind::String, {"flag.fits"}, "flag image file name(s)")
         .list(0, kMaxFlagImages).expert().ignored(),
@@ -138,7 +138,8 @@ std::vector<KeySpec> buildSextractorKeys() {
     Row("PIXEL_SCALE", Kind::Float, {"1.0"}, "pixel size, arcsec (0 = from the WCS)")
         .range(0, 1e10),
     // Star/galaxy separation
-    Row("SEEING_FWHM", Kind::Float, {"1.2"}, "stellar FWHM, arcsec").range(0, 1e10).ignored(),
+    Row("SEEING_FWHM", Kind::Float, {"1.2"}, "stellar FWHM, arcsec (recorded as SEXSFWHM)")
+        .range(0, 1e10),
     Row("STARNNW_NAME", Kind::String, {"default.nnw"}, "neural network weights for CLASS_STAR")
         .ignored(),
     // Background
@@ -244,6 +245,18 @@ std::vector<KeySpec> octarcMeasureKeys() {
   catalogName->maxCount = 255;
   catalogName->comment =
       "output catalog file name (with INPUT_CATALOG and\nAPPEND_COLUMNS Y: one per input catalog)";
+  findIn(keys, "WEIGHT_TYPE")->comment =
+      "NONE, MAP_RMS, MAP_VAR or MAP_WEIGHT\n(BACKGROUND: not supported by octarc)";
+  findIn(keys, "WEIGHT_GAIN")->comment = "scale the gain with the weights (octarc: Y only)";
+  // Only the values octarc writes are listed; the others load (an existing .sex file stays
+  // valid) and are refused by the command with a message.
+  findIn(keys, "CATALOG_TYPE")->comment =
+      "NONE, ASCII, ASCII_HEAD, FITS_1.0 or FITS_LDAC\n(ASCII_SKYCAT, ASCII_VOTABLE, FITS_TPX:"
+      " not\nsupported by octarc)";
+  findIn(keys, "CHECKIMAGE_TYPE")->comment =
+      "NONE, BACKGROUND, BACKGROUND_RMS, -BACKGROUND,\nFILTERED, OBJECTS or SEGMENTATION (octarc"
+      " detect;\nthe other SExtractor types are not supported)";
+
   KeySpec* threads = findIn(keys, "NTHREADS");
   threads->defaults = {"0"};
   threads->minValue = 0;
@@ -261,14 +274,18 @@ std::vector<KeySpec> octarcMeasureKeys() {
     Row("APPEND_COLUMNS", Kind::Bool, {"Y"},
         "with INPUT_CATALOG: Y = append the octarc columns\nto each catalog (one CATALOG_NAME per"
         " input),\nN = write one new catalog of every level"),
+    Row("REPLACE_INPUT_CATALOG", Kind::Bool, {"N"},
+        "with APPEND_COLUMNS Y: Y lets a CATALOG_NAME equal its\nINPUT_CATALOG, which is then"
+        " replaced (atomically)"),
     Row("BACKGROUND_NAME", Kind::String, {}, "SExtractor BACKGROUND check-image to subtract")
         .list(0, 1),
     Row("BACKGROUND_RMS_NAME", Kind::String, {}, "SExtractor BACKGROUND_RMS check-image (noise)")
         .list(0, 1),
     Row("DETECT_THRESH_MAX", Kind::Float, {"20"},
         "highest threshold of a multi-threshold run\n(units of DETECT_THRESH)").range(0, kBig),
-    Row("DETECT_NLEVELS", Kind::Int, {"15"},
-        "number of thresholds from DETECT_THRESH to\nDETECT_THRESH_MAX (logarithmic spacing)")
+    Row("DETECT_NLEVELS", Kind::Int, {"1"},
+        "number of thresholds from DETECT_THRESH to\nDETECT_THRESH_MAX (logarithmic spacing;"
+        " 1 = one\nlevel, as SExtractor; the arc search uses 15)")
         .range(1, 255),
     Row("DETECT_LEVELS", Kind::Float, {},
         "explicit list of thresholds, lowest first\n(empty = use DETECT_NLEVELS)").list(0, 255),

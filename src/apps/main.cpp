@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Interrupt.h"
 #include "octarc/pipeline/CommandLine.h"
 #include "octarc/pipeline/Pipeline.h"
 
@@ -46,6 +47,9 @@ int main(int argc, char** argv) {
   }
   const std::string command = args[0];
   args.erase(args.begin());
+  // Ctrl-C (and SIGTERM, SIGHUP) removes the run's temporary outputs before the process ends.
+  const bool simulate = command == "simulate" && !args.empty();
+  octarc::installInterruptCleanup("octarc " + command + (simulate ? " " + args[0] : ""));
   try {
     if (command == "measure") return octarc::runMeasure(args);
     if (command == "detect") return octarc::runDetect(args);

@@ -1,5 +1,6 @@
 #include "octarc/core/AtomicFile.h"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -9,24 +10,59 @@
 #include <filesystem>
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Interrupt.h"
 
 namespace octarc {
 
+namespace fs = std::filesystem;
+
 namespace {
+
 std::atomic<int> tempCounter{0};
+
+// True when `text` is "<pid>.<n>" and process pid no longer exists.
+bool namesDeadProcess(const std::string& text) {
+  const std::size_t dot = text.find('.');
+  if (dot == 0 || dot == std::string::npos || dot + 1 == text.size()) return false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (i != dot && (text[i] < '0' || text[i] > '9')) return false;
+  }
+  const long pid = std::strtol(text.substr(0, dot).c_str(), nullptr, 10);
+  if (pid <= 0 || pid == long(::getpid())) return false;
+  return ::kill(pid_t(pid), 0) != 0 && errno == ESRCH;
 }
 
+// Removes ".<name>.tmp.<pid>.<n>" files of `dir` whose process is gone (a run killed by SIGKILL).
+void removeStaleTemporaries(const fs::path& dir, const std::string& name) {
+  const std::string prefix = "." + name + ".tmp.";
+  std::error_code ec;
+  for (fs::directory_iterator it(dir.empty() ? fs::path(".") : dir, ec), end; !ec && it != end;
+       it.increment(ec)) {
+    const std::string entry = it->path().filename().string();
+    if (entry.compare(0, prefix.size(), prefix) != 0) continue;
+    if (namesDeadProcess(entry.substr(prefix.size()))) {
+      std::error_code ignored;
+      fs::remove(it->path(), ignored);
+    }
+  }
+}
+
+}  // namespace
+
 AtomicFile::AtomicFile(std::string finalPath) : finalPath_(std::move(finalPath)) {
-  std::filesystem::path p(finalPath_);
-  std::filesystem::path dir = p.parent_path();
-  std::string name = "." + p.filename().string() + ".tmp." + std::to_string(::getpid()) + "." +
-                     std::to_string(tempCounter++);
-  tempPath_ = (dir.empty() ? std::filesystem::path(name) : dir / name).string();
+  const fs::path p(finalPath_);
+  const fs::path dir = p.parent_path();
+  removeStaleTemporaries(dir, p.filename().string());
+  const std::string name = "." + p.filename().string() + ".tmp." + std::to_string(::getpid()) +
+                           "." + std::to_string(tempCounter++);
+  tempPath_ = (dir.empty() ? fs::path(name) : dir / name).string();
+  interruptSlot_ = removeOnInterrupt(tempPath_);
   std::remove(tempPath_.c_str());
 }
 
 AtomicFile::~AtomicFile() {
   if (!committed_) std::remove(tempPath_.c_str());
+  forgetOnInterrupt(interruptSlot_);
 }
 
 void AtomicFile::commit() {
@@ -34,6 +70,80 @@ void AtomicFile::commit() {
     throw IoError(finalPath_ + ": cannot write (" + std::strerror(errno) + ")");
   }
   committed_ = true;
+  forgetOnInterrupt(interruptSlot_);
+  interruptSlot_ = -1;
+}
+
+const AtomicFile& OutputFiles::add(const std::string& finalPath) {
+  if (finalPath.empty()) throw ConfigError("an output file name is empty");
+  for (const std::unique_ptr<AtomicFile>& f : files_) {
+    if (fs::path(f->finalPath()).lexically_normal() == fs::path(finalPath).lexically_normal()) {
+      throw ConfigError(finalPath + ": given twice as an output of the same run");
+    }
+  }
+  const fs::path dir = fs::path(finalPath).parent_path();
+  const std::string dirText = dir.empty() ? std::string(".") : dir.string();
+  std::error_code ec;
+  if (!fs::is_directory(dirText, ec)) {
+    throw IoError(finalPath + ": cannot write (directory " + dirText + " does not exist)");
+  }
+  if (::access(dirText.c_str(), W_OK | X_OK) != 0) {
+    throw IoError(finalPath + ": cannot write (directory " + dirText + ": " + std::strerror(errno) +
+                  ")");
+  }
+  files_.push_back(std::make_unique<AtomicFile>(finalPath));
+  return *files_.back();
+}
+
+void OutputFiles::write(std::size_t i,
+                        const std::function<void(const std::string& path)>& write) const {
+  const AtomicFile& f = *files_.at(i);
+  auto named = [&f](std::string message) {
+    for (std::size_t at; (at = message.find(f.tempPath())) != std::string::npos;) {
+      message.replace(at, f.tempPath().size(), f.finalPath());
+    }
+    return message;
+  };
+  try {
+    write(f.tempPath());
+  } catch (const IoError& e) {
+    throw IoError(named(e.what()));
+  } catch (const ConfigError& e) {
+    throw ConfigError(named(e.what()));
+  }
+}
+
+void OutputFiles::commit() {
+  if (files_.empty()) return;
+  for (const std::unique_ptr<AtomicFile>& f : files_) {
+    std::error_code ec;
+    if (!fs::exists(f->tempPath(), ec)) {
+      throw IoError(f->finalPath() + ": cannot write (its temporary file was not written)");
+    }
+  }
+  DeferInterrupts hold;
+  std::error_code ignored;
+  fs::remove(files_.front()->finalPath(), ignored);
+  for (std::size_t i = 1; i < files_.size(); ++i) files_[i]->commit();
+  files_.front()->commit();
+}
+
+void refuseOutputOverInput(const std::string& outputPath, const std::string& outputKey,
+                           const std::string& inputPath, const std::string& inputKey) {
+  if (outputPath.empty() || inputPath.empty()) return;
+  // cfitsio syntax ("f.fits[1]") names a file plus an HDU: compare the file.
+  auto fileOf = [](const std::string& p) {
+    const std::size_t bracket = p.find('[');
+    return fs::path(bracket == std::string::npos ? p : p.substr(0, bracket));
+  };
+  const fs::path out = fileOf(outputPath), in = fileOf(inputPath);
+  std::error_code ec;
+  const bool same = out.lexically_normal() == in.lexically_normal() ||
+                    (fs::exists(out, ec) && fs::equivalent(out, in, ec));
+  if (same) {
+    throw ConfigError(outputKey + " " + outputPath + " is also the " + inputKey +
+                      ": octarc never writes over its inputs; choose another output name");
+  }
 }
 
 }  // namespace octarc

@@ -28,10 +28,23 @@ MeasureContext withOwnWcs(const MeasureContext& context, std::optional<Wcs>& sto
   return local;
 }
 
-ColumnPlan planColumns(const RunSettings& settings, bool quiet) {
+ColumnPlan planColumns(const RunSettings& settings, bool quiet, int levelCount) {
   ColumnPlan out;
-  const std::vector<sexcompat::ParamRequest> params =
-      sexcompat::readParamFile(settings.parametersPath);
+  std::vector<sexcompat::ParamRequest> params = sexcompat::readParamFile(settings.parametersPath);
+  auto has = [&](const char* name) {
+    return std::any_of(params.begin(), params.end(),
+                       [&](const sexcompat::ParamRequest& p) { return p.name == name; });
+  };
+  if (levelCount > 1 && !has("THRESH_LEVEL")) {
+    auto number = std::find_if(params.begin(), params.end(),
+                               [](const sexcompat::ParamRequest& p) { return p.name == "NUMBER"; });
+    params.insert(number == params.end() ? params.begin() : number + 1, {"THRESH_LEVEL", {}, 0});
+    if (!quiet) {
+      std::cerr << "WARNING: " << settings.parametersPath
+                << ": THRESH_LEVEL added to the catalog columns: the rows of the " << levelCount
+                << " levels could not be told apart without it\n";
+    }
+  }
   std::vector<ColumnRequest> requests;
   std::vector<ColumnSpec> external;
   for (const sexcompat::ParamRequest& p : params) {
@@ -102,7 +115,7 @@ void measureSegments(const MeasurementPlan& plan, const std::vector<Segment>& se
 }
 
 void applyAssoc(const sexcompat::AssocSettings& settings, int vectorSize,
-                const PreparedImage& image, Table& table, bool quiet) {
+                const PreparedImage& image, Table& table, bool quiet, bool keepAllRows) {
   const Wcs* wcs = image.wcs ? &*image.wcs : nullptr;
   std::vector<std::string> warnings;
   const sexcompat::AssocList list = sexcompat::AssocList::load(
@@ -129,9 +142,9 @@ void applyAssoc(const sexcompat::AssocSettings& settings, int vectorSize,
       }
     }
     if (numCol >= 0) table.setValue(r, numCol, m.count);
-    keep[std::size_t(r)] = list.keeps(m);
+    keep[std::size_t(r)] = keepAllRows || list.keeps(m);
   }
-  table.filterRows(keep);
+  if (!keepAllRows) table.filterRows(keep);
 }
 
 Table outputTable(const ColumnPlan& plan, Table&& full) {

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "octarc/core/Column.h"
+#include "octarc/core/Error.h"
 #include "octarc/core/Version.h"
 #include "octarc/measure/Registry.h"
 #include "octarc/sexcompat/Assoc.h"
@@ -28,6 +29,25 @@ void printColumns() {
 }
 
 }  // namespace
+
+const std::string& requireSingleImage(const RunSettings& s, const std::string& command) {
+  namespace fs = std::filesystem;
+  auto dualImage = [&](const std::string& shown) {
+    return ConfigError("dual-image mode (" + shown +
+                       ": detect on one image, measure on another) is not supported yet; give one "
+                       "image (see octarc " +
+                       command + " -h)");
+  };
+  if (s.imagePaths.size() == 2) throw dualImage(s.imagePaths[0] + " " + s.imagePaths[1]);
+  if (s.imagePaths.size() != 1) {
+    throw ConfigError("octarc " + command + " takes exactly one image (got " +
+                      std::to_string(s.imagePaths.size()) + "); see octarc " + command + " -h");
+  }
+  const std::string& path = s.imagePaths[0];
+  std::error_code ec;
+  if (path.find(',') != std::string::npos && !fs::exists(path, ec)) throw dualImage(path);
+  return path;
+}
 
 const char* octarcVersion() {
   return kVersion;

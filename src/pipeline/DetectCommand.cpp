@@ -7,12 +7,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <numeric>
 #include <set>
 
 #include "octarc/catalog/Catalog.h"
+#include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Parallel.h"
 #include "octarc/detection/MultiThresholdDetector.h"
@@ -22,6 +24,7 @@
 #include "octarc/pipeline/MeasurementQueue.h"
 #include "octarc/pipeline/Pipeline.h"
 #include "octarc/pipeline/PreparedImage.h"
+#include "octarc/pipeline/Progress.h"
 #include "octarc/pipeline/RunSettings.h"
 
 namespace octarc {
@@ -124,10 +127,26 @@ void rmsToVariance(ImageF& buffer) {
   for (float& v : buffer.pixels()) v = float(double(v) * double(v));
 }
 
-// Writes the check images once everything else has succeeded, each atomically and each through
-// at most one image-sized buffer. OBJECTS goes last: it blanks the measurement image in place.
+// Human-readable size of a file, for progress lines ("6.0 GB").
+std::string sizeText(const std::string& path) {
+  std::error_code ec;
+  const double bytes = double(std::filesystem::file_size(path, ec));
+  if (ec) return "?";
+  char text[32];
+  if (bytes >= 1e9) {
+    std::snprintf(text, sizeof text, "%.1f GB", bytes / 1e9);
+  } else {
+    std::snprintf(text, sizeof text, "%.1f MB", bytes / 1e6);
+  }
+  return text;
+}
+
+// Writes the check images once everything else has succeeded, each at its temporary name in
+// `outputs` (check image i is output firstCheck + i) and each through at most one image-sized
+// buffer. OBJECTS goes last: it blanks the measurement image in place.
 void writeCheckImages(const RunSettings& s, PreparedImage& image, const SegmentationRuns* runs,
-                      const std::vector<ThresholdLevel>& levels) {
+                      const std::vector<ThresholdLevel>& levels, const OutputFiles& outputs,
+                      std::size_t firstCheck) {
   // Measurements are done: free the buffers no check image needs, to make room for the one
   // image-sized buffer the check images use.
   image.variance = ImageF();
@@ -140,44 +159,62 @@ void writeCheckImages(const RunSettings& s, PreparedImage& image, const Segmenta
     hdu.floatPixels = &pixels;
     writeImageFile(path, {hdu});
   };
+  // A line when each check image is done: the multi-level ones take a while (6 GB for 15 levels
+  // of a 10000^2 image).
+  auto done = [&](std::size_t i, std::chrono::steady_clock::time_point since) {
+    if (s.quiet) return;
+    std::cerr << "> Wrote check-image " << s.checkImageNames[i] << " (" << s.checkImageTypes[i]
+              << ", " << sizeText(outputs[firstCheck + i].tempPath()) << ") in "
+              << std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count()
+              << " s\n";
+  };
   for (std::size_t i = 0; i < s.checkImageTypes.size(); ++i) {
     const std::string& type = s.checkImageTypes[i];
-    const std::string& path = s.checkImageNames[i];
-    if (type == "SEGMENTATION") {
-      ImageI32 labels;
-      writeImageFileSequential(path, runs->levelCount(), [&](int k, OutputImageHdu& hdu) {
-        runs->render(k + 1, labels);
-        hdu.header = image.hdu.header;
-        hdu.header.set("THRLEVEL", std::to_string(k + 1), "octarc threshold level (1 = lowest)");
-        char value[32];
-        std::snprintf(value, sizeof value, "%.10G", levels[std::size_t(k)].thresholdAdu);
-        hdu.header.set("THRESHLD", value, "Detection threshold of this level (ADU)");
-        hdu.header.set("EXTNAME", quoteFitsString("LEVEL" + std::to_string(k + 1)));
-        hdu.intPixels = &labels;
-        hdu.floatPixels = nullptr;
-      });
-    } else if (type == "BACKGROUND") {
-      // A map read from a file is written as it is, not copied first.
-      if (image.backgroundMap) {
-        writeFloat(path, *image.backgroundMap);
-      } else {
-        writeFloat(path, image.backgroundImage());
+    if (type == "OBJECTS") continue;
+    const auto since = std::chrono::steady_clock::now();
+    outputs.write(firstCheck + i, [&](const std::string& path) {
+      if (type == "SEGMENTATION") {
+        ImageI32 labels;
+        const ProgressFn progress =
+            terminalProgress("writing " + s.checkImageNames[i], "levels", s.quiet);
+        writeImageFileSequential(path, runs->levelCount(), [&](int k, OutputImageHdu& hdu) {
+          if (progress) progress(k, runs->levelCount());
+          runs->render(k + 1, labels);
+          hdu.header = image.hdu.header;
+          hdu.header.set("THRLEVEL", std::to_string(k + 1), "octarc threshold level (1 = lowest)");
+          char value[32];
+          std::snprintf(value, sizeof value, "%.10G", levels[std::size_t(k)].thresholdAdu);
+          hdu.header.set("THRESHLD", value, "Detection threshold of this level (ADU)");
+          hdu.header.set("EXTNAME", quoteFitsString("LEVEL" + std::to_string(k + 1)));
+          hdu.intPixels = &labels;
+          hdu.floatPixels = nullptr;
+        });
+        if (progress) progress(runs->levelCount(), runs->levelCount());
+      } else if (type == "BACKGROUND") {
+        // A map read from a file is written as it is, not copied first.
+        if (image.backgroundMap) {
+          writeFloat(path, *image.backgroundMap);
+        } else {
+          writeFloat(path, image.backgroundImage());
+        }
+      } else if (type == "BACKGROUND_RMS") {
+        if (image.backgroundRmsMap) {
+          writeFloat(path, *image.backgroundRmsMap);
+        } else {
+          writeFloat(path, image.backgroundRmsImage());
+        }
+      } else if (type == "-BACKGROUND") {
+        writeFloat(path, image.hdu.pixels);
+      } else if (type == "FILTERED") {
+        writeFloat(path, image.detectionImage());
       }
-    } else if (type == "BACKGROUND_RMS") {
-      if (image.backgroundRmsMap) {
-        writeFloat(path, *image.backgroundRmsMap);
-      } else {
-        writeFloat(path, image.backgroundRmsImage());
-      }
-    } else if (type == "-BACKGROUND") {
-      writeFloat(path, image.hdu.pixels);
-    } else if (type == "FILTERED") {
-      writeFloat(path, image.detectionImage());
-    }
+    });
+    done(i, since);
   }
   bool blanked = false;
   for (std::size_t i = 0; i < s.checkImageTypes.size(); ++i) {
     if (s.checkImageTypes[i] != "OBJECTS") continue;
+    const auto since = std::chrono::steady_clock::now();
     if (!blanked) {
       // Measurement pixels on the footprints of the lowest level, 0 elsewhere.
       ImageI32 labels;
@@ -188,7 +225,9 @@ void writeCheckImages(const RunSettings& s, PreparedImage& image, const Segmenta
       }
       blanked = true;
     }
-    writeFloat(s.checkImageNames[i], image.hdu.pixels);
+    outputs.write(firstCheck + i,
+                  [&](const std::string& path) { writeFloat(path, image.hdu.pixels); });
+    done(i, since);
   }
 }
 
@@ -199,10 +238,7 @@ int runDetect(const std::vector<std::string>& args) {
   std::optional<LoadedRun> run = loadRun(args, "detect", printUsage);
   if (!run) return 0;
   const RunSettings& s = run->settings;
-  if (s.imagePaths.size() != 1) {
-    throw ConfigError("octarc detect takes exactly one image (got " +
-                      std::to_string(s.imagePaths.size()) + "); see octarc detect -h");
-  }
+  requireSingleImage(s, "detect");
   if (s.catalogNames.size() != 1) throw ConfigError("CATALOG_NAME must be one file name");
   for (const std::string& t : s.checkImageTypes) {
     if (!kCheckImageTypes.count(t)) {
@@ -217,15 +253,35 @@ int runDetect(const std::vector<std::string>& args) {
   const bool keepMaps =
       std::count(s.checkImageTypes.begin(), s.checkImageTypes.end(), "BACKGROUND") > 0 ||
       std::count(s.checkImageTypes.begin(), s.checkImageTypes.end(), "BACKGROUND_RMS") > 0;
-  detectionLevels(s, 1.0);  // the level list is checked before any image is read
+  // The level list is checked before any image is read.
+  const int levelCount = int(detectionLevels(s, 1.0).size());
+  if (levelCount == 1 && run->config.isExplicit("DETECT_THRESH_MAX") && !s.quiet) {
+    std::cerr << "WARNING: DETECT_THRESH_MAX is set but DETECT_NLEVELS is 1: one level, at "
+                 "DETECT_THRESH (set DETECT_NLEVELS for a multi-threshold run)\n";
+  }
   if (s.minAreaPix < 1) {
     throw ConfigError("DETECT_MINAREA: must be at least 1, got " + std::to_string(s.minAreaPix));
   }
   const CatalogType catalogType = parseCatalogType(s.catalogType);
-  const ColumnPlan columns = planColumns(s, s.quiet);
+  const ColumnPlan columns = planColumns(s, s.quiet, levelCount);
   std::optional<sexcompat::AssocSettings> assocSettings;
   if (columns.assoc) assocSettings = sexcompat::AssocSettings::fromConfig(run->config);
   const int threads = resolveThreads(s.threads);
+
+  // The outputs, checked before any pixel is read: the catalog first (the run's main output),
+  // then the check images; they are renamed into place together at the end.
+  OutputFiles outputs;
+  if (catalogType != CatalogType::None) outputs.add(s.catalogNames[0]);
+  const std::size_t firstCheck = outputs.size();
+  for (const std::string& name : s.checkImageNames) outputs.add(name);
+  const std::vector<NamedInput> inputs =
+      runInputs(s, assocSettings ? assocSettings->listPath : std::string());
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    const std::string key = i < firstCheck ? "CATALOG_NAME" : "CHECKIMAGE_NAME";
+    for (const NamedInput& in : inputs) {
+      refuseOutputOverInput(outputs[i].finalPath(), key, in.path, in.key);
+    }
+  }
 
   const std::vector<std::string> extensions = listImageHdus(s.imagePaths[0]);
   const int extCount = int(extensions.size());
@@ -386,19 +442,26 @@ int runDetect(const std::vector<std::string>& args) {
                      order.empty() ? nullptr : &order});
   }
   lap("assembling the catalog");
-  writeCatalog(s.catalogNames[0], catalogType, parts, fits10Cards);
+  if (catalogType != CatalogType::None) {
+    outputs.write(
+        0, [&](const std::string& path) { writeCatalog(path, catalogType, parts, fits10Cards); });
+  }
   lap("writing the catalog");
   if (!s.quiet && catalogType != CatalogType::None) {
     std::cerr << "> Wrote " << s.catalogNames[0] << " in "
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
               << " s\n";
   }
-  // Check images last, so that a failure anywhere before leaves no output behind. The catalog
-  // is written: its rows make room for the check images' buffer.
+  // Check images last. The catalog is written: its rows make room for their buffer.
   parts.clear();
   std::vector<Table>().swap(tables);
   std::vector<std::vector<std::int64_t>>().swap(orders);
-  if (checkImage) writeCheckImages(s, *checkImage, checkRuns ? &*checkRuns : nullptr, checkLevels);
+  if (checkImage) {
+    writeCheckImages(s, *checkImage, checkRuns ? &*checkRuns : nullptr, checkLevels, outputs,
+                     firstCheck);
+  }
+  // Every output is complete: they appear together.
+  outputs.commit();
   return 0;
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <utility>
 
 #include "octarc/core/Error.h"
@@ -114,10 +115,26 @@ LensSystemDraw drawLensSystem(const SimulationSetup& setup, const SourceDatabase
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   LensSystemDraw d;
   d.index = index;
-  d.lens = setup.population.drawLens(setup.cosmology, rng);
-  d.sourceIndex = std::uniform_int_distribution<std::size_t>(0, sources.size() - 1)(rng);
+  // A lens and source the relations cannot combine (no source redshift behind this lens at the
+  // drawn magnitude) are drawn again, from the same stream, so the run stays reproducible.
+  for (;;) {
+    d.lens = setup.population.drawLens(setup.cosmology, rng);
+    d.sourceIndex = std::uniform_int_distribution<std::size_t>(0, sources.size() - 1)(rng);
+    const std::optional<sim::SourceDraw> source =
+        setup.population.drawSource(sources.stamp(d.sourceIndex).type, d.lens.redshift, rng);
+    if (source) {
+      d.source = *source;
+      break;
+    }
+    if (++d.redraws >= kMaxSystemRedraws) {
+      throw ConfigError(setup.population.sourcePath +
+                        ": source.z: the magnitude-redshift "
+                        "relations give no source redshift behind the lens in " +
+                        std::to_string(kMaxSystemRedraws) + " draws of system " +
+                        std::to_string(index));
+    }
+  }
   const sim::SourceStamp& stamp = sources.stamp(d.sourceIndex);
-  d.source = setup.population.drawSource(stamp.type, d.lens.redshift, rng);
   d.einsteinRadiusArcsec = sim::sisEinsteinRadiusArcsec(d.lens.sigmaKmPerS, d.lens.redshift,
                                                         d.source.redshift, setup.cosmology);
   d.lensEllipticity =

@@ -12,6 +12,7 @@
 
 #include "octarc/catalog/Catalog.h"
 #include "octarc/catalog/InputCatalog.h"
+#include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Parallel.h"
 #include "octarc/detection/SegmentationReader.h"
@@ -42,6 +43,17 @@ CatalogRunValues runValuesOf(const InputCatalogPart& part) {
 std::vector<ThresholdLevel> levelThresholds(const RunSettings& s, double sigmaAdu,
                                             const std::vector<CatalogRunValues>& catalogs,
                                             std::size_t levelCount) {
+  // With catalogs, their SEXTHLD is the threshold of each level; DETECT_LEVELS (or, for a single
+  // level, DETECT_THRESH) stands in for a catalog without one.
+  if (s.detectLevels.empty() && levelCount > 1) {
+    for (std::size_t k = 0; k < catalogs.size(); ++k) {
+      if (!catalogs[k].thresholdAdu) {
+        throw IoError(s.inputCatalogPaths[k] +
+                      ": no SEXTHLD (the detection threshold of its run) in the LDAC_IMHEAD of "
+                      "its objects table; give the thresholds of the levels with DETECT_LEVELS");
+      }
+    }
+  }
   std::vector<ThresholdLevel> levels(levelCount);
   const bool detRel = s.detectThresholdType == ThresholdType::Relative;
   const bool anaRel = s.analysisThresholdType == ThresholdType::Relative;
@@ -129,10 +141,7 @@ int runMeasure(const std::vector<std::string>& args) {
   std::optional<LoadedRun> run = loadRun(args, "measure", printUsage);
   if (!run) return 0;
   const RunSettings& s = run->settings;
-  if (s.imagePaths.size() != 1) {
-    throw ConfigError("octarc measure takes exactly one image (got " +
-                      std::to_string(s.imagePaths.size()) + "); see octarc measure -h");
-  }
+  requireSingleImage(s, "measure");
   if (s.segmentationPaths.empty()) {
     throw ConfigError("SEGMENTATION_NAME is required: the SExtractor segmentation check-image(s)");
   }
@@ -154,10 +163,43 @@ int runMeasure(const std::vector<std::string>& args) {
   }
   // Appending keeps each input catalog's own format; CATALOG_TYPE is for new catalogs.
   const CatalogType catalogType = parseCatalogType(s.catalogType);
+  if (appendMode && run->config.isExplicit("CATALOG_TYPE") && !s.quiet) {
+    std::cerr << "WARNING: CATALOG_TYPE " << s.catalogType
+              << " is not used with APPEND_COLUMNS Y: each output keeps the format of its "
+                 "INPUT_CATALOG\n";
+  }
 
-  const ColumnPlan columns = planColumns(s, s.quiet);
+  // Appended catalogs hold one level each; a new catalog holds every level.
+  const ColumnPlan columns = planColumns(s, s.quiet, appendMode ? 1 : int(levelCount));
   std::optional<sexcompat::AssocSettings> assocSettings;
   if (columns.assoc) assocSettings = sexcompat::AssocSettings::fromConfig(run->config);
+  if (appendMode && assocSettings && !s.quiet &&
+      assocSettings->selection != sexcompat::AssocSelection::All) {
+    std::cerr << "WARNING: ASSOCSELEC_TYPE " << run->config.getString("ASSOCSELEC_TYPE")
+              << " does not remove rows with APPEND_COLUMNS Y: every row of the input catalogs is "
+                 "kept, with its VECTOR_ASSOC/NUMBER_ASSOC (APPEND_COLUMNS N selects rows)\n";
+  }
+
+  // The outputs, checked before anything is read; renamed into place together at the end.
+  OutputFiles outputs;
+  if (appendMode || catalogType != CatalogType::None) {
+    for (const std::string& name : s.catalogNames) outputs.add(name);
+  }
+  const std::vector<NamedInput> inputs =
+      runInputs(s, assocSettings ? assocSettings->listPath : std::string());
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    for (const NamedInput& in : inputs) {
+      // Only with REPLACE_INPUT_CATALOG Y may an appended catalog take its own input's name.
+      if (appendMode && s.replaceInputCatalog && in.key == "INPUT_CATALOG" &&
+          in.path == s.inputCatalogPaths[i]) {
+        continue;
+      }
+      refuseOutputOverInput(outputs[i].finalPath(), "CATALOG_NAME", in.path,
+                            in.key == "INPUT_CATALOG" && appendMode
+                                ? "INPUT_CATALOG (REPLACE_INPUT_CATALOG Y replaces it)"
+                                : in.key);
+    }
+  }
 
   std::vector<std::vector<InputCatalogPart>> catalogs;
   for (const std::string& path : s.inputCatalogPaths) catalogs.push_back(readInputCatalog(path));
@@ -216,6 +258,10 @@ int runMeasure(const std::vector<std::string>& args) {
     }
 
     if (appendMode) {
+      // ASSOC fills its columns for every row: the rows are those of the input catalogs.
+      if (assocSettings) {
+        applyAssoc(*assocSettings, columns.assocVectorSize, image, full, s.quiet, true);
+      }
       for (std::size_t k = 0; k < levelCount; ++k) {
         // Columns the SExtractor catalog already has are kept as they are, not appended again.
         const std::vector<std::string>& existing = catalogs[k][std::size_t(e)].columnNames;
@@ -255,17 +301,23 @@ int runMeasure(const std::vector<std::string>& args) {
     for (std::size_t k = 0; k < levelCount; ++k) {
       std::vector<const Table*> perExtension;
       for (const Table& t : appended[k]) perExtension.push_back(&t);
-      writeAppendedCatalog(s.inputCatalogPaths[k], s.catalogNames[k], perExtension);
-      if (!s.quiet) std::cerr << "> Wrote " << s.catalogNames[k] << "\n";
+      outputs.write(k, [&](const std::string& path) {
+        writeAppendedCatalog(s.inputCatalogPaths[k], path, perExtension);
+      });
     }
-  } else {
+  } else if (catalogType != CatalogType::None) {
     for (int e = 0; e < extCount; ++e) {
       parts.push_back(
           {headers[std::size_t(e)], cards[std::size_t(e)], &tables[std::size_t(e)], nullptr});
     }
-    writeCatalog(s.catalogNames[0], catalogType, parts, fits10Cards);
-    if (!s.quiet && catalogType != CatalogType::None) {
-      std::cerr << "> Wrote " << s.catalogNames[0] << "\n";
+    outputs.write(
+        0, [&](const std::string& path) { writeCatalog(path, catalogType, parts, fits10Cards); });
+  }
+  // Every catalog is complete: they appear together.
+  outputs.commit();
+  if (!s.quiet) {
+    for (std::size_t i = 0; i < outputs.size(); ++i) {
+      std::cerr << "> Wrote " << outputs[i].finalPath() << "\n";
     }
   }
   return 0;

@@ -107,6 +107,7 @@ RunSettings settingsFromConfig(const sexcompat::Config& config) {
   }
   if (config.isExplicit("INPUT_CATALOG")) s.inputCatalogPaths = config.getStrings("INPUT_CATALOG");
   s.appendColumns = config.getBool("APPEND_COLUMNS");
+  s.replaceInputCatalog = config.getBool("REPLACE_INPUT_CATALOG");
 
   for (const std::string& t : config.getStrings("CHECKIMAGE_TYPE")) {
     if (upper(t) != "NONE") s.checkImageTypes.push_back(upper(t));
@@ -116,10 +117,33 @@ RunSettings settingsFromConfig(const sexcompat::Config& config) {
     throw ConfigError("CHECKIMAGE_TYPE and CHECKIMAGE_NAME must list the same number of items");
   }
 
+  if (config.getBool("FITS_UNSIGNED")) {
+    throw ConfigError(
+        "FITS_UNSIGNED Y is not supported: octarc reads FITS integers as signed, as "
+        "the FITS standard (and SExtractor's default N) do");
+  }
+
   s.quiet = upper(config.getString("VERBOSE_TYPE")) == "QUIET";
   s.verboseFull = upper(config.getString("VERBOSE_TYPE")) == "FULL";
   s.threads = config.getInt("NTHREADS");
   return s;
+}
+
+std::vector<NamedInput> runInputs(const RunSettings& s, const std::string& assocListPath) {
+  std::vector<NamedInput> inputs;
+  for (const std::string& p : s.imagePaths) inputs.push_back({"image", p});
+  if (!s.configPath.empty()) inputs.push_back({"configuration file", s.configPath});
+  inputs.push_back({"PARAMETERS_NAME", s.parametersPath});
+  if (s.filter) inputs.push_back({"FILTER_NAME", s.filterPath});
+  if (!s.weightImagePath.empty()) inputs.push_back({"WEIGHT_IMAGE", s.weightImagePath});
+  if (!s.backgroundMapPath.empty()) inputs.push_back({"BACKGROUND_NAME", s.backgroundMapPath});
+  if (!s.backgroundRmsMapPath.empty()) {
+    inputs.push_back({"BACKGROUND_RMS_NAME", s.backgroundRmsMapPath});
+  }
+  for (const std::string& p : s.segmentationPaths) inputs.push_back({"SEGMENTATION_NAME", p});
+  for (const std::string& p : s.inputCatalogPaths) inputs.push_back({"INPUT_CATALOG", p});
+  if (!assocListPath.empty()) inputs.push_back({"ASSOC_NAME", assocListPath});
+  return inputs;
 }
 
 }  // namespace octarc

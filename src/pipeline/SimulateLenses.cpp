@@ -11,7 +11,6 @@
 #include <boost/program_options.hpp>
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -44,26 +43,6 @@ namespace {
 
 namespace po = boost::program_options;
 namespace sim = octarc::simulation;
-
-volatile std::sig_atomic_t gInterrupted = 0;
-extern "C" void onSigint(int) {
-  gInterrupted = 1;
-}
-
-// Restores the previous SIGINT handler when the command returns or throws.
-class SigintGuard {
- public:
-  SigintGuard() {
-    gInterrupted = 0;
-    previous_ = std::signal(SIGINT, onSigint);
-  }
-  ~SigintGuard() { std::signal(SIGINT, previous_); }
-  SigintGuard(const SigintGuard&) = delete;
-  SigintGuard& operator=(const SigintGuard&) = delete;
-
- private:
-  void (*previous_)(int) = SIG_DFL;
-};
 
 // What one system leaves for the output tables.
 struct SystemResult {
@@ -147,13 +126,13 @@ void printUsage(const po::options_description& options) {
 
 // Writes the systems table and the arc table into one FITS-LDAC file at the temporary path
 // of `out` (the caller commits it together with the stamps).
-void writeTables(AtomicFile& out, const Table& systems, const Table& arcs,
+void writeTables(const AtomicFile& out, const Table& systems, const Table& arcs,
                  const std::vector<std::string>& runCards) {
   writeLdacTables(out.tempPath(), runCards, {{"LDAC_OBJECTS", &systems}, {"ARCS", &arcs}});
 }
 
 // The stamps of the first systems as one float cube (NAXIS3 = system index).
-void writeStampCube(AtomicFile& out, const std::vector<SystemResult>& results, int count,
+void writeStampCube(const AtomicFile& out, const std::vector<SystemResult>& results, int count,
                     double pixelScaleArcsec) {
   std::vector<const ImageF*> planes;
   for (int k = 0; k < count; ++k) planes.push_back(&results[std::size_t(k)].image);
@@ -230,8 +209,6 @@ int runSimulateLenses(const std::vector<std::string>& args) {
     ("subsamples", po::value<int>()->default_value(4), "rays per fine pixel along each axis")
     ("timing", "print the CPU time per stage even with --quiet");
   // clang-format on
-  // From the start, so that Ctrl-C at any point ends with exit code 130 and no output.
-  SigintGuard sigint;
   po::variables_map vm;
   try {
     po::store(po::command_line_parser(args).options(options).run(), vm);
@@ -362,6 +339,17 @@ int runSimulateLenses(const std::vector<std::string>& args) {
   if (stampsPath && vm["stamp-count"].as<int>() < 1) {
     throw ConfigError("--stamp-count must be at least 1");
   }
+  // The output names are checked before any system is simulated.
+  OutputFiles outputs;
+  outputs.add(outPath);
+  if (stampsPath) outputs.add(*stampsPath);
+  for (const char* input : {"config", "database", "population"}) {
+    if (!vm.count(input)) continue;
+    for (std::size_t i = 0; i < outputs.size(); ++i) {
+      refuseOutputOverInput(outputs[i].finalPath(), i == 0 ? "-o" : "--stamps",
+                            vm[input].as<std::string>(), std::string("--") + input + " file");
+    }
+  }
 
   // Sources.
   SourceDatabase sources = [&] {
@@ -389,7 +377,7 @@ int runSimulateLenses(const std::vector<std::string>& args) {
   auto worker = [&](int t) {
     try {
       for (;;) {
-        if (gInterrupted || stop) return;
+        if (stop) return;
         const std::int64_t i = next++;
         if (i >= count) return;
         SimulatedSystem s =
@@ -417,7 +405,7 @@ int runSimulateLenses(const std::vector<std::string>& args) {
   std::vector<std::thread> pool;
   for (int t = 0; t < threads; ++t) pool.emplace_back(worker, t);
   const ProgressFn progress = terminalProgress("simulating", "systems", quiet);
-  while (done < count && !stop && !gInterrupted) {
+  while (done < count && !stop) {
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
     if (progress) progress(done, count);
   }
@@ -427,18 +415,14 @@ int runSimulateLenses(const std::vector<std::string>& args) {
     if (done < count) std::fputc('\n', stderr);  // interrupted: end the bar's line
   }
   if (failure) std::rethrow_exception(failure);
-  if (gInterrupted) {
-    std::cerr << "octarc simulate lenses: interrupted after " << done << " of " << count
-              << " systems; nothing written\n";
-    return 130;
-  }
 
   // Tables, in system order.
   const int measuredWidth = measuredPlan().rowWidth();
   Table systems(systemColumns());
   Table arcs(arcColumns());
-  std::int64_t found = 0;
+  std::int64_t found = 0, redraws = 0;
   for (const SystemResult& r : results) {
+    redraws += r.draw.redraws;
     const LensSystemDraw& d = r.draw;
     double* row = systems.appendRow();
     const double nan = std::nan("");
@@ -500,21 +484,12 @@ int runSimulateLenses(const std::vector<std::string>& args) {
       formatCard("OCTTHHI", RealValue(setup.thresholdsAdu.back()), "Highest level (ADU)"),
       formatCard("OCTMINAR", std::int64_t(setup.minAreaPix), "DETECT_MINAREA"),
       formatCard("OCTSRCDB", sources.description().substr(0, 60), "Source database"),
+      formatCard("OCTREDRW", redraws, "Lens-source pairs redrawn (no source redshift)"),
   };
-  if (gInterrupted) {
-    std::cerr << "octarc simulate lenses: interrupted; nothing written\n";
-    return 130;
-  }
   // Both files are complete before either appears.
-  std::optional<AtomicFile> stampsFile;
-  if (stampsPath) {
-    stampsFile.emplace(*stampsPath);
-    writeStampCube(*stampsFile, results, stampCount, obs.grid.pixelScaleArcsec);
-  }
-  AtomicFile tablesFile(outPath);
-  writeTables(tablesFile, systems, arcs, cards);
-  if (stampsFile) stampsFile->commit();
-  tablesFile.commit();
+  writeTables(outputs[0], systems, arcs, cards);
+  if (stampsPath) writeStampCube(outputs[1], results, stampCount, obs.grid.pixelScaleArcsec);
+  outputs.commit();
 
   StageTimings total;
   for (const StageTimings& t : timings) total.add(t);
@@ -524,15 +499,17 @@ int runSimulateLenses(const std::vector<std::string>& args) {
     const double n = double(count);
     std::fprintf(stderr,
                  "> %lld systems, %lld with an arc, %lld arc rows -> %s\n"
+                 "> %lld lens-source pairs redrawn (the relations gave no source redshift)\n"
                  "> wall %.1f s on %d thread(s); CPU %.1f s = %.2f ms/system: draw %.3f, ray "
                  "trace %.3f, lens light %.3f, PSF %.3f, noise %.3f, detection %.3f, "
                  "measurement %.3f, arc rules %.3f ms/system\n",
                  static_cast<long long>(count), static_cast<long long>(found),
-                 static_cast<long long>(arcs.rows()), outPath.c_str(), wallSec, threads,
-                 total.totalSec(), 1e3 * total.totalSec() / n, 1e3 * total.drawSec / n,
-                 1e3 * total.rayTraceSec / n, 1e3 * total.lensLightSec / n, 1e3 * total.psfSec / n,
-                 1e3 * total.noiseSec / n, 1e3 * total.detectionSec / n,
-                 1e3 * total.measurementSec / n, 1e3 * total.arcRulesSec / n);
+                 static_cast<long long>(arcs.rows()), outPath.c_str(),
+                 static_cast<long long>(redraws), wallSec, threads, total.totalSec(),
+                 1e3 * total.totalSec() / n, 1e3 * total.drawSec / n, 1e3 * total.rayTraceSec / n,
+                 1e3 * total.lensLightSec / n, 1e3 * total.psfSec / n, 1e3 * total.noiseSec / n,
+                 1e3 * total.detectionSec / n, 1e3 * total.measurementSec / n,
+                 1e3 * total.arcRulesSec / n);
   }
   return 0;
 }

@@ -44,11 +44,10 @@ double MagnitudeSizeRelation::sample(double mag, std::mt19937_64& rng) const {
   return halfLightArcsecAtRef * std::pow(10.0, log10SlopePerMag * (mag - magRef) + scatter);
 }
 
-double MagnitudeRedshiftRelation::sample(double mag, double zFloor, double zMin, double zMax,
-                                         std::mt19937_64& rng) const {
+std::optional<double> MagnitudeRedshiftRelation::sample(double mag, double zFloor, double zMin,
+                                                        double zMax, std::mt19937_64& rng) const {
   const double lo = std::max(zMin, zFloor);
-  if (lo > zMax)
-    throw ConfigError("redshift range is empty: need z >= " + fmt(lo) + " and z <= " + fmt(zMax));
+  if (lo > zMax) return std::nullopt;
   const double median = zAtRef + slopePerMag * (mag - magRef);
   std::normal_distribution<double> scatterDist(0.0, scatter > 0.0 ? scatter : 1.0);
   for (int i = 0; i < kMaxRedshiftDraws; ++i) {
@@ -56,8 +55,7 @@ double MagnitudeRedshiftRelation::sample(double mag, double zFloor, double zMin,
     if (z >= lo && z <= zMax) return z;
     if (!(scatter > 0.0)) break;
   }
-  throw ConfigError("magnitude-redshift relation gives no redshift in [" + fmt(lo) + ", " +
-                    fmt(zMax) + "] at magnitude " + fmt(mag));
+  return std::nullopt;
 }
 
 double LinearTable::operator()(double xValue) const {
@@ -70,7 +68,8 @@ double LinearTable::operator()(double xValue) const {
   return y[i - 1] + t * (y[i] - y[i - 1]);
 }
 
-SourceDraw PopulationModel::drawSource(GalaxyType type, double zLens, std::mt19937_64& rng) const {
+std::optional<SourceDraw> PopulationModel::drawSource(GalaxyType type, double zLens,
+                                                      std::mt19937_64& rng) const {
   SourceDraw d;
   d.mag = sourceMagnitude.sample(rng);
   d.halfLightArcsec = sourceSize.sample(d.mag, rng);
@@ -78,12 +77,10 @@ SourceDraw PopulationModel::drawSource(GalaxyType type, double zLens, std::mt199
   if (it == sourceRedshift.end())
     throw ConfigError(sourcePath + ": no magnitude-redshift relation for type " +
                       galaxyTypeName(type));
-  try {
-    d.redshift =
-        it->second.sample(d.mag, zLens + sourceMinDzBehindLens, sourceZMin, sourceZMax, rng);
-  } catch (const ConfigError& e) {
-    throw ConfigError(sourcePath + ": source.z." + galaxyTypeName(type) + ": " + e.what());
-  }
+  const std::optional<double> z =
+      it->second.sample(d.mag, zLens + sourceMinDzBehindLens, sourceZMin, sourceZMax, rng);
+  if (!z) return std::nullopt;
+  d.redshift = *z;
   return d;
 }
 
@@ -92,11 +89,9 @@ LensDraw PopulationModel::drawLens(const FlatLambdaCdm& cosmology, std::mt19937_
   for (int attempt = 0; attempt < maxLensAttempts; ++attempt) {
     LensDraw d;
     d.mag = lensMagnitude.sample(rng);
-    try {
-      d.redshift = lensRedshift.sample(d.mag, lensZMin, lensZMin, lensZMax, rng);
-    } catch (const ConfigError& e) {
-      throw ConfigError(sourcePath + ": lens.z: " + e.what());
-    }
+    const std::optional<double> z = lensRedshift.sample(d.mag, lensZMin, lensZMin, lensZMax, rng);
+    if (!z) continue;
+    d.redshift = *z;
     d.absoluteMag =
         d.mag - cosmology.distanceModulusMag(d.redshift) - lensKCorrectionMag(d.redshift);
     const double scatter = fjScatterMag > 0.0 ? fjScatter(rng) : 0.0;
@@ -105,8 +100,9 @@ LensDraw PopulationModel::drawLens(const FlatLambdaCdm& cosmology, std::mt19937_
     if (d.sigmaKmPerS > sigmaMinKmPerS && d.sigmaKmPerS < sigmaMaxKmPerS) return d;
   }
   throw ConfigError(sourcePath + ": lens.sigma_min_km_s/lens.sigma_max_km_s: no lens with " +
-                    fmt(sigmaMinKmPerS) + " < sigma_v < " + fmt(sigmaMaxKmPerS) + " km/s in " +
-                    std::to_string(maxLensAttempts) + " draws");
+                    fmt(sigmaMinKmPerS) + " < sigma_v < " + fmt(sigmaMaxKmPerS) +
+                    " km/s (and a redshift from lens.z) in " + std::to_string(maxLensAttempts) +
+                    " draws");
 }
 
 std::string defaultPopulationModelPath() {

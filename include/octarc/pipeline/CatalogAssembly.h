@@ -31,8 +31,10 @@ struct ColumnPlan {
 };
 
 // Reads PARAMETERS_NAME and builds the plan; warns "catalog parameter unknown" for unknown
-// names (on stderr unless quiet), as SExtractor does.
-ColumnPlan planColumns(const RunSettings& settings, bool quiet);
+// names (on stderr unless quiet), as SExtractor does. A catalog of several levels (levelCount >
+// 1) always holds THRESH_LEVEL, without which its rows could not be told apart: when the .param
+// file lacks it, it is added after NUMBER (first when there is no NUMBER), with a warning.
+ColumnPlan planColumns(const RunSettings& settings, bool quiet, int levelCount = 1);
 
 // Measures every segment into `table` (columns = plan.plan.columns()), one row per segment in
 // the given order, on `threads` threads; the result does not depend on the thread count.
@@ -40,10 +42,11 @@ void measureSegments(const MeasurementPlan& plan, const std::vector<Segment>& se
                      const MeasureContext& context, Table& table, int threads);
 
 // Loads the ASSOC list (ASSOC_NAME; through this image's WCS when ASSOCCOORD_TYPE is WORLD),
-// fills VECTOR_ASSOC / NUMBER_ASSOC and applies ASSOCSELEC_TYPE (rows not kept are removed).
+// fills VECTOR_ASSOC / NUMBER_ASSOC and applies ASSOCSELEC_TYPE (rows not kept are removed),
+// unless `keepAllRows` (columns appended to an existing catalog keep its rows).
 // `table` has the full plan's columns.
 void applyAssoc(const sexcompat::AssocSettings& settings, int vectorSize,
-                const PreparedImage& image, Table& table, bool quiet);
+                const PreparedImage& image, Table& table, bool quiet, bool keepAllRows = false);
 
 // The catalog table the user asked for: the output columns of `full`, in .param order.
 Table outputTable(const ColumnPlan& plan, const Table& full);

@@ -26,4 +26,9 @@ struct LoadedRun {
 std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std::string& command,
                                  const std::function<void()>& printUsage);
 
+// The single image of a detect/measure run (settings.imagePaths[0]). ConfigError when none or
+// several are given; SExtractor's dual-image syntax (IMAGE_DETECT,IMAGE_MEASURE or two images)
+// is named as such: it is not supported yet.
+const std::string& requireSingleImage(const RunSettings& settings, const std::string& command);
+
 }  // namespace octarc

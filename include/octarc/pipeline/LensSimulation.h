@@ -93,7 +93,11 @@ struct LensSystemDraw {
   double lensEllipticity = 0.0;   // light, 1 - b/a
   double einsteinRadiusArcsec = 0.0;
   simulation::LensSystem system;  // ready for simulation::renderLensSystem
+  int redraws = 0;                // lens-source pairs drawn again (no source redshift possible)
 };
+
+// Lens-source pairs one system may redraw before the population is declared unusable.
+constexpr int kMaxSystemRedraws = 1000;
 
 // CPU seconds spent per stage (summed over systems and threads).
 struct StageTimings {
@@ -105,7 +109,9 @@ struct StageTimings {
 
 // The population draw of system `index`: lens (magnitude, redshift, sigma_v by Faber-Jackson
 // within the sigma cuts), lens light shape, source (database pick, magnitude, size, redshift
-// behind the lens), Einstein radius, source position uniform inside it, random rotation.
+// behind the lens; a pair with no possible source redshift is redrawn, counted in `redraws`,
+// ConfigError after kMaxSystemRedraws), Einstein radius, source position uniform inside it,
+// random rotation.
 // Reads the first values of `rng`, which must be systemRng(masterSeed, index).
 LensSystemDraw drawLensSystem(const SimulationSetup& setup, const SourceDatabase& sources,
                               std::int64_t index, std::mt19937_64& rng);

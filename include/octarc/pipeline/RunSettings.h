@@ -32,7 +32,7 @@ struct RunSettings {
   double detectThreshold = 1.5;
   double analysisThreshold = 1.5;
   double detectThresholdMax = 20.0;  // DETECT_THRESH_MAX
-  int detectLevelCount = 15;         // DETECT_NLEVELS
+  int detectLevelCount = 1;          // DETECT_NLEVELS
   std::vector<double> detectLevels;  // DETECT_LEVELS (explicit list), empty if not given
   int minAreaPix = 5;                // DETECT_MINAREA
 
@@ -66,6 +66,7 @@ struct RunSettings {
   std::vector<std::string> inputCatalogPaths;  // INPUT_CATALOG (measure)
   bool appendColumns = true;  // APPEND_COLUMNS: with INPUT_CATALOG, append to each catalog (Y)
                               // or write one new catalog of every level (N)
+  bool replaceInputCatalog = false;  // REPLACE_INPUT_CATALOG: CATALOG_NAME may be its input
 
   std::vector<std::string> checkImageTypes;  // CHECKIMAGE_TYPE (detect)
   std::vector<std::string> checkImageNames;  // CHECKIMAGE_NAME (detect)
@@ -78,5 +79,15 @@ struct RunSettings {
 
 // Reads every key octarc uses from a loaded configuration; ConfigError on inconsistent values.
 RunSettings settingsFromConfig(const sexcompat::Config& config);
+
+// One input file of a run and the option that names it ("the image", "WEIGHT_IMAGE", ...).
+struct NamedInput {
+  std::string key;
+  std::string path;
+};
+// Every file the run reads: the image(s), the -c file, PARAMETERS_NAME, FILTER_NAME (FILTER Y),
+// WEIGHT_IMAGE, BACKGROUND_NAME, BACKGROUND_RMS_NAME, SEGMENTATION_NAME, INPUT_CATALOG and
+// `assocListPath` when not empty. Outputs are checked against them (refuseOutputOverInput).
+std::vector<NamedInput> runInputs(const RunSettings& settings, const std::string& assocListPath);
 
 }  // namespace octarc

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -35,13 +36,16 @@ struct MagnitudeSizeRelation {
 };
 
 // z = z0 + slope (m - magRef) + N(0, scatter), redrawn until zMin <= z <= zMax and z >= zFloor
-// (the lens redshift plus a margin, for sources). Throws ConfigError if 1000 draws fail.
+// (the lens redshift plus a margin, for sources). nullopt when the range is empty or 1000 draws
+// all fail: an unlucky combination (e.g. a faint source behind a distant lens), which the caller
+// redraws, not an error.
 struct MagnitudeRedshiftRelation {
   double magRef = 22.0;
   double zAtRef = 0.7;
   double slopePerMag = 0.15;
   double scatter = 0.25;
-  double sample(double mag, double zFloor, double zMin, double zMax, std::mt19937_64& rng) const;
+  std::optional<double> sample(double mag, double zFloor, double zMin, double zMax,
+                               std::mt19937_64& rng) const;
 };
 
 // Piecewise-linear table, clamped at both ends.
@@ -87,11 +91,14 @@ struct PopulationModel {
   double sigmaMaxKmPerS = 400.0;
   int maxLensAttempts = 100000;
 
-  // Source magnitude, size and a redshift behind zLens (type picks the redshift relation).
-  SourceDraw drawSource(GalaxyType type, double zLens, std::mt19937_64& rng) const;
+  // Source magnitude, size and a redshift behind zLens (type picks the redshift relation);
+  // nullopt when the relation gives no redshift behind this lens at the drawn magnitude (the
+  // caller redraws the system). ConfigError naming the file when the type has no relation.
+  std::optional<SourceDraw> drawSource(GalaxyType type, double zLens, std::mt19937_64& rng) const;
   // Lens magnitude, redshift and sigma_v from Faber-Jackson (M = m - DM(z) - K(z)), redrawn until
-  // sigmaMin < sigma < sigmaMax. Throws ConfigError naming the file and the sigma keys if
-  // maxLensAttempts draws all fail (a range that gives no lenses).
+  // sigmaMin < sigma < sigmaMax (and until the redshift relation gives a redshift). Throws
+  // ConfigError naming the file and the sigma keys if maxLensAttempts draws all fail (a range that
+  // gives no lenses).
   LensDraw drawLens(const FlatLambdaCdm& cosmology, std::mt19937_64& rng) const;
 };
 

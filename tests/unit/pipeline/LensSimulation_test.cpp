@@ -166,6 +166,36 @@ TEST(SimulateSystem, EachIndexIsReproducibleOnItsOwn) {
   EXPECT_NE(drawLensSystem(setup, sources, std::uint64_t(99), 6).lens.mag, d.lens.mag);
 }
 
+TEST(DrawLensSystem, PairsWithoutASourceRedshiftAreRedrawnReproducibly) {
+  SimulationSetup setup = testSetup();
+  const SourceDatabase sources = testSources();
+  // Sources of every type at z = 0.6 +- 0.05 (never more than 0.2 above): behind a lens at
+  // z > 0.7 (source.dz_min 0.1) no redshift exists, so those lenses are drawn again.
+  for (auto& [type, relation] : setup.population.sourceRedshift) {
+    relation.zAtRef = 0.6;
+    relation.slopePerMag = 0.0;
+    relation.scatter = 0.05;
+  }
+  int redrawn = 0;
+  for (std::int64_t i = 0; i < 200; ++i) {
+    const LensSystemDraw d = drawLensSystem(setup, sources, std::uint64_t(7), i);
+    EXPECT_GT(d.source.redshift, d.lens.redshift);
+    EXPECT_LE(d.lens.redshift, 0.8);
+    redrawn += d.redraws;
+    // The same system again: the same draw, the same count.
+    const LensSystemDraw again = drawLensSystem(setup, sources, std::uint64_t(7), i);
+    EXPECT_EQ(again.redraws, d.redraws);
+    EXPECT_EQ(again.lens.mag, d.lens.mag);
+  }
+  EXPECT_GT(redrawn, 0);
+  // A relation that never leaves room behind any lens is a configuration error, not a hang.
+  for (auto& [type, relation] : setup.population.sourceRedshift) {
+    relation.zAtRef = 0.01;
+    relation.scatter = 0.0;
+  }
+  EXPECT_THROW(drawLensSystem(setup, sources, std::uint64_t(7), 0), ConfigError);
+}
+
 std::string readBytes(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};

@@ -159,14 +159,16 @@ TEST(SextractorKeys, CommentsMarkIgnoredKeys) {
 
 TEST(OctarcMeasureKeys, ExtendsTheSextractorTable) {
   const std::vector<KeySpec> keys = octarcMeasureKeys();
-  EXPECT_EQ(keys.size(), sextractorKeys().size() + 8);
+  EXPECT_EQ(keys.size(), sextractorKeys().size() + 9);
   const Config c = Config::load(keys, "", {}, nullptr);
   EXPECT_EQ(c.count("SEGMENTATION_NAME"), 0);
   EXPECT_EQ(c.count("INPUT_CATALOG"), 0);
   EXPECT_EQ(c.count("BACKGROUND_NAME"), 0);
   EXPECT_EQ(c.count("BACKGROUND_RMS_NAME"), 0);
   EXPECT_DOUBLE_EQ(c.getDouble("DETECT_THRESH_MAX"), 20.0);
-  EXPECT_EQ(c.getInt("DETECT_NLEVELS"), 15);
+  // A configuration that asks for no levels behaves like SExtractor: one level.
+  EXPECT_EQ(c.getInt("DETECT_NLEVELS"), 1);
+  EXPECT_FALSE(c.getBool("REPLACE_INPUT_CATALOG"));
   EXPECT_EQ(c.count("DETECT_LEVELS"), 0);
   EXPECT_EQ(c.getInt("NTHREADS"), 0);
   EXPECT_TRUE(c.getBool("APPEND_COLUMNS"));

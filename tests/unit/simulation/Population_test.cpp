@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -97,7 +98,9 @@ TEST(PopulationModel, DrawsRespectRangesAndAreReproducible) {
         lens.absoluteMag,
         lens.mag - cosmo.distanceModulusMag(lens.redshift) - m.lensKCorrectionMag(lens.redshift),
         1e-9);
-    const SourceDraw src = m.drawSource(GalaxyType::Irregular, lens.redshift, rng);
+    const std::optional<SourceDraw> drawn = m.drawSource(GalaxyType::Irregular, lens.redshift, rng);
+    ASSERT_TRUE(drawn.has_value());
+    const SourceDraw& src = *drawn;
     EXPECT_GE(src.redshift, std::max(0.2, lens.redshift + 0.1));
     EXPECT_LE(src.redshift, 3.0);
     EXPECT_GT(src.halfLightArcsec, 0.0);
@@ -105,6 +108,21 @@ TEST(PopulationModel, DrawsRespectRangesAndAreReproducible) {
   }
   auto r1 = systemRng(1, 3), r2 = systemRng(1, 3);
   EXPECT_EQ(m.drawLens(cosmo, r1).sigmaKmPerS, m.drawLens(cosmo, r2).sigmaKmPerS);
+}
+
+TEST(PopulationModel, NoPossibleRedshiftIsAFailedDrawNotAnError) {
+  // A relation centred at z = 0.5 with scatter 0.01 cannot give a source behind a lens at 1.5
+  // (1000 draws, each 100 sigma away), and no range is left behind a lens at 2.95.
+  MagnitudeRedshiftRelation r;
+  r.zAtRef = 0.5;
+  r.slopePerMag = 0.0;
+  r.scatter = 0.01;
+  std::mt19937_64 rng(3);
+  EXPECT_FALSE(r.sample(22.0, 1.6, 0.2, 3.0, rng).has_value());
+  EXPECT_FALSE(r.sample(22.0, 3.05, 0.2, 3.0, rng).has_value());
+  const std::optional<double> z = r.sample(22.0, 0.3, 0.2, 3.0, rng);
+  ASSERT_TRUE(z.has_value());
+  EXPECT_NEAR(*z, 0.5, 0.1);
 }
 
 TEST(PopulationModel, FaberJacksonByHand) {

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include "octarc/simulation/Cosmology.h"
@@ -65,7 +66,9 @@ int main(int argc, char** argv) {
     const LensDraw lensDraw = population.drawLens(cosmo, rng);
     const std::size_t pick = std::uniform_int_distribution<std::size_t>(0, 29)(rng);
     const SourceStamp& src = database[pick];
-    const SourceDraw srcDraw = population.drawSource(src.type, lensDraw.redshift, rng);
+    const std::optional<SourceDraw> drawn = population.drawSource(src.type, lensDraw.redshift, rng);
+    if (!drawn) continue;  // no source redshift behind this lens: the engine redraws the pair
+    const SourceDraw& srcDraw = *drawn;
     const double b =
         sisEinsteinRadiusArcsec(lensDraw.sigmaKmPerS, lensDraw.redshift, srcDraw.redshift, cosmo);
     // Lens light: ellipticity 0-0.5 and r_e 0.5-1.5" here (placeholders for the engine's draw).

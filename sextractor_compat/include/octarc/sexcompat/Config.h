@@ -5,6 +5,7 @@
 
 #include <limits>
 #include <map>
+#include <set>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -52,6 +53,9 @@ class Config {
   bool has(std::string_view key) const;   // key is part of the schema
   // True when the value came from the configuration file or the command line.
   bool isExplicit(std::string_view key) const;
+  // The keys whose value has been asked for so far (upper case): what a run actually uses, so
+  // that a test can check that no key marked "(ignored by octarc)" is read.
+  std::set<std::string> keysRead() const { return read_; }
 
   // The current values as a .sex file (SExtractor's -d / -dd layout). `full` also lists the
   // expert keys. The text loads back through load() with the same schema.
@@ -65,6 +69,7 @@ class Config {
   };
   const Value& find(std::string_view key) const;
   std::map<std::string, Value, std::less<>> values_;
+  mutable std::set<std::string> read_;
 };
 
 // What the command line asked for. `-c`, `-d`, `-dd`, `-dp`, `-h`/`--help`, `-v`/`--version`

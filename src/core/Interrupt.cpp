@@ -1,0 +1,133 @@
+#include "octarc/core/Interrupt.h"
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cstring>
+#include <stdexcept>
+
+namespace octarc {
+
+namespace {
+
+// The registry is a fixed array so that the signal handler can walk it without allocating or
+// locking (only async-signal-safe calls: unlink, rmdir, write, _exit).
+constexpr int kSlots = 1024;
+constexpr std::size_t kPathBytes = 4096;
+enum SlotState : int { kFree = 0, kFilling = 1, kFile = 2, kDirectory = 3 };
+
+struct Slot {
+  std::atomic<int> state{kFree};
+  char path[kPathBytes];
+};
+
+Slot gSlots[kSlots];
+std::atomic<int> gDeferDepth{0};
+std::atomic<int> gPendingSignal{0};
+std::atomic_flag gEnding = ATOMIC_FLAG_INIT;
+char gPrefix[256] = "octarc";
+bool gStderrIsTerminal = false;
+
+void writeText(const char* text) {
+  std::size_t left = std::strlen(text);
+  while (left > 0) {
+    const ssize_t n = ::write(STDERR_FILENO, text, left);
+    if (n <= 0) return;
+    text += n;
+    left -= std::size_t(n);
+  }
+}
+
+const char* signalName(int sig) {
+  switch (sig) {
+    case SIGINT:
+      return "SIGINT";
+    case SIGTERM:
+      return "SIGTERM";
+    case SIGHUP:
+      return "SIGHUP";
+    default:
+      return "a signal";
+  }
+}
+
+// Ends the process after a signal, removing every registered temporary file and directory (an
+// output already renamed into place is no longer registered). `heldBack`: the signal waited for a
+// set of outputs to be renamed into place, which are therefore complete.
+[[noreturn]] void endAfterSignal(int sig, bool heldBack) {
+  if (gEnding.test_and_set()) {
+    // Another thread is already ending the process.
+    for (;;) ::pause();
+  }
+  for (Slot& s : gSlots) {
+    if (s.state.load() == kFile) ::unlink(s.path);
+  }
+  // Directories last, newest first: a directory holding registered files is empty by now.
+  for (int i = kSlots - 1; i >= 0; --i) {
+    if (gSlots[i].state.load() == kDirectory) ::rmdir(gSlots[i].path);
+  }
+  if (gStderrIsTerminal) writeText("\n");  // end a progress bar's line
+  writeText(gPrefix);
+  writeText(": interrupted by ");
+  writeText(signalName(sig));
+  writeText(heldBack ? " while the outputs were renamed into place; they are complete\n"
+                     : "; no output written\n");
+  ::_exit(128 + sig);
+}
+
+extern "C" void onInterrupt(int sig) {
+  if (gDeferDepth.load() > 0) {
+    gPendingSignal.store(sig);
+    // The renames may have finished between the test and the store: then end here.
+    if (gDeferDepth.load() > 0 || gPendingSignal.exchange(0) == 0) return;
+    endAfterSignal(sig, true);
+  }
+  endAfterSignal(sig, false);
+}
+
+}  // namespace
+
+void installInterruptCleanup(const std::string& messagePrefix) {
+  std::strncpy(gPrefix, messagePrefix.c_str(), sizeof gPrefix - 1);
+  gPrefix[sizeof gPrefix - 1] = '\0';
+  gStderrIsTerminal = ::isatty(STDERR_FILENO) == 1;
+  struct sigaction action {};
+  action.sa_handler = onInterrupt;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(sig, &action, nullptr);
+}
+
+int removeOnInterrupt(const std::string& path, bool isDirectory) {
+  if (path.size() >= kPathBytes) {
+    throw std::length_error("output path longer than " + std::to_string(kPathBytes - 1) +
+                            " bytes: " + path.substr(0, 80) + "...");
+  }
+  for (int i = 0; i < kSlots; ++i) {
+    int expected = kFree;
+    if (gSlots[i].state.compare_exchange_strong(expected, kFilling)) {
+      std::memcpy(gSlots[i].path, path.c_str(), path.size() + 1);
+      gSlots[i].state.store(isDirectory ? kDirectory : kFile);
+      return i;
+    }
+  }
+  throw std::length_error("more than " + std::to_string(kSlots) + " outputs open at once");
+}
+
+void forgetOnInterrupt(int slot) {
+  if (slot >= 0 && slot < kSlots) gSlots[slot].state.store(kFree);
+}
+
+DeferInterrupts::DeferInterrupts() {
+  ++gDeferDepth;
+}
+
+DeferInterrupts::~DeferInterrupts() {
+  if (--gDeferDepth == 0) {
+    const int sig = gPendingSignal.exchange(0);
+    if (sig != 0) endAfterSignal(sig, true);
+  }
+}
+
+}  // namespace octarc
