@@ -32,15 +32,29 @@ bool namesDeadProcess(const std::string& text) {
   return ::kill(pid_t(pid), 0) != 0 && errno == ESRCH;
 }
 
-// Removes ".<name>.tmp.<pid>.<n>" files of `dir` whose process is gone (a run killed by SIGKILL).
+// Removes the temporaries of `name` in `dir` left by processes that are gone (a run killed by
+// SIGKILL): ".<name>.tmp.<pid>.<n>", and "..<name>.tmp.<pid>.<n>.tmp.<pid>.<m>" for a writer
+// that was itself given a temporary name (OutputFiles::write).
 void removeStaleTemporaries(const fs::path& dir, const std::string& name) {
-  const std::string prefix = "." + name + ".tmp.";
+  const std::string marker = name + ".tmp.";
   std::error_code ec;
   for (fs::directory_iterator it(dir.empty() ? fs::path(".") : dir, ec), end; !ec && it != end;
        it.increment(ec)) {
     const std::string entry = it->path().filename().string();
-    if (entry.compare(0, prefix.size(), prefix) != 0) continue;
-    if (namesDeadProcess(entry.substr(prefix.size()))) {
+    const std::size_t dots = entry.find_first_not_of('.');
+    if (dots == 0 || dots == std::string::npos || entry.compare(dots, marker.size(), marker) != 0) {
+      continue;
+    }
+    // The rest is "<pid>.<n>" followed by dots - 1 times ".tmp.<pid>.<n>".
+    std::string rest = entry.substr(dots + marker.size());
+    bool stale = true;
+    for (std::size_t k = 0; k < dots && stale; ++k) {
+      const std::size_t next = rest.find(".tmp.");
+      stale =
+          (next == std::string::npos) == (k + 1 == dots) && namesDeadProcess(rest.substr(0, next));
+      rest = next == std::string::npos ? std::string() : rest.substr(next + 5);
+    }
+    if (stale) {
       std::error_code ignored;
       fs::remove(it->path(), ignored);
     }
@@ -52,7 +66,12 @@ void removeStaleTemporaries(const fs::path& dir, const std::string& name) {
 AtomicFile::AtomicFile(std::string finalPath) : finalPath_(std::move(finalPath)) {
   const fs::path p(finalPath_);
   const fs::path dir = p.parent_path();
-  removeStaleTemporaries(dir, p.filename().string());
+  // A temporary name's own stale temporaries are those of its target.
+  std::string target = p.filename().string();
+  if (const std::size_t at = target.find(".tmp."); target[0] == '.' && at != std::string::npos) {
+    target = target.substr(1, at - 1);
+  }
+  removeStaleTemporaries(dir, target);
   const std::string name = "." + p.filename().string() + ".tmp." + std::to_string(::getpid()) +
                            "." + std::to_string(tempCounter++);
   tempPath_ = (dir.empty() ? fs::path(name) : dir / name).string();
@@ -90,6 +109,9 @@ const AtomicFile& OutputFiles::add(const std::string& finalPath) {
   if (::access(dirText.c_str(), W_OK | X_OK) != 0) {
     throw IoError(finalPath + ": cannot write (directory " + dirText + ": " + std::strerror(errno) +
                   ")");
+  }
+  if (fs::is_directory(finalPath, ec)) {
+    throw IoError(finalPath + ": cannot write (it is a directory)");
   }
   files_.push_back(std::make_unique<AtomicFile>(finalPath));
   return *files_.back();

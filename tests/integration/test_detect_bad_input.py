@@ -8,8 +8,8 @@ import unittest
 import numpy as np
 from astropy.io import fits
 
-from octarc_testlib import (SEX_SHARE, WorkDirTest, ldac_imhead, ldac_objects, run_octarc,
-                            write_param)
+from octarc_testlib import (SEX_SHARE, WorkDirTest, ldac_imhead, ldac_objects, require_shared,
+                            run_octarc, write_param)
 
 
 class DetectBadInput(WorkDirTest):
@@ -107,6 +107,24 @@ class DetectBadInput(WorkDirTest):
         self.assertFalse(os.path.exists(self.segmentation))
         self.assertFalse(os.path.exists(self.path("bg.fits")))
 
+    def test_outputs_over_inputs_are_refused(self):
+        weight = self.path("weight.fits")
+        fits.PrimaryHDU(np.ones((120, 100), np.float32)).writeto(weight)
+        before = open(self.image, "rb").read(), open(weight, "rb").read()
+        line = self.assert_fails(
+            run_octarc("detect", self.image, "-PARAMETERS_NAME", self.param, "-CATALOG_NAME",
+                       self.image, check=False), "CATALOG_NAME", "is also the image")
+        self.assertIn(self.image, line)
+        self.assert_fails(self.detect(self.image, "-WEIGHT_TYPE", "MAP_WEIGHT", "-WEIGHT_IMAGE",
+                                      weight, "-CHECKIMAGE_NAME", weight),
+                          "CHECKIMAGE_NAME", "WEIGHT_IMAGE")
+        self.assertEqual((open(self.image, "rb").read(), open(weight, "rb").read()), before)
+
+    def test_dual_image_syntax_is_named(self):
+        for images in ([self.image + "," + self.image], [self.image, self.image]):
+            line = self.assert_fails(self.detect(*images), "dual-image")
+            self.assertIn("not supported yet", line)
+
     def test_constant_image_gives_no_object_like_sextractor(self):
         path = self.path("constant.fits")
         fits.PrimaryHDU(np.full((128, 128), 7.0, np.float32)).writeto(path)
@@ -133,6 +151,44 @@ class DetectBadInput(WorkDirTest):
         self.assertEqual(ours["SEXBKDEV"], 1.0)
         self.assertEqual(ours["SEXBKGND"], theirs["SEXBKGND"])
 
+
+class DetectWithSExtractorConfiguration(WorkDirTest):
+    """SExtractor's test configuration of the NTT/EMMI frame (its default.sex and default.param)
+    asks for no levels: octarc then runs one level, like SExtractor, and a run of several levels
+    always carries THRESH_LEVEL (with that default.param, NUMBER alone would restart at every
+    level)."""
+
+    def setUp(self):
+        super().setUp()
+        self.folder = os.path.dirname(require_shared(self, "ntt-emmi", "default.sex"))
+        self.catalog = self.path("out.ldac")
+
+    def detect(self, *args):
+        # Run in the configuration's folder: its file names are relative to it.
+        return run_octarc("detect", "galaxies.fits", "-c", "default.sex", "-CATALOG_NAME",
+                          self.catalog, *args, cwd=self.folder)
+
+    def test_default_sex_is_one_level(self):
+        proc = self.detect()
+        self.assertNotIn("THRESH_LEVEL", proc.stderr)
+        rows, _ = ldac_objects(self.catalog)
+        self.assertEqual(ldac_imhead(self.catalog)["OCTNLEV"], 1)
+        self.assertNotIn("THRESH_LEVEL", rows.columns.names)
+        self.assertEqual(list(rows["NUMBER"]), list(range(1, len(rows) + 1)))
+        self.assertGreater(len(rows), 100)
+
+    def test_several_levels_always_carry_thresh_level(self):
+        proc = self.detect("-DETECT_NLEVELS", "3", "-DETECT_THRESH_MAX", "10")
+        self.assertIn("THRESH_LEVEL added", proc.stderr)
+        rows, _ = ldac_objects(self.catalog)
+        self.assertEqual(rows.columns.names[:2], ["NUMBER", "THRESH_LEVEL"])
+        self.assertEqual(sorted(set(rows["THRESH_LEVEL"])), [1, 2, 3])
+        self.assertEqual(ldac_imhead(self.catalog)["OCTNLEV"], 3)
+
+    def test_thresh_max_alone_warns_that_it_is_one_level(self):
+        proc = self.detect("-DETECT_THRESH_MAX", "10")
+        self.assertIn("DETECT_THRESH_MAX is set but DETECT_NLEVELS is 1", proc.stderr)
+        self.assertEqual(ldac_imhead(self.catalog)["OCTNLEV"], 1)
 
 if __name__ == "__main__":
     unittest.main()

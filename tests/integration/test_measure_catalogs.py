@@ -2,6 +2,7 @@
 astropy and fitsverify see it, the other catalog types, and the README example
 (issue: foundation, acceptance 3)."""
 import os
+import shutil
 import re
 import unittest
 
@@ -73,6 +74,47 @@ class AppendToSExtractorCatalogs(WorkDirTest):
                           check=False)
         self.assertNotEqual(proc.returncode, 0)
         self.assertEqual(open(CATS[0], "rb").read(), before)
+
+
+    def copies_of_the_catalogs(self):
+        copies = []
+        for k, src in enumerate(CATS, start=1):
+            dst = self.path("cat%d.ldac" % k)
+            shutil.copyfile(src, dst)
+            copies.append(dst)
+        return copies
+
+    def test_catalog_name_equal_to_its_input_needs_replace_input_catalog(self):
+        copies = self.copies_of_the_catalogs()
+        args = ["measure", IMAGE, "-c", os.path.join(TESTDATA, "example.sex"),
+                "-SEGMENTATION_NAME", SEGS, "-INPUT_CATALOG", ",".join(copies),
+                "-CATALOG_NAME", ",".join(copies), "-APPEND_COLUMNS", "Y", "-VERBOSE_TYPE", "QUIET"]
+        before = [open(c, "rb").read() for c in copies]
+        proc = run_octarc(*args, check=False, cwd=SOURCE_DIR)
+        self.assertEqual(proc.returncode, 1, proc.stderr)
+        self.assertIn("CATALOG_NAME", proc.stderr)
+        self.assertIn("INPUT_CATALOG", proc.stderr)
+        self.assertIn("REPLACE_INPUT_CATALOG", proc.stderr)
+        self.assertEqual([open(c, "rb").read() for c in copies], before)
+        # Asked for: each catalog is replaced by its appended version; a second name (hard link)
+        # of the old file still reads the old bytes: the input was never modified in place.
+        os.link(copies[0], self.path("old1.ldac"))
+        run_octarc(*args, "-REPLACE_INPUT_CATALOG", "Y", cwd=SOURCE_DIR)
+        self.assertEqual(open(self.path("old1.ldac"), "rb").read(), before[0])
+        for c in copies:
+            with fits.open(c) as f:
+                self.assertIn("ARCNESS", f[2].columns.names)
+
+    def test_catalog_type_is_said_to_be_unused_when_appending(self):
+        outs = [self.path("out%d.ldac" % k) for k in (1, 2, 3)]
+        proc = run_octarc("measure", IMAGE, "-c", os.path.join(TESTDATA, "example.sex"),
+                          "-SEGMENTATION_NAME", SEGS, "-INPUT_CATALOG", ",".join(CATS),
+                          "-CATALOG_NAME", ",".join(outs), "-APPEND_COLUMNS", "Y",
+                          "-CATALOG_TYPE", "ASCII_HEAD", cwd=SOURCE_DIR)
+        self.assertIn("WARNING: CATALOG_TYPE ASCII_HEAD is not used with APPEND_COLUMNS Y",
+                      proc.stderr)
+        with fits.open(outs[0]) as f:
+            self.assertEqual(f[2].name, "LDAC_OBJECTS")
 
 
 class ExampleField(WorkDirTest):
@@ -240,6 +282,40 @@ class BadInput(WorkDirTest):
                           param, "-ASSOC_NAME", assoc, "-ASSOC_PARAMS", "2,3",
                           "-ASSOC_DATA", "1,4", mentions="list.txt")
 
+    def test_catalog_without_sexthld_names_the_file_and_the_key(self):
+        broken = self.path("nothld.ldac")
+        with fits.open(CATS[1]) as f:
+            cards = [c for c in f[1].data[0][0] if not c.startswith("SEXTHLD ")]
+            width = 80 * len(cards)
+            f[1] = fits.BinTableHDU.from_columns(
+                [fits.Column(name="Field Header Card", format="%dA" % width, dim="(80, %d)" %
+                             len(cards), array=np.array([[c.ljust(80) for c in cards]]))],
+                name="LDAC_IMHEAD")
+            f.writeto(broken)
+        line = self.expect_error(IMAGE, "-SEGMENTATION_NAME", SEGS, "-INPUT_CATALOG",
+                                 ",".join([CATS[0], broken, CATS[2]]), "-APPEND_COLUMNS", "N",
+                                 "-BACKGROUND_NAME", BACKGROUND, "-PARAMETERS_NAME", self.param(),
+                                 mentions=broken)
+        self.assertIn("SEXTHLD", line)
+        self.assertIn("DETECT_LEVELS", line)
+
+    def test_output_over_the_image_is_refused(self):
+        image = self.path("image.fits")
+        shutil.copyfile(IMAGE, image)
+        before = open(image, "rb").read()
+        proc = run_octarc("measure", image, "-SEGMENTATION_NAME", SEGS.split(",")[0],
+                          "-PARAMETERS_NAME", self.param(), "-CATALOG_NAME", image,
+                          "-VERBOSE_TYPE", "QUIET", check=False)
+        self.assertEqual(proc.returncode, 1)
+        self.assertIn("CATALOG_NAME " + image + " is also the image", proc.stderr)
+        self.assertEqual(open(image, "rb").read(), before)
+
+    def test_dual_image_syntax_is_named(self):
+        for images in ([IMAGE + "," + IMAGE], [IMAGE, IMAGE]):
+            line = self.expect_error(*images, "-SEGMENTATION_NAME", SEGS.split(",")[0],
+                                     "-PARAMETERS_NAME", self.param(), mentions="dual-image")
+            self.assertIn("not supported yet", line)
+
     def test_unknown_parameter_only_warns(self):
         param = write_param(self.path("w.param"), ["NUMBER", "NOT_A_COLUMN", "ARCNESS"])
         out = self.path("out.ldac")
@@ -277,6 +353,47 @@ class AssocLists(WorkDirTest):
             self.assertEqual(row["VECTOR_ASSOC"][0], 101 + i)
             self.assertAlmostEqual(row["VECTOR_ASSOC"][1], 21.0 + i)
             self.assertEqual(row["NUMBER_ASSOC"], 1)
+
+    def test_append_mode_fills_assoc_columns_of_every_row(self):
+        cat, _ = ldac_objects(CATS[1])
+        assoc = self.path("truth.txt")
+        with open(assoc, "w") as f:
+            for i, row in enumerate(cat[:2], start=1):
+                f.write("%d %.3f %.3f\n" % (500 + i, row["X_IMAGE"], row["Y_IMAGE"] + 0.3))
+        param = write_param(self.path("a.param"), ["NUMBER", "VECTOR_ASSOC(1)", "NUMBER_ASSOC"])
+        out = self.path("a.ldac")
+        proc = run_octarc("measure", IMAGE, "-SEGMENTATION_NAME", SEGS.split(",")[1],
+                          "-INPUT_CATALOG", CATS[1], "-CATALOG_NAME", out, "-BACKGROUND_NAME",
+                          BACKGROUND, "-PARAMETERS_NAME", param, "-ASSOC_NAME", assoc,
+                          "-ASSOC_PARAMS", "2,3", "-ASSOC_DATA", "1", "-FILTER", "N")
+        self.assertIn("ASSOCSELEC_TYPE MATCHED does not remove rows", proc.stderr)
+        ours, _ = ldac_objects(out)
+        np.testing.assert_array_equal(ours["NUMBER"], cat["NUMBER"])  # every row kept
+        vector = np.asarray(ours["VECTOR_ASSOC"]).reshape(len(ours), -1)[:, 0]
+        np.testing.assert_array_equal(vector[:2], [501, 502])
+        np.testing.assert_array_equal(ours["NUMBER_ASSOC"][:2], [1, 1])
+        self.assertTrue(np.all(vector[2:] == 0))
+        self.assertTrue(np.all(ours["NUMBER_ASSOC"][2:] == 0))
+        # A list that does not exist is an error, also when appending.
+        proc = run_octarc("measure", IMAGE, "-SEGMENTATION_NAME", SEGS.split(",")[1],
+                          "-INPUT_CATALOG", CATS[1], "-CATALOG_NAME", self.path("b.ldac"),
+                          "-BACKGROUND_NAME", BACKGROUND, "-PARAMETERS_NAME", param,
+                          "-ASSOC_NAME", self.path("absent.txt"), check=False)
+        self.assertEqual(proc.returncode, 1)
+        self.assertIn("absent.txt", proc.stderr)
+        self.assertFalse(os.path.exists(self.path("b.ldac")))
+
+    def test_a_new_catalog_of_several_levels_always_has_thresh_level(self):
+        param = write_param(self.path("n.param"), ["NUMBER", "ARCNESS"])
+        out = self.path("n.ldac")
+        proc = run_octarc("measure", IMAGE, "-SEGMENTATION_NAME", SEGS, "-INPUT_CATALOG",
+                          ",".join(CATS), "-APPEND_COLUMNS", "N", "-CATALOG_NAME", out,
+                          "-CATALOG_TYPE", "FITS_LDAC", "-BACKGROUND_NAME", BACKGROUND,
+                          "-PARAMETERS_NAME", param, "-FILTER", "N")
+        self.assertIn("THRESH_LEVEL added", proc.stderr)
+        ours, header = ldac_objects(out)
+        self.assertEqual(ours.columns.names, ["NUMBER", "THRESH_LEVEL", "ARCNESS"])
+        self.assertEqual(sorted(set(ours["THRESH_LEVEL"])), [1, 2, 3])
 
 
 if __name__ == "__main__":

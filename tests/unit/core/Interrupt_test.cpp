@@ -1,0 +1,89 @@
+#include "octarc/core/Interrupt.h"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "TestPaths.h"
+#include "octarc/core/AtomicFile.h"
+
+namespace octarc {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Runs `body` in a child process and returns its exit status (or -signal).
+template <typename Fn>
+int inChild(Fn body) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    body();
+    ::_exit(0);
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+}
+
+TEST(Interrupt, SignalRemovesTemporariesAndRegisteredPathsAndExits128PlusSignal) {
+  const fs::path dir = test::scratchDir();
+  const fs::path made = dir / "made";
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
+    const int status = inChild([&] {
+      installInterruptCleanup("test");
+      fs::create_directory(made);
+      removeOnInterrupt(made.string(), true);
+      AtomicFile f((made / "out.fits").string());
+      std::ofstream(f.tempPath()) << "half";
+      const fs::path provisional = made / "step1.fits";
+      std::ofstream(provisional) << "done, but the run is not";
+      removeOnInterrupt(provisional.string());
+      ::raise(sig);
+      ::_exit(99);  // not reached
+    });
+    EXPECT_EQ(status, 128 + sig);
+    EXPECT_FALSE(fs::exists(made)) << "signal " << sig;
+  }
+}
+
+TEST(Interrupt, HeldBackDuringRenamesThenTheRunEndsWithItsOutputs) {
+  const fs::path dir = test::scratchDir();
+  const int status = inChild([&] {
+    installInterruptCleanup("test");
+    OutputFiles out;
+    out.add((dir / "a.txt").string());
+    out.write(0, [](const std::string& p) { std::ofstream(p) << "a"; });
+    {
+      DeferInterrupts hold;
+      ::raise(SIGTERM);  // waits
+      out.commit();
+    }
+    ::_exit(99);  // not reached: the held-back signal ends the process here
+  });
+  EXPECT_EQ(status, 128 + SIGTERM);
+  EXPECT_TRUE(fs::exists(dir / "a.txt"));
+}
+
+TEST(Interrupt, ForgottenPathsStay) {
+  const fs::path dir = test::scratchDir();
+  const int status = inChild([&] {
+    installInterruptCleanup("test");
+    std::ofstream(dir / "kept.txt") << "kept";
+    forgetOnInterrupt(removeOnInterrupt((dir / "kept.txt").string()));
+    AtomicFile f((dir / "final.txt").string());
+    std::ofstream(f.tempPath()) << "final";
+    f.commit();
+    ::raise(SIGINT);
+  });
+  EXPECT_EQ(status, 130);
+  EXPECT_TRUE(fs::exists(dir / "kept.txt"));
+  EXPECT_TRUE(fs::exists(dir / "final.txt"));
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), {}), 2);
+}
+
+}  // namespace
+}  // namespace octarc
