@@ -65,6 +65,10 @@ class AsciiFormat {
                         column.printfFormat + "'");
     }
     format_ = "%" + spec.flags;
+    // NaN prints as plain "nan" in the column's width: C's "+nan" / "-nan" are read as text by
+    // STILTS (TOPCAT), which then types the whole column as a string.
+    nanFormat_ = std::string("%") + (spec.flags.find('-') != std::string::npos ? "-" : "") +
+                 (spec.width >= 0 ? std::to_string(spec.width) : "") + "s";
     if (spec.width >= 0) format_ += std::to_string(spec.width);
     if (spec.precision >= 0) format_ += "." + std::to_string(spec.precision);
     integerConversion_ = spec.conversion == 'd' || spec.conversion == 'i';
@@ -85,7 +89,9 @@ class AsciiFormat {
       stored = double(float(value));  // print what the FITS column holds
     }
     char buffer[128];
-    if (integerConversion_) {
+    if (!integerColumn && std::isnan(stored)) {
+      std::snprintf(buffer, sizeof buffer, nanFormat_.c_str(), "nan");
+    } else if (integerConversion_) {
       const long long integer = integerColumn ? static_cast<long long>(stored)
                                               : detail::integerValue(ColumnType::Int64, stored);
       std::snprintf(buffer, sizeof buffer, format_.c_str(), integer);
@@ -98,6 +104,7 @@ class AsciiFormat {
  private:
   ColumnType type_;
   std::string format_;
+  std::string nanFormat_;
   bool integerConversion_ = false;
 };
 

@@ -405,6 +405,13 @@ bool isStructural(const std::string& card) {
   return false;
 }
 
+// Keywords the FITS standard allows in the primary header only (fitsverify flags them in an
+// extension: a multi-level check-image copies the image's primary header into every HDU).
+bool isPrimaryOnly(const std::string& card) {
+  const std::string key = card.substr(0, 8);
+  return key == "BLOCKED " || key == "GROUPS  " || key == "SIMPLE  " || key == "EXTEND  ";
+}
+
 void writeHdu(fitsfile* f, const std::string& path, const OutputImageHdu& hdu) {
   const bool isInt = hdu.intPixels != nullptr;
   if (isInt == (hdu.floatPixels != nullptr)) {
@@ -417,8 +424,10 @@ void writeHdu(fitsfile* f, const std::string& path, const OutputImageHdu& hdu) {
   int status = 0;
   fits_create_img(f, isInt ? LONG_IMG : FLOAT_IMG, 2, naxes, &status);
   throwIfFitsError(status, path, "cannot create image HDU");
+  int hduNumber = 0;
+  fits_get_hdu_num(f, &hduNumber);
   for (const std::string& card : hdu.header.cards) {
-    if (isStructural(card)) continue;
+    if (isStructural(card) || (hduNumber > 1 && isPrimaryOnly(card))) continue;
     fits_write_record(f, card.c_str(), &status);
     throwIfFitsError(status, path, "cannot write header card '" + card.substr(0, 8) + "'");
   }

@@ -2,14 +2,15 @@
 key, a non-zero exit status, and neither a catalog nor any check-image left behind; a constant
 image is not an error but gives no object and a warning, as in SExtractor (sigma set to 1)."""
 import os
+import re
 import subprocess
 import unittest
 
 import numpy as np
 from astropy.io import fits
 
-from octarc_testlib import (SEX_SHARE, WorkDirTest, ldac_imhead, ldac_objects, require_shared,
-                            run_octarc, write_param)
+from octarc_testlib import (SEX_SHARE, WorkDirTest, fitsverify_errors, ldac_imhead,
+                            ldac_objects, require_shared, run_octarc, write_param)
 
 
 class DetectBadInput(WorkDirTest):
@@ -185,10 +186,49 @@ class DetectWithSExtractorConfiguration(WorkDirTest):
         self.assertEqual(sorted(set(rows["THRESH_LEVEL"])), [1, 2, 3])
         self.assertEqual(ldac_imhead(self.catalog)["OCTNLEV"], 3)
 
+    def test_multi_level_segmentation_of_the_ntt_frame_passes_fitsverify(self):
+        # The frame's primary header holds BLOCKED, which only a primary header may hold: the
+        # per-level HDUs must not copy it.
+        with fits.open(os.path.join(self.folder, "galaxies.fits")) as f:
+            self.assertIn("BLOCKED", f[0].header)
+        seg = self.path("seg.fits")
+        self.detect("-DETECT_NLEVELS", "15", "-DETECT_THRESH", "2.5", "-DETECT_THRESH_MAX", "20",
+                    "-CHECKIMAGE_TYPE", "SEGMENTATION", "-CHECKIMAGE_NAME", seg)
+        code, text = fitsverify_errors(seg)
+        self.assertEqual(code, 0, text)
+        self.assertIn("verification OK", text)
+        with fits.open(seg) as f:
+            self.assertEqual(len(f), 16)
+            self.assertTrue(all("BLOCKED" not in hdu.header for hdu in f[1:]))
+
     def test_thresh_max_alone_warns_that_it_is_one_level(self):
         proc = self.detect("-DETECT_THRESH_MAX", "10")
         self.assertIn("DETECT_THRESH_MAX is set but DETECT_NLEVELS is 1", proc.stderr)
         self.assertEqual(ldac_imhead(self.catalog)["OCTNLEV"], 1)
+
+class AsciiCatalogForStilts(WorkDirTest):
+    """Undefined values in an ASCII catalog read as numbers: STILTS (TOPCAT's engine) types a
+    column holding C's "+nan" or "-nan" as text."""
+
+    def test_nan_columns_read_as_floats(self):
+        rng = np.random.default_rng(1)
+        image = rng.normal(0.0, 1.0, (60, 60)).astype(np.float32)
+        image[20:25, 20:26] += 20.0
+        image[40:43, 40:42] += 15.0
+        path = self.path("nowcs.fits")
+        fits.PrimaryHDU(image).writeto(path)  # no WCS: the world columns are NaN
+        param = write_param(self.path("a.param"), ["X_IMAGE", "DELTA_J2000", "ALPHA_J2000"])
+        cat = self.path("a.cat")
+        run_octarc("detect", path, "-PARAMETERS_NAME", param, "-CATALOG_TYPE", "ASCII",
+                   "-CATALOG_NAME", cat, "-DETECT_THRESH", "3", "-VERBOSE_TYPE", "QUIET")
+        lines = open(cat).read().split("\n")
+        self.assertEqual(lines[0].split()[1:], ["nan", "nan"])
+        proc = subprocess.run(["stilts", "tpipe", "in=" + cat, "ifmt=ascii", "cmd=meta"],
+                              capture_output=True, text=True, check=True)
+        classes = re.findall(r"^\| \d+\s+\| \S+\s+\| (\w+)", proc.stdout, re.M)
+        self.assertEqual(len(classes), 3, proc.stdout)
+        self.assertTrue(all(c in ("Float", "Double") for c in classes), proc.stdout)
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -63,7 +63,8 @@ std::string tformOf(const ColumnSpec& column);
 
 // One value as the ASCII catalogs print it: the column's printf format applied to the value
 // converted to the column's storage type (integers as integers, floats rounded to float first).
-// NaN in a floating-point column prints as C's printf does ("nan"); integer columns store NaN as 0.
+// NaN in a floating-point column prints as "nan" in the column's width, never signed ("+nan" and
+// "-nan", as printf writes them, are text to STILTS); integer columns store NaN as 0.
 std::string formatAsciiValue(const ColumnSpec& column, double value);
 
 }  // namespace octarc

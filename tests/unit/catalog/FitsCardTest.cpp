@@ -111,8 +111,12 @@ TEST(ColumnFormat, AsciiValuesFollowTheStorageType) {
   ColumnSpec x{"X_IMAGE", "x", "pixel", "", ColumnType::Float32, "%11.4f", 1};
   EXPECT_EQ(formatAsciiValue(x, 46.30196), "    46.3020");
   EXPECT_EQ(formatAsciiValue(x, std::nan("")), "        nan");
+  EXPECT_EQ(formatAsciiValue(x, -std::nan("")), "        nan");  // never "-nan"
   ColumnSpec theta{"THETA", "t", "deg", "", ColumnType::Float32, "%+6.2f", 1};
   EXPECT_EQ(formatAsciiValue(theta, 45.0), "+45.00");
+  EXPECT_EQ(formatAsciiValue(theta, std::nan("")), "   nan");  // never "+nan"
+  ColumnSpec left{"L", "l", "", "", ColumnType::Float64, "%-9.3f", 1};
+  EXPECT_EQ(formatAsciiValue(left, std::nan("")), "nan      ");
   // A float column is printed as the float it is stored as: 0.1f = 0.100000001490116...
   ColumnSpec g{"F", "f", "", "", ColumnType::Float32, "%18.10e", 1};
   EXPECT_EQ(formatAsciiValue(g, 0.1), "  1.0000000149e-01");

@@ -541,5 +541,20 @@ TEST(World, InvalidJacobianGivesNaN) {
   EXPECT_TRUE(std::isnan(worldMoments(j, 1.0, 1.0, 0.0).x2));
 }
 
+// Arcness has no upper bound: the thin arc's 0.231 is the largest of uniform arcs only. Two
+// faint points at (+-L, c) of weight eps each, balanced by the rest of the flux at (0, y0) below
+// the centroid, give I_aab = 2 eps L^2 c, Ixx = 2 eps L^2 and Iyy = 2 eps c^2 + (1 - 2 eps) y0^2:
+// for eps = 0.01, L = 10, c = 5 an arcness of 10 / 2.5102^1.5 = 2.514 (README, "ARCNESS").
+TEST(Octopole, ArcnessHasNoUpperBound) {
+  const double eps = 0.01, L = 10.0, c = 5.0, y0 = -2.0 * eps * c / (1.0 - 2.0 * eps);
+  const std::vector<double> x = {-L, L, 0.0}, y = {c, c, y0}, w = {eps, eps, 1.0 - 2.0 * eps};
+  const OctopoleStats o = octopoleStats(centralMoments(x, y, w));
+  ASSERT_TRUE(o.valid);
+  const double iyy = 2.0 * eps * c * c + (1.0 - 2.0 * eps) * y0 * y0;
+  const double expected = 2.0 * eps * L * L * c / std::pow(2.0 * eps * L * L + iyy, 1.5);
+  EXPECT_NEAR(expected, 2.514, 5e-4);
+  EXPECT_NEAR(o.arcness, expected, 1e-12);
+}
+
 }  // namespace
 }  // namespace octarc
