@@ -18,6 +18,7 @@
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Conventions.h"
 #include "octarc/core/Error.h"
+#include "octarc/core/Interrupt.h"
 #include "octarc/pipeline/FieldSimulation.h"
 #include "octarc/pipeline/LensSimulation.h"
 #include "octarc/pipeline/Pipeline.h"
@@ -151,32 +152,37 @@ int runDemo(const std::vector<std::string>& args) {
   const FieldOutputPaths paths = FieldOutputPaths::fromImagePath((outDir / "field.fits").string());
   const std::string paramPath = (outDir / "demo.param").string();
   const std::string catalogPath = (outDir / "field.ldac").string();
+  // The demo runs in steps, each reading the files of the one before; until the last step is
+  // done they are provisional: a failure or an interrupt (core/Interrupt.h) removes them all, and
+  // the directory if the demo made it.
+  std::vector<int> provisional;
+  if (madeDir) provisional.push_back(removeOnInterrupt(outDir.string(), true));
   double simulateSec = 0.0, detectSec = 0.0;
   SimulatedField field;
-  // A failed run leaves nothing behind: the directory if it made it, else its own files.
   try {
-    for (const std::string& p : {paths.image, paths.weight, paths.truth, paramPath, catalogPath})
-      checkWritable(p);
-    // 1. The field.
+    // 1. The field, and the column list of step 2 (octarc.param's columns plus the truth data
+    // of the nearest truth-list entry: id, kind, mag, theta_E, system).
+    OutputFiles firstStep;
+    addFieldOutputs(firstStep, paths);
+    firstStep.add(paramPath);
+    for (const std::string& p : {paths.image, paths.weight, paths.truth, paramPath, catalogPath}) {
+      provisional.push_back(removeOnInterrupt(p));
+    }
     field = simulateField(s, terminalProgress("simulate", "objects", quiet));
-    writeSimulatedField(field, s, paths);
-    simulateSec = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
-    // 2. Detection and measurement with the survey configuration: octarc.param's columns plus the
-    // truth data of the nearest truth-list entry (id, kind, mag, theta_E, system).
+    writeSimulatedField(field, s, paths, firstStep);
     const std::string paramsDir = OCTARC_PARAMS_DIR;
-    {
+    firstStep.write(3, [&](const std::string& path) {
       std::ifstream in(paramsDir + "/octarc.param");
       if (!in) throw IoError(paramsDir + "/octarc.param: cannot read the demo's column list");
-      AtomicFile out(paramPath);
-      {
-        std::ofstream f(out.tempPath());
-        f << in.rdbuf() << "VECTOR_ASSOC(5)          # truth: id, kind, mag, theta_E, system\n"
-          << "NUMBER_ASSOC\n";
-        if (!f) throw IoError(paramPath + ": write failed");
-      }
-      out.commit();
-    }
+      std::ofstream f(path);
+      f << in.rdbuf() << "VECTOR_ASSOC(5)          # truth: id, kind, mag, theta_E, system\n"
+        << "NUMBER_ASSOC\n";
+      if (!f) throw IoError(paramPath + ": write failed");
+    });
+    firstStep.commit();
+    simulateSec = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+    // 2. Detection and measurement with the survey configuration.
     const std::string assocData =
         std::to_string(kTruthColumnId) + "," + std::to_string(kTruthColumnKind) + "," +
         std::to_string(kTruthColumnMag) + "," + std::to_string(kTruthColumnEinsteinRadius) + "," +
@@ -215,6 +221,8 @@ int runDemo(const std::vector<std::string>& args) {
     }
     throw;
   }
+  // Every output is in place: they stay, whatever happens now.
+  for (const int slot : provisional) forgetOnInterrupt(slot);
 
   // 3. The report.
   const CatalogRows cat = readCatalog(catalogPath);

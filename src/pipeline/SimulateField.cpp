@@ -423,41 +423,32 @@ FieldOutputPaths FieldOutputPaths::fromImagePath(const std::string& imagePath) {
   return {imagePath, stem + ".weight.fits", stem + ".truth.txt"};
 }
 
-void checkWritable(const std::string& path) {
-  namespace fs = std::filesystem;
-  const fs::path dir =
-      fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) {
-    throw IoError(path + ": cannot write: directory " + dir.string() + " does not exist");
-  }
-  if (access(dir.c_str(), W_OK) != 0) {
-    throw IoError(path + ": cannot write: directory " + dir.string() + " is not writable");
-  }
-  if (fs::is_directory(path, ec)) throw IoError(path + ": cannot write: it is a directory");
+void addFieldOutputs(OutputFiles& outputs, const FieldOutputPaths& paths) {
+  outputs.add(paths.image);
+  outputs.add(paths.weight);
+  outputs.add(paths.truth);
 }
 
 void writeSimulatedField(const SimulatedField& field, const FieldSimulationSettings& s,
-                         const FieldOutputPaths& paths) {
-  std::vector<std::string> written;
-  try {
+                         const FieldOutputPaths& paths, const OutputFiles& outputs,
+                         std::size_t first) {
+  outputs.write(first, [&](const std::string& path) {
     OutputImageHdu image;
     image.header = field.header;
     image.floatPixels = &field.image;
-    writeImageFile(paths.image, {image});
-    written.push_back(paths.image);
-
+    writeImageFile(path, {image});
+  });
+  outputs.write(first + 1, [&](const std::string& path) {
     OutputImageHdu weight;
     weight.header = tanWcsHeader(s.sizePix, s.sizePix, s.pixelScaleArcsec, s.raDeg, s.decDeg);
     weight.header.set("BUNIT", quoteFitsString("ADU**-2"), "Inverse variance");
     weight.header.set("WGHTTYPE", quoteFitsString("MAP_WEIGHT"), "SExtractor WEIGHT_TYPE");
     weight.floatPixels = &field.weight;
-    writeImageFile(paths.weight, {weight});
-    written.push_back(paths.weight);
-
-    AtomicFile out(paths.truth);
+    writeImageFile(path, {weight});
+  });
+  outputs.write(first + 2, [&](const std::string& path) {
     {
-      std::ofstream f(out.tempPath());
+      std::ofstream f(path);
       if (!f) throw IoError(paths.truth + ": cannot create the truth list");
       f << "# octarc simulate field truth list (SExtractor ASSOC list): " << paths.image << "\n"
         << "# seed " << s.seed << ", " << s.sizePix << "x" << s.sizePix << " px of "
@@ -479,11 +470,7 @@ void writeSimulatedField(const SimulatedField& field, const FieldSimulationSetti
       f.flush();
       if (!f) throw IoError(paths.truth + ": write failed");
     }
-    out.commit();
-  } catch (...) {
-    for (const std::string& p : written) std::remove(p.c_str());
-    throw;
-  }
+  });
 }
 
 int runSimulateField(const std::vector<std::string>& args) {
@@ -544,10 +531,19 @@ int runSimulateField(const std::vector<std::string>& args) {
   s.validate();
 
   const FieldOutputPaths paths = FieldOutputPaths::fromImagePath(vm["output"].as<std::string>());
-  for (const std::string& p : {paths.image, paths.weight, paths.truth}) checkWritable(p);
+  OutputFiles outputs;
+  addFieldOutputs(outputs, paths);
+  for (const char* input : {"config", "database", "population"}) {
+    if (!vm.count(input)) continue;
+    for (std::size_t i = 0; i < outputs.size(); ++i) {
+      refuseOutputOverInput(outputs[i].finalPath(), "-o", vm[input].as<std::string>(),
+                            std::string("--") + input + " file");
+    }
+  }
   const auto start = std::chrono::steady_clock::now();
   const SimulatedField field = simulateField(s, terminalProgress("field", "objects", quiet));
-  writeSimulatedField(field, s, paths);
+  writeSimulatedField(field, s, paths, outputs);
+  outputs.commit();
   if (!quiet) {
     std::cerr
         << "> " << paths.image << ": " << s.sizePix << "x" << s.sizePix << " px, "

@@ -192,9 +192,14 @@ RealGalaxyCatalogPaths writeRealGalaxyCatalog(const std::string& catalogPath,
   if (!dir.empty() && !std::filesystem::is_directory(dir))
     throw IoError(catalogPath + ": cannot write: directory " + dir.string() + " does not exist");
 
+  // The catalog is the main output: it appears last, so that it never names a file that is not
+  // there yet.
+  OutputFiles outputs;
+  outputs.add(paths.catalog);
+  outputs.add(paths.galaxyImages);
+  if (info.psf) outputs.add(paths.psfImage);
   // Stamps: one HDU each, with the galaxy's identity and where it came from.
-  AtomicFile galaxyFile(paths.galaxyImages);
-  {
+  outputs.write(1, [&](const std::string& path) {
     std::vector<OutputImageHdu> hdus(records.size());
     for (std::size_t k = 0; k < records.size(); ++k) {
       const RealGalaxyRecord& r = records[k];
@@ -205,9 +210,8 @@ RealGalaxyCatalogPaths writeRealGalaxyCatalog(const std::string& catalogPath,
       h.set("YIMAGE", numberCard(r.yImage), "centroid y in the parent image (1-based)");
       hdus[k].floatPixels = &r.stamp;
     }
-    writeImageFile(galaxyFile.tempPath(), hdus);
-  }
-  std::unique_ptr<AtomicFile> psfFile;
+    writeImageFile(path, hdus);
+  });
   if (info.psf) {
     ImageD normalised;
     try {
@@ -220,16 +224,11 @@ RealGalaxyCatalogPaths writeRealGalaxyCatalog(const std::string& catalogPath,
     OutputImageHdu hdu;
     hdu.header.set("PIXSCALE", numberCard(info.pixelScaleArcsec), "pixel size, arcsec");
     hdu.floatPixels = &pixels;
-    psfFile = std::make_unique<AtomicFile>(paths.psfImage);
-    writeImageFile(psfFile->tempPath(), {hdu});
+    outputs.write(2, [&](const std::string& path) { writeImageFile(path, {hdu}); });
   }
-  AtomicFile catalogFile(paths.catalog);
-  writeTable(catalogFile.tempPath(), paths.catalog, records, info, paths);
-
-  // Images before the catalog, so that a catalog never names a file that is not there yet.
-  galaxyFile.commit();
-  if (psfFile) psfFile->commit();
-  catalogFile.commit();
+  outputs.write(
+      0, [&](const std::string& path) { writeTable(path, paths.catalog, records, info, paths); });
+  outputs.commit();
   return paths;
 }
 

@@ -296,6 +296,18 @@ class InterruptedSimulation(WorkDirTest):
         print("simulate: %d of %d runs interrupted" % (outcome.interrupted, outcome.runs))
         self.assertGreaterEqual(outcome.interrupted, outcome.runs // 2)
 
+    def test_demo_interrupted_between_its_steps_leaves_nothing(self):
+        # The demo writes the field, then detects on it: interrupted during detection, its
+        # directory (which it made) goes, with the field files already written.
+        out = self.path("demo")
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            with self.subTest(signal=sig.name):
+                rc, err, sent = run_until([OCTARC, "demo", "--size", "1024", "--lenses", "2",
+                                           "--out", out], r"^> Detecting", sig, self.work)
+                self.assertTrue(sent, err)
+                self.assertEqual(rc, 128 + sig, err)
+                self.assertEqual(os.listdir(self.work), [], err)
+
 
 if __name__ == "__main__":
     unittest.main()

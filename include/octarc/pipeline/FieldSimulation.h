@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "octarc/core/AtomicFile.h"
 #include "octarc/core/Image.h"
 #include "octarc/io/FitsHeader.h"
 #include "octarc/pipeline/Progress.h"
@@ -79,14 +80,15 @@ struct FieldOutputPaths {
   static FieldOutputPaths fromImagePath(const std::string& imagePath);
 };
 
-// Throws IoError naming the file when its directory does not exist or is not writable (checked
-// before the simulation starts, so a bad -o costs nothing).
-void checkWritable(const std::string& path);
+// Adds the image (the main output), the weight map and the truth list to `outputs`, which
+// checks them before the simulation starts (so a bad -o costs nothing).
+void addFieldOutputs(OutputFiles& outputs, const FieldOutputPaths& paths);
 
-// Writes the image, the weight map and the truth list, each atomically; when one fails, the ones
-// already written are removed again.
+// Writes the image, the weight map and the truth list at the temporary names of outputs
+// first, first + 1 and first + 2 (as added by addFieldOutputs); the caller commits the set.
 void writeSimulatedField(const SimulatedField& field, const FieldSimulationSettings& settings,
-                         const FieldOutputPaths& paths);
+                         const FieldOutputPaths& paths, const OutputFiles& outputs,
+                         std::size_t first = 0);
 
 // The truth list's column layout, for ASSOC_PARAMS / ASSOC_DATA: 1-based columns.
 constexpr int kTruthColumnId = 1, kTruthColumnX = 2, kTruthColumnY = 3, kTruthColumnKind = 6,
