@@ -19,7 +19,9 @@ SHIPPED_PARAM = os.path.normpath(os.path.join(os.path.dirname(OCTARC), "..", "sh
 
 def param_names(path):
     names = []
-    for line in open(path):
+    with open(path) as f:
+        lines = f.read().splitlines()
+    for line in lines:
         line = line.split("#")[0].strip()
         if line:
             names.append(re.split(r"[\s(]", line)[0])
@@ -27,7 +29,8 @@ def param_names(path):
 
 
 def ascii_head_names(path):
-    return [line.split()[2] for line in open(path) if line.startswith("#")]
+    with open(path) as f:
+        return [line.split()[2] for line in f if line.startswith("#")]
 
 
 class EmptyDirectory(WorkDirTest):

@@ -33,7 +33,9 @@ def files_under(root):
 
 def param_names(path):
     names = []
-    for line in open(path):
+    with open(path) as f:
+        lines = f.read().splitlines()
+    for line in lines:
         line = line.split("#")[0].strip()
         if line:
             names.append(re.split(r"[\s(]", line)[0])
@@ -127,6 +129,33 @@ class InstalledTree(WorkDirTest):
             real = os.path.realpath(os.path.join(work, path))
             for tree in trees:
                 self.assertFalse(path.startswith(tree) or real.startswith(tree), path)
+
+
+    def test_an_executable_without_its_data_says_where_it_looked(self):
+        bindir = self.path("bin")
+        os.mkdir(bindir)
+        shutil.copy(OCTARC, bindir)
+        env = {"PATH": bindir + ":/usr/bin:/bin", "LC_ALL": "C"}
+        for key in ("ASAN_OPTIONS", "UBSAN_OPTIONS"):
+            if key in os.environ:
+                env[key] = os.environ[key]
+        expected = os.path.join(self.work, "share", "octarc", "octarc.sex")
+        proc = subprocess.run(["octarc", "demo", "--size", "256", "--out", "demo"], cwd=self.work,
+                              env=env, capture_output=True, text=True)
+        self.assertNotEqual(proc.returncode, 0)
+        lines = [line for line in proc.stderr.splitlines() if line.strip()]
+        self.assertEqual(len(lines), 1, proc.stderr)
+        self.assertIn(expected + ": octarc data file not found", lines[0])
+        self.assertIn("OCTARC_DATA_DIR", lines[0])
+        self.assertEqual(sorted(os.listdir(self.work)), ["bin"])
+        # OCTARC_DATA_DIR names another place.
+        data = os.path.join(SOURCE_DIR, "params")
+        env["OCTARC_DATA_DIR"] = data
+        proc = subprocess.run(["octarc", "demo", "--size", "256", "--lenses", "1", "--out", "demo",
+                               "--quiet"], cwd=self.work, env=env, capture_output=True, text=True)
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        self.assertIn("octarc detect -c %s/octarc.sex" % data, proc.stdout)
+        self.assertTrue(os.path.exists(os.path.join(self.work, "demo", "field.ldac")))
 
 
 @unittest.skipUnless(BUILD_DIR, "OCTARC_BUILD_DIR (the build tree) is set by ctest")
