@@ -73,7 +73,7 @@ PARAMS = ["NUMBER", "X_IMAGE", "Y_IMAGE", "X2_IMAGE", "Y2_IMAGE", "XY_IMAGE", "A
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--octarc", default=os.path.join(os.path.dirname(__file__), "..", "build",
-                                                     "release", "src", "apps", "octarc"))
+                                                     "release", "bin", "octarc"))
     ap.add_argument("--workdir", default=None)
     ap.add_argument("--sizes", default="4096,10000")
     ap.add_argument("--repeats", type=int, default=1)

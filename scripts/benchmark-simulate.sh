@@ -5,13 +5,13 @@
 # on the machine and on what else runs on it.
 #
 # Usage: scripts/benchmark-simulate.sh [N] [extra options for octarc simulate lenses]
-# The octarc binary is $OCTARC_BIN, else build/release/src/apps/octarc (built if missing).
+# The octarc binary is $OCTARC_BIN, else build/release/bin/octarc (built if missing).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 count=${1:-90000}
 shift || true
-bin=${OCTARC_BIN:-build/release/src/apps/octarc}
+bin=${OCTARC_BIN:-build/release/bin/octarc}
 if [[ ! -x "$bin" ]]; then
   cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
   cmake --build build/release --target octarc

@@ -8,4 +8,4 @@ cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build/release --target octarc -j "$(nproc)"
-build/release/src/apps/octarc demo "$@"
+build/release/bin/octarc demo "$@"

@@ -10,7 +10,7 @@ cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build/release --target octarc -j "$(nproc)"
 
 mkdir -p out
-octarc=build/release/src/apps/octarc
+octarc=build/release/bin/octarc
 "$octarc" measure testdata/example.fits.gz -c testdata/example.sex
 "$octarc" measure testdata/example.fits.gz -c testdata/example.sex \
   -CATALOG_TYPE ASCII_HEAD -CATALOG_NAME out/example.cat -VERBOSE_TYPE QUIET

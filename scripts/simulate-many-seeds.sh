@@ -5,13 +5,13 @@
 # as many systems as asked; the redrawn pairs (OCTREDRW) are summed at the end.
 #
 # Usage: scripts/simulate-many-seeds.sh [SEEDS_SMALL [SEEDS_LARGE]]   (defaults 50 and 3)
-# The octarc binary is $OCTARC_BIN, else build/release/src/apps/octarc (built if missing).
+# The octarc binary is $OCTARC_BIN, else build/release/bin/octarc (built if missing).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 small=${1:-50}
 large=${2:-3}
-bin=${OCTARC_BIN:-build/release/src/apps/octarc}
+bin=${OCTARC_BIN:-build/release/bin/octarc}
 if [[ ! -x "$bin" ]]; then
   cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
   cmake --build build/release --target octarc

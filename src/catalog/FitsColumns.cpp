@@ -23,20 +23,6 @@ std::string keyOf(const char* card) {
   return key;
 }
 
-// Column number of a column keyword such as TUNIT12 (letters after 'T', then digits), or 0.
-int columnOfKeyword(const std::string& key) {
-  if (key.size() < 2 || key[0] != 'T') return 0;
-  std::size_t i = 1;
-  while (i < key.size() && std::isupper(static_cast<unsigned char>(key[i]))) ++i;
-  if (i == 1 || i == key.size()) return 0;
-  int n = 0;
-  for (std::size_t j = i; j < key.size(); ++j) {
-    if (!std::isdigit(static_cast<unsigned char>(key[j]))) return 0;
-    n = n * 10 + (key[j] - '0');
-  }
-  return n;
-}
-
 // std::nearbyint() in the default rounding mode (to nearest, ties to even) without a library
 // call: below 2^52 in magnitude, adding and removing 2^52 rounds to an integer, as the sum has
 // no fraction bits left; larger values (and infinities) are integers already.
@@ -82,6 +68,30 @@ void writeTyped(fitsfile* f, int datatype, int colnum, const Table& table, int c
 
 }  // namespace
 
+int columnOfKeyword(const std::string& key) {
+  if (key.size() < 2 || key[0] != 'T') return 0;
+  std::size_t i = 1;
+  while (i < key.size() && std::isupper(static_cast<unsigned char>(key[i]))) ++i;
+  if (i == 1 || i == key.size()) return 0;
+  int n = 0;
+  for (std::size_t j = i; j < key.size(); ++j) {
+    if (!std::isdigit(static_cast<unsigned char>(key[j]))) return 0;
+    n = n * 10 + (key[j] - '0');
+  }
+  return n;
+}
+
+std::vector<std::string> columnCards(int colnum, const ColumnSpec& column) {
+  const std::string n = std::to_string(colnum);
+  std::vector<std::string> cards;
+  cards.push_back(formatCard("TTYPE" + n, column.name, column.description));
+  cards.push_back(formatCard("TFORM" + n, tformOf(column)));
+  if (!column.unit.empty()) cards.push_back(formatCard("TUNIT" + n, column.unit));
+  const std::string tdisp = tdispFromPrintf(column.printfFormat);
+  if (!tdisp.empty()) cards.push_back(formatCard("TDISP" + n, tdisp));
+  return cards;
+}
+
 bool isIntegerType(ColumnType type) {
   return type == ColumnType::Int16 || type == ColumnType::Int32 || type == ColumnType::Int64;
 }
@@ -122,13 +132,7 @@ void writeColumnCards(fitsfile* f, int colnum, const ColumnSpec& column, const s
   }
   if (insertAt == 0) insertAt = nkeys + 1;
 
-  std::vector<std::string> cards;
-  cards.push_back(formatCard("TTYPE" + n, column.name, column.description));
-  cards.push_back(formatCard("TFORM" + n, tformOf(column)));
-  if (!column.unit.empty()) cards.push_back(formatCard("TUNIT" + n, column.unit));
-  const std::string tdisp = tdispFromPrintf(column.printfFormat);
-  if (!tdisp.empty()) cards.push_back(formatCard("TDISP" + n, tdisp));
-  for (const std::string& c : cards) {
+  for (const std::string& c : columnCards(colnum, column)) {
     fits_insert_record(f, insertAt++, c.c_str(), &status);
     throwIfFitsError(status, path, "cannot write header of column " + column.name);
   }
@@ -262,20 +266,14 @@ std::size_t storageBytes(ColumnType type) {
   return 8;
 }
 
-// A stretch of consecutive row values (one or more adjacent columns) of one storage type.
-struct PackRun {
-  PackFunction pack;
-  int first;  // index of the first value in Table::row()
-  int count;
-};
-
-// The packing plan of a table, made once: adjacent columns of one type become one run, so that a
-// catalog of float columns packs each row in a single tight loop.
-std::vector<PackRun> packPlan(const Table& table, std::size_t& rowBytes) {
+// The packing plan of chosen columns of a table, made once: adjacent columns of one type become
+// one run, so that a catalog of float columns packs each row in a single tight loop.
+std::vector<PackRun> packPlan(const Table& table, const std::vector<int>& columns,
+                              std::size_t& rowBytes) {
   std::vector<PackRun> runs;
   rowBytes = 0;
   ColumnType previous = ColumnType::Float32;
-  for (int c = 0; c < table.columnCount(); ++c) {
+  for (int c : columns) {
     const ColumnSpec& spec = table.columns()[std::size_t(c)];
     rowBytes += storageBytes(spec.type) * std::size_t(spec.repeat);
     if (!runs.empty() && spec.type == previous &&
@@ -289,7 +287,22 @@ std::vector<PackRun> packPlan(const Table& table, std::size_t& rowBytes) {
   return runs;
 }
 
+std::vector<PackRun> packPlan(const Table& table, std::size_t& rowBytes) {
+  std::vector<int> all(std::size_t(table.columnCount()));
+  for (int c = 0; c < table.columnCount(); ++c) all[std::size_t(c)] = c;
+  return packPlan(table, all, rowBytes);
+}
+
 }  // namespace
+
+RowPacker::RowPacker(const Table& table, const std::vector<int>& columns)
+    : table_(&table), runs_(packPlan(table, columns, rowBytes_)) {}
+
+unsigned char* RowPacker::pack(std::int64_t r, unsigned char* out) const {
+  const double* row = table_->row(r);
+  for (const PackRun& run : runs_) out = run.pack(row + run.first, run.count, out);
+  return out;
+}
 
 void writeTableRows(fitsfile* f, const std::vector<TableRows>& tables, const std::string& path) {
   // Blocks of about 4 MB (large enough that cfitsio writes them straight to the file), taken

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "octarc/core/Table.h"
 #include "octarc/io/detail/Cfitsio.h"
@@ -14,6 +15,38 @@ namespace octarc::detail {
 // is not empty, TDISPn from the printf format. The block goes right after the cards of column
 // n-1 (after EXTNAME/TFIELDS for the first column).
 void writeColumnCards(fitsfile* f, int colnum, const ColumnSpec& column, const std::string& path);
+
+// The cards of a new column `colnum` (1-based) as writeColumnCards writes them: TTYPEn with the
+// description as comment, TFORMn, TUNITn (unless the unit is empty), TDISPn (when the printf
+// format has one).
+std::vector<std::string> columnCards(int colnum, const ColumnSpec& column);
+
+// Column number of a column keyword such as TUNIT12 ('T', upper-case letters, then digits), or 0.
+int columnOfKeyword(const std::string& key);
+
+// A stretch of consecutive row values (one or more adjacent columns) of one storage type, and
+// the function that packs them.
+struct PackRun {
+  unsigned char* (*pack)(const double* values, int count, unsigned char* out);
+  int first;  // index of the first value in Table::row()
+  int count;
+};
+
+// Packs chosen columns of table rows into FITS binary-table bytes (big-endian, each column in its
+// storage type, in the order given), as writeTableRows does for whole rows.
+class RowPacker {
+ public:
+  RowPacker(const Table& table, const std::vector<int>& columns);
+  // Bytes of one packed row.
+  std::size_t rowBytes() const { return rowBytes_; }
+  // Packs row `r` of the table at `out`; returns the end of what it wrote.
+  unsigned char* pack(std::int64_t r, unsigned char* out) const;
+
+ private:
+  const Table* table_;
+  std::size_t rowBytes_ = 0;  // set by the plan below: declared first
+  std::vector<PackRun> runs_;
+};
 
 // Writes every row of table column `column` into FITS column `colnum`, converted to the
 // column's storage type.

@@ -1,11 +1,5 @@
 #include "octarc/catalog/InputCatalog.h"
 
-#include <filesystem>
-#include <set>
-
-#include "FitsColumns.h"
-#include "octarc/catalog/Catalog.h"
-#include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
 #include "octarc/io/detail/Cfitsio.h"
 
@@ -130,77 +124,6 @@ std::vector<InputCatalogPart> readInputCatalog(const std::string& path) {
                   "FITS_1.0 catalog)");
   }
   return parts;
-}
-
-void writeAppendedCatalog(const std::string& inputPath, const std::string& outputPath,
-                          const std::vector<const Table*>& appended) {
-  const std::vector<InputCatalogPart> parts = readInputCatalog(inputPath);
-  if (appended.size() != parts.size()) {
-    throw IoError(inputPath + ": holds " + std::to_string(parts.size()) +
-                  " objects table(s) but columns for " + std::to_string(appended.size()) +
-                  " were given");
-  }
-  AtomicFile out(outputPath);
-  std::error_code error;
-  std::filesystem::copy_file(inputPath, out.tempPath(),
-                             std::filesystem::copy_options::overwrite_existing, error);
-  if (error) throw IoError(outputPath + ": cannot write (" + error.message() + ")");
-
-  fitsfile* opened = nullptr;
-  int status = 0;
-  fits_open_diskfile(&opened, out.tempPath().c_str(), READWRITE, &status);  // no cfitsio syntax
-  if (status != 0 && opened != nullptr) {
-    int ignored = 0;
-    fits_close_file(opened, &ignored);
-  }
-  detail::throwIfFitsError(status, outputPath, "cannot write");
-  detail::FitsPtr file(opened);
-  fitsfile* f = file.get();
-  for (std::size_t p = 0; p < parts.size(); ++p) {
-    const Table* table = appended[p];
-    if (table == nullptr || table->columnCount() == 0) continue;
-    const InputCatalogPart& part = parts[p];
-    const std::string where = inputPath + ": objects table " + std::to_string(p + 1) + " (HDU " +
-                              std::to_string(part.objectsHdu) + ")";
-    // Checked part by part, before this part is touched; a failure leaves no output at all.
-    if (table->rows() != std::int64_t(part.numbers.size())) {
-      throw IoError(where + " has " + std::to_string(part.numbers.size()) + " rows but " +
-                    std::to_string(table->rows()) + " rows of new columns were given");
-    }
-    std::set<std::string> names(part.columnNames.begin(), part.columnNames.end());
-    for (const ColumnSpec& c : table->columns()) {
-      if (!names.insert(c.name).second) {
-        throw ConfigError(where + " already has a column " + c.name);
-      }
-    }
-    int type = 0;
-    fits_movabs_hdu(f, part.objectsHdu, &type, &status);
-    detail::throwIfFitsError(status, outputPath, "cannot write");
-    const bool hadChecksum = [&] {
-      char value[FLEN_VALUE];
-      int s = 0;
-      fits_read_keyword(f, "CHECKSUM", value, nullptr, &s);
-      fits_clear_errmsg();
-      return s == 0;
-    }();
-    int colnum = int(part.columnNames.size());
-    for (int c = 0; c < table->columnCount(); ++c) {
-      const ColumnSpec& spec = table->columns()[std::size_t(c)];
-      ++colnum;
-      const std::string tform = tformOf(spec);
-      fits_insert_col(f, colnum, const_cast<char*>(spec.name.c_str()),
-                      const_cast<char*>(tform.c_str()), &status);
-      detail::throwIfFitsError(status, outputPath, "cannot add column " + spec.name);
-      detail::writeColumnCards(f, colnum, spec, outputPath);
-      detail::writeColumnData(f, colnum, *table, c, outputPath);
-    }
-    if (hadChecksum) {
-      fits_write_chksum(f, &status);  // the old checksums no longer match the grown table
-      detail::throwIfFitsError(status, outputPath, "cannot update CHECKSUM");
-    }
-  }
-  detail::closeWritten(file.release(), outputPath);
-  out.commit();
 }
 
 std::vector<std::vector<double>> readCatalogColumns(const std::string& path,

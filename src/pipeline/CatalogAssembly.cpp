@@ -232,6 +232,26 @@ RunSummary runSummary(const RunSettings& settings, const PreparedImage& image,
 std::vector<std::string> runHeaderCards(const RunSummary& summary, const PreparedImage& image,
                                         const std::vector<ThresholdLevel>& levels) {
   std::vector<std::string> cards = sexRunCards(summary);
+  const std::vector<std::string> own = octarcRunCards(image, levels);
+  cards.insert(cards.end(), own.begin(), own.end());
+  return cards;
+}
+
+std::vector<std::string> appendedRunCards(const RunSummary& summary, const PreparedImage& image,
+                                          const std::vector<ThresholdLevel>& levels) {
+  std::vector<std::string> cards;
+  for (const std::string& card : runHeaderCards(summary, image, levels)) {
+    const std::string key = card.substr(0, 8);
+    if (key == "SEXGAIN " || key == "SEXBKGND" || key == "SEXBKDEV" || key.rfind("OCT", 0) == 0) {
+      cards.push_back(card);
+    }
+  }
+  return cards;
+}
+
+std::vector<std::string> octarcRunCards(const PreparedImage& image,
+                                        const std::vector<ThresholdLevel>& levels) {
+  std::vector<std::string> cards;
   cards.push_back(formatCard("OCTNLEV", std::int64_t(levels.size()), "Number of threshold levels"));
   for (const ThresholdLevel& l : levels) {
     const std::string n = std::to_string(l.level);

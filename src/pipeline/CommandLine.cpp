@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "octarc/core/Column.h"
+#include "octarc/core/DataFiles.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Version.h"
 #include "octarc/measure/Registry.h"
@@ -26,6 +27,36 @@ void printColumns() {
     if (!c.unit.empty()) std::cout << " [" << c.unit << "]";
     std::cout << "\n";
   }
+}
+
+// PARAMETERS_NAME as a path to read. Not given, and no ./default.param (SExtractor's default):
+// the shipped column list, with a warning. Given: as FILTER_NAME, a name without a directory that
+// is not in the working directory may be a shipped file (so that `-c share/octarc/octarc.sex`
+// works from anywhere); a file found nowhere is an error naming it.
+std::string resolveParametersFile(const std::string& path, bool given,
+                                  std::vector<std::string>& warnings) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!given && !fs::exists(path, ec)) {
+    std::string shipped;
+    try {
+      shipped = dataFile("octarc.param");
+    } catch (const IoError& e) {
+      throw IoError(
+          path +
+          ": not found (PARAMETERS_NAME not given), nor the shipped column list: " + e.what());
+    }
+    warnings.push_back(path + " not found, using the shipped column list " + shipped);
+    return shipped;
+  }
+  const std::string resolved = userOrDataFile(path);
+  if (!fs::exists(resolved, ec)) {
+    const bool bareName = !fs::path(path).has_parent_path();
+    throw IoError(path + ": PARAMETERS_NAME file not found" +
+                  (bareName ? " (neither in the working directory nor in " + dataDirectory() + ")"
+                            : std::string()));
+  }
+  return resolved;
 }
 
 }  // namespace
@@ -75,13 +106,21 @@ std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std
     std::cout << defaults.dump(schema, cl.dumpConfigFull);
     return std::nullopt;
   }
-  // As SExtractor: without -c, ./default.sex is read when it exists.
+  // As SExtractor: without -c, ./default.sex is read when it exists, with its warning when not.
   std::string configFile = cl.configFile;
-  if (configFile.empty() && std::filesystem::exists("default.sex")) configFile = "default.sex";
+  if (configFile.empty()) {
+    if (std::filesystem::exists("default.sex")) {
+      configFile = "default.sex";
+    } else {
+      warnings.push_back("default.sex not found, using internal defaults");
+    }
+  }
   sexcompat::Config config = sexcompat::Config::load(schema, configFile, cl.overrides, &warnings);
   RunSettings settings = settingsFromConfig(config);
   settings.imagePaths = cl.positional;
   settings.configPath = configFile;
+  settings.parametersPath = resolveParametersFile(settings.parametersPath,
+                                                  config.isExplicit("PARAMETERS_NAME"), warnings);
   if (!settings.quiet) {
     for (const std::string& w : warnings) std::cerr << "WARNING: " << w << "\n";
   }

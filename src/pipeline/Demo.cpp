@@ -1,6 +1,6 @@
 // `octarc demo`: the whole method on a simulated survey field, in under two minutes.
 //
-//   simulate field (with injected lenses) --> octarc detect (params/octarc.sex: 15 levels,
+//   simulate field (with injected lenses) --> octarc detect (octarc.sex: 15 levels,
 //   MAP_WEIGHT, ASSOC with the truth list) --> read the catalog back --> report: objects per
 //   level, injected arcs found and their arcness, arcness of arcs versus everything else
 
@@ -17,6 +17,7 @@
 #include "octarc/catalog/InputCatalog.h"
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Conventions.h"
+#include "octarc/core/DataFiles.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Interrupt.h"
 #include "octarc/pipeline/FieldSimulation.h"
@@ -87,9 +88,9 @@ void printUsage(const po::options_description& options) {
   std::cout << "Usage: octarc demo [--size 2048] [--lenses 12] [--seed S] [--out DIR] [--quiet]\n"
                "\n"
                "Simulates a survey field with injected galaxy-galaxy lenses (octarc simulate\n"
-               "field), detects and measures every object at the 15 thresholds of\n"
-               "params/octarc.sex (octarc detect, with the weight map and the truth list as an\n"
-               "ASSOC list), and reports how many injected arcs were found and their arcness.\n"
+               "field), detects and measures every object at the 15 thresholds of the shipped\n"
+               "octarc.sex (octarc detect, with the weight map and the truth list as an ASSOC\n"
+               "list), and reports how many injected arcs were found and their arcness.\n"
                "\n"
                "Options:\n"
             << options;
@@ -139,6 +140,9 @@ int runDemo(const std::vector<std::string>& args) {
   s.threads = vm["threads"].as<int>();
   s.minEinsteinRadiusArcsec = kDemoMinEinsteinRadiusArcsec;
   s.validate();
+  // The shipped survey configuration and columns, found before anything is made.
+  const std::string shippedSex = dataFile("octarc.sex");
+  const std::string shippedParam = dataFile("octarc.param");
 
   namespace fs = std::filesystem;
   const fs::path outDir = vm["out"].as<std::string>();
@@ -170,10 +174,9 @@ int runDemo(const std::vector<std::string>& args) {
     }
     field = simulateField(s, terminalProgress("simulate", "objects", quiet));
     writeSimulatedField(field, s, paths, firstStep);
-    const std::string paramsDir = OCTARC_PARAMS_DIR;
     firstStep.write(3, [&](const std::string& path) {
-      std::ifstream in(paramsDir + "/octarc.param");
-      if (!in) throw IoError(paramsDir + "/octarc.param: cannot read the demo's column list");
+      std::ifstream in(shippedParam);
+      if (!in) throw IoError(shippedParam + ": cannot read the demo's column list");
       std::ofstream f(path);
       f << in.rdbuf() << "VECTOR_ASSOC(5)          # truth: id, kind, mag, theta_E, system\n"
         << "NUMBER_ASSOC\n";
@@ -202,7 +205,7 @@ int runDemo(const std::vector<std::string>& args) {
         {"-CHECKIMAGE_TYPE", "NONE"},
         {"-NTHREADS", std::to_string(s.threads)},
         {"-VERBOSE_TYPE", "QUIET"}};
-    std::vector<std::string> detectArgs = {paths.image, "-c", paramsDir + "/octarc.sex"};
+    std::vector<std::string> detectArgs = {paths.image, "-c", shippedSex};
     for (const auto& [key, value] : keys) {
       detectArgs.push_back(key);
       detectArgs.push_back(value);
@@ -294,7 +297,7 @@ int runDemo(const std::vector<std::string>& args) {
     << "  " << field.galaxyCount << " galaxies, " << field.starCount << " stars ("
     << field.saturatedPixels << " saturated pixels), " << systems.size() << " lens systems\n"
     << "  simulated in " << fmt(simulateSec, "%.1f") << " s\n\n"
-    << "Detection: octarc detect -c params/octarc.sex (" << levelCount
+    << "Detection: octarc detect -c " << shippedSex << " (" << levelCount
     << " levels, MAP_WEIGHT, ASSOC with the truth list) in " << fmt(detectSec, "%.1f") << " s\n"
     << "  level  threshold [ADU]  objects\n";
   for (const auto& [level, count] : perLevel) {

@@ -56,7 +56,7 @@ void printUsage() {
       "warning. An image without any finite pixel is an error.\n"
       "\n"
       "Options:\n"
-      "  -c FILE      configuration file (SExtractor .sex syntax; see params/octarc.sex)\n"
+      "  -c FILE      configuration file (SExtractor .sex syntax; see share/octarc/octarc.sex)\n"
       "  -KEY value   override a configuration key (e.g. -DETECT_NLEVELS 15)\n"
       "  -d, -dd      print the default configuration (-dd: every key)\n"
       "  -dp          list every catalog column with its description and unit\n"

@@ -10,6 +10,7 @@
 #include <map>
 #include <set>
 
+#include "octarc/catalog/AppendedCatalog.h"
 #include "octarc/catalog/Catalog.h"
 #include "octarc/catalog/InputCatalog.h"
 #include "octarc/core/AtomicFile.h"
@@ -86,14 +87,14 @@ std::vector<ThresholdLevel> levelThresholds(const RunSettings& s, double sigmaAd
 
 // Checks that labels and catalog rows match one to one (per level) and returns, for each
 // catalog row, the index of its segment.
-std::vector<std::size_t> joinByNumber(const std::vector<Segment>& segments, int level,
-                                      const InputCatalogPart& catalog,
-                                      const std::string& catalogPath, const std::string& segPath) {
-  std::map<std::int64_t, std::size_t> byNumber;
+std::vector<std::int64_t> joinByNumber(const std::vector<Segment>& segments, int level,
+                                       const InputCatalogPart& catalog,
+                                       const std::string& catalogPath, const std::string& segPath) {
+  std::map<std::int64_t, std::int64_t> byNumber;
   for (std::size_t i = 0; i < segments.size(); ++i) {
-    if (segments[i].level == level) byNumber[segments[i].number] = i;
+    if (segments[i].level == level) byNumber[segments[i].number] = std::int64_t(i);
   }
-  std::vector<std::size_t> order;
+  std::vector<std::int64_t> order;
   std::set<std::int64_t> seen;
   for (std::int64_t number : catalog.numbers) {
     auto it = byNumber.find(number);
@@ -207,8 +208,13 @@ int runMeasure(const std::vector<std::string>& args) {
   const std::vector<std::string> extensions = listImageHdus(imagePath);
   const int extCount = int(extensions.size());
   std::vector<CatalogPart> parts;
-  std::vector<Table> tables;                             // per extension (new-catalog mode)
-  std::vector<std::vector<Table>> appended(levelCount);  // [level][extension]
+  std::vector<Table> tables;  // per extension (new-catalog mode)
+  // Append mode, per extension: the measured rows of every level, the rows each level's catalog
+  // takes from them, and the run's provenance cards.
+  std::vector<Table> measured(appendMode ? std::size_t(extCount) : 0);
+  std::vector<std::vector<std::vector<std::int64_t>>> catalogRows(measured.size());
+  std::vector<std::vector<std::string>> provenance(measured.size());
+  std::vector<std::vector<AppendedColumns>> appended(levelCount);  // [level][extension]
   std::vector<std::vector<std::string>> cards;
   std::vector<std::string> fits10Cards;
   tables.reserve(std::size_t(extCount));
@@ -250,45 +256,39 @@ int runMeasure(const std::vector<std::string>& args) {
     Table full(columns.plan.columns());
     measureSegments(columns.plan, segments, context, full, resolveThreads(s.threads));
 
-    // Every label must have its catalog row and every row its label.
-    std::vector<std::vector<std::size_t>> rowOrder;
+    // Every label must have its catalog row and every row its label: for each level, the
+    // measured row of each catalog row.
+    std::vector<std::vector<std::int64_t>> rowOrder;
     for (std::size_t k = 0; k < catalogs.size(); ++k) {
       rowOrder.push_back(joinByNumber(segments, int(k) + 1, catalogs[k][std::size_t(e)],
                                       s.inputCatalogPaths[k], segPaths[k]));
     }
 
+    RunFacts facts;
+    facts.imagePath = imagePath;
+    facts.extension = e;
+    facts.extensionCount = extCount;
+    facts.detectedCount = std::int64_t(segments.size());
+    facts.parameterCount = int(columns.outputColumns.size());
     if (appendMode) {
       // ASSOC fills its columns for every row: the rows are those of the input catalogs.
       if (assocSettings) {
         applyAssoc(*assocSettings, columns.assocVectorSize, image, full, s.quiet, true);
       }
-      for (std::size_t k = 0; k < levelCount; ++k) {
-        // Columns the SExtractor catalog already has are kept as they are, not appended again.
-        const std::vector<std::string>& existing = catalogs[k][std::size_t(e)].columnNames;
-        ColumnPlan appendPlan = columns;
-        std::erase_if(appendPlan.outputColumns, [&](const ColumnSpec& c) {
-          return std::find(existing.begin(), existing.end(), c.name) != existing.end();
-        });
-        const Table rows = outputTable(appendPlan, full);
-        Table levelTable(rows.columns());
-        for (std::size_t index : rowOrder[k]) {
-          double* row = levelTable.appendRow();
-          std::copy_n(rows.row(std::int64_t(index)), rows.rowWidth(), row);
-        }
-        appended[k].push_back(std::move(levelTable));
-      }
+      // The rows stay where they were measured; each catalog takes its own, in its row order.
+      facts.finalCount = full.rows();
+      facts.elapsedSec =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      provenance[std::size_t(e)] =
+          appendedRunCards(runSummary(s, image, context.levels, facts), image, context.levels);
+      measured[std::size_t(e)] = std::move(full);
+      catalogRows[std::size_t(e)] = std::move(rowOrder);
     } else {
       if (assocSettings) {
         applyAssoc(*assocSettings, columns.assocVectorSize, image, full, s.quiet);
       }
       tables.push_back(outputTable(columns, std::move(full)));
-      RunFacts facts;
-      facts.imagePath = imagePath;
-      facts.extension = e;
-      facts.extensionCount = extCount;
-      facts.detectedCount = std::int64_t(segments.size());
       facts.finalCount = tables.back().rows();
-      facts.parameterCount = int(columns.outputColumns.size());
       facts.elapsedSec =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       const RunSummary summary = runSummary(s, image, context.levels, facts);
@@ -299,10 +299,23 @@ int runMeasure(const std::vector<std::string>& args) {
 
   if (appendMode) {
     for (std::size_t k = 0; k < levelCount; ++k) {
-      std::vector<const Table*> perExtension;
-      for (const Table& t : appended[k]) perExtension.push_back(&t);
+      for (std::size_t e = 0; e < measured.size(); ++e) {
+        AppendedColumns a;
+        a.table = &measured[e];
+        // Columns the SExtractor catalog already has are kept as they are, not appended again.
+        const std::vector<std::string>& existing = catalogs[k][e].columnNames;
+        for (const ColumnSpec& c : columns.outputColumns) {
+          if (std::find(existing.begin(), existing.end(), c.name) == existing.end()) {
+            a.columns.push_back(measured[e].findColumn(c.name));
+          }
+        }
+        if (a.columns.empty()) a.table = nullptr;
+        a.rows = &catalogRows[e][k];
+        a.cards = provenance[e];
+        appended[k].push_back(std::move(a));
+      }
       outputs.write(k, [&](const std::string& path) {
-        writeAppendedCatalog(s.inputCatalogPaths[k], path, perExtension);
+        writeAppendedCatalog(s.inputCatalogPaths[k], catalogs[k], path, appended[k]);
       });
     }
   } else if (catalogType != CatalogType::None) {

@@ -9,6 +9,7 @@
 
 #include "octarc/background/GlobalBackground.h"
 #include "octarc/background/MeshBackground.h"
+#include "octarc/core/DataFiles.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Parallel.h"
 #include "octarc/detection/Filter.h"
@@ -97,12 +98,10 @@ RunSettings settingsForExtension(const RunSettings& settings, int e, int count) 
 
 std::string resolveFilterFile(const std::string& path) {
   namespace fs = std::filesystem;
-  if (fs::exists(path) || fs::path(path).has_parent_path()) return path;
-  for (const char* dir : {OCTARC_PARAMS_DIR, "/usr/share/source-extractor"}) {
-    const fs::path candidate = fs::path(dir) / path;
-    if (fs::exists(candidate)) return candidate.string();
-  }
-  return path;
+  const std::string resolved = userOrDataFile(path);
+  if (resolved != path || fs::exists(path) || fs::path(path).has_parent_path()) return resolved;
+  const fs::path sextractorShare = fs::path("/usr/share/source-extractor") / path;
+  return fs::exists(sextractorShare) ? sextractorShare.string() : path;
 }
 
 std::vector<double> logSpacedLevels(double low, double high, int count) {

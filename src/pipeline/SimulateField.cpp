@@ -172,7 +172,8 @@ po::options_description fieldOptions() {
       "octarc .sex file: PIXEL_SCALE, SEEING_FWHM, GAIN, MAG_ZEROPOINT, SATUR_LEVEL");
   add("database", po::value<std::string>(),
       "RealGalaxyCatalog FITS table of lensed source galaxies (default: synthetic)");
-  add("population", po::value<std::string>(), "lens population file (params/simulation/)");
+  add("population", po::value<std::string>(),
+      "lens population file (default: simulation/population.txt of share/octarc)");
   add("threads", po::value<int>()->default_value(0), "worker threads (0 = all cores)");
   add("quiet", "no progress bar");
   return o;

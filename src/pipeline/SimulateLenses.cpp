@@ -179,7 +179,7 @@ int runSimulateLenses(const std::vector<std::string>& args) {
     ("source-extent", po::value<double>()->default_value(4.0),
      "synthetic source stamp radius in half-light radii")
     ("population", po::value<std::string>(), "population relations file "
-     "(default params/simulation/population.txt)")
+     "(default: simulation/population.txt of octarc's data directory, share/octarc)")
     ("threads", po::value<int>()->default_value(0), "worker threads (0 = all cores)")
     ("stamps", po::value<std::string>(), "also write the stamps of the first systems (FITS cube)")
     ("stamp-count", po::value<int>()->default_value(10), "systems in the stamps file")

@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "octarc/core/DataFiles.h"
 #include "octarc/core/Error.h"
 
 namespace octarc::simulation {
@@ -106,7 +107,7 @@ LensDraw PopulationModel::drawLens(const FlatLambdaCdm& cosmology, std::mt19937_
 }
 
 std::string defaultPopulationModelPath() {
-  return std::string(OCTARC_SIMULATION_PARAMS_DIR) + "/population.txt";
+  return dataFile("simulation/population.txt");
 }
 
 PopulationModel readPopulationModel(const std::string& path) {

@@ -1,6 +1,6 @@
 """Helpers of the end-to-end tests: run octarc and source-extractor, read catalogs with astropy.
 
-The tests are run by ctest with OCTARC_BIN set to the octarc executable. The shared reference
+The tests are run by ctest with OCTARC_BIN set to the octarc executable (<build>/bin/octarc). The shared reference
 data (real survey images) is looked up in $OCTARC_SHARED_DIR/data/real or ../shared/data/real;
 tests that need it are skipped with a message when it is absent.
 """
@@ -18,8 +18,7 @@ from astropy.utils.exceptions import AstropyWarning
 warnings.simplefilter("ignore", AstropyWarning)
 
 SOURCE_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-OCTARC = os.environ.get("OCTARC_BIN", os.path.join(SOURCE_DIR, "build", "release", "src", "apps",
-                                                   "octarc"))
+OCTARC = os.environ.get("OCTARC_BIN", os.path.join(SOURCE_DIR, "build", "release", "bin", "octarc"))
 SEX_SHARE = "/usr/share/source-extractor"
 
 

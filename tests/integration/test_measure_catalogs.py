@@ -47,7 +47,14 @@ class AppendToSExtractorCatalogs(WorkDirTest):
             with fits.open(src) as a, fits.open(out) as b:
                 self.assertEqual(len(a), len(b))
                 self.assertEqual(b[1].name, "LDAC_IMHEAD")
-                self.assertEqual(list(a[1].data[0][0]), list(b[1].data[0][0]))
+                # Every card of the header cell kept; only octarc's provenance added before END
+                # (SExtractor's catalog has SEXGAIN, SEXBKGND and SEXBKDEV already).
+                old_cards, new_cards = list(a[1].data[0][0]), list(b[1].data[0][0])
+                self.assertEqual(new_cards[:len(old_cards) - 1], old_cards[:-1])
+                self.assertEqual(new_cards[-1], "END")
+                added = [c[:8].strip() for c in new_cards[len(old_cards) - 1:-1]]
+                self.assertEqual(added, ["OCTNLEV", "OCTTH1", "OCTTH2", "OCTTH3", "OCTBKSRC",
+                                         "OCTSGSRC"])
                 old, new = a[2], b[2]
                 self.assertEqual(new.name, "LDAC_OBJECTS")
                 for name in old.columns.names:

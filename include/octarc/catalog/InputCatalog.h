@@ -1,4 +1,5 @@
-// Reading an existing SExtractor catalog (FITS_LDAC or FITS_1.0) and appending columns to it.
+// Reading an existing SExtractor catalog (FITS_LDAC or FITS_1.0); catalog/AppendedCatalog.h
+// appends columns to it.
 #pragma once
 
 #include <cstdint>
@@ -27,13 +28,5 @@ std::vector<InputCatalogPart> readInputCatalog(const std::string& path);
 std::vector<std::vector<double>> readCatalogColumns(const std::string& path,
                                                     const std::string& extname,
                                                     const std::vector<std::string>& names);
-
-// Writes `outputPath` = the input catalog unchanged (every HDU, column, unit and LDAC_IMHEAD kept)
-// with the columns of appended[i] added at the end of the i-th objects table, row r of
-// appended[i] going to row r of that table. Written atomically: `outputPath` may equal
-// `inputPath`, the input being replaced only by the final rename. ConfigError if an appended
-// column name already exists in the table; IoError if the number of tables or of rows differs.
-void writeAppendedCatalog(const std::string& inputPath, const std::string& outputPath,
-                          const std::vector<const Table*>& appended);
 
 }  // namespace octarc

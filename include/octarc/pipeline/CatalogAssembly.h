@@ -66,6 +66,14 @@ RunSummary runSummary(const RunSettings& settings, const PreparedImage& image,
                       const std::vector<ThresholdLevel>& levels, const RunFacts& facts);
 std::vector<std::string> runHeaderCards(const RunSummary& summary, const PreparedImage& image,
                                         const std::vector<ThresholdLevel>& levels);
+// octarc's own cards of runHeaderCards: OCTNLEV, OCTTHn, OCTBKSRC, OCTSGSRC.
+std::vector<std::string> octarcRunCards(const PreparedImage& image,
+                                        const std::vector<ThresholdLevel>& levels);
+// The cards of runHeaderCards that a SExtractor catalog with octarc's columns appended gets as
+// provenance: SEXGAIN, SEXBKGND, SEXBKDEV (added only where the catalog has none, see
+// catalog/AppendedCatalog.h) and octarc's own.
+std::vector<std::string> appendedRunCards(const RunSummary& summary, const PreparedImage& image,
+                                          const std::vector<ThresholdLevel>& levels);
 
 // `context` with its WCS replaced by a copy held in `storage`: a WCS serialises its
 // transforms, so each measuring thread uses its own.

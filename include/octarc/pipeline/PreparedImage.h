@@ -98,7 +98,8 @@ double thresholdToAdu(double value, bool relative, double sigmaAdu);
 std::vector<double> logSpacedLevels(double low, double high, int count);
 
 // A FILTER_NAME given without a directory and absent from the working directory is looked up,
-// as a convenience, in octarc's params/ and then in Debian's source-extractor share directory.
+// as a convenience, in octarc's data directory (core/DataFiles.h) and then in Debian's
+// source-extractor share directory.
 std::string resolveFilterFile(const std::string& path);
 
 }  // namespace octarc

@@ -106,7 +106,9 @@ struct PopulationModel {
 // ("<file>: line N: ..." or "<file>: key <k>: ...") for bad content.
 PopulationModel readPopulationModel(const std::string& path);
 
-// The parameter file shipped with the sources (params/simulation/population.txt).
+// The parameter file octarc ships (simulation/population.txt of its data directory, see
+// core/DataFiles.h; params/simulation/population.txt in the sources). IoError naming where it
+// looked when it is missing.
 std::string defaultPopulationModelPath();
 
 }  // namespace octarc::simulation

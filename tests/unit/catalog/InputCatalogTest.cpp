@@ -9,6 +9,7 @@
 
 #include "CatalogTestSupport.h"
 #include "TestPaths.h"
+#include "octarc/catalog/AppendedCatalog.h"
 #include "octarc/catalog/Catalog.h"
 #include "octarc/catalog/InputCatalog.h"
 #include "octarc/core/Error.h"

@@ -43,7 +43,9 @@ int main(int argc, char** argv) {
   if (argc > 3) galaxyOptions.stampHalfLightRadii = std::atof(argv[3]);
   const ObservingSetup setup;  // 101 x 101 px at 0.257", 0.9" seeing, gain 54, sigma 1 ADU
   const FlatLambdaCdm cosmo;
-  const PopulationModel population = readPopulationModel(defaultPopulationModelPath());
+  // The population file of the source tree (this program is not installed).
+  const PopulationModel population =
+      readPopulationModel(OCTARC_SOURCE_DIR "/params/simulation/population.txt");
   const std::vector<double> psf = gaussianPsfKernel1d(0.9, 0.257);
 
   // A database of 30 synthetic sources, made once (like reading a catalog).

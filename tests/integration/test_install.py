@@ -1,0 +1,217 @@
+"""octarc installed: `cmake --install` into a temporary prefix, a copy of that tree run with
+nothing of the source or build tree in sight (every file octarc opens is recorded with strace);
+and the Debian package `cpack -G DEB` makes, with its contents and runtime dependencies."""
+import filecmp
+import glob
+import os
+import re
+import shutil
+import subprocess
+import unittest
+
+import numpy as np
+from astropy.io import fits
+
+from octarc_testlib import OCTARC, SOURCE_DIR, WorkDirTest
+
+BUILD_DIR = os.environ.get("OCTARC_BUILD_DIR", "")
+CMAKE = os.environ.get("OCTARC_CMAKE", "cmake")
+CPACK = os.environ.get("OCTARC_CPACK", "cpack")
+
+# Every installed file and, for the data, its source in the tree.
+DATA = {"octarc.sex": "params/octarc.sex", "octarc.param": "params/octarc.param",
+        "default.conv": "params/default.conv",
+        "simulation/population.txt": "params/simulation/population.txt"}
+INSTALLED = sorted(["bin/octarc", "share/doc/octarc/README.md", "share/doc/octarc/LICENSE"] +
+                   ["share/octarc/" + name for name in DATA])
+
+
+def files_under(root):
+    return sorted(os.path.relpath(os.path.join(d, f), root)
+                  for d, _, names in os.walk(root) for f in names)
+
+
+def param_names(path):
+    names = []
+    with open(path) as f:
+        lines = f.read().splitlines()
+    for line in lines:
+        line = line.split("#")[0].strip()
+        if line:
+            names.append(re.split(r"[\s(]", line)[0])
+    return names
+
+
+def has_debug_info(binary):
+    sections = subprocess.run(["readelf", "-S", binary], capture_output=True, text=True).stdout
+    return ".debug_info" in sections
+
+
+@unittest.skipUnless(BUILD_DIR, "OCTARC_BUILD_DIR (the build tree) is set by ctest")
+class InstalledTree(WorkDirTest):
+
+    def run_traced(self, tag, args, cwd, env):
+        """Runs the octarc found on env's PATH under strace; returns (process, paths opened)."""
+        trace = self.path("trace.%s.txt" % tag)
+        # LeakSanitizer cannot run under ptrace: a sanitizer build checks leaks in other tests.
+        env = dict(env, ASAN_OPTIONS=":".join(filter(None, [env.get("ASAN_OPTIONS"),
+                                                              "detect_leaks=0"])))
+        proc = subprocess.run(["strace", "-f", "-qq", "-e", "trace=%file", "-o", trace, "octarc"] +
+                              args, cwd=cwd, env=env, capture_output=True, text=True)
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        with open(trace) as f:
+            paths = re.findall(r'"([^"]*)"', f.read())
+        return proc, paths
+
+    def test_a_copy_of_the_installed_tree_runs_demo_and_detect(self):
+        prefix = self.path("prefix")
+        subprocess.run([CMAKE, "--install", BUILD_DIR, "--prefix", prefix], check=True,
+                       capture_output=True)
+        self.assertEqual(files_under(prefix), INSTALLED)
+        for name, source in DATA.items():
+            self.assertTrue(filecmp.cmp(os.path.join(prefix, "share", "octarc", name),
+                                        os.path.join(SOURCE_DIR, source), shallow=False), name)
+        # Only the copy exists: the installed tree is gone, and neither the source nor the
+        # build tree is on the PATH, the working directory or the environment.
+        moved = self.path("moved")
+        shutil.copytree(prefix, moved, symlinks=True)
+        shutil.rmtree(prefix)
+        work = self.path("work")
+        os.mkdir(work)
+        env = {"PATH": os.path.join(moved, "bin") + ":/usr/bin:/bin", "HOME": work, "LC_ALL": "C"}
+        for key in ("ASAN_OPTIONS", "UBSAN_OPTIONS"):
+            if key in os.environ:
+                env[key] = os.environ[key]
+        trees = [os.path.realpath(SOURCE_DIR), os.path.realpath(BUILD_DIR)]
+        for tree in trees:
+            self.assertFalse(any(tree in value for value in env.values()), tree)
+            self.assertFalse(os.path.realpath(work).startswith(tree))
+        if not has_debug_info(os.path.join(moved, "bin", "octarc")):
+            # No path of the build compiled in (a build with debug information names its
+            # sources, which the traces below still show are never opened).
+            with open(os.path.join(moved, "bin", "octarc"), "rb") as f:
+                binary = f.read()
+            for tree in trees:
+                self.assertNotIn(tree.encode(), binary)
+
+        # The demo: its field simulated, detected with the shipped octarc.sex and octarc.param.
+        shipped = os.path.join(moved, "share", "octarc")
+        proc, opened = self.run_traced("demo", ["demo", "--size", "512", "--lenses", "3",
+                                                "--seed", "2", "--out", "demo", "--quiet"],
+                                       work, env)
+        self.assertIn("Detection: octarc detect -c %s/octarc.sex (15 levels" % shipped,
+                      proc.stdout)
+        self.assertIn("Injected arcs detected:", proc.stdout)
+        for name in ("octarc.sex", "octarc.param", "simulation/population.txt"):
+            self.assertIn(os.path.join(shipped, name), opened)
+        rows = fits.getdata(os.path.join(work, "demo", "field.ldac"), "LDAC_OBJECTS")
+        self.assertEqual(sorted(set(rows["THRESH_LEVEL"])), list(range(1, 16)))
+        demo_opened = opened
+
+        # detect -c <copy>/share/octarc/octarc.sex on the demo's field, from the work directory:
+        # its PARAMETERS_NAME (octarc.param) and CATALOG_NAME (octarc.ldac) as the file says.
+        proc, opened = self.run_traced("detect", ["detect", "demo/field.fits", "-c",
+                                                  os.path.join(shipped, "octarc.sex")], work, env)
+        self.assertNotIn("WARNING", proc.stderr)
+        self.assertIn(os.path.join(shipped, "octarc.param"), opened)
+        catalog = os.path.join(work, "octarc.ldac")
+        with fits.open(catalog) as f:
+            rows = f["LDAC_OBJECTS"].data
+            imhead = fits.Header.fromstring("".join(c.ljust(80) for c in f[1].data[0][0]))
+        self.assertEqual(rows.columns.names, param_names(os.path.join(shipped, "octarc.param")))
+        self.assertEqual(sorted(set(rows["THRESH_LEVEL"])), list(range(1, 16)))
+        # octarc.sex: 15 levels log-spaced from 2.5 to 20 sigma.
+        self.assertEqual(imhead["OCTNLEV"], 15)
+        sigma = imhead["SEXBKDEV"]
+        thresholds = np.array([imhead["OCTTH%d" % n] for n in range(1, 16)])
+        np.testing.assert_allclose(thresholds, 2.5 * sigma * 8.0 ** (np.arange(15) / 14.0),
+                                   rtol=1e-9)
+
+        # Nothing of the source or build tree was even looked at.
+        for path in demo_opened + opened:
+            real = os.path.realpath(os.path.join(work, path))
+            for tree in trees:
+                self.assertFalse(path.startswith(tree) or real.startswith(tree), path)
+
+
+    def test_an_executable_without_its_data_says_where_it_looked(self):
+        bindir = self.path("bin")
+        os.mkdir(bindir)
+        shutil.copy(OCTARC, bindir)
+        env = {"PATH": bindir + ":/usr/bin:/bin", "LC_ALL": "C"}
+        for key in ("ASAN_OPTIONS", "UBSAN_OPTIONS"):
+            if key in os.environ:
+                env[key] = os.environ[key]
+        expected = os.path.join(self.work, "share", "octarc", "octarc.sex")
+        proc = subprocess.run(["octarc", "demo", "--size", "256", "--out", "demo"], cwd=self.work,
+                              env=env, capture_output=True, text=True)
+        self.assertNotEqual(proc.returncode, 0)
+        lines = [line for line in proc.stderr.splitlines() if line.strip()]
+        self.assertEqual(len(lines), 1, proc.stderr)
+        self.assertIn(expected + ": octarc data file not found", lines[0])
+        self.assertIn("OCTARC_DATA_DIR", lines[0])
+        self.assertEqual(sorted(os.listdir(self.work)), ["bin"])
+        # OCTARC_DATA_DIR names another place.
+        data = os.path.join(SOURCE_DIR, "params")
+        env["OCTARC_DATA_DIR"] = data
+        proc = subprocess.run(["octarc", "demo", "--size", "256", "--lenses", "1", "--out", "demo",
+                               "--quiet"], cwd=self.work, env=env, capture_output=True, text=True)
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        self.assertIn("octarc detect -c %s/octarc.sex" % data, proc.stdout)
+        self.assertTrue(os.path.exists(os.path.join(self.work, "demo", "field.ldac")))
+
+
+@unittest.skipUnless(BUILD_DIR, "OCTARC_BUILD_DIR (the build tree) is set by ctest")
+class DebianPackage(WorkDirTest):
+
+    def package_of(self, library):
+        """The Debian package that holds a shared library (dpkg -S), e.g. libcfitsio10."""
+        candidates = [library, os.path.realpath(library)]
+        if library.startswith("/lib/"):
+            candidates.append("/usr" + library)
+        for path in candidates:
+            proc = subprocess.run(["dpkg", "-S", path], capture_output=True, text=True)
+            if proc.returncode == 0:
+                return proc.stdout.split(":")[0].strip()
+        self.fail("no Debian package holds " + library)
+
+    def test_package_holds_octarc_its_data_and_dependencies(self):
+        out = self.path("package")
+        subprocess.run([CPACK, "-G", "DEB", "--config",
+                        os.path.join(BUILD_DIR, "CPackConfig.cmake"), "-B", out],
+                       check=True, capture_output=True)
+        debs = glob.glob(os.path.join(out, "*.deb"))
+        self.assertEqual(len(debs), 1, debs)
+        listing = subprocess.run(["dpkg-deb", "-c", debs[0]], check=True, capture_output=True,
+                                 text=True).stdout
+        files = sorted(line.split()[-1][len("./usr/"):] for line in listing.splitlines()
+                       if not line.startswith("d"))
+        self.assertEqual(files, INSTALLED)
+
+        def field(name):
+            return subprocess.run(["dpkg-deb", "-f", debs[0], name], check=True,
+                                  capture_output=True, text=True).stdout.strip()
+
+        self.assertEqual(field("Package"), "octarc")
+        version = subprocess.run([OCTARC, "detect", "-v"], capture_output=True,
+                                 text=True).stdout.split()[-1]
+        self.assertEqual(field("Version"), version)
+        arch = subprocess.run(["dpkg", "--print-architecture"], capture_output=True,
+                              text=True).stdout.strip()
+        self.assertEqual(field("Architecture"), arch)
+        # Depends: the package of every shared library octarc links.
+        depends = {d.split()[0] for d in field("Depends").split(",")}
+        needed = re.findall(r"\(NEEDED\)\s+Shared library: \[(.*)\]",
+                            subprocess.run(["readelf", "-d", OCTARC], capture_output=True,
+                                           text=True).stdout)
+        resolved = dict(re.findall(r"^\s*(\S+) => (\S+)",
+                                   subprocess.run(["ldd", OCTARC], capture_output=True,
+                                                  text=True).stdout, re.M))
+        expected = {self.package_of(resolved[lib]) for lib in needed}
+        self.assertTrue(expected <= depends, (expected, depends))
+        for name in ("cfitsio", "wcs", "boost-program-options"):
+            self.assertTrue(any(name in d for d in depends), (name, depends))
+
+
+if __name__ == "__main__":
+    unittest.main()
