@@ -1,8 +1,10 @@
 """Helpers of the end-to-end tests: run octarc and source-extractor, read catalogs with astropy.
 
-The tests are run by ctest with OCTARC_BIN set to the octarc executable. The shared reference
-data (real survey images) is looked up in $OCTARC_SHARED_DIR/data/real or ../shared/data/real;
-tests that need it are skipped with a message when it is absent.
+The tests are run by ctest (through run_testcase.py) with OCTARC_BIN set to the octarc
+executable. The shared reference data (real survey images) is looked up in
+$OCTARC_SHARED_DIR/data/real or ../shared/data/real; tests that need it, or a program that is not
+installed, are skipped with a message that starts with MISSING_DATA or MISSING_PROGRAM (on the
+CI machine run_testcase.py turns those skips into failures).
 """
 import os
 import shutil
@@ -22,6 +24,10 @@ OCTARC = os.environ.get("OCTARC_BIN", os.path.join(SOURCE_DIR, "build", "release
                                                    "octarc"))
 SEX_SHARE = "/usr/share/source-extractor"
 
+# Prefixes of the skip reasons for an absent dependency (run_testcase.py looks for them).
+MISSING_DATA = "shared reference data not found"
+MISSING_PROGRAM = "program not installed:"
+
 
 def shared_data_dir():
     candidates = []
@@ -37,9 +43,15 @@ def shared_data_dir():
 def require_shared(test, *parts):
     base = shared_data_dir()
     if base is None or not os.path.exists(os.path.join(base, *parts)):
-        test.skipTest("shared reference data not found (../shared/data/real/%s); set "
-                      "OCTARC_SHARED_DIR to run this test" % "/".join(parts))
+        test.skipTest("%s (../shared/data/real/%s); set OCTARC_SHARED_DIR to run this test"
+                      % (MISSING_DATA, "/".join(parts)))
     return os.path.join(base, *parts)
+
+
+def require_program(name):
+    """Skips the running test (raises unittest.SkipTest) when `name` is not on PATH."""
+    if shutil.which(name) is None:
+        raise unittest.SkipTest("%s %s" % (MISSING_PROGRAM, name))
 
 
 class WorkDirTest(unittest.TestCase):
@@ -79,6 +91,7 @@ PURE_THRESHOLDING = ["-DEBLEND_NTHRESH", "1", "-DEBLEND_MINCONT", "1.0", "-CLEAN
 def run_sextractor(image, workdir, tag, param, threshold, extra=(), checkimages=()):
     """One source-extractor run in the pure-thresholding configuration. Returns the paths of the
     catalog and of the requested check-images (dict type -> path)."""
+    require_program("source-extractor")
     cat = os.path.join(workdir, "%s.ldac" % tag)
     checks = {t: os.path.join(workdir, "%s.%s.fits" % (tag, t.lower().replace("-", "m")))
               for t in checkimages}
@@ -108,5 +121,7 @@ def ldac_imhead(path, hdu=1):
 
 
 def fitsverify_errors(path):
+    """fitsverify's exit status (0: no error) and report on one file."""
+    require_program("fitsverify")
     proc = subprocess.run(["fitsverify", "-q", "-e", path], capture_output=True, text=True)
     return proc.returncode, proc.stdout + proc.stderr

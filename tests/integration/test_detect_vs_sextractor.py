@@ -21,7 +21,8 @@ from astropy.io import fits
 from scipy import ndimage
 
 from octarc_testlib import (SEX_SHARE, WorkDirTest, fitsverify_errors, ldac_imhead, ldac_objects,
-                            require_shared, run_octarc, run_sextractor, write_param)
+                            require_program, require_shared, run_octarc, run_sextractor,
+                            write_param)
 from test_measure_vs_sextractor import ANGLE, EXACT, RELATIVE, SEX_COLUMNS
 
 DETECT_THRESH, DETECT_THRESH_MAX, DETECT_NLEVELS, MINAREA = 2.5, 20.0, 15, 5
@@ -223,6 +224,7 @@ class DetectReferenceCatalog(WorkDirTest):
 
     def test_positions_and_second_moments(self):
         folder = os.path.dirname(require_shared(self, "sep-reference", "image.cat"))
+        require_program("source-extractor")
         image = os.path.join(folder, "image.fits")
         names = ["NUMBER", "X_IMAGE", "Y_IMAGE", "X2_IMAGE", "Y2_IMAGE", "XY_IMAGE"]
         param = write_param(self.path("octarc.param"), names)
