@@ -88,7 +88,8 @@ void expectAgreement(const Comparison& c, const MeshBackground& b) {
 
 TEST(MeshBackground, GalaxiesMatchesSExtractorDefaultMesh) {
   OCTARC_REQUIRE_SHARED_DATA(shared);
-  if (!test::haveProgram("source-extractor")) GTEST_SKIP() << "source-extractor not installed";
+  if (!test::haveProgram("source-extractor"))
+    OCTARC_SKIP_MISSING() << "source-extractor not installed";
   const fs::path dir = test::scratchDir();
   MeshBackground storage;
   const MeshBackground* b = nullptr;
@@ -107,7 +108,8 @@ class GalaxiesMeshSizes : public ::testing::TestWithParam<MeshCase> {};
 
 TEST_P(GalaxiesMeshSizes, MatchesSExtractor) {
   OCTARC_REQUIRE_SHARED_DATA(shared);
-  if (!test::haveProgram("source-extractor")) GTEST_SKIP() << "source-extractor not installed";
+  if (!test::haveProgram("source-extractor"))
+    OCTARC_SKIP_MISSING() << "source-extractor not installed";
   const MeshCase p = GetParam();
   MeshBackgroundSettings s;
   s.meshWidth = p.meshWidth;
@@ -173,7 +175,8 @@ TEST(MeshBackground, SyntheticGradientMatchesTruthAndSExtractor) {
   EXPECT_NEAR(b.globalSigmaAdu(), sigma, 0.03 * sigma);
   EXPECT_NEAR(b.globalLevelAdu(), 1000.0 + 0.05 * 349.5 - 0.02 * 264.5, 2.0);
 
-  if (!test::haveProgram("source-extractor")) GTEST_SKIP() << "source-extractor not installed";
+  if (!test::haveProgram("source-extractor"))
+    OCTARC_SKIP_MISSING() << "source-extractor not installed";
   const fs::path dir = test::scratchDir();
   test::writeFloatFits(dir / "sky.fits", image);
   MeshBackground storage;
@@ -187,7 +190,8 @@ TEST(MeshBackground, SampledStatisticsOfWideImagesMatchSExtractor) {
   // A mesh row of 17 000 x 64 pixels exceeds SExtractor's 2^20-pixel statistics buffer: the
   // clipped mean/sigma then come from every other row. The last mesh row (200 % 64 = 8 rows)
   // and the last mesh column (17000 % 64 = 40 columns) are partial.
-  if (!test::haveProgram("source-extractor")) GTEST_SKIP() << "source-extractor not installed";
+  if (!test::haveProgram("source-extractor"))
+    OCTARC_SKIP_MISSING() << "source-extractor not installed";
   ImageF image = test::skyWithGradient(17000, 200, 200.0, 0.001, 0.1, 4.0, 7);
   test::addSources(image, 3000, 2000.0, 8);
   const fs::path dir = test::scratchDir();
@@ -224,7 +228,8 @@ TEST(MeshBackground, ConstantImageWarnsAndUsesUnitSigma) {
 }
 
 TEST(MeshBackground, ConstantImageMatchesSExtractor) {
-  if (!test::haveProgram("source-extractor")) GTEST_SKIP() << "source-extractor not installed";
+  if (!test::haveProgram("source-extractor"))
+    OCTARC_SKIP_MISSING() << "source-extractor not installed";
   const fs::path dir = test::scratchDir();
   test::writeFloatFits(dir / "flat.fits", ImageF(150, 100, 3.0f));
   test::runSExtractorBackground(dir / "flat.fits", dir, "-BACK_SIZE 64",
@@ -291,7 +296,8 @@ TEST(MeshBackground, NanPixelsAndBadMeshesMatchSExtractor) {
   // SExtractor ignores NaN pixels in the mesh statistics and replaces meshes with fewer than
   // half of their pixels valid by their nearest good meshes: a NaN block covering several
   // meshes (ties at equal distances), a mesh 60 % NaN, scattered NaN pixels.
-  if (!test::haveProgram("source-extractor")) GTEST_SKIP() << "source-extractor not installed";
+  if (!test::haveProgram("source-extractor"))
+    OCTARC_SKIP_MISSING() << "source-extractor not installed";
   ImageF image = test::skyWithGradient(700, 450, 500.0, 0.02, -0.03, 6.0, 21);
   test::addSources(image, 200, 3000.0, 22);
   const float nan = std::numeric_limits<float>::quiet_NaN();
@@ -323,7 +329,8 @@ TEST_P(WeightedBackground, MatchesSExtractor) {
   // sigma^2); a zero-weight block holding garbage (1e5) that must not touch the background. In
   // the thresholded cases the right half (variance 81) reaches the threshold (variance 50), so
   // its meshes are all bad and filled from the left half.
-  if (!test::haveProgram("source-extractor")) GTEST_SKIP() << "source-extractor not installed";
+  if (!test::haveProgram("source-extractor"))
+    OCTARC_SKIP_MISSING() << "source-extractor not installed";
   const WeightCase p = GetParam();
   const std::int64_t w = 600, h = 420;
   ImageF image(w, h), weight(w, h);
@@ -548,7 +555,7 @@ TEST_P(GalaxiesSep, MatchesPythonSep) {
   // python3-sep's Background on the same pixel values (SEP carries SExtractor's algorithm).
   OCTARC_REQUIRE_SHARED_DATA(shared);
   if (test::run("/usr/bin/python3 -c 'import sep, astropy'") != 0)
-    GTEST_SKIP() << "python3-sep or astropy not available";
+    OCTARC_SKIP_MISSING() << "python3-sep or astropy not available";
   const MeshCase p = GetParam();
   const fs::path dir = test::scratchDir();
   const ImageF image = test::readFitsAsSExtractor(shared / "ntt-emmi" / "galaxies.fits");

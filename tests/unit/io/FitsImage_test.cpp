@@ -421,7 +421,7 @@ TEST(FitsImage, WriteImageFileFailureLeavesNoFile) {
 
 TEST(FitsImage, RealNttImageMatchesAstropy) {
   OCTARC_REQUIRE_SHARED_DATA(shared);
-  if (!test::haveAstropy()) GTEST_SKIP() << "/usr/bin/python3 with astropy not available";
+  if (!test::haveAstropy()) OCTARC_SKIP_MISSING() << "/usr/bin/python3 with astropy not available";
   const fs::path image = shared / "ntt-emmi" / "galaxies.fits";
   const fs::path dir = test::scratchDir();
   const fs::path out = dir / "astropy.txt";

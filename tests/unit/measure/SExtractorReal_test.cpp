@@ -74,9 +74,9 @@ std::map<int, Segment> segmentsOf(const ImageI32& seg) {
 void compareWithSExtractor(bool filter) {
   OCTARC_REQUIRE_SHARED_DATA(shared);
   if (std::system("command -v source-extractor > /dev/null 2>&1") != 0) {
-    GTEST_SKIP() << "source-extractor not installed";
+    OCTARC_SKIP_MISSING() << "source-extractor not installed";
   }
-  if (filter && !std::ifstream(kConv)) GTEST_SKIP() << kConv << " not found";
+  if (filter && !std::ifstream(kConv)) OCTARC_SKIP_MISSING() << kConv << " not found";
   const std::string image = (shared / "ntt-emmi" / "galaxies.fits").string();
   const std::filesystem::path dir = test::scratchDir();
   {

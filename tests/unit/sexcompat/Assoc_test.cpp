@@ -361,7 +361,7 @@ struct SexRow {
 
 TEST(AssocVsSourceExtractor, EveryTypeAgreesObjectByObject) {
   if (std::system("source-extractor -v > /dev/null 2>&1") != 0)
-    GTEST_SKIP() << "source-extractor not installed";
+    OCTARC_SKIP_MISSING() << "source-extractor not installed";
   const auto dir = test::scratchDir();
   const std::string image = (dir / "tiny.fits").string();
   // Objects at (10,10), (20,10), (30,15), (35,25), and (10,30) in the top row.
