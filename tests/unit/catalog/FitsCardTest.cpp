@@ -124,7 +124,8 @@ TEST(ColumnFormat, AsciiValuesFollowTheStorageType) {
 
 // The SEx* cards of source-extractor's own LDAC_IMHEAD, rebuilt from the same run values.
 TEST(RunSummary, CardsMatchSourceExtractor) {
-  if (!test::haveProgram("source-extractor")) GTEST_SKIP() << "source-extractor not installed";
+  if (!test::haveProgram("source-extractor"))
+    OCTARC_SKIP_MISSING() << "source-extractor not installed";
   const auto dir = test::scratchDir();
   test::writeSmallImage(dir / "small.fits");
   {
@@ -193,7 +194,8 @@ TEST(RunSummary, CardsMatchSourceExtractor) {
 }
 
 TEST(RunSummary, Fits10CardsHaveSExtractorsKeywordsInOrder) {
-  if (!test::haveProgram("source-extractor")) GTEST_SKIP() << "source-extractor not installed";
+  if (!test::haveProgram("source-extractor"))
+    OCTARC_SKIP_MISSING() << "source-extractor not installed";
   const auto dir = test::scratchDir();
   test::writeSmallImage(dir / "small.fits");
   {
