@@ -120,6 +120,12 @@ def ldac_imhead(path, hdu=1):
     return fits.Header.fromstring(text)
 
 
+def card_text(header, key):
+    """The value field of a card as written (columns 11-30), for comparing printed values digit
+    for digit."""
+    return header.cards[key].image[10:30].strip()
+
+
 def fitsverify_errors(path):
     """fitsverify's exit status (0: no error) and report on one file."""
     require_program("fitsverify")
