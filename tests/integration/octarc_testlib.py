@@ -7,6 +7,7 @@ installed, are skipped with a message that starts with MISSING_DATA or MISSING_P
 CI machine run_testcase.py turns those skips into failures).
 """
 import os
+import re
 import shutil
 import subprocess
 import tempfile
@@ -127,7 +128,13 @@ def card_text(header, key):
 
 
 def fitsverify_errors(path):
-    """fitsverify's exit status (0: no error) and report on one file."""
+    """The number of errors fitsverify reports on one file, read from its summary line
+    ("verification OK: FILE" or "verification FAILED: FILE, N errors"; -1 when there is no such
+    line), and its report."""
     require_program("fitsverify")
     proc = subprocess.run(["fitsverify", "-q", "-e", path], capture_output=True, text=True)
-    return proc.returncode, proc.stdout + proc.stderr
+    text = proc.stdout + proc.stderr
+    if re.search(r"^verification OK: ", text, re.M):
+        return 0, text
+    m = re.search(r"^verification FAILED: .*, (\d+) errors?\s*$", text, re.M)
+    return (int(m.group(1)) if m else -1), text
