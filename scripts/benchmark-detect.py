@@ -8,7 +8,9 @@ Usage: /usr/bin/python3 scripts/benchmark-detect.py [--octarc PATH] [--workdir D
 Generates reproducible synthetic fields (seeded), runs both ways on the same file in the same
 run, and prints a Markdown table (wall time, CPU time, peak memory, objects) for the README.
 Every command starts after a sync; the octarc figures are those of the median of --octarc-runs
-runs (default 5), the source-extractor figures the sum of its 15 runs.
+runs (default 5), the source-extractor figures the sum of its 15 runs. Both must find the same
+number of objects at every level (octarc's rows per THRESH_LEVEL against the rows of each
+source-extractor run): the script stops with an error naming the levels that differ.
 """
 import argparse
 import os
@@ -117,8 +119,9 @@ def main():
                                  "-CHECKIMAGE_NAME", os.path.join(work, "sex%d.seg.fits" % k),
                                  "-WRITE_XML", "N"] + common, work)
                 wall, cpu, rss = wall + w, cpu + c, max(rss, r)
-            n_sex = sum(len(fits.getdata(os.path.join(work, "sex%d.ldac" % k), 2))
-                        for k in range(LEVELS))
+            sex_per_level = [len(fits.getdata(os.path.join(work, "sex%d.ldac" % k), 2))
+                             for k in range(LEVELS)]
+            n_sex = sum(sex_per_level)
             rows.append((size, "15 x source-extractor (catalog + segmentation)", wall, cpu, rss, n_sex))
             base = wall
             for label, extra in [("octarc detect, 15 levels, all columns", []),
@@ -132,8 +135,14 @@ def main():
                                      str(T_MAX), "-DETECT_NLEVELS", str(LEVELS)] + common + extra,
                                     work) for _ in range(max(1, args.octarc_runs)))
                 w, c, r = runs[len(runs) // 2]
-                n = len(fits.getdata(out, 2))
-                rows.append((size, label, w, c, r, n, base / w))
+                levels = fits.getdata(out, 2)["THRESH_LEVEL"]
+                per_level = [int(np.sum(levels == k + 1)) for k in range(LEVELS)]
+                if per_level != sex_per_level:
+                    sys.exit("%d^2, %s: objects per level differ from source-extractor's: %s" % (
+                        size, label, ", ".join("level %d: %d vs %d" % (k + 1, a, b) for k, (a, b)
+                                               in enumerate(zip(per_level, sex_per_level))
+                                               if a != b)))
+                rows.append((size, label, w, c, r, len(levels), base / w))
         image_mib = size * size * 4 / 2**20
         print("image %d x %d: %.0f MiB as float32, %d sources injected" % (size, size, image_mib,
                                                                           n_sources), file=sys.stderr)

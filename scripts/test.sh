@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds octarc with warnings as errors, runs every test, then builds
-# once more with AddressSanitizer + UndefinedBehaviorSanitizer and runs the tests again.
+# once more with AddressSanitizer + UndefinedBehaviorSanitizer and runs the tests again, except
+# those labelled `slow` (tests/integration/CMakeLists.txt: the end-to-end cases that take 4 s or
+# more in a release build; the release pass has run them). With CI=true in the environment a
+# test skipped for a missing program or missing shared data fails instead.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

@@ -31,7 +31,7 @@ std::vector<std::unique_ptr<Measurement>> builtinMeasurements() {
 std::vector<ColumnSpec> allBuiltinColumns() {
   std::vector<ColumnSpec> all;
   for (const auto& m : builtinMeasurements()) {
-    for (ColumnSpec& c : m->columns()) all.push_back(std::move(c));
+    for (OutputColumn& c : m->columns()) all.push_back(std::move(c.spec));
   }
   return all;
 }
@@ -45,28 +45,30 @@ MeasurementPlan MeasurementPlan::build(const std::vector<ColumnRequest>& request
   // Column name -> (measurement index, column index); measurement name -> index.
   std::map<std::string, std::pair<std::size_t, int>> provider;
   std::map<std::string, std::size_t> byName;
-  std::vector<std::vector<ColumnSpec>> specs(all.size());
+  std::vector<std::vector<OutputColumn>> outputs(all.size());
   for (std::size_t i = 0; i < all.size(); ++i) {
     byName[all[i]->name()] = i;
-    specs[i] = all[i]->columns();
-    for (int c = 0; c < int(specs[i].size()); ++c)
-      provider.emplace(specs[i][c].name, std::pair{i, c});
+    outputs[i] = all[i]->columns();
+    for (int c = 0; c < int(outputs[i].size()); ++c) {
+      if (outputs[i][c].spec.repeat != 1 || outputs[i][c].value == nullptr) {
+        throw std::logic_error(all[i]->name() + ": column " + outputs[i][c].spec.name +
+                               " must be a scalar with a value");
+      }
+      provider.emplace(outputs[i][c].spec.name, std::pair{i, c});
+    }
   }
 
   MeasurementPlan plan;
-  std::vector<std::vector<int>> offsets(all.size());
-  for (std::size_t i = 0; i < all.size(); ++i) offsets[i].assign(specs[i].size(), -1);
+  std::vector<std::vector<Fill>> fills(all.size());
   std::set<std::string> seen;
   std::vector<bool> needed(all.size(), false);
   for (const ColumnRequest& request : requested) {
     if (!seen.insert(request.name).second) continue;  // duplicates are ignored, as in SExtractor
     if (auto it = provider.find(request.name); it != provider.end()) {
       const auto [m, c] = it->second;
-      ColumnSpec spec = specs[m][c];
-      offsets[m][c] = plan.rowWidth_;
-      for (int e = 0; e < spec.repeat; ++e) plan.builtinOffsets_.push_back(plan.rowWidth_ + e);
-      plan.rowWidth_ += spec.repeat;
-      plan.columns_.push_back(std::move(spec));
+      fills[m].push_back({outputs[m][c].value, plan.rowWidth_});
+      plan.rowWidth_ += 1;
+      plan.columns_.push_back(outputs[m][c].spec);
       needed[m] = true;
       continue;
     }
@@ -96,7 +98,7 @@ MeasurementPlan MeasurementPlan::build(const std::vector<ColumnRequest>& request
       visit(it->second);
     }
     mark[i] = 2;
-    plan.steps_.push_back({all[i], offsets[i]});
+    plan.steps_.push_back({all[i], fills[i]});
   };
   for (std::size_t i = 0; i < all.size(); ++i) {
     if (needed[i]) visit(i);
@@ -112,14 +114,16 @@ std::vector<std::string> MeasurementPlan::measurementNames() const {
 
 void MeasurementPlan::measure(const Segment& segment, const MeasureContext& context,
                               double* row) const {
-  for (const int o : builtinOffsets_) row[o] = 0.0;
   // One gathering buffer per thread, reused from object to object.
   thread_local ObjectPixels pixels;
   pixels.gather(segment, context);
   ObjectState state;
   state.pixels = &pixels;
+  const MeasuredObject object{segment, context, state};
+  // Each step's columns are read right after it ran, before later steps add to the state.
   for (const Step& step : steps_) {
-    step.measurement->measure(segment, context, state, RowWriter(row, step.offsets.data()));
+    step.measurement->measure(segment, context, state);
+    for (const Fill& fill : step.fills) row[fill.offset] = fill.value(object);
   }
 }
 

@@ -255,7 +255,9 @@ int runDetect(const std::vector<std::string>& args) {
       std::count(s.checkImageTypes.begin(), s.checkImageTypes.end(), "BACKGROUND_RMS") > 0;
   // The level list is checked before any image is read.
   const int levelCount = int(detectionLevels(s, 1.0).size());
-  if (levelCount == 1 && run->config.isExplicit("DETECT_THRESH_MAX") && !s.quiet) {
+  // A maximum without a number of levels is probably meant for a multi-threshold run.
+  if (levelCount == 1 && run->config.isExplicit("DETECT_THRESH_MAX") &&
+      !run->config.isExplicit("DETECT_NLEVELS") && !s.quiet) {
     std::cerr << "WARNING: DETECT_THRESH_MAX is set but DETECT_NLEVELS is 1: one level, at "
                  "DETECT_THRESH (set DETECT_NLEVELS for a multi-threshold run)\n";
   }

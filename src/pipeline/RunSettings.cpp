@@ -64,9 +64,11 @@ RunSettings settingsFromConfig(const sexcompat::Config& config) {
   s.backFilterWidth = int(filterSize.at(0));
   s.backFilterHeight = int(filterSize.size() > 1 ? filterSize[1] : filterSize[0]);
   s.backFilterThresholdAdu = config.getDouble("BACK_FILTTHRESH");
-  if (config.isExplicit("BACKGROUND_NAME"))
+  // The optional file names and lists may be set to nothing (as the -d/-dd dumps write them):
+  // that is the same as not setting them.
+  if (config.count("BACKGROUND_NAME") > 0)
     s.backgroundMapPath = config.getString("BACKGROUND_NAME");
-  if (config.isExplicit("BACKGROUND_RMS_NAME")) {
+  if (config.count("BACKGROUND_RMS_NAME") > 0) {
     s.backgroundRmsMapPath = config.getString("BACKGROUND_RMS_NAME");
   }
 
@@ -85,7 +87,7 @@ RunSettings settingsFromConfig(const sexcompat::Config& config) {
     }
     s.weightImagePath = config.getStrings("WEIGHT_IMAGE").at(0);
   }
-  if (config.isExplicit("WEIGHT_THRESH"))
+  if (config.count("WEIGHT_THRESH") > 0)
     s.weightThreshold = config.getDoubles("WEIGHT_THRESH").at(0);
   s.rescaleWeights = config.getBool("RESCALE_WEIGHTS");
   s.weightGain = config.getBool("WEIGHT_GAIN");

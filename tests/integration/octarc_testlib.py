@@ -1,10 +1,13 @@
 """Helpers of the end-to-end tests: run octarc and source-extractor, read catalogs with astropy.
 
-The tests are run by ctest with OCTARC_BIN set to the octarc executable (<build>/bin/octarc). The shared reference
-data (real survey images) is looked up in $OCTARC_SHARED_DIR/data/real or ../shared/data/real;
-tests that need it are skipped with a message when it is absent.
+The tests are run by ctest (through run_testcase.py) with OCTARC_BIN set to the octarc
+executable (<build>/bin/octarc). The shared reference data (real survey images) is looked up in
+$OCTARC_SHARED_DIR/data/real or ../shared/data/real; tests that need it, or a program that is not
+installed, are skipped with a message that starts with MISSING_DATA or MISSING_PROGRAM (on the
+CI machine run_testcase.py turns those skips into failures).
 """
 import os
+import re
 import shutil
 import subprocess
 import tempfile
@@ -21,6 +24,10 @@ SOURCE_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..")
 OCTARC = os.environ.get("OCTARC_BIN", os.path.join(SOURCE_DIR, "build", "release", "bin", "octarc"))
 SEX_SHARE = "/usr/share/source-extractor"
 
+# Prefixes of the skip reasons for an absent dependency (run_testcase.py looks for them).
+MISSING_DATA = "shared reference data not found"
+MISSING_PROGRAM = "program not installed:"
+
 
 def shared_data_dir():
     candidates = []
@@ -36,9 +43,15 @@ def shared_data_dir():
 def require_shared(test, *parts):
     base = shared_data_dir()
     if base is None or not os.path.exists(os.path.join(base, *parts)):
-        test.skipTest("shared reference data not found (../shared/data/real/%s); set "
-                      "OCTARC_SHARED_DIR to run this test" % "/".join(parts))
+        test.skipTest("%s (../shared/data/real/%s); set OCTARC_SHARED_DIR to run this test"
+                      % (MISSING_DATA, "/".join(parts)))
     return os.path.join(base, *parts)
+
+
+def require_program(name):
+    """Skips the running test (raises unittest.SkipTest) when `name` is not on PATH."""
+    if shutil.which(name) is None:
+        raise unittest.SkipTest("%s %s" % (MISSING_PROGRAM, name))
 
 
 class WorkDirTest(unittest.TestCase):
@@ -78,6 +91,7 @@ PURE_THRESHOLDING = ["-DEBLEND_NTHRESH", "1", "-DEBLEND_MINCONT", "1.0", "-CLEAN
 def run_sextractor(image, workdir, tag, param, threshold, extra=(), checkimages=()):
     """One source-extractor run in the pure-thresholding configuration. Returns the paths of the
     catalog and of the requested check-images (dict type -> path)."""
+    require_program("source-extractor")
     cat = os.path.join(workdir, "%s.ldac" % tag)
     checks = {t: os.path.join(workdir, "%s.%s.fits" % (tag, t.lower().replace("-", "m")))
               for t in checkimages}
@@ -106,6 +120,20 @@ def ldac_imhead(path, hdu=1):
     return fits.Header.fromstring(text)
 
 
+def card_text(header, key):
+    """The value field of a card as written (columns 11-30), for comparing printed values digit
+    for digit."""
+    return header.cards[key].image[10:30].strip()
+
+
 def fitsverify_errors(path):
+    """The number of errors fitsverify reports on one file, read from its summary line
+    ("verification OK: FILE" or "verification FAILED: FILE, N errors"; -1 when there is no such
+    line), and its report."""
+    require_program("fitsverify")
     proc = subprocess.run(["fitsverify", "-q", "-e", path], capture_output=True, text=True)
-    return proc.returncode, proc.stdout + proc.stderr
+    text = proc.stdout + proc.stderr
+    if re.search(r"^verification OK: ", text, re.M):
+        return 0, text
+    m = re.search(r"^verification FAILED: .*, (\d+) errors?\s*$", text, re.M)
+    return (int(m.group(1)) if m else -1), text

@@ -6,7 +6,7 @@ import unittest
 
 import numpy as np
 
-from octarc_testlib import WorkDirTest, fitsverify_errors, ldac_objects, run_octarc
+from octarc_testlib import SOURCE_DIR, WorkDirTest, fitsverify_errors, ldac_objects, run_octarc
 
 PIXEL_SCALE = 0.257
 
@@ -82,6 +82,26 @@ class SmallDemo(WorkDirTest):
             self.assertAlmostEqual(float(row.group(2)), best, places=3)
         # The demo injects lenses whose arcs can separate from the lens: theta_E >= 1.5".
         self.assertTrue(np.all(lenses[:, 7] >= 1.5))
+
+
+class ReadmeFigures(WorkDirTest):
+    """The demo output the README quotes is what `octarc demo` prints with its default options:
+    every quoted line (but the "..." that stand for the others) is a line of the output."""
+
+    def quoted_lines(self):
+        with open(os.path.join(SOURCE_DIR, "README.md")) as f:
+            text = f.read()
+        block = text.split("`octarc demo` simulates", 1)[1].split("```\n", 2)[1]
+        return [line for line in block.splitlines() if line.strip() != "..."]
+
+    def test_readme_quotes_the_default_demo(self):
+        quoted = self.quoted_lines()
+        self.assertGreaterEqual(len(quoted), 6)
+        self.assertTrue(any(line.startswith("Injected arcs detected:") for line in quoted))
+        proc = run_octarc("demo", "--out", self.path("demo"), "--quiet")
+        printed = proc.stdout.splitlines()
+        for line in quoted:
+            self.assertIn(line, printed)
 
 
 class BadInput(WorkDirTest):

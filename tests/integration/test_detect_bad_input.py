@@ -10,7 +10,8 @@ import numpy as np
 from astropy.io import fits
 
 from octarc_testlib import (SEX_SHARE, WorkDirTest, fitsverify_errors, ldac_imhead,
-                            ldac_objects, require_shared, run_octarc, write_param)
+                            ldac_objects, require_program, require_shared, run_octarc,
+                            write_param)
 
 
 class DetectBadInput(WorkDirTest):
@@ -139,6 +140,7 @@ class DetectBadInput(WorkDirTest):
         with fits.open(self.segmentation) as seg:
             self.assertTrue(all(np.all(hdu.data == 0) for hdu in seg[1:]))
         # SExtractor on the same image: background 7, sigma set to 1, no object.
+        require_program("source-extractor")
         sex_param = write_param(self.path("sex.param"), ["NUMBER"])
         sex_cat = self.path("sex.ldac")
         subprocess.run(["source-extractor", path, "-c", os.path.join(SEX_SHARE, "default.sex"),

@@ -19,9 +19,38 @@ inline std::filesystem::path scratchDir() {
   return dir;
 }
 
+// True on the continuous-integration machine (the environment variable CI is "true"), which has
+// every program and data set the tests use.
+inline bool onCi() {
+  const char* ci = std::getenv("CI");
+  return ci != nullptr && std::string(ci) == "true";
+}
+
+// Ends the current test (or SetUp) because a program or data set it needs is absent: a skip,
+// which ctest reports as "Skipped", with the streamed reason; on the CI machine a failure,
+// since a missing dependency there means a broken installation, not a test to leave out.
+// Usage: if (!haveProgram("fitsverify")) OCTARC_SKIP_MISSING() << "fitsverify not installed";
+#define OCTARC_SKIP_MISSING()                                                     \
+  return ::testing::internal::AssertHelper(                                       \
+             ::octarc::test::onCi() ? ::testing::TestPartResult::kFatalFailure    \
+                                    : ::testing::TestPartResult::kSkip,           \
+             __FILE__, __LINE__,                                                  \
+             ::octarc::test::onCi()                                               \
+                 ? "CI=true: a missing dependency is a failure on the CI machine" \
+                 : "") = ::testing::Message()
+
+// True when `name` is a program on PATH.
+inline bool programInstalled(const std::string& name) {
+  return std::system(("command -v '" + name + "' >/dev/null 2>&1").c_str()) == 0;
+}
+
+// Skips the test (fails it on the CI machine) when a program it runs is not installed.
+#define OCTARC_REQUIRE_PROGRAM(name) \
+  if (!::octarc::test::programInstalled(name)) OCTARC_SKIP_MISSING() << (name) << " not installed"
+
 // The shared reference data directory (real survey images and SExtractor outputs that the
 // project does not ship): $OCTARC_SHARED_DIR, else ../shared next to the source tree. Empty
-// if absent; tests then GTEST_SKIP() with a message.
+// if absent; tests then end with OCTARC_SKIP_MISSING() and a message.
 inline std::filesystem::path sharedDataDir() {
   if (const char* env = std::getenv("OCTARC_SHARED_DIR")) {
     std::filesystem::path p(env);
@@ -32,10 +61,10 @@ inline std::filesystem::path sharedDataDir() {
   return {};
 }
 
-#define OCTARC_REQUIRE_SHARED_DATA(dir)                                     \
-  const std::filesystem::path dir = ::octarc::test::sharedDataDir();        \
-  if (dir.empty())                                                          \
-  GTEST_SKIP() << "shared reference data (../shared/data/real) not found; " \
-                  "set OCTARC_SHARED_DIR to run this test"
+#define OCTARC_REQUIRE_SHARED_DATA(dir)                                              \
+  const std::filesystem::path dir = ::octarc::test::sharedDataDir();                 \
+  if (dir.empty())                                                                   \
+  OCTARC_SKIP_MISSING() << "shared reference data (../shared/data/real) not found; " \
+                           "set OCTARC_SHARED_DIR to run this test"
 
 }  // namespace octarc::test

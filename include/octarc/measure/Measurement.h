@@ -1,6 +1,7 @@
-// The interface of one measurement group: it declares its columns before any pixel is read,
-// then fills them for each object. The arithmetic lives in pure functions (MomentsMath.h) that
-// tests call directly; a Measurement only adapts it to columns.
+// The interface of one measurement group: it declares each of its columns together with the code
+// that fills it, before any pixel is read, then computes its results for each object. The
+// arithmetic lives in pure functions (MomentsMath.h) that tests call directly; a Measurement
+// only adapts it to columns.
 #pragma once
 
 #include <string>
@@ -13,20 +14,19 @@
 
 namespace octarc {
 
-// Where a measurement writes its values: column indices are positions in its own columns()
-// list; columns the user did not request are silently dropped.
-class RowWriter {
- public:
-  RowWriter(double* row, const int* offsets) : row_(row), offsets_(offsets) {}
-  void set(int column, double value, int element = 0) const {
-    const int o = offsets_[column];
-    if (o >= 0) row_[o + element] = value;
-  }
-  bool wanted(int column) const { return offsets_[column] >= 0; }
+// What a column sees of one object once its measurement has run.
+struct MeasuredObject {
+  const Segment& segment;
+  const MeasureContext& context;
+  const ObjectState& state;
+};
 
- private:
-  double* row_;
-  const int* offsets_;
+// One catalog column and the function that gives its value for an object. Declaring the two
+// side by side means no column list can get out of step with the code that fills it. Built-in
+// columns are scalars (ColumnSpec::repeat 1).
+struct OutputColumn {
+  ColumnSpec spec;
+  double (*value)(const MeasuredObject& object);
 };
 
 class Measurement {
@@ -34,14 +34,16 @@ class Measurement {
   virtual ~Measurement() = default;
   // Short identifier, e.g. "IsophotalShape".
   virtual std::string name() const = 0;
-  // Every column this measurement can fill.
-  virtual std::vector<ColumnSpec> columns() const = 0;
+  // Every column this measurement can fill, each with its value.
+  virtual std::vector<OutputColumn> columns() const = 0;
   // Names of measurements whose results (in ObjectState) this one reads.
   virtual std::vector<std::string> dependencies() const { return {}; }
   // Computes this measurement for one object: reads pixels/context and earlier results in
-  // `state`, stores its own results in `state`, writes requested columns through `out`.
-  virtual void measure(const Segment& segment, const MeasureContext& context, ObjectState& state,
-                       const RowWriter& out) const = 0;
+  // `state` and stores its own results there; the plan then reads the requested columns. A
+  // measurement whose columns only read the segment, the context or earlier results computes
+  // nothing.
+  virtual void measure(const Segment& /*segment*/, const MeasureContext& /*context*/,
+                       ObjectState& /*state*/) const {}
 };
 
 }  // namespace octarc

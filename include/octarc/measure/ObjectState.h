@@ -37,9 +37,12 @@ struct ObjectState {
   CentralMoments central;
   OctopoleStats octopole;
 
-  // World-frame results ("WorldCoordinates").
+  // World-frame results ("WorldCoordinates"); NaN where the WCS gives nothing.
   bool haveWorld = false;
   double xWorldDeg = kNaN, yWorldDeg = kNaN;
+  double alphaJ2000Deg = kNaN, deltaJ2000Deg = kNaN;
+  WorldMoments world;       // X2/Y2/XY_WORLD, deg^2
+  EllipseShape worldShape;  // A/B/THETA_WORLD
 
   // Flag bits: SExtractor FLAGS (sexflag::) and octarc OCT_FLAGS (octflag::), core/Flags.h.
   std::int32_t sexFlags = 0;

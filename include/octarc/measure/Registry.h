@@ -46,13 +46,17 @@ class MeasurementPlan {
   void measure(const Segment& segment, const MeasureContext& context, double* row) const;
 
  private:
+  // One requested column of a step: its value and where it goes in the row.
+  struct Fill {
+    double (*value)(const MeasuredObject& object);
+    int offset;
+  };
   struct Step {
     std::shared_ptr<const Measurement> measurement;
-    std::vector<int> offsets;  // per column of the measurement: row offset, or -1
+    std::vector<Fill> fills;  // the requested columns of this measurement (none for a dependency)
   };
   std::vector<ColumnSpec> columns_;
   std::vector<Step> steps_;
-  std::vector<int> builtinOffsets_;  // row offsets of the built-in columns (to reset them)
   int rowWidth_ = 0;
 };
 

@@ -6,28 +6,39 @@
 
 namespace octarc {
 
-namespace {
-enum Col { kXMin, kYMin, kXMax, kYMax, kIsoAreaF, kFlags };
-}  // namespace
-
-std::vector<ColumnSpec> Footprint::columns() const {
+std::vector<OutputColumn> Footprint::columns() const {
+  // Bounds are 1-based, as SExtractor writes them; 0 for an empty footprint.
   return {
-      {"XMIN_IMAGE", "Minimum x-coordinate among detected pixels", "pixel",
-       "pos.cartesian.x;stat.min", ColumnType::Int32, "%10d"},
-      {"YMIN_IMAGE", "Minimum y-coordinate among detected pixels", "pixel",
-       "pos.cartesian.y;stat.min", ColumnType::Int32, "%10d"},
-      {"XMAX_IMAGE", "Maximum x-coordinate among detected pixels", "pixel",
-       "pos.cartesian.x;stat.max", ColumnType::Int32, "%10d"},
-      {"YMAX_IMAGE", "Maximum y-coordinate among detected pixels", "pixel",
-       "pos.cartesian.y;stat.max", ColumnType::Int32, "%10d"},
-      {"ISOAREAF_IMAGE", "Isophotal area (filtered) above Detection threshold", "pixel**2",
-       "phys.area", ColumnType::Int32, "%9d"},
-      {"FLAGS", "Extraction flags", "", "meta.code.qual", ColumnType::Int16, "%3d"},
+      {{"XMIN_IMAGE", "Minimum x-coordinate among detected pixels", "pixel",
+        "pos.cartesian.x;stat.min", ColumnType::Int32, "%10d"},
+       [](const MeasuredObject& o) {
+         return o.state.haveFootprint ? double(o.state.xMin) + 1.0 : 0.0;
+       }},
+      {{"YMIN_IMAGE", "Minimum y-coordinate among detected pixels", "pixel",
+        "pos.cartesian.y;stat.min", ColumnType::Int32, "%10d"},
+       [](const MeasuredObject& o) {
+         return o.state.haveFootprint ? double(o.state.yMin) + 1.0 : 0.0;
+       }},
+      {{"XMAX_IMAGE", "Maximum x-coordinate among detected pixels", "pixel",
+        "pos.cartesian.x;stat.max", ColumnType::Int32, "%10d"},
+       [](const MeasuredObject& o) {
+         return o.state.haveFootprint ? double(o.state.xMax) + 1.0 : 0.0;
+       }},
+      {{"YMAX_IMAGE", "Maximum y-coordinate among detected pixels", "pixel",
+        "pos.cartesian.y;stat.max", ColumnType::Int32, "%10d"},
+       [](const MeasuredObject& o) {
+         return o.state.haveFootprint ? double(o.state.yMax) + 1.0 : 0.0;
+       }},
+      {{"ISOAREAF_IMAGE", "Isophotal area (filtered) above Detection threshold", "pixel**2",
+        "phys.area", ColumnType::Int32, "%9d"},
+       [](const MeasuredObject& o) { return double(o.state.footprintPixels); }},
+      {{"FLAGS", "Extraction flags", "", "meta.code.qual", ColumnType::Int16, "%3d"},
+       [](const MeasuredObject& o) { return double(o.state.sexFlags); }},
   };
 }
 
-void Footprint::measure(const Segment& segment, const MeasureContext& context, ObjectState& state,
-                        const RowWriter& out) const {
+void Footprint::measure(const Segment& segment, const MeasureContext& context,
+                        ObjectState& state) const {
   const ImageF& image = *context.measurement;
   const std::int64_t width = image.width();
   const ObjectPixels& pixels = *state.pixels;
@@ -64,11 +75,7 @@ void Footprint::measure(const Segment& segment, const MeasureContext& context, O
     }
   }
   state.footprintPixels = static_cast<std::int64_t>(pixels.size());
-  if (pixels.size() == 0) {
-    out.set(kIsoAreaF, 0);
-    out.set(kFlags, 0);
-    return;
-  }
+  if (pixels.size() == 0) return;
   state.haveFootprint = true;
   state.xMin = xMin;
   state.xMax = xMax;
@@ -78,12 +85,6 @@ void Footprint::measure(const Segment& segment, const MeasureContext& context, O
   if (xMin == 0 || yMin == 0 || xMax == width - 1 || yMax == image.height() - 1) {
     state.sexFlags |= sexflag::kTouchesBorder;
   }
-  out.set(kXMin, double(xMin) + 1.0);  // 1-based, as SExtractor writes them
-  out.set(kYMin, double(yMin) + 1.0);
-  out.set(kXMax, double(xMax) + 1.0);
-  out.set(kYMax, double(yMax) + 1.0);
-  out.set(kIsoAreaF, double(state.footprintPixels));
-  out.set(kFlags, state.sexFlags);
 }
 
 }  // namespace octarc

@@ -8,26 +8,39 @@
 
 namespace octarc {
 
-namespace {
-enum Col { kIsoArea, kFluxIso, kFluxErrIso, kMagIso, kMagErrIso, kFluxMax, kSnrIso };
-}  // namespace
-
-std::vector<ColumnSpec> IsophotalPhotometry::columns() const {
+std::vector<OutputColumn> IsophotalPhotometry::columns() const {
   const ColumnType f = ColumnType::Float32;
   return {
-      {"ISOAREA_IMAGE", "Isophotal area above Analysis threshold", "pixel**2", "phys.area",
-       ColumnType::Int32, "%9d"},
-      {"FLUX_ISO", "Isophotal flux", "count", "phot.flux", f, "%12.7g"},
-      {"FLUXERR_ISO", "RMS error for isophotal flux", "count", "stat.stdev;phot.flux", f, "%12.7g"},
-      {"MAG_ISO", "Isophotal magnitude", "mag", "phot.mag", f, "%8.4f"},
-      {"MAGERR_ISO", "RMS error for isophotal magnitude", "mag", "stat.stdev;phot.mag", f, "%8.4f"},
-      {"FLUX_MAX", "Peak flux above background", "count", "phot.flux.sb;stat.max", f, "%12.7g"},
-      {"SNR_ISO", "Isophotal S/N, FLUX_ISO/FLUXERR_ISO", "", "stat.snr", f, "%10.4g"},
+      {{"ISOAREA_IMAGE", "Isophotal area above Analysis threshold", "pixel**2", "phys.area",
+        ColumnType::Int32, "%9d"},
+       [](const MeasuredObject& o) { return double(o.state.isoArea); }},
+      {{"FLUX_ISO", "Isophotal flux", "count", "phot.flux", f, "%12.7g"},
+       [](const MeasuredObject& o) { return o.state.fluxIsoAdu; }},
+      {{"FLUXERR_ISO", "RMS error for isophotal flux", "count", "stat.stdev;phot.flux", f,
+        "%12.7g"},
+       [](const MeasuredObject& o) { return o.state.fluxErrIsoAdu; }},
+      {{"MAG_ISO", "Isophotal magnitude", "mag", "phot.mag", f, "%8.4f"},
+       [](const MeasuredObject& o) {
+         return o.state.havePhotometry ? magnitude(o.state.fluxIsoAdu, o.context.magZeropoint)
+                                       : kMagUndefined;
+       }},
+      {{"MAGERR_ISO", "RMS error for isophotal magnitude", "mag", "stat.stdev;phot.mag", f,
+        "%8.4f"},
+       [](const MeasuredObject& o) {
+         return o.state.havePhotometry ? magnitudeError(o.state.fluxIsoAdu, o.state.fluxErrIsoAdu)
+                                       : kMagUndefined;
+       }},
+      {{"FLUX_MAX", "Peak flux above background", "count", "phot.flux.sb;stat.max", f, "%12.7g"},
+       [](const MeasuredObject& o) { return o.state.fluxMaxAdu; }},
+      {{"SNR_ISO", "Isophotal S/N, FLUX_ISO/FLUXERR_ISO", "", "stat.snr", f, "%10.4g"},
+       [](const MeasuredObject& o) {
+         return o.state.fluxErrIsoAdu > 0.0 ? o.state.fluxIsoAdu / o.state.fluxErrIsoAdu : kNaN;
+       }},
   };
 }
 
 void IsophotalPhotometry::measure(const Segment& segment, const MeasureContext& context,
-                                  ObjectState& state, const RowWriter& out) const {
+                                  ObjectState& state) const {
   const std::size_t level = static_cast<std::size_t>(segment.level - 1);
   const bool haveLevel = level < context.levels.size();
   const double analysisAdu = haveLevel ? context.levels[level].analysisThresholdAdu : 0.0;
@@ -97,14 +110,6 @@ void IsophotalPhotometry::measure(const Segment& segment, const MeasureContext& 
   state.fluxErrIsoAdu = fluxErr;
   state.fluxMaxAdu = fluxMax;
   state.isoArea = isoArea;
-
-  out.set(kIsoArea, double(isoArea));
-  out.set(kFluxIso, flux);
-  out.set(kFluxErrIso, fluxErr);
-  out.set(kMagIso, used ? magnitude(flux, context.magZeropoint) : kMagUndefined);
-  out.set(kMagErrIso, used ? magnitudeError(flux, fluxErr) : kMagUndefined);
-  out.set(kFluxMax, fluxMax);
-  out.set(kSnrIso, fluxErr > 0.0 ? flux / fluxErr : kNaN);
 }
 
 }  // namespace octarc

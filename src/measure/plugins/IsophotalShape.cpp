@@ -8,60 +8,69 @@
 
 namespace octarc {
 
-namespace {
-enum Col {
-  kX,
-  kY,
-  kXPeak,
-  kYPeak,
-  kX2,
-  kY2,
-  kXY,
-  kA,
-  kB,
-  kTheta,
-  kCxx,
-  kCyy,
-  kCxy,
-  kElongation,
-  kEllipticity
-};
-}  // namespace
-
-std::vector<ColumnSpec> IsophotalShape::columns() const {
+std::vector<OutputColumn> IsophotalShape::columns() const {
   const ColumnType f = ColumnType::Float32, d = ColumnType::Float64;
+  // Everything but the peak is NaN when the detection-weighted flux is not positive; the peak is
+  // 1-based, 0 when there is no finite pixel.
   return {
-      {"X_IMAGE", "Object position along x", "pixel",
-       "pos.cartesian.x;pos.barycenter;instr.det;meta.main", f, "%11.4f"},
-      {"Y_IMAGE", "Object position along y", "pixel",
-       "pos.cartesian.y;pos.barycenter;instr.det;meta.main", f, "%11.4f"},
-      {"XPEAK_IMAGE", "x-coordinate of the brightest pixel", "pixel", "pos.cartesian.x",
-       ColumnType::Int32, "%10d"},
-      {"YPEAK_IMAGE", "y-coordinate of the brightest pixel", "pixel", "pos.cartesian.y",
-       ColumnType::Int32, "%10d"},
-      {"X2_IMAGE", "Variance along x", "pixel**2", "src.impactParam;instr.det", d, "%18.10e"},
-      {"Y2_IMAGE", "Variance along y", "pixel**2", "src.impactParam;instr.det", d, "%18.10e"},
-      {"XY_IMAGE", "Covariance between x and y", "pixel**2", "src.impactParam;instr.det", d,
-       "%18.10e"},
-      {"A_IMAGE", "Profile RMS along major axis", "pixel", "phys.size.smajAxis;instr.det;meta.main",
-       f, "%9.3f"},
-      {"B_IMAGE", "Profile RMS along minor axis", "pixel", "phys.size.sminAxis;instr.det;meta.main",
-       f, "%9.3f"},
-      {"THETA_IMAGE", "Position angle (CCW/x)", "deg", "pos.posAng;instr.det;meta.main", f,
-       "%6.2f"},
-      {"CXX_IMAGE", "Cxx object ellipse parameter", "pixel**(-2)", "src.impactParam;instr.det", f,
-       "%15.7e"},
-      {"CYY_IMAGE", "Cyy object ellipse parameter", "pixel**(-2)", "src.impactParam;instr.det", f,
-       "%15.7e"},
-      {"CXY_IMAGE", "Cxy object ellipse parameter", "pixel**(-2)", "src.impactParam;instr.det", f,
-       "%15.7e"},
-      {"ELONGATION", "A_IMAGE/B_IMAGE", "", "src.ellipticity;arith.ratio;instr.det", f, "%8.3f"},
-      {"ELLIPTICITY", "1 - B_IMAGE/A_IMAGE", "", "src.ellipticity;instr.det", f, "%8.3f"},
+      {{"X_IMAGE", "Object position along x", "pixel",
+        "pos.cartesian.x;pos.barycenter;instr.det;meta.main", f, "%11.4f"},
+       [](const MeasuredObject& o) {
+         return o.state.haveIso ? toFitsPixel(o.state.iso.xMean) : kNaN;
+       }},
+      {{"Y_IMAGE", "Object position along y", "pixel",
+        "pos.cartesian.y;pos.barycenter;instr.det;meta.main", f, "%11.4f"},
+       [](const MeasuredObject& o) {
+         return o.state.haveIso ? toFitsPixel(o.state.iso.yMean) : kNaN;
+       }},
+      {{"XPEAK_IMAGE", "x-coordinate of the brightest pixel", "pixel", "pos.cartesian.x",
+        ColumnType::Int32, "%10d"},
+       [](const MeasuredObject& o) {
+         return o.state.xPeak >= 0 ? double(o.state.xPeak) + 1.0 : 0.0;
+       }},
+      {{"YPEAK_IMAGE", "y-coordinate of the brightest pixel", "pixel", "pos.cartesian.y",
+        ColumnType::Int32, "%10d"},
+       [](const MeasuredObject& o) {
+         return o.state.yPeak >= 0 ? double(o.state.yPeak) + 1.0 : 0.0;
+       }},
+      {{"X2_IMAGE", "Variance along x", "pixel**2", "src.impactParam;instr.det", d, "%18.10e"},
+       [](const MeasuredObject& o) { return o.state.haveIso ? o.state.iso.x2 : kNaN; }},
+      {{"Y2_IMAGE", "Variance along y", "pixel**2", "src.impactParam;instr.det", d, "%18.10e"},
+       [](const MeasuredObject& o) { return o.state.haveIso ? o.state.iso.y2 : kNaN; }},
+      {{"XY_IMAGE", "Covariance between x and y", "pixel**2", "src.impactParam;instr.det", d,
+        "%18.10e"},
+       [](const MeasuredObject& o) { return o.state.haveIso ? o.state.iso.xy : kNaN; }},
+      {{"A_IMAGE", "Profile RMS along major axis", "pixel",
+        "phys.size.smajAxis;instr.det;meta.main", f, "%9.3f"},
+       [](const MeasuredObject& o) { return o.state.haveIso ? o.state.isoShape.a : kNaN; }},
+      {{"B_IMAGE", "Profile RMS along minor axis", "pixel",
+        "phys.size.sminAxis;instr.det;meta.main", f, "%9.3f"},
+       [](const MeasuredObject& o) { return o.state.haveIso ? o.state.isoShape.b : kNaN; }},
+      {{"THETA_IMAGE", "Position angle (CCW/x)", "deg", "pos.posAng;instr.det;meta.main", f,
+        "%6.2f"},
+       [](const MeasuredObject& o) { return o.state.haveIso ? o.state.isoShape.thetaDeg : kNaN; }},
+      {{"CXX_IMAGE", "Cxx object ellipse parameter", "pixel**(-2)", "src.impactParam;instr.det", f,
+        "%15.7e"},
+       [](const MeasuredObject& o) { return o.state.haveIso ? o.state.isoShape.cxx : kNaN; }},
+      {{"CYY_IMAGE", "Cyy object ellipse parameter", "pixel**(-2)", "src.impactParam;instr.det", f,
+        "%15.7e"},
+       [](const MeasuredObject& o) { return o.state.haveIso ? o.state.isoShape.cyy : kNaN; }},
+      {{"CXY_IMAGE", "Cxy object ellipse parameter", "pixel**(-2)", "src.impactParam;instr.det", f,
+        "%15.7e"},
+       [](const MeasuredObject& o) { return o.state.haveIso ? o.state.isoShape.cxy : kNaN; }},
+      {{"ELONGATION", "A_IMAGE/B_IMAGE", "", "src.ellipticity;arith.ratio;instr.det", f, "%8.3f"},
+       [](const MeasuredObject& o) {
+         return o.state.haveIso ? o.state.isoShape.elongation : kNaN;
+       }},
+      {{"ELLIPTICITY", "1 - B_IMAGE/A_IMAGE", "", "src.ellipticity;instr.det", f, "%8.3f"},
+       [](const MeasuredObject& o) {
+         return o.state.haveIso ? o.state.isoShape.ellipticity : kNaN;
+       }},
   };
 }
 
-void IsophotalShape::measure(const Segment&, const MeasureContext& context, ObjectState& state,
-                             const RowWriter& out) const {
+void IsophotalShape::measure(const Segment&, const MeasureContext& context,
+                             ObjectState& state) const {
   const std::int64_t width = context.measurement->width();
   const ObjectPixels& pixels = *state.pixels;
   // SExtractor sums relative to (xmin, ymin) to limit round-off; keep the same origin.
@@ -98,34 +107,14 @@ void IsophotalShape::measure(const Segment&, const MeasureContext& context, Obje
   if (peakIndex >= 0) {
     state.xPeak = peakIndex % width;
     state.yPeak = peakIndex / width;
-    out.set(kXPeak, double(state.xPeak) + 1.0);
-    out.set(kYPeak, double(state.yPeak) + 1.0);
   }
   if (!state.iso.valid) {
     state.octFlags |= octflag::kNonPositiveFlux;
-    for (int c = kX; c <= kEllipticity; ++c) {
-      if (c != kXPeak && c != kYPeak) out.set(c, kNaN);
-    }
     return;
   }
   if (state.iso.singular) state.octFlags |= octflag::kSingularIso;
   state.isoShape = ellipseFromMoments(state.iso.x2, state.iso.y2, state.iso.xy);
   state.haveIso = true;
-  const IsoMoments& m = state.iso;
-  const EllipseShape& s = state.isoShape;
-  out.set(kX, toFitsPixel(m.xMean));
-  out.set(kY, toFitsPixel(m.yMean));
-  out.set(kX2, m.x2);
-  out.set(kY2, m.y2);
-  out.set(kXY, m.xy);
-  out.set(kA, s.a);
-  out.set(kB, s.b);
-  out.set(kTheta, s.thetaDeg);
-  out.set(kCxx, s.cxx);
-  out.set(kCyy, s.cyy);
-  out.set(kCxy, s.cxy);
-  out.set(kElongation, s.elongation);
-  out.set(kEllipticity, s.ellipticity);
 }
 
 }  // namespace octarc

@@ -8,34 +8,40 @@
 
 namespace octarc {
 
-namespace {
-enum Col { kXWorld, kYWorld, kAlpha, kDelta, kX2, kY2, kXY, kA, kB, kTheta, kCount };
-}  // namespace
-
-std::vector<ColumnSpec> WorldCoordinates::columns() const {
+std::vector<OutputColumn> WorldCoordinates::columns() const {
   const ColumnType f = ColumnType::Float32, d = ColumnType::Float64;
+  // NaN wherever the WCS gives nothing (ObjectState's world part stays NaN).
   return {
-      {"X_WORLD", "Barycenter position along world x axis", "deg", "pos.eq.ra", d, "%18.10e"},
-      {"Y_WORLD", "Barycenter position along world y axis", "deg", "pos.eq.dec", d, "%18.10e"},
-      {"ALPHA_J2000", "Right ascension of barycenter (J2000)", "deg",
-       "pos.eq.ra;pos.barycenter;meta.main", d, "%11.7f"},
-      {"DELTA_J2000", "Declination of barycenter (J2000)", "deg",
-       "pos.eq.dec;pos.barycenter;meta.main", d, "%+11.7f"},
-      {"X2_WORLD", "Variance along X-WORLD (alpha)", "deg**2", "src.impactParam", d, "%18.10e"},
-      {"Y2_WORLD", "Variance along Y-WORLD (delta)", "deg**2", "src.impactParam", d, "%18.10e"},
-      {"XY_WORLD", "Covariance between X-WORLD and Y-WORLD", "deg**2", "src.impactParam", d,
-       "%18.10e"},
-      {"A_WORLD", "Profile RMS along major axis (world units)", "deg",
-       "phys.size.smajAxis;meta.main", f, "%12.7g"},
-      {"B_WORLD", "Profile RMS along minor axis (world units)", "deg",
-       "phys.size.sminAxis;meta.main", f, "%12.7g"},
-      {"THETA_WORLD", "Position angle (CCW/world-x)", "deg", "pos.posAng", f, "%6.2f"},
+      {{"X_WORLD", "Barycenter position along world x axis", "deg", "pos.eq.ra", d, "%18.10e"},
+       [](const MeasuredObject& o) { return o.state.xWorldDeg; }},
+      {{"Y_WORLD", "Barycenter position along world y axis", "deg", "pos.eq.dec", d, "%18.10e"},
+       [](const MeasuredObject& o) { return o.state.yWorldDeg; }},
+      {{"ALPHA_J2000", "Right ascension of barycenter (J2000)", "deg",
+        "pos.eq.ra;pos.barycenter;meta.main", d, "%11.7f"},
+       [](const MeasuredObject& o) { return o.state.alphaJ2000Deg; }},
+      {{"DELTA_J2000", "Declination of barycenter (J2000)", "deg",
+        "pos.eq.dec;pos.barycenter;meta.main", d, "%+11.7f"},
+       [](const MeasuredObject& o) { return o.state.deltaJ2000Deg; }},
+      {{"X2_WORLD", "Variance along X-WORLD (alpha)", "deg**2", "src.impactParam", d, "%18.10e"},
+       [](const MeasuredObject& o) { return o.state.world.x2; }},
+      {{"Y2_WORLD", "Variance along Y-WORLD (delta)", "deg**2", "src.impactParam", d, "%18.10e"},
+       [](const MeasuredObject& o) { return o.state.world.y2; }},
+      {{"XY_WORLD", "Covariance between X-WORLD and Y-WORLD", "deg**2", "src.impactParam", d,
+        "%18.10e"},
+       [](const MeasuredObject& o) { return o.state.world.xy; }},
+      {{"A_WORLD", "Profile RMS along major axis (world units)", "deg",
+        "phys.size.smajAxis;meta.main", f, "%12.7g"},
+       [](const MeasuredObject& o) { return o.state.worldShape.a; }},
+      {{"B_WORLD", "Profile RMS along minor axis (world units)", "deg",
+        "phys.size.sminAxis;meta.main", f, "%12.7g"},
+       [](const MeasuredObject& o) { return o.state.worldShape.b; }},
+      {{"THETA_WORLD", "Position angle (CCW/world-x)", "deg", "pos.posAng", f, "%6.2f"},
+       [](const MeasuredObject& o) { return o.state.worldShape.thetaDeg; }},
   };
 }
 
-void WorldCoordinates::measure(const Segment&, const MeasureContext& context, ObjectState& state,
-                               const RowWriter& out) const {
-  for (int c = 0; c < kCount; ++c) out.set(c, kNaN);
+void WorldCoordinates::measure(const Segment&, const MeasureContext& context,
+                               ObjectState& state) const {
   if (!state.haveIso) return;  // no isophotal centroid: nothing to convert
   if (context.wcs == nullptr) {
     state.octFlags |= octflag::kNoWorld;
@@ -55,12 +61,10 @@ void WorldCoordinates::measure(const Segment&, const MeasureContext& context, Ob
   state.haveWorld = true;
   state.xWorldDeg = world[0];
   state.yWorldDeg = world[1];
-  out.set(kXWorld, world[0]);
-  out.set(kYWorld, world[1]);
   // NaN for non-equatorial frames: ALPHA/DELTA_J2000 have no meaning there.
   const std::array<double, 2> j2000 = wcs.worldToJ2000(world[0], world[1]);
-  out.set(kAlpha, j2000[0]);
-  out.set(kDelta, j2000[1]);
+  state.alphaJ2000Deg = j2000[0];
+  state.deltaJ2000Deg = j2000[1];
 
   const WorldJacobian jacobian =
       jacobianFromSamples(world, {worlds[2], worlds[3]}, {worlds[4], worlds[5]});
@@ -68,14 +72,8 @@ void WorldCoordinates::measure(const Segment&, const MeasureContext& context, Ob
     state.octFlags |= octflag::kNoWorld;
     return;
   }
-  const WorldMoments m = worldMoments(jacobian, state.iso.x2, state.iso.y2, state.iso.xy);
-  const EllipseShape shape = ellipseFromMoments(m.x2, m.y2, m.xy);
-  out.set(kX2, m.x2);
-  out.set(kY2, m.y2);
-  out.set(kXY, m.xy);
-  out.set(kA, shape.a);
-  out.set(kB, shape.b);
-  out.set(kTheta, shape.thetaDeg);
+  state.world = worldMoments(jacobian, state.iso.x2, state.iso.y2, state.iso.xy);
+  state.worldShape = ellipseFromMoments(state.world.x2, state.world.y2, state.world.xy);
 }
 
 }  // namespace octarc

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <stdexcept>
 
@@ -93,6 +94,24 @@ int runCommand(const std::string& command, std::string* output) {
 
 bool haveProgram(const std::string& name) {
   return runCommand("command -v " + name + " >/dev/null 2>&1") == 0;
+}
+
+FitsverifyReport fitsverify(const std::filesystem::path& file) {
+  FitsverifyReport report;
+  runCommand("fitsverify -q '" + file.string() + "' 2>&1", &report.text);
+  // The summary ends the report; the counts are matched whole, so "10 errors" is not "0 errors".
+  static const std::regex failed(
+      R"(verification FAILED: .*, (\d+) warnings? and (\d+) errors?\s*$)");
+  static const std::regex ok(R"(verification OK: .*\s*$)");
+  std::smatch m;
+  if (std::regex_search(report.text, m, failed)) {
+    report.warnings = std::stoi(m[1].str());
+    report.errors = std::stoi(m[2].str());
+  } else if (std::regex_search(report.text, ok)) {
+    report.warnings = 0;
+    report.errors = 0;
+  }
+  return report;
 }
 
 std::filesystem::path runSourceExtractor(const std::filesystem::path& dir, const std::string& image,

@@ -51,4 +51,14 @@ std::vector<double> columnValues(const std::filesystem::path& file, int hdu,
 // Runs a shell command, returns its exit status and stdout.
 int runCommand(const std::string& command, std::string* output = nullptr);
 
+// What `fitsverify -q` says about one file, read from its summary line ("verification OK: FILE",
+// or "verification FAILED: FILE, 2 warnings and 0 errors"): the counts, or -1 when the line is
+// not there (fitsverify missing or crashed); `text` is the whole report.
+struct FitsverifyReport {
+  int warnings = -1;
+  int errors = -1;
+  std::string text;
+};
+FitsverifyReport fitsverify(const std::filesystem::path& file);
+
 }  // namespace octarc::test

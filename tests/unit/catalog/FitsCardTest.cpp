@@ -128,7 +128,8 @@ TEST(ColumnFormat, AsciiValuesFollowTheStorageType) {
 
 // The SEx* cards of source-extractor's own LDAC_IMHEAD, rebuilt from the same run values.
 TEST(RunSummary, CardsMatchSourceExtractor) {
-  if (!test::haveProgram("source-extractor")) GTEST_SKIP() << "source-extractor not installed";
+  if (!test::haveProgram("source-extractor"))
+    OCTARC_SKIP_MISSING() << "source-extractor not installed";
   const auto dir = test::scratchDir();
   test::writeSmallImage(dir / "small.fits");
   {
@@ -197,7 +198,8 @@ TEST(RunSummary, CardsMatchSourceExtractor) {
 }
 
 TEST(RunSummary, Fits10CardsHaveSExtractorsKeywordsInOrder) {
-  if (!test::haveProgram("source-extractor")) GTEST_SKIP() << "source-extractor not installed";
+  if (!test::haveProgram("source-extractor"))
+    OCTARC_SKIP_MISSING() << "source-extractor not installed";
   const auto dir = test::scratchDir();
   test::writeSmallImage(dir / "small.fits");
   {

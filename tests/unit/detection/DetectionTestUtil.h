@@ -13,6 +13,7 @@
 #include <type_traits>
 
 #include "FitsTestFiles.h"
+#include "TestPaths.h"
 #include "octarc/core/Image.h"
 
 namespace octarc::test {
@@ -34,7 +35,8 @@ inline int runSourceExtractor(const std::filesystem::path& dir, const std::strin
   return std::system(cmd.c_str());
 }
 
-#define OCTARC_REQUIRE_SOURCE_EXTRACTOR() \
-  if (!::octarc::test::haveSourceExtractor()) GTEST_SKIP() << "source-extractor not found"
+#define OCTARC_REQUIRE_SOURCE_EXTRACTOR()                                                      \
+  if (!::octarc::test::haveSourceExtractor()) OCTARC_SKIP_MISSING() << "source-extractor not " \
+                                                                       "found"
 
 }  // namespace octarc::test

@@ -348,7 +348,7 @@ TEST(Wcs, PixelToJ2000LeavesIcrsAndJ2000Unchanged) {
 // Galactic headers: ALPHA/DELTA_J2000 through the rotation of the IAU galactic system, compared
 // with astropy's Galactic -> FK5(J2000) (the definitions agree to a few milliarcseconds).
 TEST(Wcs, PixelToJ2000RotatesGalacticLikeAstropy) {
-  if (!test::haveAstropy()) GTEST_SKIP() << "/usr/bin/python3 with astropy not available";
+  if (!test::haveAstropy()) OCTARC_SKIP_MISSING() << "/usr/bin/python3 with astropy not available";
   const fs::path dir = test::scratchDir();
   std::string script =
       "from astropy.coordinates import SkyCoord, FK5\n"
@@ -415,7 +415,7 @@ TEST(Wcs, PixelToJ2000PrecessesFk5WithIau1976) {
 // An FK5 B1950-like header against astropy's FK5 -> FK5(J2000) transformation. astropy uses
 // the newer IAU 2006 precession; over 50 years the two models differ by about 0.1 arcsec.
 TEST(Wcs, PixelToJ2000AgreesWithAstropyFk5) {
-  if (!test::haveAstropy()) GTEST_SKIP() << "/usr/bin/python3 with astropy not available";
+  if (!test::haveAstropy()) OCTARC_SKIP_MISSING() << "/usr/bin/python3 with astropy not available";
   const fs::path dir = test::scratchDir();
   auto cards = linearCards("TAN");
   cards.push_back({"RADESYS", "'FK5'"});
@@ -452,7 +452,7 @@ TEST(Wcs, PixelToJ2000AgreesWithAstropyFk5) {
 // FK4 (B1950) headers are only precessed (no E-terms, no FK4 -> FK5 rotation): against
 // astropy's full FK4 -> FK5 conversion the documented error stays below about 1 arcsec.
 TEST(Wcs, PixelToJ2000Fk4IsPrecessedWithinOneArcsecond) {
-  if (!test::haveAstropy()) GTEST_SKIP() << "/usr/bin/python3 with astropy not available";
+  if (!test::haveAstropy()) OCTARC_SKIP_MISSING() << "/usr/bin/python3 with astropy not available";
   const fs::path dir = test::scratchDir();
   auto cards = linearCards("TAN");
   cards.push_back({"EQUINOX", "1950.0"});  // FK4 by the FITS default for EQUINOX < 1984
@@ -484,7 +484,7 @@ TEST(Wcs, PixelToJ2000Fk4IsPrecessedWithinOneArcsecond) {
 
 TEST(Wcs, RealNttHeaderHasNoCelestialWcsLikeAstropy) {
   OCTARC_REQUIRE_SHARED_DATA(shared);
-  if (!test::haveAstropy()) GTEST_SKIP() << "/usr/bin/python3 with astropy not available";
+  if (!test::haveAstropy()) OCTARC_SKIP_MISSING() << "/usr/bin/python3 with astropy not available";
   const fs::path image = shared / "ntt-emmi" / "galaxies.fits";
   const fs::path dir = test::scratchDir();
   // astropy sees only linear axes (blank CTYPEs, CDELT 1, CRVAL 1 at CRPIX 1): with origin=1
@@ -523,7 +523,7 @@ TEST(Wcs, RealNttHeaderHasNoCelestialWcsLikeAstropy) {
 
 // The same SIP header through astropy (all_pix2world, origin=1) and through octarc.
 TEST(Wcs, SipAgreesWithAstropy) {
-  if (!test::haveAstropy()) GTEST_SKIP() << "/usr/bin/python3 with astropy not available";
+  if (!test::haveAstropy()) OCTARC_SKIP_MISSING() << "/usr/bin/python3 with astropy not available";
   const fs::path dir = test::scratchDir();
   const FitsHeader header = sipHeader();
   ImageF pixels(800, 600, 0.0f);

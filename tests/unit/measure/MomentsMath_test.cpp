@@ -8,6 +8,7 @@
 #include <numbers>
 #include <vector>
 
+#include "ArcClosedForm.h"
 #include "octarc/core/Conventions.h"
 
 namespace octarc {
@@ -40,7 +41,10 @@ OctopoleStats octOf(const Points& p) {
   return octopoleStats(centralMoments(p.x, p.y, p.w));
 }
 
-// ---- SExtractor isophotal moments (source-extractor 2.25 values from SEXTRACTOR.md §9) -------
+// ---- SExtractor isophotal moments -----------------------------------------------------------
+// Hand-computed values of the objects of SEXTRACTOR.md §9, whose source-extractor 2.25 run (the
+// command is recorded there) printed the same digits; Plugins.EveryObjectMatchesSourceExtractor
+// runs source-extractor on them again.
 
 TEST(IsoMoments, Block3x2MatchesSExtractor) {
   Points p;  // 1-based x 10-12, y 5-6, value 10
@@ -56,14 +60,15 @@ TEST(IsoMoments, Block3x2MatchesSExtractor) {
   EXPECT_NEAR(m.y2, 0.25, 1e-14);
   EXPECT_NEAR(m.xy, 0.0, 1e-14);
   const EllipseShape s = ellipseFromMoments(m.x2, m.y2, m.xy);
-  EXPECT_NEAR(s.a, 0.8165, 5e-5);
+  // Eigenvalues 2/3 and 1/4: A = sqrt(2/3), B = 1/2; CXX = 1/X2, CYY = 1/Y2 when XY = 0.
+  EXPECT_NEAR(s.a, std::sqrt(2.0 / 3.0), 1e-14);
   EXPECT_NEAR(s.b, 0.5, 1e-12);
   EXPECT_NEAR(s.thetaDeg, 0.0, 1e-12);
   EXPECT_NEAR(s.cxx, 1.5, 1e-12);
   EXPECT_NEAR(s.cyy, 4.0, 1e-12);
   EXPECT_NEAR(s.cxy, 0.0, 1e-12);
-  EXPECT_NEAR(s.elongation, 1.633, 5e-4);
-  EXPECT_NEAR(s.ellipticity, 0.388, 5e-4);
+  EXPECT_NEAR(s.elongation, 2.0 * std::sqrt(2.0 / 3.0), 1e-14);
+  EXPECT_NEAR(s.ellipticity, 1.0 - 0.5 / std::sqrt(2.0 / 3.0), 1e-14);
 }
 
 TEST(IsoMoments, DiagonalGetsSingularFix) {
@@ -76,14 +81,17 @@ TEST(IsoMoments, DiagonalGetsSingularFix) {
   EXPECT_NEAR(m.y2, 2.0 + 0.0833333, 1e-12);
   EXPECT_NEAR(m.xy, 2.0, 1e-12);
   const EllipseShape s = ellipseFromMoments(m.x2, m.y2, m.xy);
-  EXPECT_NEAR(s.b, 0.2887, 5e-5);
-  EXPECT_NEAR(s.a, 2.021, 5e-4);
+  // With v = 0.0833333: X2 = Y2 = 2 + v, XY = 2, eigenvalues 4 + v and v, D = (2 + v)^2 - 4;
+  // CXX = CYY = (2 + v)/D, CXY = -2 XY/D (source-extractor printed 6.1224513, -11.755107).
+  const double v = kSingularVariance, d = (2.0 + v) * (2.0 + v) - 4.0;
+  EXPECT_NEAR(s.b, std::sqrt(v), 1e-12);
+  EXPECT_NEAR(s.a, std::sqrt(4.0 + v), 1e-12);
   EXPECT_DOUBLE_EQ(s.thetaDeg, 45.0);
-  // source-extractor: CXX = CYY = 6.1224513, CXY = -11.755107, ELONGATION 7.000.
-  EXPECT_NEAR(s.cxx, 6.1224513, 2e-5);
-  EXPECT_NEAR(s.cxy, -11.755107, 4e-5);
-  EXPECT_NEAR(s.elongation, 7.000, 5e-4);
-  EXPECT_NEAR(s.ellipticity, 0.857, 5e-4);
+  EXPECT_NEAR(s.cxx, (2.0 + v) / d, 1e-9);
+  EXPECT_NEAR(s.cyy, (2.0 + v) / d, 1e-9);
+  EXPECT_NEAR(s.cxy, -4.0 / d, 1e-9);
+  EXPECT_NEAR(s.elongation, std::sqrt((4.0 + v) / v), 1e-9);
+  EXPECT_NEAR(s.ellipticity, 1.0 - std::sqrt(v / (4.0 + v)), 1e-12);
 }
 
 // The batch form keeps its sums in registers: the same additions in the same order.
@@ -115,8 +123,8 @@ TEST(IsoMoments, SinglePixel) {
   EXPECT_DOUBLE_EQ(m.x2, kSingularVariance);
   EXPECT_DOUBLE_EQ(m.y2, kSingularVariance);
   const EllipseShape s = ellipseFromMoments(m.x2, m.y2, m.xy);
-  EXPECT_NEAR(s.a, 0.289, 5e-4);
-  EXPECT_NEAR(s.b, 0.289, 5e-4);
+  EXPECT_DOUBLE_EQ(s.a, std::sqrt(kSingularVariance));
+  EXPECT_DOUBLE_EQ(s.b, std::sqrt(kSingularVariance));
   EXPECT_DOUBLE_EQ(s.thetaDeg, 45.0);
 }
 
@@ -365,39 +373,53 @@ TEST(Octopole, MirroredArcFlipsArcSide) {
   EXPECT_EQ(a.arcSide, -1);
 }
 
-TEST(Octopole, ThinCircularArcReferenceValues) {
-  struct Ref {
-    double phiDeg, arcness;
-  };
-  const Ref refs[] = {{5, 0.020},  {15, 0.060},  {30, 0.116},  {45, 0.164}, {60, 0.201},
-                      {90, 0.231}, {120, 0.194}, {150, 0.101}, {180, 0.0}};
+// A finely sampled thin arc against the closed form of ArcClosedForm.h. The midpoint rule with
+// n = 20001 points integrates these smooth trigonometric moments to ~1e-9 (its error falls as
+// 1/n^2), so the statistics agree to 1e-8.
+TEST(Octopole, ThinCircularArcMatchesTheClosedForm) {
   const int n = 20001;
-  for (const Ref& ref : refs) {
-    Points p;  // fine uniform sampling of the arc; the midpoint rule avoids doubling the ends
-    const double phi = ref.phiDeg * kPi / 180.0;
+  const double radius = 100.0;
+  for (double phiDeg : {5.0, 15.0, 30.0, 45.0, 60.0, 88.5, 90.0, 120.0, 150.0, 175.0}) {
+    Points p;
+    const double phi = phiDeg * kPi / 180.0;
     for (int k = 0; k < n; ++k) {
       const double t = -phi + (k + 0.5) * 2 * phi / n;
-      p.add(100.0 * std::cos(t), 100.0 * std::sin(t), 1.0);
+      p.add(radius * std::cos(t), radius * std::sin(t), 1.0);
     }
     const OctopoleStats o = octOf(p);
-    ASSERT_TRUE(o.valid) << ref.phiDeg;
-    EXPECT_NEAR(o.arcness, ref.arcness, 5e-4) << ref.phiDeg;
-    EXPECT_NEAR(o.antiArcness, 0.0, 1e-9) << ref.phiDeg;  // symmetric about its minor axis
-    EXPECT_NEAR(o.skewA, 0.0, 1e-9) << ref.phiDeg;
-    if (ref.phiDeg == 30) {
-      EXPECT_NEAR(o.e, 0.964, 5e-4);
-    }
-    if (ref.phiDeg == 90) {
-      EXPECT_NEAR(o.e, 0.681, 5e-4);
-    }
+    const test::ArcMoments ref = test::uniformArc(radius, radius, phi);
+    ASSERT_TRUE(o.valid) << phiDeg;
+    EXPECT_NEAR(o.arcness, ref.arcness, 1e-8) << phiDeg;
+    EXPECT_NEAR(o.e, ref.e, 1e-8) << phiDeg;
+    EXPECT_NEAR(o.sizePix, ref.sizePix, 1e-8 * radius) << phiDeg;
+    EXPECT_NEAR(o.antiArcness, 0.0, 1e-9) << phiDeg;  // symmetric about its minor axis
+    EXPECT_NEAR(o.skewA, 0.0, 1e-9) << phiDeg;
     // Centre of curvature (the origin) lies on the +b side iff I_aab > 0.
-    if (ref.phiDeg < 180) {
-      const CentralMoments m = centralMoments(p.x, p.y, p.w);
-      const double towardsCentre =
-          -m.xMean * -std::sin(o.thetaRad) + -m.yMean * std::cos(o.thetaRad);
-      EXPECT_EQ(o.arcSide, towardsCentre > 0 ? 1 : -1) << ref.phiDeg;
-    }
+    const CentralMoments m = centralMoments(p.x, p.y, p.w);
+    const double towardsCentre = -m.xMean * -std::sin(o.thetaRad) + -m.yMean * std::cos(o.thetaRad);
+    EXPECT_EQ(o.arcSide, towardsCentre > 0 ? 1 : -1) << phiDeg;
   }
+}
+
+// The reference values METHOD.md quotes for thin arcs are the closed form's, to their 3
+// decimals: arcness at phi = 5 ... 150 deg (0 for the full ring), e at 30 and 90 deg; and its
+// maximum, 0.2314, lies at phi = 88.5 deg.
+TEST(Octopole, MethodReferenceTableIsTheClosedForm) {
+  const double table[][2] = {{5, 0.020},  {15, 0.060}, {30, 0.116},  {45, 0.164},
+                             {60, 0.201}, {90, 0.231}, {120, 0.194}, {150, 0.101}};
+  for (const auto& row : table) {
+    EXPECT_NEAR(test::uniformArc(1.0, 1.0, row[0] * kPi / 180.0).arcness, row[1], 5e-4) << row[0];
+  }
+  EXPECT_NEAR(test::uniformArc(1.0, 1.0, kPi - 1e-6).arcness, 0.0, 1e-5);
+  EXPECT_NEAR(test::uniformArc(1.0, 1.0, 30 * kPi / 180.0).e, 0.964, 5e-4);
+  EXPECT_NEAR(test::uniformArc(1.0, 1.0, 90 * kPi / 180.0).e, 0.681, 5e-4);
+  double best = 0.0, bestDeg = 0.0;
+  for (int k = 1; k < 18000; ++k) {
+    const double a = test::uniformArc(1.0, 1.0, k * 0.01 * kPi / 180.0).arcness;
+    if (a > best) best = a, bestDeg = k * 0.01;
+  }
+  EXPECT_NEAR(best, 0.23143, 1e-5);
+  EXPECT_NEAR(bestDeg, 88.5, 0.05);
 }
 
 TEST(Octopole, FarFromOriginKeepsThirdMoments) {
@@ -512,11 +534,22 @@ TEST(World, MomentsUseSExtractorFormulaWithoutFactorTwo) {
 }
 
 TEST(World, GaussianMatchesSourceExtractorCatalog) {
-  // source-extractor 2.25 on the §9 Gaussian with CD = 1e-4 deg x rotation by 30 deg
-  // (CD1_1 = -c, CD1_2 = s, CD2_1 = s, CD2_2 = c), CRVAL (150, 2), CRPIX (32, 24), wrote
-  // X2_WORLD 8.8168363032e-08, Y2_WORLD 1.0272591002e-07, XY_WORLD -4.9552161170e-08,
-  // A_WORLD 0.0003814853, B_WORLD 0.0002129865, THETA_WORLD -49.18 from these moments.
-  // Here a linear stand-in of that TAN WCS (good to ~1e-6 relative this close to CRPIX).
+  // The expected values are what source-extractor 2.25 writes for the Gaussian of
+  // tests/unit/measure/Plugins_test.cpp (smallImage(): 64 x 48 float, peak 100, sigma 4 and 2
+  // along axes at 30 deg, centred at 0-based (45.3, 35.7)) written with a TAN header: CRVAL
+  // (150, 2), CRPIX (32, 24), CD = 1e-4 deg x rotation by 30 deg (CD1_1 = -c, CD1_2 = s,
+  // CD2_1 = s, CD2_2 = c). Command (Plugins.WorldColumnsMatchSourceExtractorThroughWcs runs it
+  // and compares every world column with octarc's through the real WCS):
+  //   source-extractor small.fits -c /usr/share/source-extractor/default.sex
+  //     -CATALOG_TYPE ASCII_HEAD -THRESH_TYPE ABSOLUTE -DETECT_THRESH 1 -ANALYSIS_THRESH 1
+  //     -DETECT_MINAREA 1 -FILTER N -DEBLEND_NTHRESH 1 -DEBLEND_MINCONT 1 -CLEAN N
+  //     -MASK_TYPE NONE -BACK_TYPE MANUAL -BACK_VALUE 0 -GAIN 2 -MAG_ZEROPOINT 25
+  //   with X_IMAGE 46.3002, Y_IMAGE 36.6980, X2_IMAGE 1.2395482203e+01,
+  //   Y2_IMAGE 6.6939450620e+00, XY_IMAGE 4.9727522818e+00 (the inputs below), and
+  //   X2_WORLD 8.8168363032e-08, Y2_WORLD 1.0272591002e-07, XY_WORLD -4.9552161170e-08,
+  //   A_WORLD 0.0003814853, B_WORLD 0.0002129865, THETA_WORLD -49.18.
+  // Here the pure functions get a linear stand-in of that TAN WCS (good to ~1e-6 relative this
+  // close to CRPIX), hence the 1e-5 tolerances.
   const double c = std::cos(kPi / 6), s = std::sin(kPi / 6), scale = 1e-4;
   const PixelToWorld linear = [&](double x, double y) {
     const double dx = x - 32.0, dy = y - 24.0;

@@ -49,13 +49,13 @@ std::vector<std::string> tableNames(bool full) {
 }
 
 TEST(SextractorKeys, SameKeysInSameOrderAsSourceExtractorDumps) {
-  if (!haveSourceExtractor()) GTEST_SKIP() << "source-extractor not installed";
+  if (!haveSourceExtractor()) OCTARC_SKIP_MISSING() << "source-extractor not installed";
   EXPECT_EQ(keyNames(runCommand("source-extractor -dd 2>/dev/null")), tableNames(true));
   EXPECT_EQ(keyNames(runCommand("source-extractor -d 2>/dev/null")), tableNames(false));
 }
 
 TEST(SextractorKeys, FullDumpOfSourceExtractorLoadsWithoutWarnings) {
-  if (!haveSourceExtractor()) GTEST_SKIP() << "source-extractor not installed";
+  if (!haveSourceExtractor()) OCTARC_SKIP_MISSING() << "source-extractor not installed";
   const auto dir = test::scratchDir();
   const std::string path =
       test::writeTextFile(dir / "default_full.sex", runCommand("source-extractor -dd 2>/dev/null"));
@@ -76,7 +76,7 @@ TEST(SextractorKeys, FullDumpOfSourceExtractorLoadsWithoutWarnings) {
 }
 
 TEST(SextractorKeys, OurFullDumpIsReadBySourceExtractorWithoutComplaint) {
-  if (!haveSourceExtractor()) GTEST_SKIP() << "source-extractor not installed";
+  if (!haveSourceExtractor()) OCTARC_SKIP_MISSING() << "source-extractor not installed";
   const auto& keys = sextractorKeys();
   const Config c = Config::load(keys, "", {}, nullptr);
   const auto dir = test::scratchDir();
@@ -97,7 +97,7 @@ TEST(SextractorKeys, OurFullDumpIsReadBySourceExtractorWithoutComplaint) {
 TEST(SextractorKeys, SharedNttEmmiConfigLoadsWithoutWarnings) {
   OCTARC_REQUIRE_SHARED_DATA(shared);
   const auto path = shared / "ntt-emmi" / "default.sex";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not found";
+  if (!std::filesystem::exists(path)) OCTARC_SKIP_MISSING() << path << " not found";
   std::vector<std::string> warnings;
   const Config c = Config::load(sextractorKeys(), path.string(), {}, &warnings);
   EXPECT_TRUE(warnings.empty()) << warnings.front();
@@ -112,7 +112,7 @@ TEST(SextractorKeys, SharedNttEmmiConfigLoadsWithoutWarnings) {
 TEST(SextractorKeys, SharedSepReferenceConfigLoadsWithoutWarnings) {
   OCTARC_REQUIRE_SHARED_DATA(shared);
   const auto path = shared / "sep-reference" / "default.sex";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not found";
+  if (!std::filesystem::exists(path)) OCTARC_SKIP_MISSING() << path << " not found";
   std::vector<std::string> warnings;
   Config::load(sextractorKeys(), path.string(), {}, &warnings);
   EXPECT_TRUE(warnings.empty()) << warnings.front();
@@ -120,7 +120,7 @@ TEST(SextractorKeys, SharedSepReferenceConfigLoadsWithoutWarnings) {
 
 TEST(SextractorKeys, DebianDefaultSexLoadsWithoutWarnings) {
   const std::filesystem::path path = "/usr/share/source-extractor/default.sex";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not found";
+  if (!std::filesystem::exists(path)) OCTARC_SKIP_MISSING() << path << " not found";
   std::vector<std::string> warnings;
   Config::load(sextractorKeys(), path.string(), {}, &warnings);
   EXPECT_TRUE(warnings.empty()) << warnings.front();

@@ -87,7 +87,7 @@ TEST(ParamFile, EverySourceExtractorParameterReads) {
   const auto dir = test::scratchDir();
   const std::string dp = (dir / "dp.txt").string();
   if (std::system(("source-extractor -dp > " + dp + " 2>/dev/null").c_str()) != 0)
-    GTEST_SKIP() << "source-extractor not installed";
+    OCTARC_SKIP_MISSING() << "source-extractor not installed";
   std::ifstream in(dp);
   std::ofstream out(dir / "all.param");
   std::string line;

@@ -9,9 +9,9 @@ namespace octarc {
 class Footprint final : public Measurement {
  public:
   std::string name() const override { return "Footprint"; }
-  std::vector<ColumnSpec> columns() const override;
-  void measure(const Segment& segment, const MeasureContext& context, ObjectState& state,
-               const RowWriter& out) const override;
+  std::vector<OutputColumn> columns() const override;
+  void measure(const Segment& segment, const MeasureContext& context,
+               ObjectState& state) const override;
 };
 
 }  // namespace octarc

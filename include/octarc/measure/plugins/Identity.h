@@ -8,9 +8,7 @@ namespace octarc {
 class Identity final : public Measurement {
  public:
   std::string name() const override { return "Identity"; }
-  std::vector<ColumnSpec> columns() const override;
-  void measure(const Segment& segment, const MeasureContext& context, ObjectState& state,
-               const RowWriter& out) const override;
+  std::vector<OutputColumn> columns() const override;
 };
 
 }  // namespace octarc

@@ -9,10 +9,10 @@ namespace octarc {
 class IsophotalPhotometry final : public Measurement {
  public:
   std::string name() const override { return "IsophotalPhotometry"; }
-  std::vector<ColumnSpec> columns() const override;
+  std::vector<OutputColumn> columns() const override;
   std::vector<std::string> dependencies() const override { return {"Footprint"}; }
-  void measure(const Segment& segment, const MeasureContext& context, ObjectState& state,
-               const RowWriter& out) const override;
+  void measure(const Segment& segment, const MeasureContext& context,
+               ObjectState& state) const override;
 };
 
 }  // namespace octarc

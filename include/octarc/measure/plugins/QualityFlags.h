@@ -8,12 +8,10 @@ namespace octarc {
 class QualityFlags final : public Measurement {
  public:
   std::string name() const override { return "QualityFlags"; }
-  std::vector<ColumnSpec> columns() const override;
+  std::vector<OutputColumn> columns() const override;
   std::vector<std::string> dependencies() const override {
     return {"Footprint", "IsophotalShape", "IsophotalPhotometry", "Octopole"};
   }
-  void measure(const Segment& segment, const MeasureContext& context, ObjectState& state,
-               const RowWriter& out) const override;
 };
 
 }  // namespace octarc

@@ -9,10 +9,10 @@ namespace octarc {
 class WorldCoordinates final : public Measurement {
  public:
   std::string name() const override { return "WorldCoordinates"; }
-  std::vector<ColumnSpec> columns() const override;
+  std::vector<OutputColumn> columns() const override;
   std::vector<std::string> dependencies() const override { return {"IsophotalShape"}; }
-  void measure(const Segment& segment, const MeasureContext& context, ObjectState& state,
-               const RowWriter& out) const override;
+  void measure(const Segment& segment, const MeasureContext& context,
+               ObjectState& state) const override;
 };
 
 }  // namespace octarc
