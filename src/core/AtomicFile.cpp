@@ -148,6 +148,7 @@ void OutputFiles::commit() {
   fs::remove(files_.front()->finalPath(), ignored);
   for (std::size_t i = 1; i < files_.size(); ++i) files_[i]->commit();
   files_.front()->commit();
+  markOutputsComplete();
 }
 
 void refuseOutputOverInput(const std::string& outputPath, const std::string& outputKey,

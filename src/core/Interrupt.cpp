@@ -25,6 +25,7 @@ struct Slot {
 Slot gSlots[kSlots];
 std::atomic<int> gDeferDepth{0};
 std::atomic<int> gPendingSignal{0};
+std::atomic<bool> gOutputsComplete{false};
 std::atomic_flag gEnding = ATOMIC_FLAG_INIT;
 char gPrefix[256] = "octarc";
 bool gStderrIsTerminal = false;
@@ -60,19 +61,31 @@ const char* signalName(int sig) {
     // Another thread is already ending the process.
     for (;;) ::pause();
   }
+  int removed = 0;
   for (Slot& s : gSlots) {
-    if (s.state.load() == kFile) ::unlink(s.path);
+    if (s.state.load() == kFile) {
+      ::unlink(s.path);
+      ++removed;
+    }
   }
   // Directories last, newest first: a directory holding registered files is empty by now.
   for (int i = kSlots - 1; i >= 0; --i) {
-    if (gSlots[i].state.load() == kDirectory) ::rmdir(gSlots[i].path);
+    if (gSlots[i].state.load() == kDirectory) {
+      ::rmdir(gSlots[i].path);
+      ++removed;
+    }
   }
   if (gStderrIsTerminal) writeText("\n");  // end a progress bar's line
   writeText(gPrefix);
   writeText(": interrupted by ");
   writeText(signalName(sig));
-  writeText(heldBack ? " while the outputs were renamed into place; they are complete\n"
-                     : "; no output written\n");
+  if (heldBack) {
+    writeText(" while the outputs were renamed into place; they are complete\n");
+  } else if (gOutputsComplete.load() && removed == 0) {
+    writeText(" after its outputs were written; they are complete\n");
+  } else {
+    writeText("; no output written\n");
+  }
   ::_exit(128 + sig);
 }
 
@@ -113,6 +126,10 @@ int removeOnInterrupt(const std::string& path, bool isDirectory) {
     }
   }
   throw std::length_error("more than " + std::to_string(kSlots) + " outputs open at once");
+}
+
+void markOutputsComplete() {
+  gOutputsComplete.store(true);
 }
 
 void forgetOnInterrupt(int slot) {

@@ -26,6 +26,11 @@ void installInterruptCleanup(const std::string& messagePrefix);
 int removeOnInterrupt(const std::string& path, bool isDirectory = false);
 void forgetOnInterrupt(int slot);
 
+// Called once a run's outputs are all in place (OutputFiles::commit does it): a signal arriving
+// afterwards, with nothing left to remove, still ends the process with 128 + signal but says that
+// the outputs are complete.
+void markOutputsComplete();
+
 // While one exists (on any thread), SIGINT/SIGTERM/SIGHUP are held back; when the last one is
 // destroyed, a signal that arrived meanwhile ends the process (outputs kept, since they are
 // complete). Not nestable across threads in a meaningful way: use it around a short sequence of

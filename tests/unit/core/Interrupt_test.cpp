@@ -5,8 +5,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <string>
 
 #include "TestPaths.h"
 #include "octarc/core/AtomicFile.h"
@@ -66,6 +69,30 @@ TEST(Interrupt, HeldBackDuringRenamesThenTheRunEndsWithItsOutputs) {
   });
   EXPECT_EQ(status, 128 + SIGTERM);
   EXPECT_TRUE(fs::exists(dir / "a.txt"));
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST(Interrupt, AfterTheOutputsAreInPlaceTheLineSaysTheyAreComplete) {
+  const fs::path dir = test::scratchDir();
+  const fs::path log = dir / "stderr.txt";
+  const int status = inChild([&] {
+    std::freopen(log.c_str(), "w", stderr);
+    installInterruptCleanup("test");
+    OutputFiles out;
+    out.add((dir / "cat.ldac").string());
+    out.write(0, [](const std::string& p) { std::ofstream(p) << "catalog"; });
+    out.commit();
+    ::raise(SIGINT);
+  });
+  EXPECT_EQ(status, 130);
+  EXPECT_TRUE(fs::exists(dir / "cat.ldac"));
+  EXPECT_EQ(slurp(log),
+            "test: interrupted by SIGINT after its outputs were written; they are "
+            "complete\n");
 }
 
 TEST(Interrupt, ForgottenPathsStay) {
