@@ -6,8 +6,8 @@
 //   Normalisation: probability = count / binned, where `binned` counts the samples that fell in
 //   a bin. Samples with an axis value outside its range (outsideCount()) or NaN
 //   (undefinedCount(), e.g. a system without an arc) are counted but in no bin, so the
-//   probabilities of the occupied bins sum to 1 and a contour at level P holds a fraction P of
-//   the binned samples (P * binned / (binned + outside) of the defined ones).
+//   probabilities of the occupied bins sum to 1 and a contour at level P holds at least a
+//   fraction P of the binned samples (and P * binned / (binned + outside) of the defined ones).
 //   Order: occupied bins sorted by probability, highest first; equal probabilities (equal
 //   counts) by packed index, lowest first, so the order never depends on filling order.
 //   cumulative(bin) = the sum of the probabilities of that bin and of every bin before it in
