@@ -36,11 +36,12 @@ struct BinningTrial {
 };
 
 struct BinningSearchResult {
+  BinningSearchOptions options;      // what was searched
   int finestConnected = 0;           // the largest n that passed; 0 when none did
   std::vector<BinningTrial> trials;  // every n tried, coarse to fine
+
   // finestConnected, or ConfigError when no n passed (with the range and the level).
   int requireFinest() const;
-  BinningSearchOptions options;
 };
 
 // Tries every n of the options on the axes (their ranges; their bin counts are ignored) filled
