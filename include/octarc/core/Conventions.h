@@ -21,6 +21,11 @@
 //   theta = 0.5 atan2(2 Ixy, Ixx - Iyy); da = cos(theta) dx + sin(theta) dy (major axis),
 //   db = -sin(theta) dx + cos(theta) dy (minor axis). ARC_SIDE = sign(I_aab): the centre of
 //   curvature lies on the +b side of the centroid when I_aab > 0.
+//
+// Occupation grid (selection/)
+//   Bins are half-open, [lo + k w, lo + (k + 1) w); the S/N axis is log10(SNR_ISO); bins are
+//   ordered by probability, ties by packed index (axis 0 fastest), lowest first. Written out in
+//   selection/GridBinning.h and selection/OccupationGrid.h.
 #pragma once
 
 #include <cstdint>

@@ -1,0 +1,62 @@
+#include "octarc/selection/SurveySetup.h"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace octarc {
+
+namespace {
+
+std::string number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", v);
+  return text;
+}
+
+// Appends a warning when both values are known and differ by more than the tolerance.
+void compareValue(const char* what, const char* unit, double gridValue, double searchValue,
+                  double tolerance, std::vector<std::string>& warnings) {
+  if (std::isnan(gridValue) || std::isnan(searchValue)) return;
+  const double apart = std::fabs(searchValue - gridValue) / std::fabs(gridValue);
+  if (!(apart > tolerance)) return;
+  warnings.push_back(std::string(what) + ": the grid was made for " + number(gridValue) + unit +
+                     ", the search has " + number(searchValue) + " (" + number(100.0 * apart) +
+                     "% apart, tolerance " + number(100.0 * tolerance) + "%)");
+}
+
+}  // namespace
+
+std::vector<std::string> compareSetups(const SurveySetup& grid, const SurveySetup& search,
+                                       const SetupTolerances& tolerances) {
+  std::vector<std::string> warnings;
+  compareValue("pixel scale", " arcsec/px", grid.pixelScaleArcsec, search.pixelScaleArcsec,
+               tolerances.pixelScale, warnings);
+  compareValue("seeing FWHM", " arcsec", grid.seeingFwhmArcsec, search.seeingFwhmArcsec,
+               tolerances.seeingFwhm, warnings);
+  compareValue("gain", " e-/ADU", grid.gainElectronsPerAdu, search.gainElectronsPerAdu,
+               tolerances.gain, warnings);
+  compareValue("sky noise", " ADU", grid.skySigmaAdu, search.skySigmaAdu, tolerances.skySigma,
+               warnings);
+  if (grid.minAreaPix > 0 && search.minAreaPix > 0 && grid.minAreaPix != search.minAreaPix) {
+    warnings.push_back("DETECT_MINAREA: the grid was made for " + std::to_string(grid.minAreaPix) +
+                       " pixels, the search has " + std::to_string(search.minAreaPix));
+  }
+  if (!grid.thresholdsSigma.empty() && !search.thresholdsSigma.empty()) {
+    if (grid.thresholdsSigma.size() != search.thresholdsSigma.size()) {
+      warnings.push_back("thresholds: the grid was made for " +
+                         std::to_string(grid.thresholdsSigma.size()) + " levels, the search has " +
+                         std::to_string(search.thresholdsSigma.size()));
+    } else {
+      for (std::size_t i = 0; i < grid.thresholdsSigma.size(); ++i) {
+        const std::string what = "threshold " + std::to_string(i + 1);
+        compareValue(what.c_str(), " sigma", grid.thresholdsSigma[i], search.thresholdsSigma[i],
+                     tolerances.threshold, warnings);
+      }
+    }
+  }
+  return warnings;
+}
+
+}  // namespace octarc

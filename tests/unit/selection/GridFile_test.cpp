@@ -1,0 +1,268 @@
+// The grid file: a round trip of every field, what the file holds, fitsverify, the setup
+// comparison, and files that are not (or no longer) a grid.
+#include "octarc/selection/GridFile.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "SelectionTestSupport.h"
+#include "TestPaths.h"
+#include "octarc/core/Error.h"
+#include "octarc/io/FitsTable.h"
+
+namespace octarc {
+namespace {
+
+namespace fs = std::filesystem;
+using test::expectError;
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The 3 x 2 grid of the scoring tests (probabilities 0.5, 0.25, 0.125, 0.125 in bins 0, 1, 3,
+// 4), on the first and last default axes, with one sample outside and two undefined.
+OccupationGrid handMadeGrid() {
+  const GridBinning b({GridAxis{"ARCNESS", 0.0, 0.3, 3}, GridAxis{"log10(SNR_ISO)", 1.0, 3.0, 2}});
+  return OccupationGrid::fill(b, {{0.05, 0.05, 0.05, 0.05, 0.15, 0.15, 0.05, 0.15, 0.4, kNan, 0.1},
+                                  {1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 2.5, 2.5, 1.5, 1.5, kNan}});
+}
+
+SurveySetup dlsSetup() {
+  SurveySetup s;
+  s.pixelScaleArcsec = 0.257;
+  s.seeingFwhmArcsec = 0.9;
+  s.gainElectronsPerAdu = 54.0;
+  s.skySigmaAdu = 5.3;
+  for (int i = 0; i < 15; ++i) s.thresholdsSigma.push_back(2.5 * std::pow(8.0, i / 14.0));
+  s.minAreaPix = 5;
+  s.populationFile =
+      "/data/surveys/deep-lens-survey/calibration/relations/population-relations-2026.txt";
+  s.seed = 18446744073709551557ULL;  // above 2^63
+  s.systems = 90000;
+  return s;
+}
+
+SavedGrid savedGrid() {
+  OccupationGrid grid = handMadeGrid();
+  const Contour contour = grid.contour(0.8);
+  return SavedGrid{
+      std::move(grid), contour,
+      GridProvenance{"strong", "ARCNESS > 0.15 && E_IMAGE > 0.6 && SNR_ISO > 40", dlsSetup()}};
+}
+
+TEST(GridFile, RoundTripKeepsEveryField) {
+  const std::string path = (test::scratchDir() / "grid.fits").string();
+  saveGrid(path, savedGrid());
+  const SavedGrid in = loadGrid(path);
+  const SavedGrid out = savedGrid();
+  ASSERT_EQ(in.grid.binning().dimensions(), 2);
+  for (int a = 0; a < 2; ++a) {
+    const GridAxis& x = in.grid.binning().axes()[std::size_t(a)];
+    const GridAxis& y = out.grid.binning().axes()[std::size_t(a)];
+    EXPECT_EQ(x.expression, y.expression);
+    EXPECT_EQ(x.lo, y.lo);
+    EXPECT_EQ(x.hi, y.hi);
+    EXPECT_EQ(x.bins, y.bins);
+  }
+  EXPECT_EQ(in.grid.binnedCount(), 8);
+  EXPECT_EQ(in.grid.outsideCount(), 1);
+  EXPECT_EQ(in.grid.undefinedCount(), 2);
+  ASSERT_EQ(in.grid.occupiedBins(), 4);
+  for (std::size_t r = 0; r < 4; ++r) {
+    EXPECT_EQ(in.grid.bins()[r].index, out.grid.bins()[r].index);
+    EXPECT_EQ(in.grid.bins()[r].count, out.grid.bins()[r].count);
+    EXPECT_EQ(in.grid.bins()[r].probability, out.grid.bins()[r].probability);
+    EXPECT_EQ(in.grid.bins()[r].cumulative, out.grid.bins()[r].cumulative);
+  }
+  EXPECT_EQ(in.contour.level, 0.8);
+  EXPECT_EQ(in.contour.selectedBins, 3);
+  EXPECT_EQ(in.contour.probability, 0.875);
+  EXPECT_EQ(in.provenance.searchSpace, "strong");
+  EXPECT_EQ(in.provenance.searchSpaceExpression, out.provenance.searchSpaceExpression);
+  const SurveySetup& s = in.provenance.setup;
+  const SurveySetup expected = dlsSetup();
+  EXPECT_EQ(s.pixelScaleArcsec, 0.257);
+  EXPECT_EQ(s.seeingFwhmArcsec, 0.9);
+  EXPECT_EQ(s.gainElectronsPerAdu, 54.0);
+  EXPECT_EQ(s.skySigmaAdu, 5.3);
+  EXPECT_EQ(s.thresholdsSigma, expected.thresholdsSigma);  // every double exactly
+  EXPECT_EQ(s.minAreaPix, 5);
+  EXPECT_EQ(s.populationFile, expected.populationFile);
+  EXPECT_EQ(s.seed, 18446744073709551557ULL);
+  EXPECT_EQ(s.systems, 90000);
+  EXPECT_TRUE(compareSetups(s, expected).empty());
+}
+
+TEST(GridFile, TheFileHoldsTheBinsInProbabilityOrder) {
+  const std::string path = (test::scratchDir() / "grid.fits").string();
+  saveGrid(path, savedGrid());
+  EXPECT_EQ(listFitsTables(path), (std::vector<std::string>{"OCC_GRID"}));
+  const FitsTable t = readFitsTable(path, "OCC_GRID");
+  // Bins 0, 1, 3, 4 of the 3 x 2 grid are (0,0), (1,0), (0,1), (1,1).
+  EXPECT_EQ(t.integers("BIN", 2), (std::vector<std::int64_t>{0, 0, 1, 0, 0, 1, 1, 1}));
+  EXPECT_EQ(t.integers("COUNT"), (std::vector<std::int64_t>{4, 2, 1, 1}));
+  EXPECT_EQ(t.doubles("PROB"), (std::vector<double>{0.5, 0.25, 0.125, 0.125}));
+  EXPECT_EQ(t.doubles("CUMPROB"), (std::vector<double>{0.5, 0.75, 0.875, 1.0}));
+  EXPECT_EQ(t.integers("SELECTED"), (std::vector<std::int64_t>{1, 1, 1, 0}));
+  EXPECT_EQ(t.integer("GRIDDIM"), 2);
+  EXPECT_EQ(t.text("AXEXPR2"), "log10(SNR_ISO)");
+  EXPECT_EQ(t.number("AXHI1"), 0.3);
+  EXPECT_EQ(t.number("PLEVEL"), 0.8);
+  EXPECT_EQ(t.integer("NSELECT"), 3);
+  EXPECT_EQ(t.integer("NTHRESH"), 15);
+  EXPECT_EQ(t.number("THRESH1"), 2.5);
+  if (std::system("command -v fitsverify >/dev/null 2>&1") == 0) {
+    const std::string report = (fs::path(path).parent_path() / "report.txt").string();
+    std::system(("fitsverify -q '" + path + "' > '" + report + "' 2>&1").c_str());
+    EXPECT_NE(readFile(report).find("verification OK"), std::string::npos) << readFile(report);
+  }
+}
+
+TEST(GridFile, SaveRefusesAContourOfAnotherLevel) {
+  SavedGrid s = savedGrid();
+  s.contour.selectedBins = 2;  // the contour at 0.8 has 3 bins
+  expectError<ConfigError>([&] { saveGrid((test::scratchDir() / "g.fits").string(), s); },
+                           {"not the grid's contour at its level (3 bins)"});
+}
+
+// Rewrites the OCC_GRID table of a saved grid after `edit`.
+template <typename Edit>
+std::string editedGrid(const fs::path& dir, const std::string& name, Edit&& edit) {
+  const std::string good = (dir / "good.fits").string();
+  if (!fs::exists(good)) saveGrid(good, savedGrid());
+  FitsTable t = readFitsTable(good, "OCC_GRID");
+  edit(t);
+  const std::string path = (dir / name).string();
+  writeFitsTables(path, {t});
+  return path;
+}
+
+void dropKeyword(FitsTable& t, const char* name) {
+  std::erase_if(t.keywords, [&](const FitsKeyword& k) { return k.name == name; });
+}
+
+TEST(GridFile, FilesThatAreNotAGridNameWhatIsMissing) {
+  const fs::path dir = test::scratchDir();
+  FitsTable other;
+  other.name = "LDAC_OBJECTS";
+  other.columns = {FitsColumn{"NUMBER", "", "", "", 1, std::vector<std::int32_t>{1}, ""}};
+  const std::string catalog = (dir / "catalog.fits").string();
+  writeFitsTables(catalog, {other});
+  expectError<IoError>([&] { loadGrid(catalog); },
+                       {catalog,
+                        "not an occupation grid (no OCC_GRID table; tables: "
+                        "LDAC_OBJECTS)"});
+  expectError<IoError>([&] { loadGrid((dir / "missing.fits").string()); }, {"missing.fits"});
+
+  const std::string noMarker =
+      editedGrid(dir, "marker.fits", [](FitsTable& t) { dropKeyword(t, "OCTGRID"); });
+  expectError<IoError>([&] { loadGrid(noMarker); },
+                       {noMarker + "[OCC_GRID]", "not an occupation grid (keyword OCTGRID"});
+  const std::string noAxis =
+      editedGrid(dir, "axis.fits", [](FitsTable& t) { dropKeyword(t, "AXHI2"); });
+  expectError<IoError>([&] { loadGrid(noAxis); }, {noAxis + "[OCC_GRID]", "AXHI2 missing"});
+  const std::string noSetup =
+      editedGrid(dir, "setup.fits", [](FitsTable& t) { dropKeyword(t, "MINAREA"); });
+  expectError<IoError>([&] { loadGrid(noSetup); }, {noSetup, "MINAREA missing"});
+  const std::string noCounts = editedGrid(dir, "counts.fits", [](FitsTable& t) {
+    std::erase_if(t.columns, [](const FitsColumn& c) { return c.name == "COUNT"; });
+  });
+  expectError<IoError>([&] { loadGrid(noCounts); }, {noCounts, "no column COUNT"});
+}
+
+TEST(GridFile, InconsistentGridFilesAreRefused) {
+  const fs::path dir = test::scratchDir();
+  auto setCount = [](FitsTable& t, std::size_t row, std::int64_t value) {
+    for (FitsColumn& c : t.columns) {
+      if (c.name == "COUNT") std::get<std::vector<std::int64_t>>(c.values)[row] = value;
+    }
+  };
+  // The last two bins swapped counts' order: 4, 2, 1, 3 is not a probability order.
+  const std::string order = editedGrid(dir, "order.fits", [&](FitsTable& t) { setCount(t, 3, 3); });
+  expectError<IoError>([&] { loadGrid(order); }, {order + "[OCC_GRID]", "out of probability"});
+  const std::string total = editedGrid(dir, "total.fits", [&](FitsTable& t) { setCount(t, 0, 5); });
+  expectError<IoError>([&] { loadGrid(total); },
+                       {"NBINNED = 8 but the bins table gives 9 binned arcs"});
+  const std::string bin = editedGrid(dir, "bin.fits", [](FitsTable& t) {
+    for (FitsColumn& c : t.columns) {
+      if (c.name == "BIN") std::get<std::vector<std::int32_t>>(c.values)[2] = 3;
+    }
+  });
+  expectError<IoError>([&] { loadGrid(bin); },
+                       {bin + "[OCC_GRID]", "row 2: bin index 3 outside axis 1's 0..2"});
+  const std::string selected = editedGrid(dir, "selected.fits", [](FitsTable& t) {
+    for (FitsColumn& c : t.columns) {
+      if (c.name == "SELECTED") std::get<std::vector<std::int16_t>>(c.values)[3] = 1;
+    }
+  });
+  expectError<IoError>([&] { loadGrid(selected); },
+                       {"row 4: SELECTED disagrees with the contour at PLEVEL"});
+  const std::string range = editedGrid(dir, "range.fits", [](FitsTable& t) {
+    for (FitsKeyword& k : t.keywords) {
+      if (k.name == "AXLO1") k.value = 0.5;
+    }
+  });
+  expectError<IoError>([&] { loadGrid(range); }, {range + "[OCC_GRID]", "grid axis 1", "lo < hi"});
+}
+
+TEST(SurveySetup, DifferencesBeyondTheTolerancesAreWarned) {
+  const SurveySetup grid = dlsSetup();
+  SurveySetup search = grid;
+  search.populationFile = "other.txt";  // provenance: never compared
+  search.seed = 7;
+  search.systems = 10;
+  search.seeingFwhmArcsec = 0.95;  // 5.6% apart: within 10%
+  EXPECT_TRUE(compareSetups(grid, search).empty());
+
+  search.pixelScaleArcsec = 0.2;      // (0.257 - 0.2) / 0.257 = 22.179%
+  search.seeingFwhmArcsec = 1.2;      // 33.333%
+  search.gainElectronsPerAdu = 60.0;  // 11.111%
+  search.skySigmaAdu = 5.0;           // 5.6604%: within 10%
+  search.minAreaPix = 6;
+  search.thresholdsSigma[2] *= 1.02;
+  const std::vector<std::string> w = compareSetups(grid, search);
+  ASSERT_EQ(w.size(), 5u);
+  EXPECT_EQ(w[0],
+            "pixel scale: the grid was made for 0.257 arcsec/px, the search has 0.2 "
+            "(22.179% apart, tolerance 1%)");
+  EXPECT_EQ(w[1],
+            "seeing FWHM: the grid was made for 0.9 arcsec, the search has 1.2 (33.3333% "
+            "apart, tolerance 10%)");
+  EXPECT_EQ(w[2],
+            "gain: the grid was made for 54 e-/ADU, the search has 60 (11.1111% apart, "
+            "tolerance 10%)");
+  EXPECT_EQ(w[3], "DETECT_MINAREA: the grid was made for 5 pixels, the search has 6");
+  EXPECT_NE(w[4].find("threshold 3: "), std::string::npos) << w[4];
+  EXPECT_NE(w[4].find("(2% apart, tolerance 1%)"), std::string::npos) << w[4];
+
+  // Another number of levels; and what the search does not know is not compared.
+  SurveySetup fewer;
+  fewer.thresholdsSigma = {3.0, 6.0};
+  const std::vector<std::string> levels = compareSetups(grid, fewer);
+  ASSERT_EQ(levels.size(), 1u);
+  EXPECT_EQ(levels[0], "thresholds: the grid was made for 15 levels, the search has 2");
+  EXPECT_TRUE(compareSetups(grid, SurveySetup{}).empty());
+  // Tighter tolerances make the seeing of 0.95 a difference.
+  SurveySetup close = grid;
+  close.seeingFwhmArcsec = 0.95;
+  SetupTolerances strict;
+  strict.seeingFwhm = 0.05;
+  EXPECT_EQ(compareSetups(grid, close, strict).size(), 1u);
+}
+
+}  // namespace
+}  // namespace octarc

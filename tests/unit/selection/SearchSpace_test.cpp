@@ -1,0 +1,115 @@
+// Search spaces and column expressions: values worked out by hand, the NaN rule, and the errors.
+#include "octarc/selection/SearchSpace.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "SelectionTestSupport.h"
+#include "octarc/core/Error.h"
+#include "octarc/selection/ColumnExpression.h"
+
+namespace octarc {
+namespace {
+
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+
+// Four objects: the first passes the paper's strong-arc cut; the second fails on arcness, the
+// third on ellipticity, the fourth has no arcness (NaN).
+Table objects() {
+  return test::makeTable({{"ARCNESS", {0.2, 0.12, 0.3, kNan}},
+                          {"E_IMAGE", {0.7, 0.8, 0.5, 0.9}},
+                          {"SNR_ISO", {50, 100, 45, 60}}});
+}
+
+TEST(SearchSpace, TheStrongArcCutKeepsTheRowsThatPassEveryTerm) {
+  const SearchSpace space("strong", "ARCNESS > 0.15 && E_IMAGE > 0.6 && SNR_ISO > 40");
+  EXPECT_EQ(space.name(), "strong");
+  EXPECT_EQ(space.expression(), "ARCNESS > 0.15 && E_IMAGE > 0.6 && SNR_ISO > 40");
+  EXPECT_EQ(space.mask(objects()), (std::vector<bool>{true, false, false, false}));
+  // 0.10 < a < 0.15 with e > 0.6: the second object only.
+  const SearchSpace weak("weak", "ARCNESS > 0.10 && ARCNESS < 0.15 && E_IMAGE > 0.6");
+  EXPECT_EQ(weak.mask(objects()), (std::vector<bool>{false, true, false, false}));
+  EXPECT_EQ(countSelected(weak.mask(objects())), 1);
+  // || and !: everything but the third object, whose e is 0.5; the NaN row never passes.
+  const SearchSpace either("either", "!(E_IMAGE < 0.6) || SNR_ISO > 1000");
+  EXPECT_EQ(either.mask(objects()), (std::vector<bool>{true, true, false, true}));
+}
+
+TEST(ColumnExpression, ValuesOfArithmeticFunctionsAndComparisons) {
+  const Table t = objects();
+  const auto values = [&](const std::string& text) {
+    return ColumnExpression(text, "test").evaluate(t);
+  };
+  const std::vector<double> snr = values("log10(SNR_ISO)");
+  EXPECT_DOUBLE_EQ(snr[0], std::log10(50.0));
+  EXPECT_EQ(snr[1], 2.0);  // log10(100)
+  // 2 a + 1: 1.4, 1.24, 1.6 (and NaN).
+  const std::vector<double> linear = values("2 * ARCNESS + 1");
+  EXPECT_DOUBLE_EQ(linear[0], 1.4);
+  EXPECT_DOUBLE_EQ(linear[1], 1.24);
+  EXPECT_DOUBLE_EQ(linear[2], 1.6);
+  EXPECT_TRUE(std::isnan(linear[3]));
+  EXPECT_EQ(values("E_IMAGE > 0.6"), (std::vector<double>{1, 1, 0, 1}));
+  EXPECT_EQ(values("E_IMAGE > 0.6 ? SNR_ISO : -1"), (std::vector<double>{50, 100, -1, 60}));
+  EXPECT_DOUBLE_EQ(values("min(E_IMAGE, 0.75)")[1], 0.75);
+  EXPECT_DOUBLE_EQ(values("sqrt(SNR_ISO) ^ 2")[2], 45.0);
+  EXPECT_DOUBLE_EQ(values("ln(_e) + abs(-2)")[0], 3.0);  // no column at all
+  EXPECT_DOUBLE_EQ(values("log(_e)")[0], 1.0);           // log is the natural logarithm
+  const ColumnExpression cut("SNR_ISO > 40 && ARCNESS > E_IMAGE / 4", "test");
+  EXPECT_EQ(cut.variables(), (std::vector<std::string>{"ARCNESS", "E_IMAGE", "SNR_ISO"}));
+}
+
+TEST(ColumnExpression, ARowWithNanInAUsedColumnIsNan) {
+  const Table t = objects();
+  // IEEE comparisons would make !(NaN < 0.1) true; the row is NaN instead and never passes.
+  const std::vector<double> v = ColumnExpression("!(ARCNESS < 0.1)", "test").evaluate(t);
+  EXPECT_EQ(v[0], 1.0);
+  EXPECT_TRUE(std::isnan(v[3]));
+  // A column the expression does not use does not matter.
+  EXPECT_EQ(ColumnExpression("E_IMAGE > 0.6", "test").evaluate(t)[3], 1.0);
+}
+
+TEST(SearchSpace, ErrorsNameTheSpaceAndTheProblem) {
+  using test::expectError;
+  // Syntax errors: muparser's message with the 0-based position of the fault.
+  expectError<ConfigError>([] { SearchSpace("strong", "ARCNESS > "); },
+                           {"search space 'strong': cannot parse \"ARCNESS > \"",
+                            "Unexpected end of expression at position"});
+  expectError<ConfigError>([] { SearchSpace("strong", "ARCNESS > 0.1 &&& E_IMAGE"); },
+                           {"search space 'strong'", "cannot parse", "found at position 16"});
+  // An unknown function is a name followed by a parenthesis.
+  expectError<ConfigError>([] { SearchSpace("strong", "lg10(SNR_ISO) > 1"); },
+                           {"search space 'strong'", "Unexpected parenthesis \"(\" at position 4"});
+  expectError<ConfigError>([] { SearchSpace("strong", "(ARCNESS > 0.1"); },
+                           {"search space 'strong'", "Missing parenthesis"});
+  expectError<ConfigError>([] { SearchSpace("strong", "ARCNESS, E_IMAGE"); },
+                           {"search space 'strong' (ARCNESS, E_IMAGE)", "gives 2 values"});
+  expectError<ConfigError>([] { SearchSpace("strong", "  "); },
+                           {"search space 'strong'", "empty expression"});
+  expectError<ConfigError>([] { SearchSpace("", "ARCNESS > 0.1"); }, {"needs a name"});
+  // An unknown column: its name and the columns there are (scalar ones: vectors are not
+  // variables).
+  std::vector<ColumnSpec> specs(3);
+  specs[0].name = "ARCNESS";
+  specs[1].name = "E_IMAGE";
+  specs[2].name = "VECTOR_ASSOC";
+  specs[2].repeat = 3;
+  const Table t(specs);
+  expectError<ConfigError>([&] { SearchSpace("strong", "ARCNES > 0.15").mask(t); },
+                           {"search space 'strong' (ARCNES > 0.15)", "unknown column ARCNES",
+                            "(columns: ARCNESS, E_IMAGE)"});
+  expectError<ConfigError>([&] { SearchSpace("s", "VECTOR_ASSOC > 1").mask(t); },
+                           {"unknown column VECTOR_ASSOC"});
+  // An empty space of simulated arcs: no row passes.
+  expectError<ConfigError>([] { SearchSpace("huge", "ARCNESS > 0.5").simulatedMask(objects()); },
+                           {"search space 'huge' (ARCNESS > 0.5): no simulated row passes (of 4)"});
+  EXPECT_EQ(SearchSpace("strong", "ARCNESS > 0.15").simulatedMask(objects()),
+            (std::vector<bool>{true, false, true, false}));
+}
+
+}  // namespace
+}  // namespace octarc
