@@ -8,14 +8,17 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
+#include <new>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/core/Parallel.h"
 #include "octarc/io/detail/Cfitsio.h"
 
@@ -24,6 +27,7 @@ namespace octarc {
 namespace {
 
 using detail::FitsPtr;
+using detail::hduIndex;
 using detail::throwIfFitsError;
 
 // Axes beyond the second are accepted only when degenerate (length 1), as in data cubes with a
@@ -63,10 +67,9 @@ std::string fileOf(const std::string& path) {
   return bracket == std::string::npos ? path : path.substr(0, bracket);
 }
 
-int currentHdu(fitsfile* f) {
-  int hdu = 0;
-  fits_get_hdu_num(f, &hdu);  // 1-based
-  return hdu - 1;
+// "file: HDU n", the start of every message about one HDU.
+std::string hduText(fitsfile* f, const std::string& path) {
+  return fileOf(path) + ": HDU " + std::to_string(hduIndex(f));
 }
 
 int hduType(fitsfile* f, const std::string& path) {
@@ -85,35 +88,71 @@ ImageShape readShape(fitsfile* f, const std::string& path) {
   return shape;
 }
 
+// An HDU without pixels to look for: NAXIS = 0 (the usual empty primary of a MEF), or a 1-D
+// axis of length 0. A 2-D image with a zero axis is not empty but wrong (requireTwoDimensional).
 bool isEmpty(const ImageShape& shape) {
-  if (shape.naxis == 0) return true;
-  for (int i = 0; i < std::min(shape.naxis, kMaxAxes); ++i) {
-    if (shape.naxes[i] == 0) return true;
-  }
-  return false;
+  return shape.naxis == 0 || (shape.naxis == 1 && shape.naxes[0] == 0);
 }
 
 void requireImageHdu(fitsfile* f, const std::string& path) {
+  detail::requireSoundHdu(f, fileOf(path));
   const int type = hduType(f, path);
   if (type == IMAGE_HDU) return;
-  throw IoError(path + ": HDU " + std::to_string(currentHdu(f)) + " is " +
+  throw IoError(path + ": HDU " + std::to_string(hduIndex(f)) + " is " +
                 (type == BINARY_TBL ? "a binary table" : "an ASCII table") + ", not an image");
 }
 
-void requireTwoDimensional(const ImageShape& shape, const std::string& path) {
+// A 2-D image (further axes of length 1 allowed) of at least 1 x 1 pixels whose pixel count,
+// as float and as double, can be addressed. Checked before any pixel buffer is allocated; that
+// the data fit in the file has been checked by requireSoundHdu. `where` is "file: HDU n".
+void requireTwoDimensional(const ImageShape& shape, const std::string& where) {
   if (shape.naxis < 2 || shape.naxis > kMaxAxes) {
-    throw IoError(path + ": image has NAXIS = " + std::to_string(shape.naxis) +
+    throw IoError(where + ": image has NAXIS = " + std::to_string(shape.naxis) +
                   ", expected a 2-D image");
   }
   for (int i = 2; i < shape.naxis; ++i) {
     if (shape.naxes[i] != 1) {
-      throw IoError(path + ": image has NAXIS = " + std::to_string(shape.naxis) + " with NAXIS" +
+      throw IoError(where + ": image has NAXIS = " + std::to_string(shape.naxis) + " with NAXIS" +
                     std::to_string(i + 1) + " = " + std::to_string(shape.naxes[i]) +
                     ", expected a 2-D image");
     }
   }
-  if (shape.naxes[0] <= 0 || shape.naxes[1] <= 0) {
-    throw IoError(path + ": image has zero size");
+  const std::string size = std::to_string(shape.naxes[0]) + " x " + std::to_string(shape.naxes[1]);
+  if (shape.naxes[0] < 1 || shape.naxes[1] < 1) {
+    throw IoError(where + ": image is " + size + " pixels, expected at least 1 x 1");
+  }
+  long long count = 0;
+  if (__builtin_mul_overflow(static_cast<long long>(shape.naxes[0]),
+                             static_cast<long long>(shape.naxes[1]), &count) ||
+      count > PTRDIFF_MAX / static_cast<long long>(sizeof(double))) {
+    throw IoError(where + ": image of " + size + " pixels is too large to be held in memory");
+  }
+}
+
+// BSCALE and BZERO must be finite numbers, BSCALE not 0, and (for integer data) BLANK an
+// integer: otherwise the pixel values cannot be interpreted. cfitsio would read such a header
+// (ignoring or replacing what it cannot parse), so it is refused here, before either the raw
+// float reader or cfitsio sees the pixels. BLANK of a floating-point image has no meaning in
+// FITS (NaN marks undefined pixels) and is ignored, as by cfitsio.
+void requireUsableScaling(const FitsHeader& header, int bitpix, const std::string& where) {
+  const auto refuse = [&](const char* key, const std::string& value, const char* expected) {
+    throw IoError(where + ": " + key + " = " + quoteForMessage(value) + " is not " + expected +
+                  ": the pixel values cannot be interpreted");
+  };
+  if (const std::optional<std::string> text = header.value("BSCALE")) {
+    const std::optional<double> v = header.number("BSCALE");
+    if (!v || *v == 0.0) refuse("BSCALE", *text, "a finite non-zero number");
+  }
+  if (const std::optional<std::string> text = header.value("BZERO")) {
+    if (!header.number("BZERO")) refuse("BZERO", *text, "a finite number");
+  }
+  if (bitpix > 0) {
+    if (const std::optional<std::string> text = header.value("BLANK")) {
+      const std::optional<double> v = header.number("BLANK");
+      if (!v || *v != std::floor(*v) || std::fabs(*v) > 9.2e18) {
+        refuse("BLANK", *text, "an integer");
+      }
+    }
   }
 }
 
@@ -131,6 +170,7 @@ void moveToImage(fitsfile* f, const std::string& path) {
   for (int hdu = 1; hdu <= count; ++hdu) {
     fits_movabs_hdu(f, hdu, nullptr, &status);
     throwIfFitsError(status, path, "cannot read HDU " + std::to_string(hdu - 1));
+    detail::requireSoundHdu(f, path);
     if (hduType(f, path) == IMAGE_HDU && !isEmpty(readShape(f, path))) return;
   }
   throw IoError(path + ": no image HDU in file");
@@ -180,14 +220,27 @@ void requireCompleteData(fitsfile* f, const std::string& path) {
 ImageHdu readHduInfo(fitsfile* f, const std::string& path) {
   ImageHdu hdu;
   hdu.path = path;
-  hdu.hduIndex = currentHdu(f);
+  hdu.hduIndex = hduIndex(f);
   const ImageShape shape = readShape(f, path);
-  requireTwoDimensional(shape, path);
+  requireTwoDimensional(shape, hduText(f, path));
   requireCompleteData(f, path);
   hdu.bitpix = shape.bitpix;
   hdu.header = readHeaderCards(f, path);
+  requireUsableScaling(hdu.header, shape.bitpix, hduText(f, path));
   hdu.extname = hdu.header.value("EXTNAME").value_or("");
   return hdu;
+}
+
+// Image sizes have been checked against the file, except for tile-compressed images whose
+// pixels may legitimately need far more memory than the file: that failure names the file too.
+template <typename T>
+Image<T> allocatePixels(fitsfile* f, const std::string& path, long width, long height) {
+  try {
+    return Image<T>(width, height, UninitializedPixels{});  // every pixel is read by the caller
+  } catch (const std::bad_alloc&) {
+    throw IoError(hduText(f, path) + ": image of " + std::to_string(width) + " x " +
+                  std::to_string(height) + " pixels does not fit in memory");
+  }
 }
 
 // cfitsio reads an image serially through its own buffers. A plain BITPIX -32 image in a disk
@@ -262,7 +315,7 @@ bool readPlainFloatData(fitsfile* f, ImageF& pixels) {
 // value, and identical to the pixels SExtractor measures, so that catalogs can agree with
 // SExtractor's to the last digit.
 ImageF readPixels(fitsfile* f, const std::string& path, int bitpix, long width, long height) {
-  ImageF pixels(width, height, UninitializedPixels{});  // every pixel is read below
+  ImageF pixels = allocatePixels<float>(f, path, width, height);
   long first[kMaxAxes];
   std::fill(std::begin(first), std::end(first), 1L);
   int anyNull = 0;
@@ -311,7 +364,7 @@ std::vector<std::string> listImageHdus(const std::string& path) {
   FitsPtr f = detail::openFits(path);
   if (namesHdu(path)) {
     requireImageHdu(f.get(), path);
-    requireTwoDimensional(readShape(f.get(), path), path);
+    requireTwoDimensional(readShape(f.get(), path), hduText(f.get(), path));
     return {path};
   }
   int count = 0;
@@ -324,10 +377,11 @@ std::vector<std::string> listImageHdus(const std::string& path) {
   for (int hdu = 1; hdu <= count; ++hdu) {
     fits_movabs_hdu(f.get(), hdu, nullptr, &status);
     throwIfFitsError(status, path, "cannot read HDU " + std::to_string(hdu - 1));
+    detail::requireSoundHdu(f.get(), path);
     if (hduType(f.get(), path) != IMAGE_HDU) continue;
     const ImageShape shape = readShape(f.get(), path);
     if (isEmpty(shape)) continue;
-    requireTwoDimensional(shape, path + "[" + std::to_string(hdu - 1) + "]");
+    requireTwoDimensional(shape, hduText(f.get(), path));
     images.push_back(hdu - 1);
   }
   if (images.empty()) throw IoError(path + ": no image HDU in file");
@@ -356,9 +410,10 @@ ImageI32 readIntImage(const std::string& path, FitsHeader* header) {
   FitsPtr f = detail::openFits(path);
   moveToImage(f.get(), path);
   const ImageShape shape = readShape(f.get(), path);
-  requireTwoDimensional(shape, path);
+  requireTwoDimensional(shape, hduText(f.get(), path));
   requireCompleteData(f.get(), path);
   FitsHeader cards = readHeaderCards(f.get(), path);
+  requireUsableScaling(cards, shape.bitpix, hduText(f.get(), path));
   const double bscale = cards.number("BSCALE").value_or(1.0);
   const double bzero = cards.number("BZERO").value_or(0.0);
   if (shape.bitpix < 0 || bscale != 1.0 || bzero != std::floor(bzero)) {
@@ -367,7 +422,7 @@ ImageI32 readIntImage(const std::string& path, FitsHeader* header) {
                   (bzero != std::floor(bzero) ? ", non-integer BZERO" : "") +
                   "), expected integer labels");
   }
-  ImageI32 pixels(shape.naxes[0], shape.naxes[1], UninitializedPixels{});  // all read below
+  ImageI32 pixels = allocatePixels<std::int32_t>(f.get(), path, shape.naxes[0], shape.naxes[1]);
   long first[kMaxAxes];
   std::fill(std::begin(first), std::end(first), 1L);
   int anyNull = 0;

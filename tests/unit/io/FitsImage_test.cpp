@@ -246,6 +246,126 @@ TEST(FitsImage, BadInputGivesOneLineIoErrorNamingTheFile) {
   expectIoError([&] { listImageHdus(cube.string()); }, cube.string(), "NAXIS = 3");
 }
 
+// Sizes no file can hold are refused from the header, before any allocation, naming the file,
+// the HDU and the size, by every reader (images, headers, segmentation images). These headers
+// come from mutation fuzzing: 2^63 - 1 overflowed in Image, 2^62 x 4 wrapped to 0 pixels.
+TEST(FitsImage, SizesTheFileCannotHoldAreRefusedBeforeAllocation) {
+  const fs::path dir = test::scratchDir();
+  struct Case {
+    const char* name;
+    int bitpix;
+    std::vector<std::string> axes;
+    const char* fragment;
+  };
+  const std::vector<Case> cases = {
+      {"max63.fits", -32, {"9223372036854775807", "1"}, "9223372036854775807 x 1"},
+      {"wraps.fits", -32, {"4611686018427387904", "4"}, "4611686018427387904 x 4"},
+      {"max63seg.fits", 32, {"1", "9223372036854775807"}, "1 x 9223372036854775807"},
+      // 100000 x 100000 floats: 40 GB promised by a file of two blocks.
+      {"huge.fits", -32, {"100000", "100000"}, "40000000000 bytes"},
+      {"hugeseg.fits", 16, {"100000", "100000"}, "20000000000 bytes"},
+  };
+  for (const Case& c : cases) {
+    const fs::path path = dir / c.name;
+    test::writeRawFits(path, {{test::primaryCards(c.bitpix, c.axes), 400}});
+    const std::string file = path.string();
+    expectIoError([&] { readImage(file); }, file + ": HDU 0", c.fragment);
+    expectIoError([&] { readImageHeader(file); }, file + ": HDU 0", c.fragment);
+    expectIoError([&] { readIntImage(file); }, file + ": HDU 0", c.fragment);
+    expectIoError([&] { listImageHdus(file); }, file + ": HDU 0", c.fragment);
+  }
+  // The same in an extension of a multi-extension file names that HDU.
+  const fs::path mef = dir / "mef.fits";
+  std::vector<std::string> ext = {card("XTENSION", "'IMAGE   '"),
+                                  card("BITPIX", "-32"),
+                                  card("NAXIS", "2"),
+                                  card("NAXIS1", "3000"),
+                                  card("NAXIS2", "3000"),
+                                  card("PCOUNT", "0"),
+                                  card("GCOUNT", "1")};
+  test::writeRawFits(mef, {{test::primaryCards(8, {}, {card("EXTEND", "T")}), 0}, {ext, 36}});
+  expectIoError([&] { listImageHdus(mef.string()); }, mef.string() + ": HDU 1", "truncated");
+  expectIoError([&] { readImage(mef.string()); }, mef.string() + ": HDU 1", "36000000 bytes");
+  expectIoError([&] { readImage(mef.string() + "[1]"); }, mef.string() + ": HDU 1", "truncated");
+}
+
+TEST(FitsImage, ZeroAxisOfATwoDimensionalImageIsRefused) {
+  const fs::path dir = test::scratchDir();
+  const fs::path path = dir / "zero.fits";
+  test::writeRawFits(path, {{test::primaryCards(-32, {"0", "10"}), 0}});
+  expectIoError([&] { readImage(path.string()); }, path.string() + ": HDU 0", "0 x 10 pixels");
+  expectIoError([&] { readIntImage(path.string()); }, path.string() + ": HDU 0", "0 x 10");
+  expectIoError([&] { listImageHdus(path.string()); }, path.string() + ": HDU 0", "0 x 10");
+}
+
+TEST(FitsImage, ExtensionOfUnknownTypeIsRefused) {
+  // cfitsio takes any XTENSION for an image; 'FOO' must not be read as pixels.
+  const fs::path dir = test::scratchDir();
+  const fs::path path = dir / "foo.fits";
+  const std::vector<std::string> ext = {card("XTENSION", "'FOO     '"),
+                                        card("BITPIX", "-32"),
+                                        card("NAXIS", "2"),
+                                        card("NAXIS1", "2"),
+                                        card("NAXIS2", "2"),
+                                        card("PCOUNT", "0"),
+                                        card("GCOUNT", "1")};
+  test::writeRawFits(path, {{test::primaryCards(8, {}, {card("EXTEND", "T")}), 0}, {ext, 16}});
+  for (const std::string& p : {path.string(), path.string() + "[1]"}) {
+    expectIoError([&] { readImage(p); }, path.string() + ": HDU 1", "XTENSION 'FOO'");
+    expectIoError([&] { listImageHdus(p); }, path.string() + ": HDU 1", "XTENSION 'FOO'");
+  }
+}
+
+// BSCALE/BZERO/BLANK that are not numbers were ignored or replaced by cfitsio, so that a file
+// was read with other pixel values than it states. Both readers (the raw float reader and
+// cfitsio's) must refuse them, naming the file, the HDU and the keyword with its value.
+TEST(FitsImage, ScalingKeywordsThatAreNotNumbersAreRefused) {
+  const fs::path dir = test::scratchDir();
+  struct Case {
+    int bitpix;
+    std::string key;
+    std::string value;
+    std::string shown;
+  };
+  const std::vector<Case> cases = {
+      {-32, "BSCALE", "'x'", "BSCALE = 'x'"},   {16, "BSCALE", "'x'", "BSCALE = 'x'"},
+      {-32, "BSCALE", "NaN", "BSCALE = 'NaN'"}, {16, "BSCALE", "NaN", "BSCALE = 'NaN'"},
+      {-32, "BSCALE", "0", "BSCALE = '0'"},     {16, "BSCALE", "0.0", "BSCALE = '0.0'"},
+      {-32, "BZERO", "'x'", "BZERO = 'x'"},     {16, "BZERO", "'x'", "BZERO = 'x'"},
+      {-32, "BZERO", "Inf", "BZERO = 'Inf'"},   {32, "BZERO", "0x10", "BZERO = '0x10'"},
+      {16, "BLANK", "'x'", "BLANK = 'x'"},      {16, "BLANK", "1.5", "BLANK = '1.5'"},
+      {32, "BLANK", "NaN", "BLANK = 'NaN'"},
+  };
+  int k = 0;
+  for (const Case& c : cases) {
+    const fs::path path = dir / ("scaling" + std::to_string(k++) + ".fits");
+    test::writeRawFits(path, {{test::primaryCards(c.bitpix, {"10", "10"}, {card(c.key, c.value)}),
+                               std::size_t(100 * std::abs(c.bitpix) / 8)}});
+    const std::string where = path.string() + ": HDU 0: " + c.shown;
+    expectIoError([&] { readImage(path.string()); }, where, "cannot be interpreted");
+    expectIoError([&] { readImageHeader(path.string()); }, where, "cannot be interpreted");
+    if (c.bitpix > 0) expectIoError([&] { readIntImage(path.string()); }, where);
+  }
+  // BLANK means nothing for floating-point data (NaN marks undefined pixels): ignored there.
+  const fs::path floatBlank = dir / "floatblank.fits";
+  test::writeRawFits(floatBlank,
+                     {{test::primaryCards(-32, {"10", "10"}, {card("BLANK", "'x'")}), 400}});
+  const ImageHdu hdu = readImage(floatBlank.string());
+  EXPECT_EQ(hdu.pixels(9, 9), 0.0f);
+}
+
+TEST(FitsImage, ExplicitUnitScalingOfFloatsReadsTheStoredValues) {
+  // BSCALE = 1 and BZERO = 0 written out are the same as no scaling (the raw reader applies).
+  const fs::path dir = test::scratchDir();
+  const fs::path path = dir / "unit.fits";
+  FitsWriter(path).image(-32, {3, 1}, {1.5, -2.25, 1e30},
+                         {card("BSCALE", "1.0"), card("BZERO", "0.0")});
+  const ImageHdu hdu = readImage(path.string());
+  EXPECT_EQ(hdu.pixels[0], 1.5f);
+  EXPECT_EQ(hdu.pixels[1], -2.25f);
+  EXPECT_EQ(hdu.pixels[2], 1e30f);
+}
+
 TEST(FitsImage, ReadIntImageIsExactAndRejectsNonIntegerImages) {
   const fs::path dir = test::scratchDir();
   // 2147483000 has no exact float representation: the int path must not go through float.

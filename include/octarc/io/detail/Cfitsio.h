@@ -4,6 +4,7 @@
 
 #include <fitsio.h>
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -57,5 +58,21 @@ inline FitsPtr createFits(const std::string& path) {
   throwIfFitsError(status, path, "cannot create");
   return FitsPtr(f);
 }
+
+// 0-based index of the current HDU (0 = primary).
+inline int hduIndex(fitsfile* f) {
+  int hdu = 0;
+  fits_get_hdu_num(f, &hdu);  // 1-based
+  return hdu - 1;
+}
+
+// Checks the current HDU before anything is read or allocated from its sizes, and returns the
+// size of its data in bytes. cfitsio takes any XTENSION for an image and computes the data size
+// |BITPIX|/8 * GCOUNT * (PCOUNT + NAXIS1 * ... * NAXISn) without overflow checks, so a header
+// can claim more data than any file holds. Refused with an IoError naming the file and the HDU:
+// an extension whose XTENSION is not 'IMAGE', 'BINTABLE' or 'TABLE'; a data size that overflows
+// 64 bits; data that does not fit in the bytes of the file after the header (the padding of the
+// last block is not required here).
+std::int64_t requireSoundHdu(fitsfile* f, const std::string& path);
 
 }  // namespace octarc::detail
