@@ -1,0 +1,78 @@
+#include "octarc/pipeline/RunSettings.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+
+#include "TestPaths.h"
+#include "octarc/core/Error.h"
+#include "octarc/sexcompat/Config.h"
+#include "octarc/sexcompat/Keys.h"
+
+namespace octarc {
+namespace {
+
+RunSettings settingsFromFile(const std::string& text) {
+  const std::filesystem::path path = test::scratchDir() / "run.sex";
+  std::ofstream(path) << text;
+  const sexcompat::Config config =
+      sexcompat::Config::load(sexcompat::octarcMeasureKeys(), path.string(), {}, nullptr);
+  return settingsFromConfig(config);
+}
+
+// Found by mutation fuzzing of .sex files: these lines ended in vector::_M_range_check, an
+// internal error with exit status 3. A list given empty is "not given", as in SExtractor.
+TEST(RunSettings, KeysGivenWithoutValueAreNotGiven) {
+  const RunSettings s = settingsFromFile(
+      "WEIGHT_TYPE\n"
+      "WEIGHT_IMAGE\n"
+      "WEIGHT_THRESH ,\n"
+      "CHECKIMAGE_TYPE\n"
+      "CHECKIMAGE_NAME ,\n"
+      "SEGMENTATION_NAME\n"
+      "INPUT_CATALOG\n"
+      "BACKGROUND_NAME\n"
+      "BACKGROUND_RMS_NAME ;\n"
+      "DETECT_LEVELS\n"
+      "FLAG_IMAGE\n"
+      "FLAG_TYPE\n"
+      "FILTER_THRESH\n");
+  EXPECT_EQ(s.weightType, WeightType::None);
+  EXPECT_FALSE(s.weightThreshold.has_value());
+  EXPECT_TRUE(s.checkImageTypes.empty());
+  EXPECT_TRUE(s.segmentationPaths.empty());
+  EXPECT_TRUE(s.inputCatalogPaths.empty());
+  EXPECT_TRUE(s.backgroundMapPath.empty());
+  EXPECT_TRUE(s.backgroundRmsMapPath.empty());
+  EXPECT_TRUE(s.detectLevels.empty());
+}
+
+TEST(RunSettings, WeightTypeWithABareWeightImageAsksForTheMap) {
+  try {
+    settingsFromFile("WEIGHT_TYPE MAP_WEIGHT\nWEIGHT_IMAGE\n");
+    ADD_FAILURE() << "no ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "WEIGHT_IMAGE: WEIGHT_TYPE MAP_WEIGHT needs a weight map file");
+  }
+}
+
+TEST(RunSettings, PairsTakeTheSecondValueWhenGiven) {
+  const RunSettings one = settingsFromFile("THRESH_TYPE ABSOLUTE\nBACK_SIZE 32\n");
+  EXPECT_EQ(one.detectThresholdType, ThresholdType::Absolute);
+  EXPECT_EQ(one.analysisThresholdType, ThresholdType::Absolute);
+  EXPECT_EQ(one.backMeshWidthPix, 32);
+  EXPECT_EQ(one.backMeshHeightPix, 32);
+  const RunSettings two =
+      settingsFromFile("THRESH_TYPE ABSOLUTE,RELATIVE\nBACK_SIZE 32,48\nBACK_FILTERSIZE 3,5\n");
+  EXPECT_EQ(two.detectThresholdType, ThresholdType::Absolute);
+  EXPECT_EQ(two.analysisThresholdType, ThresholdType::Relative);
+  EXPECT_EQ(two.backMeshWidthPix, 32);
+  EXPECT_EQ(two.backMeshHeightPix, 48);
+  EXPECT_EQ(two.backFilterWidth, 3);
+  EXPECT_EQ(two.backFilterHeight, 5);
+}
+
+}  // namespace
+}  // namespace octarc
