@@ -7,6 +7,7 @@
 
 #include "TestPaths.h"
 #include "octarc/core/Error.h"
+#include "octarc/pipeline/CatalogAssembly.h"
 #include "octarc/sexcompat/Config.h"
 #include "octarc/sexcompat/Keys.h"
 
@@ -72,6 +73,26 @@ TEST(RunSettings, PairsTakeTheSecondValueWhenGiven) {
   EXPECT_EQ(two.backMeshHeightPix, 48);
   EXPECT_EQ(two.backFilterWidth, 3);
   EXPECT_EQ(two.backFilterHeight, 5);
+}
+
+// Every catalog row holds the whole VECTOR_ASSOC: a size from a .param file could ask for
+// gigabytes per object. It is limited to the longest ASSOC_DATA list.
+TEST(ColumnPlan, VectorAssocSizeIsLimited) {
+  const std::filesystem::path dir = test::scratchDir();
+  RunSettings s;
+  s.parametersPath = (dir / "a.param").string();
+  std::ofstream(s.parametersPath) << "NUMBER\nVECTOR_ASSOC(2048)\n";
+  EXPECT_EQ(planColumns(s, true).assocVectorSize, 2048);
+  std::ofstream(s.parametersPath) << "NUMBER\nVECTOR_ASSOC(64,64)\n";
+  try {
+    planColumns(s, true);
+    ADD_FAILURE() << "no ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              s.parametersPath +
+                  ":2: VECTOR_ASSOC(4096): at most 2048 elements (the longest "
+                  "ASSOC_DATA)");
+  }
 }
 
 }  // namespace
