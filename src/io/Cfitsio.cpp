@@ -1,10 +1,16 @@
 #include "octarc/io/detail/Cfitsio.h"
 
+#include <cstdio>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
+
+// cfitsio reads raw bytes at the position set by ffmbyt (public, fitsio.h) with ffgbyt, which
+// its installed fitsio2.h declares without C linkage for C++.
+extern "C" int ffgbyt(fitsfile* fptr, LONGLONG nbytes, void* buffer, int* status);
 
 namespace octarc::detail {
 
@@ -29,7 +35,143 @@ std::string axesText(const std::vector<long long>& axes) {
   return text;
 }
 
+// Highest expansion ratio of a deflate stream (RFC 1951: a 258-byte match coded in at least
+// 2 bits): 1032 to 1, plus room for headers.
+constexpr long long kMaxDeflateRatio = 1032;
+constexpr long long kDeflateSlackBytes = 65536;
+
+// cfitsio decompresses a gzip or zip file into a memory buffer sized from the size the file
+// states (gzip: the ISIZE trailer; zip: the local header), whatever the data can expand to: a
+// 1 KB file could make it allocate 4 GB. A stated size no deflate stream of this length can
+// reach is refused. Other compressed formats get a buffer of three times the file size.
+void requireHonestCompressedSize(const std::string& path) {
+  char root[FLEN_FILENAME] = {0};
+  int status = 0;
+  if (path.size() >= FLEN_FILENAME ||
+      fits_parse_rootname(const_cast<char*>(path.c_str()), root, &status) != 0) {
+    fits_clear_errmsg();
+    return;  // cfitsio will report the name
+  }
+  std::string disk = root;
+  if (disk.compare(0, 7, "file://") == 0) disk.erase(0, 7);
+  // cfitsio also opens name.gz, name.Z, ... when name does not exist.
+  std::FILE* in = nullptr;
+  for (const char* suffix : {"", ".gz", ".Z", ".z", ".zip"}) {
+    in = std::fopen((disk + suffix).c_str(), "rb");
+    if (in != nullptr) break;
+  }
+  if (in == nullptr) return;
+  unsigned char magic[2] = {0, 0};
+  unsigned char stated[4] = {0, 0, 0, 0};
+  long long fileBytes = -1;
+  bool compressed = false;
+  if (std::fread(magic, 1, 2, in) == 2) {
+    const bool gzip = magic[0] == 0x1F && magic[1] == 0x8B;
+    const bool zip = magic[0] == 'P' && magic[1] == 'K';
+    if ((gzip || zip) && std::fseek(in, 0, SEEK_END) == 0) {
+      fileBytes = std::ftell(in);
+      compressed = fileBytes >= 4 &&
+                   std::fseek(in, gzip ? -4L : 22L, gzip ? SEEK_END : SEEK_SET) == 0 &&
+                   std::fread(stated, 1, 4, in) == 4;
+    }
+  }
+  std::fclose(in);
+  if (!compressed) return;
+  long long size =
+      stated[0] | (stated[1] << 8) | (stated[2] << 16) | (static_cast<long long>(stated[3]) << 24);
+  // cfitsio adds 2^32 until the size exceeds the file's, for files above 10000 bytes.
+  if (magic[0] == 0x1F && fileBytes > 10000) {
+    while (size < fileBytes) size += 4294967296LL;
+  }
+  if (size > kMaxDeflateRatio * fileBytes + kDeflateSlackBytes) {
+    throw IoError(path + ": compressed file of " + std::to_string(fileBytes) +
+                  " bytes states an uncompressed size of " + std::to_string(size) +
+                  " bytes, more than its data can hold");
+  }
+}
+
+// Checks the raw header starting at byte `headStart` (HDU `hdu`, from 0) before cfitsio parses
+// it. cfitsio 4.2 copies the value of a TTYPEn card of a table into a 70-byte buffer with
+// strcpy: an unquoted value of 70 characters or more (or one after an '=' out of place)
+// overflows it. FITS wants TTYPEn to be a quoted string, so anything else is refused.
+void requireSafeHeader(fitsfile* f, LONGLONG headStart, int hdu, const std::string& path) {
+  const LONGLONG fileBytes = f->Fptr->filesize;
+  bool table = false;
+  char block[2880];
+  for (LONGLONG at = headStart; at + 2880 <= fileBytes; at += 2880) {
+    int status = 0;
+    constexpr int kReportEof = 0;  // fitsio2.h REPORT_EOF
+    if (ffmbyt(f, at, kReportEof, &status) != 0 || ffgbyt(f, 2880, block, &status) != 0) {
+      fits_clear_errmsg();
+      return;  // cfitsio will report what it cannot read
+    }
+    for (int c = 0; c < 36; ++c) {
+      const std::string_view card(block + 80 * c, 80);
+      if (card.compare(0, 8, "END     ") == 0) return;
+      if (at == headStart && c == 0) {
+        table = card.compare(0, 20, "XTENSION= 'BINTABLE'") == 0 ||
+                card.compare(0, 20, "XTENSION= 'TABLE   '") == 0 ||
+                card.compare(0, 20, "XTENSION= 'A3DTABLE'") == 0;
+      }
+      if (!table || card.compare(0, 5, "TTYPE") != 0) continue;
+      const std::size_t value = card.find_first_not_of(' ', 10);
+      if (card.compare(8, 2, "= ") != 0 || value == std::string_view::npos || card[value] != '\'') {
+        std::string_view keyword = card.substr(0, card.find_first_of(" =", 0));
+        if (keyword.size() > 8) keyword = keyword.substr(0, 8);
+        throw IoError(path + ": HDU " + std::to_string(hdu) + ": " + quoteForMessage(keyword) +
+                      " is not a quoted string (FITS table column names are)");
+      }
+    }
+  }
+}
+
 }  // namespace
+
+FitsPtr openFits(const std::string& path, bool readWrite) {
+  requireHonestCompressedSize(path);
+  const auto open = [&](const std::string& name) {
+    fitsfile* f = nullptr;
+    int status = 0;
+    fits_open_file(&f, name.c_str(), readWrite ? READWRITE : READONLY, &status);
+    if (status != 0) {
+      if (f != nullptr) {
+        int ignored = 0;
+        fits_close_file(f, &ignored);
+      }
+      throwIfFitsError(status, path, "cannot open as FITS");
+    }
+    return FitsPtr(f);
+  };
+  // The file alone first: cfitsio then parses the primary header only. Every further header is
+  // checked before cfitsio moves to it; a path that selects an HDU ("f.fits[2]") is opened
+  // again once all of them passed.
+  char root[FLEN_FILENAME] = {0};
+  int status = 0;
+  const bool hasRoot = path.size() < FLEN_FILENAME &&
+                       fits_parse_rootname(const_cast<char*>(path.c_str()), root, &status) == 0 &&
+                       root[0] != '\0';
+  if (!hasRoot) fits_clear_errmsg();
+  FitsPtr file = open(hasRoot ? std::string(root) : path);
+  fitsfile* f = file.get();
+  for (int hdu = 0;; ++hdu) {
+    LONGLONG headStart = 0, dataStart = 0, dataEnd = 0;
+    status = 0;
+    fits_get_hduaddrll(f, &headStart, &dataStart, &dataEnd, &status);
+    if (status != 0 || dataEnd + 2880 > f->Fptr->filesize) break;
+    requireSafeHeader(f, dataEnd, hdu + 1, hasRoot ? std::string(root) : path);
+    fits_movabs_hdu(f, hdu + 2, nullptr, &status);
+    if (status != 0) break;  // reported by the reader when it gets there
+  }
+  fits_clear_errmsg();
+  if (!hasRoot || std::string(root) != path) {
+    file.reset();
+    return open(path);
+  }
+  status = 0;
+  fits_movabs_hdu(f, 1, nullptr, &status);
+  throwIfFitsError(status, path, "cannot read HDU 0");
+  return file;
+}
 
 std::int64_t requireSoundHdu(fitsfile* f, const std::string& path) {
   const int hdu = hduIndex(f);

@@ -357,6 +357,16 @@ TEST_F(InputCatalog, HduOfUnknownTypeIsRefused) {
   expectRefused(bad, {"HDU 1", "XTENSION 'FOO'"});
 }
 
+// Found by fuzzing: an unquoted TTYPEn value of 70 characters overflows a buffer in cfitsio 4.2
+// (abort); the header is refused before cfitsio parses it.
+TEST_F(InputCatalog, UnquotedColumnNameIsRefusedBeforeCfitsioReadsIt) {
+  const auto cat = test::runSourceExtractor(dir_, "small.fits", "t.param", "FITS_LDAC", "c.ldac");
+  const std::size_t objects = test::readFile(cat).find("LDAC_OBJECTS");
+  const auto bad = patched(cat, "ttype.ldac", "TTYPE1  = 'NUMBER", objects - 1200,
+                           "TTYPE1  = " + std::string(70, 'A'), 80);
+  expectRefused(bad, {"HDU 2: 'TTYPE1' is not a quoted string"});
+}
+
 TEST_F(InputCatalog, ImheadCellMustHoldCardsCfitsioCanParse) {
   const auto cat = test::runSourceExtractor(dir_, "small.fits", "t.param", "FITS_LDAC", "c.ldac");
   const std::size_t cell = dataStart(cat, 2);

@@ -366,6 +366,79 @@ TEST(FitsImage, ExplicitUnitScalingOfFloatsReadsTheStoredValues) {
   EXPECT_EQ(hdu.pixels[2], 1e30f);
 }
 
+// Found by fuzzing: cfitsio 4.2 copies a TTYPEn value into a 70-byte buffer with strcpy, so an
+// unquoted value of 70 characters (or one after "=" without the blank) aborted octarc with
+// "buffer overflow detected". Such a header is refused before cfitsio parses it.
+TEST(FitsImage, UnquotedTableColumnNameIsRefusedBeforeCfitsioReadsIt) {
+  const fs::path dir = test::scratchDir();
+  const std::vector<std::string> table = {card("XTENSION", "'BINTABLE'"),
+                                          card("BITPIX", "8"),
+                                          card("NAXIS", "2"),
+                                          card("NAXIS1", "4"),
+                                          card("NAXIS2", "1"),
+                                          card("PCOUNT", "0"),
+                                          card("GCOUNT", "1"),
+                                          card("TFIELDS", "1"),
+                                          card("TFORM1", "'J'")};
+  const std::vector<std::string> image = {card("XTENSION", "'IMAGE   '"),
+                                          card("BITPIX", "-32"),
+                                          card("NAXIS", "2"),
+                                          card("NAXIS1", "2"),
+                                          card("NAXIS2", "2"),
+                                          card("PCOUNT", "0"),
+                                          card("GCOUNT", "1")};
+  const std::vector<std::string> names = {"TTYPE1  = " + std::string(70, 'A'),
+                                          "TTYPE1  =" + std::string(71, '\xa8'),
+                                          "TTYPE1  = NUMBER"};
+  int k = 0;
+  for (const std::string& name : names) {
+    const fs::path path = dir / ("ttype" + std::to_string(k++) + ".fits");
+    std::vector<std::string> cards = table;
+    cards.push_back(name);
+    test::writeRawFits(
+        path, {{test::primaryCards(8, {}, {card("EXTEND", "T")}), 0}, {cards, 4}, {image, 16}});
+    // Every reader goes through the same open: also for the image after the table.
+    expectIoError([&] { listImageHdus(path.string()); }, path.string() + ": HDU 1: 'TTYPE1'",
+                  "is not a quoted string");
+    expectIoError([&] { readImage(path.string() + "[2]"); }, path.string() + ": HDU 1: 'TTYPE1'");
+  }
+  // The same file with a quoted name reads.
+  const fs::path good = dir / "good.fits";
+  std::vector<std::string> cards = table;
+  cards.push_back(card("TTYPE1", "'NUMBER'"));
+  test::writeRawFits(
+      good, {{test::primaryCards(8, {}, {card("EXTEND", "T")}), 0}, {cards, 4}, {image, 16}});
+  EXPECT_EQ(listImageHdus(good.string()), std::vector<std::string>{good.string() + "[2]"});
+}
+
+// Found by fuzzing: cfitsio sizes its buffer for a gzip file from the ISIZE trailer (for a zip
+// file from its local header), so a 1 KB file could make it allocate 4 GB. A stated size that
+// no deflate stream of the file's length can reach (1032 to 1) is refused.
+TEST(FitsImage, CompressedFileStatingAnImpossibleSizeIsRefused) {
+  const fs::path dir = test::scratchDir();
+  const fs::path gz = dir / "image.fits.gz";
+  FitsWriter(gz).image(-32, {4, 3}, std::vector<double>(12, 1.5));
+  EXPECT_EQ(readImage(gz.string()).pixels(3, 2), 1.5f);  // cfitsio writes it gzip-compressed
+  std::string bytes = test::readText(gz);
+  ASSERT_EQ(bytes.substr(0, 2), "\x1f\x8b");
+  bytes.replace(bytes.size() - 4, 4, "\xff\xff\xff\xff");  // ISIZE: 4294967295 bytes
+  const fs::path lying = dir / "lying.fits.gz";
+  std::ofstream(lying, std::ios::binary) << bytes;
+  expectIoError([&] { readImage(lying.string()); }, lying.string(),
+                "states an uncompressed size of 4294967295 bytes");
+  expectIoError([&] { listImageHdus(lying.string() + "[0]"); }, lying.string());
+  // The same bytes under a name without .gz: cfitsio looks at the content, and so does octarc.
+  const fs::path plain = dir / "lying.fits";
+  fs::copy_file(lying, plain);
+  expectIoError([&] { readImageHeader(plain.string()); }, plain.string(), "4294967295");
+  // A zip file states the size at byte 22.
+  std::string zip =
+      "PK\x03\x04" + std::string(18, '\0') + "\xff\xff\xff\x7f" + std::string(100, 'x');
+  const fs::path zipped = dir / "image.zip";
+  std::ofstream(zipped, std::ios::binary) << zip;
+  expectIoError([&] { readImage(zipped.string()); }, zipped.string(), "2147483647 bytes");
+}
+
 TEST(FitsImage, ReadIntImageIsExactAndRejectsNonIntegerImages) {
   const fs::path dir = test::scratchDir();
   // 2147483000 has no exact float representation: the int path must not go through float.

@@ -35,20 +35,13 @@ inline void throwIfFitsError(int status, const std::string& file, const std::str
   if (status != 0) throw IoError(file + ": " + what + " (" + cfitsioMessage(status) + ")");
 }
 
-// Opens an existing file (cfitsio extended syntax allowed) read-only or read-write.
-inline FitsPtr openFits(const std::string& path, bool readWrite = false) {
-  fitsfile* f = nullptr;
-  int status = 0;
-  fits_open_file(&f, path.c_str(), readWrite ? READWRITE : READONLY, &status);
-  if (status != 0) {
-    if (f != nullptr) {
-      int ignored = 0;
-      fits_close_file(f, &ignored);
-    }
-    throwIfFitsError(status, path, "cannot open as FITS");
-  }
-  return FitsPtr(f);
-}
+// Opens an existing file (cfitsio extended syntax allowed) read-only or read-write. Before
+// cfitsio parses any header beyond the primary, the file is checked for what would make
+// cfitsio itself misbehave (see checkBeforeCfitsio in Cfitsio.cpp): a gzip or zip file whose
+// stated size would make cfitsio allocate far more memory than its data can expand to, and a
+// table header whose TTYPEn value is not a quoted string (cfitsio 4.2 copies such a value into
+// a 70-byte buffer without a bound). IoError naming the file in either case.
+FitsPtr openFits(const std::string& path, bool readWrite = false);
 
 // Creates a new file (fails if it exists; pass a temporary path from AtomicFile).
 inline FitsPtr createFits(const std::string& path) {
