@@ -184,7 +184,9 @@ FitsHeader readHeaderCards(fitsfile* f, const std::string& path) {
   int status = 0;
   fits_convert_hdr2str(f, 0, nullptr, 0, &text, &count, &status);
   if (status != 0) {
-    if (text != nullptr) fits_free_memory(text, &status);
+    // cfitsio calls do nothing while their status is set: free with a clean one.
+    int freeStatus = 0;
+    if (text != nullptr) fits_free_memory(text, &freeStatus);
     throwIfFitsError(status, path, "cannot read header");
   }
   FitsHeader header;
