@@ -245,6 +245,74 @@ Image<T> allocatePixels(fitsfile* f, const std::string& path, long width, long h
   }
 }
 
+// cfitsio's HCOMPRESS decoder takes the tile size from the compressed stream, not from the
+// header, and writes that many pixels into a buffer sized for the tile: a stream that states
+// a larger tile overwrites memory (a segmentation fault found by fuzzing). Before the pixels of
+// an HCOMPRESS_1 image are read, every tile's stream must start with the HCOMPRESS code and
+// state the size of its own tile.
+void requireConsistentHcompressTiles(fitsfile* f, const std::string& where) {
+  int status = 0;
+  char type[FLEN_VALUE] = {0};
+  fits_read_key_str(f, "ZCMPTYPE", type, nullptr, &status);
+  if (status != 0 || std::strncmp(type, "HCOMPRESS_1", 11) != 0) {
+    fits_clear_errmsg();
+    return;
+  }
+  const auto key = [&](const char* name, long long fallback) {
+    LONGLONG value = 0;
+    int s = 0;
+    if (fits_read_key_lnglng(f, name, &value, nullptr, &s) != 0) {
+      fits_clear_errmsg();
+      return fallback;
+    }
+    return static_cast<long long>(value);
+  };
+  const long long width = key("ZNAXIS1", 0);
+  const long long height = key("ZNAXIS2", 0);
+  const long long tileWidth = key("ZTILE1", width);
+  const long long tileHeight = key("ZTILE2", 1);
+  int column = 0;
+  fits_get_colnum(f, CASEINSEN, const_cast<char*>("COMPRESSED_DATA"), &column, &status);
+  if (status != 0 || width < 1 || height < 1 || tileWidth < 1 || tileHeight < 1) {
+    fits_clear_errmsg();
+    return;  // cfitsio refuses these itself
+  }
+  const long long tilesPerRow = (width + tileWidth - 1) / tileWidth;
+  const long long tiles = tilesPerRow * ((height + tileHeight - 1) / tileHeight);
+  for (long long row = 1; row <= tiles; ++row) {
+    LONGLONG bytes = 0;
+    LONGLONG offset = 0;
+    fits_read_descriptll(f, column, row, &bytes, &offset, &status);
+    if (status != 0) {
+      fits_clear_errmsg();
+      return;  // cfitsio reports the table itself
+    }
+    if (bytes == 0) continue;  // the tile is stored in another column
+    const long long i = (row - 1) % tilesPerRow;
+    const long long j = (row - 1) / tilesPerRow;
+    const long long nx = std::min(tileWidth, width - i * tileWidth);
+    const long long ny = std::min(tileHeight, height - j * tileHeight);
+    unsigned char head[10] = {0};
+    int anyNull = 0;
+    if (bytes < 10 ||
+        fits_read_col(f, TBYTE, column, row, 1, 10, nullptr, head, &anyNull, &status) != 0) {
+      fits_clear_errmsg();
+      throw IoError(where + ": HCOMPRESS tile " + std::to_string(row) + " is truncated");
+    }
+    const auto int32 = [&](int at) {
+      return static_cast<long long>(static_cast<std::int32_t>(
+          (std::uint32_t(head[at]) << 24) | (std::uint32_t(head[at + 1]) << 16) |
+          (std::uint32_t(head[at + 2]) << 8) | std::uint32_t(head[at + 3])));
+    };
+    const long long a = int32(2);
+    const long long b = int32(6);
+    if (head[0] != 0xDD || head[1] != 0x99 || a < 1 || b < 1 || a * b != nx * ny) {
+      throw IoError(where + ": HCOMPRESS tile " + std::to_string(row) + " is not a stream of a " +
+                    std::to_string(nx) + " x " + std::to_string(ny) + " tile");
+    }
+  }
+}
+
 // cfitsio reads an image serially through its own buffers. A plain BITPIX -32 image in a disk
 // file (not tile-compressed, not scaled) is one block of big-endian floats: read it straight into
 // the pixels, in slices on several threads, and swap the bytes in place. Returns false, having
@@ -317,6 +385,7 @@ bool readPlainFloatData(fitsfile* f, ImageF& pixels) {
 // value, and identical to the pixels SExtractor measures, so that catalogs can agree with
 // SExtractor's to the last digit.
 ImageF readPixels(fitsfile* f, const std::string& path, int bitpix, long width, long height) {
+  requireConsistentHcompressTiles(f, hduText(f, path));
   ImageF pixels = allocatePixels<float>(f, path, width, height);
   long first[kMaxAxes];
   std::fill(std::begin(first), std::end(first), 1L);
@@ -424,6 +493,7 @@ ImageI32 readIntImage(const std::string& path, FitsHeader* header) {
                   (bzero != std::floor(bzero) ? ", non-integer BZERO" : "") +
                   "), expected integer labels");
   }
+  requireConsistentHcompressTiles(f.get(), hduText(f.get(), path));
   ImageI32 pixels = allocatePixels<std::int32_t>(f.get(), path, shape.naxes[0], shape.naxes[1]);
   long first[kMaxAxes];
   std::fill(std::begin(first), std::end(first), 1L);

@@ -221,6 +221,37 @@ TEST(FitsImage, CompressedImageWhoseHeaderCannotBeRebuiltIsAnIoError) {
   expectIoError([&] { readImage(broken.string()); }, broken.string());
 }
 
+// Found by fuzzing (a segmentation fault in cfitsio): the HCOMPRESS decoder takes the tile size
+// from the stream and writes that many pixels into a buffer of the tile's size. A stream that
+// states another size is refused before cfitsio decodes it; real HCOMPRESS files still read.
+TEST(FitsImage, HcompressTileStatingAnotherSizeIsRefused) {
+  const fs::path dir = test::scratchDir();
+  std::vector<double> raw;
+  for (int i = 0; i < 40 * 30; ++i) raw.push_back((i * 37) % 2001 - 1000);
+  FitsWriter(dir / "plain.fits").image(32, {40, 30}, raw);
+  ASSERT_EQ(test::run("cd '" + dir.string() + "' && fpack -h -s 0 -w plain.fits"), 0)
+      << "fpack failed";
+  const fs::path packed = dir / "plain.fits.fz";
+  const ImageHdu a = readImage((dir / "plain.fits").string());
+  const ImageHdu b = readImage(packed.string());  // lossless (scale 0): the same pixels
+  EXPECT_EQ(a.pixels.pixels(), b.pixels.pixels());
+  EXPECT_EQ(readIntImage(packed.string())(1, 0), 37 - 1000);
+
+  std::string bytes = test::readText(packed);
+  const std::size_t stream = bytes.find("\xdd\x99");
+  ASSERT_NE(stream, std::string::npos);
+  bytes.replace(stream + 2, 4, std::string("\x00\x1e\x00\x00", 4));  // nx = 1966080
+  const fs::path bad = dir / "bad.fits.fz";
+  std::ofstream(bad, std::ios::binary) << bytes;
+  expectIoError([&] { readImage(bad.string()); }, bad.string() + ": HDU 1: HCOMPRESS tile 1",
+                "40 x 30 tile");
+  expectIoError([&] { readIntImage(bad.string()); }, bad.string() + ": HDU 1: HCOMPRESS tile 1");
+  // The magic number itself.
+  bytes[stream] = 'x';
+  std::ofstream(bad, std::ios::binary) << bytes;
+  expectIoError([&] { readImage(bad.string()); }, bad.string(), "is not a stream");
+}
+
 TEST(FitsImage, DegenerateThirdAxisIsAccepted) {
   const fs::path dir = test::scratchDir();
   FitsWriter(dir / "cube1.fits").image(-32, {2, 2, 1}, {1, 2, 3, 4});
