@@ -4,6 +4,7 @@
 #pragma once
 
 #include <unistd.h>
+#include <zlib.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -48,5 +49,29 @@ inline std::string_view asText(const std::uint8_t* data, std::size_t size) {
 // octarc would try to allocate (and report if it cannot), so such images are only checked,
 // not read.
 inline constexpr std::int64_t kMaxFuzzPixels = std::int64_t(1) << 22;
+
+// cfitsio grows its buffer for a gzip file in steps of 28800 bytes when the file understates
+// its uncompressed size. glibc moves such large blocks without copying them; ASan copies, so an
+// input that expands to tens of megabytes would take minutes here, though not in octarc. Gzip
+// inputs that expand beyond kMaxExpandedBytes are therefore skipped.
+inline constexpr std::size_t kMaxExpandedBytes = std::size_t(4) << 20;
+
+inline bool expandsTooMuch(const std::uint8_t* data, std::size_t size) {
+  if (size < 2 || data[0] != 0x1F || data[1] != 0x8B) return false;
+  z_stream stream{};
+  if (inflateInit2(&stream, 15 + 16) != Z_OK) return false;
+  static unsigned char scratch[1 << 16];
+  stream.next_in = const_cast<std::uint8_t*>(data);
+  stream.avail_in = static_cast<uInt>(size);
+  int result = Z_OK;
+  while (result == Z_OK && stream.total_out <= kMaxExpandedBytes) {
+    stream.next_out = scratch;
+    stream.avail_out = sizeof scratch;
+    result = inflate(&stream, Z_NO_FLUSH);
+  }
+  const bool tooMuch = stream.total_out > kMaxExpandedBytes;
+  inflateEnd(&stream);
+  return tooMuch;
+}
 
 }  // namespace octarc::fuzz

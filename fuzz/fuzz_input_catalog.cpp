@@ -12,6 +12,7 @@
 #include "octarc/pipeline/PreparedImage.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  if (octarc::fuzz::expandsTooMuch(data, size)) return 0;
   const std::string path = octarc::fuzz::writeInput(data, size, "catalog.ldac");
   try {
     for (const octarc::InputCatalogPart& part : octarc::readInputCatalog(path)) {

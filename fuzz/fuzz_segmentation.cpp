@@ -12,6 +12,7 @@
 #include "octarc/io/FitsImage.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  if (octarc::fuzz::expandsTooMuch(data, size)) return 0;
   const std::string path = octarc::fuzz::writeInput(data, size, "seg.fits");
   try {
     const octarc::ImageHdu header = octarc::readImageHeader(path);
