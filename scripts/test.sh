@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds octarc with warnings as errors, runs every test, then builds
-# once more with AddressSanitizer + UndefinedBehaviorSanitizer and runs the tests again.
+# once more with AddressSanitizer + UndefinedBehaviorSanitizer and runs the tests again, and
+# last runs every fuzz target briefly (scripts/fuzz.sh: about a minute in all).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -16,3 +17,6 @@ cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DOCTARC_WER
 cmake --build build/asan -j "$jobs"
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE slow
+
+# 7 seconds per target, 9 targets: a short smoke run; see README "Fuzzing" for a long one.
+scripts/fuzz.sh 7
