@@ -1,5 +1,6 @@
 #include "octarc/io/detail/Cfitsio.h"
 
+#include <cctype>
 #include <cstdio>
 #include <string>
 #include <string_view>
@@ -90,15 +91,15 @@ void requireHonestCompressedSize(const std::string& path) {
   }
 }
 
-// Checks the raw header starting at byte `headStart` (HDU `hdu`, from 0) before cfitsio parses
-// it. cfitsio 4.2 copies the value of a TTYPEn card of a table into a 70-byte buffer with
-// strcpy: an unquoted value of 70 characters or more (or one after an '=' out of place)
-// overflows it. FITS wants TTYPEn to be a quoted string, so anything else is refused.
+// Checks the raw header of extension `hdu` (from 0), starting at byte `headStart`, before
+// cfitsio parses it. cfitsio 4.2 copies the value of a TTYPEn card of a table into a 70-byte
+// buffer with strcpy: an unquoted value of 70 characters or more (or one after an '=' out of
+// place) overflows it. FITS wants TTYPEn to be a quoted string, so anything else is refused,
+// in every extension (cfitsio's idea of a table is looser than "XTENSION= 'BINTABLE'").
 void requireSafeHeader(fitsfile* f, LONGLONG headStart, int hdu, const std::string& path) {
   const LONGLONG fileBytes = f->Fptr->filesize;
-  bool table = false;
   char block[2880];
-  for (LONGLONG at = headStart; at + 2880 <= fileBytes; at += 2880) {
+  for (LONGLONG at = headStart; at >= 0 && at + 2880 <= fileBytes; at += 2880) {
     int status = 0;
     constexpr int kReportEof = 0;  // fitsio2.h REPORT_EOF
     if (ffmbyt(f, at, kReportEof, &status) != 0 || ffgbyt(f, 2880, block, &status) != 0) {
@@ -108,12 +109,11 @@ void requireSafeHeader(fitsfile* f, LONGLONG headStart, int hdu, const std::stri
     for (int c = 0; c < 36; ++c) {
       const std::string_view card(block + 80 * c, 80);
       if (card.compare(0, 8, "END     ") == 0) return;
-      if (at == headStart && c == 0) {
-        table = card.compare(0, 20, "XTENSION= 'BINTABLE'") == 0 ||
-                card.compare(0, 20, "XTENSION= 'TABLE   '") == 0 ||
-                card.compare(0, 20, "XTENSION= 'A3DTABLE'") == 0;
+      bool ttype = true;
+      for (int k = 0; k < 5; ++k) {
+        ttype = ttype && std::toupper(static_cast<unsigned char>(card[k])) == "TTYPE"[k];
       }
-      if (!table || card.compare(0, 5, "TTYPE") != 0) continue;
+      if (!ttype) continue;
       const std::size_t value = card.find_first_not_of(' ', 10);
       if (card.compare(8, 2, "= ") != 0 || value == std::string_view::npos || card[value] != '\'') {
         std::string_view keyword = card.substr(0, card.find_first_of(" =", 0));

@@ -37,10 +37,10 @@ inline void throwIfFitsError(int status, const std::string& file, const std::str
 
 // Opens an existing file (cfitsio extended syntax allowed) read-only or read-write. Before
 // cfitsio parses any header beyond the primary, the file is checked for what would make
-// cfitsio itself misbehave (see checkBeforeCfitsio in Cfitsio.cpp): a gzip or zip file whose
-// stated size would make cfitsio allocate far more memory than its data can expand to, and a
-// table header whose TTYPEn value is not a quoted string (cfitsio 4.2 copies such a value into
-// a 70-byte buffer without a bound). IoError naming the file in either case.
+// cfitsio itself misbehave (see Cfitsio.cpp): a gzip or zip file whose stated size would make
+// cfitsio allocate far more memory than its data can expand to, and an extension header whose
+// TTYPEn value is not a quoted string (cfitsio 4.2 copies such a value into a 70-byte buffer
+// without a bound). IoError naming the file in either case.
 FitsPtr openFits(const std::string& path, bool readWrite = false);
 
 // Creates a new file (fails if it exists; pass a temporary path from AtomicFile).
