@@ -4,6 +4,7 @@
 # those labelled `slow` (tests/integration/CMakeLists.txt: the end-to-end cases that take 4 s or
 # more in a release build; the release pass has run them). With CI=true in the environment a
 # test skipped for a missing program or missing shared data fails instead.
+# Last it runs every fuzz target briefly (scripts/fuzz.sh: about a minute in all).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -19,3 +20,6 @@ cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DOCTARC_WER
 cmake --build build/asan -j "$jobs"
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE slow
+
+# 7 seconds per target, 9 targets: a short smoke run; see README "Fuzzing" for a long one.
+scripts/fuzz.sh 7

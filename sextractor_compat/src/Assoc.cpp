@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 
 namespace octarc::sexcompat {
 namespace {
@@ -129,8 +130,8 @@ AssocList AssocList::load(const AssocSettings& settings, int vectorSize, std::in
       char* end = nullptr;
       values[i] = std::strtod(fields[i].c_str(), &end);
       if (end == fields[i].c_str() || *end != '\0')
-        throw ConfigError(where + ": field " + std::to_string(i + 1) + " '" + fields[i] +
-                          "' is not a number");
+        throw ConfigError(where + ": field " + std::to_string(i + 1) + " " +
+                          quoteForMessage(fields[i]) + " is not a number");
     }
     Entry e;
     e.x = values[static_cast<std::size_t>(settings.params[0] - 1)];

@@ -6,6 +6,7 @@
 #include <cctype>
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/sexcompat/Config.h"
 
 namespace octarc::sexcompat {
@@ -37,7 +38,7 @@ void rejectUnknownOptions(const std::vector<std::string>& args,
     std::string name = upperCase(arg.substr(arg[1] == '-' ? 2 : 1));
     const std::size_t eq = name.find('=');
     if (eq != std::string::npos)
-      throw ConfigError("command line: " + arg.substr(0, arg.find('=')) +
+      throw ConfigError("command line: " + quoteForMessage(arg.substr(0, arg.find('='))) +
                         ": write -KEY value as two arguments (no '=')");
     if (name == "C") {
       ++i;  // the file name
@@ -46,7 +47,7 @@ void rejectUnknownOptions(const std::vector<std::string>& args,
     if (std::find(flags.begin(), flags.end(), name) != flags.end()) continue;
     const bool known =
         std::any_of(schema.begin(), schema.end(), [&](const KeySpec& k) { return k.name == name; });
-    if (!known) throw ConfigError("command line: " + arg + ": unknown keyword");
+    if (!known) throw ConfigError("command line: " + quoteForMessage(arg) + ": unknown keyword");
     ++i;  // its value, which may start with '-'
   }
 }

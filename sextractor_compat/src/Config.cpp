@@ -6,9 +6,11 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 
 namespace octarc::sexcompat {
 namespace {
@@ -50,7 +52,7 @@ std::string expandEnvironment(const std::string& token, const std::string& where
     if (i + 1 < token.size() && token[i + 1] == '{') {
       const std::size_t close = token.find('}', i + 2);
       if (close == std::string::npos)
-        throw ConfigError(where + ": " + key + ": unterminated ${ in '" + token + "'");
+        throw ConfigError(where + ": " + key + ": unterminated ${ in " + quoteForMessage(token));
       name = token.substr(i + 2, close - i - 2);
       next = close + 1;
     } else {
@@ -61,10 +63,11 @@ std::string expandEnvironment(const std::string& token, const std::string& where
       name = token.substr(i + 1, next - i - 1);
     }
     if (name.empty())
-      throw ConfigError(where + ": " + key + ": empty variable name in '" + token + "'");
+      throw ConfigError(where + ": " + key + ": empty variable name in " + quoteForMessage(token));
     const char* value = std::getenv(name.c_str());
     if (!value)
-      throw ConfigError(where + ": " + key + ": environment variable " + name + " is not set");
+      throw ConfigError(where + ": " + key + ": environment variable " + quoteForMessage(name) +
+                        " is not set");
     out += value;
     i = next;
   }
@@ -74,8 +77,11 @@ std::string expandEnvironment(const std::string& token, const std::string& where
 // Checks one value against its key and returns its canonical text.
 std::string canonicalValue(const KeySpec& spec, const std::string& raw, const std::string& where) {
   auto bad = [&](const std::string& why) {
-    return ConfigError(where + ": " + spec.name + " " + raw + ": " + why);
+    return ConfigError(where + ": " + spec.name + " " + quoteForMessage(raw) + ": " + why);
   };
+  // A file name or keyword with a NUL, an escape or a line break is never what was meant (a NUL
+  // would silently cut a file name), and it would garble every message that shows it.
+  if (hasControlCharacter(raw)) throw bad("holds a control character");
   auto checkRange = [&](double v) {
     if (!(v >= spec.minValue && v <= spec.maxValue)) {
       std::ostringstream os;
@@ -134,8 +140,8 @@ std::vector<std::string> validate(const KeySpec& spec, const std::vector<std::st
     std::string joined;
     for (const auto& r : raw) joined += (joined.empty() ? "" : ",") + r;
     std::ostringstream os;
-    os << where << ": " << spec.name << " " << (joined.empty() ? "(empty)" : joined)
-       << ": expected ";
+    os << where << ": " << spec.name << " "
+       << (joined.empty() ? "(empty)" : quoteForMessage(joined)) << ": expected ";
     if (spec.minCount == spec.maxCount)
       os << spec.minCount;
     else
@@ -151,6 +157,17 @@ std::vector<std::string> validate(const KeySpec& spec, const std::vector<std::st
 }
 
 }  // namespace
+
+// A key given with an empty list (a bare "WEIGHT_TYPE" line, "WEIGHT_THRESH ,", or
+// -CHECKIMAGE_TYPE "") counts as not given, as in SExtractor: the value stays what it was (the
+// default unless set before), for keys whose list may be empty; the others report the count.
+void Config::setValue(Value& v, const KeySpec& spec, const std::vector<std::string>& raw,
+                      const std::string& where) {
+  std::vector<std::string> text = validate(spec, raw, where);
+  if (text.empty()) return;
+  v.text = std::move(text);
+  v.isExplicit = true;
+}
 
 Config Config::load(const std::vector<KeySpec>& schema, const std::string& sexFile,
                     const std::vector<std::pair<std::string, std::string>>& overrides,
@@ -176,15 +193,15 @@ Config Config::load(const std::vector<KeySpec>& schema, const std::string& sexFi
       const std::string where = sexFile + ":" + std::to_string(lineNo);
       const KeySpec* spec = findSpec(schema, key);
       if (!spec) {
-        if (warnings) warnings->push_back(where + ": unknown keyword " + tokens[0] + ", ignored");
+        if (warnings)
+          warnings->push_back(where + ": unknown keyword " + quoteForMessage(tokens[0]) +
+                              ", ignored");
         continue;
       }
       std::vector<std::string> raw;
       for (std::size_t i = 1; i < tokens.size() && tokens[i][0] != '#'; ++i)
         raw.push_back(tokens[i]);
-      Value& v = config.values_[key];
-      v.text = validate(*spec, raw, where);
-      v.isExplicit = true;
+      setValue(config.values_[key], *spec, raw, where);
     }
     if (in.bad()) throw ConfigError(sexFile + ": read error");
   }
@@ -193,13 +210,12 @@ Config Config::load(const std::vector<KeySpec>& schema, const std::string& sexFi
     std::string key = upper(rawKey);
     if (!key.empty() && key[0] == '-') key.erase(0, 1);
     const KeySpec* spec = findSpec(schema, key);
-    if (!spec) throw ConfigError("command line: -" + rawKey + ": unknown keyword");
+    if (!spec)
+      throw ConfigError("command line: " + quoteForMessage("-" + rawKey) + ": unknown keyword");
     // The value is one argument that may itself be a comma list ("-CHECKIMAGE_TYPE A,B").
     std::vector<std::string> raw = tokenize(rawValue);
     if (!raw.empty() && raw[0][0] == '#') raw.clear();
-    Value& v = config.values_[key];
-    v.text = validate(*spec, raw, "command line");
-    v.isExplicit = true;
+    setValue(config.values_[key], *spec, raw, "command line");
   }
   return config;
 }
@@ -230,7 +246,10 @@ int Config::getInt(std::string_view key, int i) const {
   const Value& v = find(key);
   if (v.kind != KeySpec::Kind::Int)
     throw ConfigError(std::string(key) + ": not an integer keyword");
-  return std::stoi(element(key, v.text, i));
+  const long value = std::strtol(element(key, v.text, i).c_str(), nullptr, 10);
+  if (value < std::numeric_limits<int>::min() || value > std::numeric_limits<int>::max())
+    throw ConfigError(std::string(key) + ": " + std::to_string(value) + " is out of range");
+  return static_cast<int>(value);
 }
 
 double Config::getDouble(std::string_view key, int i) const {

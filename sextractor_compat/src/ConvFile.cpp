@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 
 namespace octarc::sexcompat {
 
@@ -38,8 +39,8 @@ ConvKernel readConvFile(const std::string& path, std::vector<std::string>* warni
       char* end = nullptr;
       const double v = std::strtod(token.c_str(), &end);
       if (end == token.c_str() || *end != '\0' || !std::isfinite(v))
-        throw ConfigError(path + ":" + std::to_string(lineNo) + ": '" + token +
-                          "' is not a number");
+        throw ConfigError(path + ":" + std::to_string(lineNo) + ": " + quoteForMessage(token) +
+                          " is not a number");
       values.push_back(static_cast<float>(v));  // SExtractor keeps the mask in float
       ++count;
     }

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 
 namespace octarc::sexcompat {
 
@@ -28,6 +29,7 @@ std::vector<ParamRequest> readParamFile(const std::string& path) {
       const std::string rest = line.substr(nameEnd);
       constexpr const char* kSizeSeparators = " \t\r,;.([{)]}";
       std::size_t pos = 0;
+      long elements = 1;
       while ((pos = rest.find_first_not_of(kSizeSeparators, pos)) != std::string::npos) {
         const std::size_t end = rest.find_first_of(kSizeSeparators, pos);
         const std::string token =
@@ -36,10 +38,19 @@ std::vector<ParamRequest> readParamFile(const std::string& path) {
         errno = 0;
         char* tail = nullptr;
         const long size = std::strtol(token.c_str(), &tail, 10);
-        const std::string where = path + ":" + std::to_string(lineNo) + ": " + request.name;
+        const std::string where =
+            path + ":" + std::to_string(lineNo) + ": " + quoteForMessage(request.name);
         if (tail == token.c_str() || *tail != '\0' || errno == ERANGE || size > INT_MAX)
-          throw ConfigError(where + ": vector size '" + token + "' is not an integer");
-        if (size <= 0) throw ConfigError(where + ": vector size must be positive, got " + token);
+          throw ConfigError(where + ": vector size " + quoteForMessage(token) +
+                            " is not an integer");
+        if (size <= 0)
+          throw ConfigError(where + ": vector size must be positive, got " +
+                            quoteForMessage(token));
+        // The column holds the product of the sizes: it must be an int, like each size.
+        if (elements > INT_MAX / size)
+          throw ConfigError(where + ": vector of more than " + std::to_string(INT_MAX) +
+                            " elements");
+        elements *= size;
         request.sizes.push_back(static_cast<int>(size));
         pos = end;
       }

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/core/Interrupt.h"
 #include "octarc/pipeline/CommandLine.h"
 #include "octarc/pipeline/Pipeline.h"
@@ -46,6 +47,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   const std::string command = args[0];
+  const std::string shown = octarc::printableMessage(command, 40);  // typed by the user
   args.erase(args.begin());
   // Ctrl-C (and SIGTERM, SIGHUP) removes the run's temporary outputs before the process ends.
   const bool simulate = command == "simulate" && !args.empty();
@@ -64,16 +66,19 @@ int main(int argc, char** argv) {
                    "(try octarc -h)\n";
       return 2;
     }
-    std::cerr << "octarc: unknown command '" << command << "' (try octarc -h)\n";
+    std::cerr << "octarc: unknown command '" << shown << "' (try octarc -h)\n";
     return 2;
   } catch (const octarc::Error& e) {
-    std::cerr << "octarc " << command << ": error: " << e.what() << "\n";
+    // The last guard: whatever a message quotes from a file, it reaches the terminal as one
+    // printable line of reasonable length.
+    std::cerr << "octarc " << shown << ": error: " << octarc::printableMessage(e.what()) << "\n";
     return 1;
   } catch (const std::bad_alloc&) {
-    std::cerr << "octarc " << command << ": error: out of memory\n";
+    std::cerr << "octarc " << shown << ": error: out of memory\n";
     return 1;
   } catch (const std::exception& e) {
-    std::cerr << "octarc " << command << ": internal error: " << e.what() << "\n";
+    std::cerr << "octarc " << shown << ": internal error: " << octarc::printableMessage(e.what())
+              << "\n";
     return 3;
   }
 }

@@ -1,6 +1,7 @@
 #include "octarc/catalog/InputCatalog.h"
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/io/detail/Cfitsio.h"
 
 namespace octarc {
@@ -18,29 +19,71 @@ std::string readExtname(fitsfile* f) {
   return value;
 }
 
-// The cards of the LDAC_IMHEAD cell, up to (not including) END.
-FitsHeader readImhead(fitsfile* f, int hdu, const std::string& path) {
+// Refuses a card of an LDAC_IMHEAD cell that cfitsio would not take as a header card: a byte
+// that is not printable ASCII, a keyword with characters FITS does not allow, or a value that
+// cfitsio cannot separate from its comment (e.g. an unclosed complex value).
+void requireParsableCard(const std::string& card, std::size_t number, const std::string& where) {
+  const std::string at = where + ": card " + std::to_string(number) + " ";
+  std::string shown = card;
+  while (!shown.empty() && shown.back() == ' ') shown.pop_back();
+  std::string copy = card;  // cfitsio takes non-const buffers
   int status = 0;
-  long width = 0;
-  fits_read_key_lng(f, "NAXIS1", &width, nullptr, &status);
-  long rows = 0;
-  fits_get_num_rows(f, &rows, &status);
-  detail::throwIfFitsError(status, path,
-                           "cannot read LDAC_IMHEAD (HDU " + std::to_string(hdu) + ")");
-  if (rows < 1 || width < 80) {
-    throw IoError(path + ": LDAC_IMHEAD (HDU " + std::to_string(hdu) + ") holds no header cards");
+  if (fftrec(copy.data(), &status) != 0) {
+    fits_clear_errmsg();
+    throw IoError(at + quoteForMessage(shown) + " holds a byte that is not printable ASCII");
   }
-  std::string cell(std::size_t(width), ' ');
-  fits_read_tblbytes(f, 1, 1, width, reinterpret_cast<unsigned char*>(cell.data()), &status);
-  detail::throwIfFitsError(status, path,
-                           "cannot read LDAC_IMHEAD (HDU " + std::to_string(hdu) + ")");
+  std::string keyword = card.substr(0, 8);
+  while (!keyword.empty() && keyword.back() == ' ') keyword.pop_back();
+  if (!keyword.empty() && fftkey(keyword.c_str(), &status) != 0) {
+    fits_clear_errmsg();
+    throw IoError(at + "has the illegal keyword " + quoteForMessage(keyword));
+  }
+  if (card.compare(8, 2, "= ") != 0 || keyword == "HISTORY" || keyword == "COMMENT") return;
+  char value[FLEN_VALUE] = {0};
+  char comment[FLEN_COMMENT] = {0};
+  if (ffpsvc(copy.data(), value, comment, &status) != 0) {
+    fits_clear_errmsg();
+    throw IoError(at + quoteForMessage(shown) + ": cfitsio cannot parse its value");
+  }
+}
+
+// The cards of the LDAC_IMHEAD cell (0-based HDU `hdu`), up to (not including) END. The cell is
+// copied into octarc's outputs and read as a header by SCAMP and PSFEx, so it must be a character
+// column of whole 80-character cards that cfitsio can parse, and hold END: anything else is
+// refused.
+FitsHeader readImhead(fitsfile* f, int hdu, const std::string& path) {
+  const std::string where = path + ": LDAC_IMHEAD (HDU " + std::to_string(hdu) + ")";
+  int status = 0;
+  int columns = 0;
+  long rows = 0;
+  fits_get_num_cols(f, &columns, &status);
+  fits_get_num_rows(f, &rows, &status);
+  detail::throwIfFitsError(status, where, "cannot read the table");
+  if (rows < 1 || columns < 1) throw IoError(where + " holds no header cards");
+  int typecode = 0;
+  long repeat = 0;
+  long width = 0;
+  fits_get_coltype(f, 1, &typecode, &repeat, &width, &status);
+  detail::throwIfFitsError(status, where, "cannot read its column");
+  if (typecode != TSTRING || repeat < 80 || repeat % 80 != 0) {
+    throw IoError(where + ": its first column is not a character column of 80-character cards");
+  }
+  std::string cell(std::size_t(repeat), ' ');
+  fits_read_tblbytes(f, 1, 1, repeat, reinterpret_cast<unsigned char*>(cell.data()), &status);
+  detail::throwIfFitsError(status, where, "cannot read the header cards");
   FitsHeader header;
   for (std::size_t at = 0; at + 80 <= cell.size(); at += 80) {
     std::string card = cell.substr(at, 80);
-    if (card.compare(0, 8, "END     ") == 0) break;
+    // A character field may end early with ASCII NUL (FITS 4.0, section 7.3.3.1): astropy pads
+    // each 80-character element so, SExtractor with blanks. Both are the same card.
+    if (const std::size_t nul = card.find('\0'); nul != std::string::npos) {
+      card.replace(nul, std::string::npos, 80 - nul, ' ');
+    }
+    if (card.compare(0, 8, "END     ") == 0) return header;
+    requireParsableCard(card, header.cards.size() + 1, where);
     header.cards.push_back(std::move(card));
   }
-  return header;
+  throw IoError(where + " has no END card");
 }
 
 std::vector<std::string> readColumnNames(fitsfile* f, const std::string& path) {
@@ -80,11 +123,13 @@ std::vector<InputCatalogPart> readInputCatalog(const std::string& path) {
   for (int hdu = 1; hdu <= nhdus; ++hdu) {
     int type = 0;
     fits_movabs_hdu(f, hdu, &type, &status);
-    detail::throwIfFitsError(status, path, "cannot read HDU " + std::to_string(hdu));
+    detail::throwIfFitsError(status, path, "cannot read HDU " + std::to_string(hdu - 1));
+    // Every HDU, also those octarc does not read: appending copies them into the output.
+    detail::requireSoundHdu(f, path);
     if (type != BINARY_TBL) continue;
     const std::string extname = readExtname(f);
     if (extname == "LDAC_IMHEAD") {
-      pendingImhead = readImhead(f, hdu, path);
+      pendingImhead = readImhead(f, hdu - 1, path);
       continue;
     }
     if (extname != "LDAC_OBJECTS" && extname != "OBJECTS") continue;
@@ -94,7 +139,7 @@ std::vector<InputCatalogPart> readInputCatalog(const std::string& path) {
     pendingImhead = FitsHeader();
     part.objectsHdu = hdu;
     part.columnNames = readColumnNames(f, path);
-    const std::string where = extname + " table (HDU " + std::to_string(hdu) + ")";
+    const std::string where = extname + " table (HDU " + std::to_string(hdu - 1) + ")";
     int numberCol = 0;
     for (std::size_t c = 0; c < part.columnNames.size(); ++c) {
       if (part.columnNames[c] == "NUMBER") numberCol = int(c) + 1;
@@ -134,6 +179,7 @@ std::vector<std::vector<double>> readCatalogColumns(const std::string& path,
   int status = 0;
   fits_movnam_hdu(f, BINARY_TBL, const_cast<char*>(extname.c_str()), 0, &status);
   detail::throwIfFitsError(status, path, "no table " + extname);
+  detail::requireSoundHdu(f, path);
   long rows = 0;
   fits_get_num_rows(f, &rows, &status);
   detail::throwIfFitsError(status, path, "cannot read table " + extname);

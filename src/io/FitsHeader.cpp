@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdlib>
 #include <string>
 
@@ -71,6 +72,30 @@ std::string parseValue(std::string_view field) {
   return std::string(trim(rest.substr(0, rest.find('/'))));
 }
 
+// The FITS syntax of an integer or real value: [sign] digits [. [digits]] or [sign] . digits,
+// then optionally E or D, [sign], digits. strtod alone would also take "nan", "inf" and hex.
+bool isFitsNumber(std::string_view text) {
+  std::size_t i = 0;
+  const auto digits = [&] {
+    const std::size_t start = i;
+    while (i < text.size() && text[i] >= '0' && text[i] <= '9') ++i;
+    return i - start;
+  };
+  if (i < text.size() && (text[i] == '+' || text[i] == '-')) ++i;
+  std::size_t mantissa = digits();
+  if (i < text.size() && text[i] == '.') {
+    ++i;
+    mantissa += digits();
+  }
+  if (mantissa == 0) return false;
+  if (i < text.size() && (text[i] == 'E' || text[i] == 'e' || text[i] == 'D' || text[i] == 'd')) {
+    ++i;
+    if (i < text.size() && (text[i] == '+' || text[i] == '-')) ++i;
+    if (digits() == 0) return false;
+  }
+  return i == text.size();
+}
+
 std::string padCard(std::string card) {
   if (card.size() > kCardLength) card.resize(kCardLength);
   card.append(kCardLength - card.size(), ' ');
@@ -92,14 +117,13 @@ std::optional<std::string> FitsHeader::value(std::string_view keyword) const {
 
 std::optional<double> FitsHeader::number(std::string_view keyword) const {
   std::optional<std::string> text = value(keyword);
-  if (!text || text->empty()) return std::nullopt;
+  if (!text || !isFitsNumber(*text)) return std::nullopt;
   std::string s = *text;
   // Fortran-style exponents ("1.5D+03") are legal FITS.
   std::replace(s.begin(), s.end(), 'D', 'E');
   std::replace(s.begin(), s.end(), 'd', 'e');
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (end == s.c_str() || *end != '\0') return std::nullopt;
+  const double v = std::strtod(s.c_str(), nullptr);
+  if (!std::isfinite(v)) return std::nullopt;  // beyond the range of a double
   return v;
 }
 

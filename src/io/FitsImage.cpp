@@ -8,14 +8,17 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
+#include <new>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/core/Parallel.h"
 #include "octarc/io/detail/Cfitsio.h"
 
@@ -24,6 +27,7 @@ namespace octarc {
 namespace {
 
 using detail::FitsPtr;
+using detail::hduIndex;
 using detail::throwIfFitsError;
 
 // Axes beyond the second are accepted only when degenerate (length 1), as in data cubes with a
@@ -63,10 +67,9 @@ std::string fileOf(const std::string& path) {
   return bracket == std::string::npos ? path : path.substr(0, bracket);
 }
 
-int currentHdu(fitsfile* f) {
-  int hdu = 0;
-  fits_get_hdu_num(f, &hdu);  // 1-based
-  return hdu - 1;
+// "file: HDU n", the start of every message about one HDU.
+std::string hduText(fitsfile* f, const std::string& path) {
+  return fileOf(path) + ": HDU " + std::to_string(hduIndex(f));
 }
 
 int hduType(fitsfile* f, const std::string& path) {
@@ -85,35 +88,71 @@ ImageShape readShape(fitsfile* f, const std::string& path) {
   return shape;
 }
 
+// An HDU without pixels to look for: NAXIS = 0 (the usual empty primary of a MEF), or a 1-D
+// axis of length 0. A 2-D image with a zero axis is not empty but wrong (requireTwoDimensional).
 bool isEmpty(const ImageShape& shape) {
-  if (shape.naxis == 0) return true;
-  for (int i = 0; i < std::min(shape.naxis, kMaxAxes); ++i) {
-    if (shape.naxes[i] == 0) return true;
-  }
-  return false;
+  return shape.naxis == 0 || (shape.naxis == 1 && shape.naxes[0] == 0);
 }
 
 void requireImageHdu(fitsfile* f, const std::string& path) {
+  detail::requireSoundHdu(f, fileOf(path));
   const int type = hduType(f, path);
   if (type == IMAGE_HDU) return;
-  throw IoError(path + ": HDU " + std::to_string(currentHdu(f)) + " is " +
+  throw IoError(path + ": HDU " + std::to_string(hduIndex(f)) + " is " +
                 (type == BINARY_TBL ? "a binary table" : "an ASCII table") + ", not an image");
 }
 
-void requireTwoDimensional(const ImageShape& shape, const std::string& path) {
+// A 2-D image (further axes of length 1 allowed) of at least 1 x 1 pixels whose pixel count,
+// as float and as double, can be addressed. Checked before any pixel buffer is allocated; that
+// the data fit in the file has been checked by requireSoundHdu. `where` is "file: HDU n".
+void requireTwoDimensional(const ImageShape& shape, const std::string& where) {
   if (shape.naxis < 2 || shape.naxis > kMaxAxes) {
-    throw IoError(path + ": image has NAXIS = " + std::to_string(shape.naxis) +
+    throw IoError(where + ": image has NAXIS = " + std::to_string(shape.naxis) +
                   ", expected a 2-D image");
   }
   for (int i = 2; i < shape.naxis; ++i) {
     if (shape.naxes[i] != 1) {
-      throw IoError(path + ": image has NAXIS = " + std::to_string(shape.naxis) + " with NAXIS" +
+      throw IoError(where + ": image has NAXIS = " + std::to_string(shape.naxis) + " with NAXIS" +
                     std::to_string(i + 1) + " = " + std::to_string(shape.naxes[i]) +
                     ", expected a 2-D image");
     }
   }
-  if (shape.naxes[0] <= 0 || shape.naxes[1] <= 0) {
-    throw IoError(path + ": image has zero size");
+  const std::string size = std::to_string(shape.naxes[0]) + " x " + std::to_string(shape.naxes[1]);
+  if (shape.naxes[0] < 1 || shape.naxes[1] < 1) {
+    throw IoError(where + ": image is " + size + " pixels, expected at least 1 x 1");
+  }
+  long long count = 0;
+  if (__builtin_mul_overflow(static_cast<long long>(shape.naxes[0]),
+                             static_cast<long long>(shape.naxes[1]), &count) ||
+      count > PTRDIFF_MAX / static_cast<long long>(sizeof(double))) {
+    throw IoError(where + ": image of " + size + " pixels is too large to be held in memory");
+  }
+}
+
+// BSCALE and BZERO must be finite numbers, BSCALE not 0, and (for integer data) BLANK an
+// integer: otherwise the pixel values cannot be interpreted. cfitsio would read such a header
+// (ignoring or replacing what it cannot parse), so it is refused here, before either the raw
+// float reader or cfitsio sees the pixels. BLANK of a floating-point image has no meaning in
+// FITS (NaN marks undefined pixels) and is ignored, as by cfitsio.
+void requireUsableScaling(const FitsHeader& header, int bitpix, const std::string& where) {
+  const auto refuse = [&](const char* key, const std::string& value, const char* expected) {
+    throw IoError(where + ": " + key + " = " + quoteForMessage(value) + " is not " + expected +
+                  ": the pixel values cannot be interpreted");
+  };
+  if (const std::optional<std::string> text = header.value("BSCALE")) {
+    const std::optional<double> v = header.number("BSCALE");
+    if (!v || *v == 0.0) refuse("BSCALE", *text, "a finite non-zero number");
+  }
+  if (const std::optional<std::string> text = header.value("BZERO")) {
+    if (!header.number("BZERO")) refuse("BZERO", *text, "a finite number");
+  }
+  if (bitpix > 0) {
+    if (const std::optional<std::string> text = header.value("BLANK")) {
+      const std::optional<double> v = header.number("BLANK");
+      if (!v || *v != std::floor(*v) || std::fabs(*v) > 9.2e18) {
+        refuse("BLANK", *text, "an integer");
+      }
+    }
   }
 }
 
@@ -131,6 +170,7 @@ void moveToImage(fitsfile* f, const std::string& path) {
   for (int hdu = 1; hdu <= count; ++hdu) {
     fits_movabs_hdu(f, hdu, nullptr, &status);
     throwIfFitsError(status, path, "cannot read HDU " + std::to_string(hdu - 1));
+    detail::requireSoundHdu(f, path);
     if (hduType(f, path) == IMAGE_HDU && !isEmpty(readShape(f, path))) return;
   }
   throw IoError(path + ": no image HDU in file");
@@ -144,7 +184,9 @@ FitsHeader readHeaderCards(fitsfile* f, const std::string& path) {
   int status = 0;
   fits_convert_hdr2str(f, 0, nullptr, 0, &text, &count, &status);
   if (status != 0) {
-    if (text != nullptr) fits_free_memory(text, &status);
+    // cfitsio calls do nothing while their status is set: free with a clean one.
+    int freeStatus = 0;
+    if (text != nullptr) fits_free_memory(text, &freeStatus);
     throwIfFitsError(status, path, "cannot read header");
   }
   FitsHeader header;
@@ -180,14 +222,95 @@ void requireCompleteData(fitsfile* f, const std::string& path) {
 ImageHdu readHduInfo(fitsfile* f, const std::string& path) {
   ImageHdu hdu;
   hdu.path = path;
-  hdu.hduIndex = currentHdu(f);
+  hdu.hduIndex = hduIndex(f);
   const ImageShape shape = readShape(f, path);
-  requireTwoDimensional(shape, path);
+  requireTwoDimensional(shape, hduText(f, path));
   requireCompleteData(f, path);
   hdu.bitpix = shape.bitpix;
   hdu.header = readHeaderCards(f, path);
+  requireUsableScaling(hdu.header, shape.bitpix, hduText(f, path));
   hdu.extname = hdu.header.value("EXTNAME").value_or("");
   return hdu;
+}
+
+// Image sizes have been checked against the file, except for tile-compressed images whose
+// pixels may legitimately need far more memory than the file: that failure names the file too.
+template <typename T>
+Image<T> allocatePixels(fitsfile* f, const std::string& path, long width, long height) {
+  try {
+    return Image<T>(width, height, UninitializedPixels{});  // every pixel is read by the caller
+  } catch (const std::bad_alloc&) {
+    throw IoError(hduText(f, path) + ": image of " + std::to_string(width) + " x " +
+                  std::to_string(height) + " pixels does not fit in memory");
+  }
+}
+
+// cfitsio's HCOMPRESS decoder takes the tile size from the compressed stream, not from the
+// header, and writes that many pixels into a buffer sized for the tile: a stream that states
+// a larger tile overwrites memory (a segmentation fault found by fuzzing). Before the pixels of
+// an HCOMPRESS_1 image are read, every tile's stream must start with the HCOMPRESS code and
+// state the size of its own tile.
+void requireConsistentHcompressTiles(fitsfile* f, const std::string& where) {
+  int status = 0;
+  char type[FLEN_VALUE] = {0};
+  fits_read_key_str(f, "ZCMPTYPE", type, nullptr, &status);
+  if (status != 0 || std::strncmp(type, "HCOMPRESS_1", 11) != 0) {
+    fits_clear_errmsg();
+    return;
+  }
+  const auto key = [&](const char* name, long long fallback) {
+    LONGLONG value = 0;
+    int s = 0;
+    if (fits_read_key_lnglng(f, name, &value, nullptr, &s) != 0) {
+      fits_clear_errmsg();
+      return fallback;
+    }
+    return static_cast<long long>(value);
+  };
+  const long long width = key("ZNAXIS1", 0);
+  const long long height = key("ZNAXIS2", 0);
+  const long long tileWidth = key("ZTILE1", width);
+  const long long tileHeight = key("ZTILE2", 1);
+  int column = 0;
+  fits_get_colnum(f, CASEINSEN, const_cast<char*>("COMPRESSED_DATA"), &column, &status);
+  if (status != 0 || width < 1 || height < 1 || tileWidth < 1 || tileHeight < 1) {
+    fits_clear_errmsg();
+    return;  // cfitsio refuses these itself
+  }
+  const long long tilesPerRow = (width + tileWidth - 1) / tileWidth;
+  const long long tiles = tilesPerRow * ((height + tileHeight - 1) / tileHeight);
+  for (long long row = 1; row <= tiles; ++row) {
+    LONGLONG bytes = 0;
+    LONGLONG offset = 0;
+    fits_read_descriptll(f, column, row, &bytes, &offset, &status);
+    if (status != 0) {
+      fits_clear_errmsg();
+      return;  // cfitsio reports the table itself
+    }
+    if (bytes == 0) continue;  // the tile is stored in another column
+    const long long i = (row - 1) % tilesPerRow;
+    const long long j = (row - 1) / tilesPerRow;
+    const long long nx = std::min(tileWidth, width - i * tileWidth);
+    const long long ny = std::min(tileHeight, height - j * tileHeight);
+    unsigned char head[10] = {0};
+    int anyNull = 0;
+    if (bytes < 10 ||
+        fits_read_col(f, TBYTE, column, row, 1, 10, nullptr, head, &anyNull, &status) != 0) {
+      fits_clear_errmsg();
+      throw IoError(where + ": HCOMPRESS tile " + std::to_string(row) + " is truncated");
+    }
+    const auto int32 = [&](int at) {
+      return static_cast<long long>(static_cast<std::int32_t>(
+          (std::uint32_t(head[at]) << 24) | (std::uint32_t(head[at + 1]) << 16) |
+          (std::uint32_t(head[at + 2]) << 8) | std::uint32_t(head[at + 3])));
+    };
+    const long long a = int32(2);
+    const long long b = int32(6);
+    if (head[0] != 0xDD || head[1] != 0x99 || a < 1 || b < 1 || a * b != nx * ny) {
+      throw IoError(where + ": HCOMPRESS tile " + std::to_string(row) + " is not a stream of a " +
+                    std::to_string(nx) + " x " + std::to_string(ny) + " tile");
+    }
+  }
 }
 
 // cfitsio reads an image serially through its own buffers. A plain BITPIX -32 image in a disk
@@ -262,7 +385,8 @@ bool readPlainFloatData(fitsfile* f, ImageF& pixels) {
 // value, and identical to the pixels SExtractor measures, so that catalogs can agree with
 // SExtractor's to the last digit.
 ImageF readPixels(fitsfile* f, const std::string& path, int bitpix, long width, long height) {
-  ImageF pixels(width, height, UninitializedPixels{});  // every pixel is read below
+  requireConsistentHcompressTiles(f, hduText(f, path));
+  ImageF pixels = allocatePixels<float>(f, path, width, height);
   long first[kMaxAxes];
   std::fill(std::begin(first), std::end(first), 1L);
   int anyNull = 0;
@@ -311,7 +435,7 @@ std::vector<std::string> listImageHdus(const std::string& path) {
   FitsPtr f = detail::openFits(path);
   if (namesHdu(path)) {
     requireImageHdu(f.get(), path);
-    requireTwoDimensional(readShape(f.get(), path), path);
+    requireTwoDimensional(readShape(f.get(), path), hduText(f.get(), path));
     return {path};
   }
   int count = 0;
@@ -324,10 +448,11 @@ std::vector<std::string> listImageHdus(const std::string& path) {
   for (int hdu = 1; hdu <= count; ++hdu) {
     fits_movabs_hdu(f.get(), hdu, nullptr, &status);
     throwIfFitsError(status, path, "cannot read HDU " + std::to_string(hdu - 1));
+    detail::requireSoundHdu(f.get(), path);
     if (hduType(f.get(), path) != IMAGE_HDU) continue;
     const ImageShape shape = readShape(f.get(), path);
     if (isEmpty(shape)) continue;
-    requireTwoDimensional(shape, path + "[" + std::to_string(hdu - 1) + "]");
+    requireTwoDimensional(shape, hduText(f.get(), path));
     images.push_back(hdu - 1);
   }
   if (images.empty()) throw IoError(path + ": no image HDU in file");
@@ -356,9 +481,10 @@ ImageI32 readIntImage(const std::string& path, FitsHeader* header) {
   FitsPtr f = detail::openFits(path);
   moveToImage(f.get(), path);
   const ImageShape shape = readShape(f.get(), path);
-  requireTwoDimensional(shape, path);
+  requireTwoDimensional(shape, hduText(f.get(), path));
   requireCompleteData(f.get(), path);
   FitsHeader cards = readHeaderCards(f.get(), path);
+  requireUsableScaling(cards, shape.bitpix, hduText(f.get(), path));
   const double bscale = cards.number("BSCALE").value_or(1.0);
   const double bzero = cards.number("BZERO").value_or(0.0);
   if (shape.bitpix < 0 || bscale != 1.0 || bzero != std::floor(bzero)) {
@@ -367,7 +493,8 @@ ImageI32 readIntImage(const std::string& path, FitsHeader* header) {
                   (bzero != std::floor(bzero) ? ", non-integer BZERO" : "") +
                   "), expected integer labels");
   }
-  ImageI32 pixels(shape.naxes[0], shape.naxes[1], UninitializedPixels{});  // all read below
+  requireConsistentHcompressTiles(f.get(), hduText(f.get(), path));
+  ImageI32 pixels = allocatePixels<std::int32_t>(f.get(), path, shape.naxes[0], shape.naxes[1]);
   long first[kMaxAxes];
   std::fill(std::begin(first), std::end(first), 1L);
   int anyNull = 0;

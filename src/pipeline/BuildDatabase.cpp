@@ -23,6 +23,7 @@
 #include "octarc/io/Wcs.h"
 #include "octarc/pipeline/CommandLine.h"
 #include "octarc/pipeline/Pipeline.h"
+#include "octarc/pipeline/PreparedImage.h"
 #include "octarc/pipeline/Progress.h"
 #include "octarc/sexcompat/Config.h"
 #include "octarc/sexcompat/Keys.h"
@@ -284,7 +285,14 @@ int runBuildDatabase(const std::vector<std::string>& args) {
   }
   std::optional<double> saturationAdu = o.saturationAdu;
   if (!saturationAdu && explicitKey("SATUR_LEVEL")) saturationAdu = cfg->getDouble("SATUR_LEVEL");
-  if (!saturationAdu) saturationAdu = image.header.number("SATURATE");
+  if (!saturationAdu) {
+    std::vector<std::string> warnings;
+    saturationAdu = headerNonNegative(image.header, "SATURATE", o.imagePath,
+                                      "no saturation level (no pixel flagged saturated)", warnings);
+    if (!o.quiet) {
+      for (const std::string& w : warnings) std::cerr << "octarc simulate database: " << w << "\n";
+    }
+  }
   std::string band = "UNKNOWN";
   if (o.band) {
     band = *o.band;

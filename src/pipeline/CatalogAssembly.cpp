@@ -51,6 +51,14 @@ ColumnPlan planColumns(const RunSettings& settings, bool quiet, int levelCount) 
     int repeat = 1;
     for (int size : p.sizes) repeat *= size;
     if (p.name == "VECTOR_ASSOC") {
+      // Every row holds the whole vector: a size from a hostile .param file must not cost
+      // gigabytes per object. No ASSOC_DATA list is longer than this.
+      constexpr int kMaxAssocVector = 2048;
+      if (repeat > kMaxAssocVector) {
+        throw ConfigError(settings.parametersPath + ":" + std::to_string(p.line) +
+                          ": VECTOR_ASSOC(" + std::to_string(repeat) + "): at most " +
+                          std::to_string(kMaxAssocVector) + " elements (the longest ASSOC_DATA)");
+      }
       out.assoc = true;
       out.assocVectorSize = repeat;
       external.push_back(sexcompat::vectorAssocColumn(repeat));

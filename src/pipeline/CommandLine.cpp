@@ -6,6 +6,7 @@
 #include "octarc/core/Column.h"
 #include "octarc/core/DataFiles.h"
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/core/Version.h"
 #include "octarc/measure/Registry.h"
 #include "octarc/sexcompat/Assoc.h"
@@ -117,6 +118,13 @@ std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std
   }
   sexcompat::Config config = sexcompat::Config::load(schema, configFile, cl.overrides, &warnings);
   RunSettings settings = settingsFromConfig(config);
+  for (const std::string& image : cl.positional) {
+    // As for every configuration value: a control character is never part of a real name.
+    if (hasControlCharacter(image)) {
+      throw ConfigError("command line: image name " + quoteForMessage(image) +
+                        " holds a control character");
+    }
+  }
   settings.imagePaths = cl.positional;
   settings.configPath = configFile;
   settings.parametersPath = resolveParametersFile(settings.parametersPath,

@@ -28,16 +28,6 @@ namespace octarc {
 
 namespace {
 
-CatalogRunValues runValuesOf(const InputCatalogPart& part) {
-  CatalogRunValues v;
-  v.backgroundAdu = part.imageHeader.number("SEXBKGND");
-  v.sigmaAdu = part.imageHeader.number("SEXBKDEV");
-  v.gain = part.imageHeader.number("SEXGAIN");
-  v.thresholdAdu = part.imageHeader.number("SEXTHLD");
-  v.analysisThresholdAdu = part.imageHeader.number("SEXATHLD");
-  return v;
-}
-
 // Thresholds of each level: from the input catalogs (SEXTHLD/SEXATHLD) when given, otherwise
 // DETECT_LEVELS (one per segmentation image), otherwise DETECT_THRESH/ANALYSIS_THRESH for a
 // single level.
@@ -202,8 +192,16 @@ int runMeasure(const std::vector<std::string>& args) {
     }
   }
 
+  // Every catalog and its run values are checked before any image is read.
   std::vector<std::vector<InputCatalogPart>> catalogs;
-  for (const std::string& path : s.inputCatalogPaths) catalogs.push_back(readInputCatalog(path));
+  std::vector<std::vector<CatalogRunValues>> runValues;
+  for (const std::string& path : s.inputCatalogPaths) {
+    catalogs.push_back(readInputCatalog(path));
+    runValues.emplace_back();
+    for (const InputCatalogPart& part : catalogs.back()) {
+      runValues.back().push_back(catalogRunValues(part, path));
+    }
+  }
 
   const std::vector<std::string> extensions = listImageHdus(imagePath);
   const int extCount = int(extensions.size());
@@ -229,7 +227,7 @@ int runMeasure(const std::vector<std::string>& args) {
                       std::to_string(catalogs[k].size()) + " object tables but the image has " +
                       std::to_string(extCount) + " extensions");
       }
-      catalogValues.push_back(runValuesOf(catalogs[k][std::size_t(e)]));
+      catalogValues.push_back(runValues[k][std::size_t(e)]);
     }
     if (!s.quiet) std::cerr << "> Reading " << extensions[std::size_t(e)] << "\n";
     const PreparedImage image =

@@ -11,6 +11,7 @@
 #include "octarc/background/MeshBackground.h"
 #include "octarc/core/DataFiles.h"
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/core/Parallel.h"
 #include "octarc/detection/Filter.h"
 #include "octarc/pipeline/CatalogAssembly.h"
@@ -69,7 +70,48 @@ void weightsToVariance(ImageF& weights, const MeshBackground& mesh, const RunSet
   }
 }
 
+std::string numberText(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
 }  // namespace
+
+CatalogRunValues catalogRunValues(const InputCatalogPart& part, const std::string& catalogPath) {
+  const FitsHeader& imhead = part.imageHeader;
+  const auto read = [&](const char* key, const char* range,
+                        bool (*inRange)(double)) -> std::optional<double> {
+    const std::optional<std::string> text = imhead.value(key);
+    if (!text) return std::nullopt;
+    const std::optional<double> v = imhead.number(key);
+    if (!v || !inRange(*v)) {
+      throw IoError(catalogPath + ": LDAC_IMHEAD for the objects table in HDU " +
+                    std::to_string(part.objectsHdu - 1) + ": " + key + " = " +
+                    quoteForMessage(*text) + " is not " + range);
+    }
+    return v;
+  };
+  CatalogRunValues v;
+  v.backgroundAdu = read("SEXBKGND", "a finite number", [](double) { return true; });
+  v.sigmaAdu = read("SEXBKDEV", "a finite number > 0", [](double x) { return x > 0; });
+  v.gain = read("SEXGAIN", "a finite number >= 0", [](double x) { return x >= 0; });
+  v.thresholdAdu = read("SEXTHLD", "a finite number > 0", [](double x) { return x > 0; });
+  v.analysisThresholdAdu = read("SEXATHLD", "a finite number > 0", [](double x) { return x > 0; });
+  return v;
+}
+
+std::optional<double> headerNonNegative(const FitsHeader& header, const std::string& key,
+                                        const std::string& imagePath, const std::string& instead,
+                                        std::vector<std::string>& warnings) {
+  const std::optional<std::string> text = header.value(key);
+  if (!text) return std::nullopt;
+  const std::optional<double> v = header.number(key);
+  if (v && *v >= 0) return v;
+  warnings.push_back(imagePath + ": header " + key + " = " + quoteForMessage(*text) +
+                     " is not a finite number >= 0: ignored, using " + instead + " instead");
+  return std::nullopt;
+}
 
 std::string extensionPath(const std::string& path, int e, int count, const char* what) {
   if (count == 1) return path;
@@ -172,14 +214,23 @@ PreparedImage prepareImage(const std::string& imagePath, const RunSettings& sett
   if (!anyFinite) throw IoError(imagePath + ": image has no finite pixel (all NaN or Inf)");
 
   // Gain and saturation: the catalog's SEXGAIN is what SExtractor used; otherwise the header
-  // keyword named by GAIN_KEY / SATUR_KEY wins over the configuration, as in SExtractor.
+  // keyword named by GAIN_KEY / SATUR_KEY wins over the configuration, as in SExtractor. A
+  // header value that is not a finite number >= 0 is ignored with a warning (the
+  // configuration's value is used), since it cannot be a gain or a saturation level.
   if (fromCatalog.gain) {
     out.gain = *fromCatalog.gain;
   } else {
-    out.gain = out.hdu.header.number(settings.gainKey).value_or(settings.gainElectronPerAdu);
+    out.gain = headerNonNegative(
+                   out.hdu.header, settings.gainKey, imagePath,
+                   "GAIN " + numberText(settings.gainElectronPerAdu) + " of the configuration",
+                   out.warnings)
+                   .value_or(settings.gainElectronPerAdu);
   }
-  out.saturationAdu =
-      out.hdu.header.number(settings.saturationKey).value_or(settings.saturationAdu);
+  out.saturationAdu = headerNonNegative(out.hdu.header, settings.saturationKey, imagePath,
+                                        "SATUR_LEVEL " + numberText(settings.saturationAdu) +
+                                            " of the configuration",
+                                        out.warnings)
+                          .value_or(settings.saturationAdu);
   // SATUR_LEVEL applies to raw values, so saturated pixels are found before the background goes.
   if (out.saturationAdu > 0) {
     // Blocks of pixels on every core, each listing its own; joined in order.

@@ -19,10 +19,11 @@ ThresholdType thresholdType(const std::string& keyword) {
   return upper(keyword) == "ABSOLUTE" ? ThresholdType::Absolute : ThresholdType::Relative;
 }
 
-// The first value, or the second when a key takes (detection, measurement) pairs like
-// SExtractor's BACK_VALUE and THRESH_TYPE.
-std::string secondOrFirst(const std::vector<std::string>& values) {
-  return values.size() > 1 ? values[1] : values.at(0);
+// The second value of a key that takes (detection, measurement) pairs like SExtractor's
+// BACK_VALUE and THRESH_TYPE, or the first when only one is given. Every list is read through
+// the Config getters, which report a missing value as a ConfigError naming the key.
+std::string secondOrFirst(const sexcompat::Config& config, const char* key) {
+  return config.getString(key, config.count(key) > 1 ? 1 : 0);
 }
 
 }  // namespace
@@ -33,9 +34,8 @@ RunSettings settingsFromConfig(const sexcompat::Config& config) {
   s.catalogNames = config.getStrings("CATALOG_NAME");
   s.parametersPath = config.getString("PARAMETERS_NAME");
 
-  const std::vector<std::string> threshTypes = config.getStrings("THRESH_TYPE");
-  s.detectThresholdType = thresholdType(threshTypes.at(0));
-  s.analysisThresholdType = thresholdType(secondOrFirst(threshTypes));
+  s.detectThresholdType = thresholdType(config.getString("THRESH_TYPE", 0));
+  s.analysisThresholdType = thresholdType(secondOrFirst(config, "THRESH_TYPE"));
   s.detectThreshold = config.getDouble("DETECT_THRESH");
   s.analysisThreshold = config.getDouble("ANALYSIS_THRESH");
   if (config.getDoubles("DETECT_THRESH").size() > 1 ||
@@ -52,17 +52,16 @@ RunSettings settingsFromConfig(const sexcompat::Config& config) {
   s.filter = config.getBool("FILTER");
   s.filterPath = config.getString("FILTER_NAME");
 
-  const std::string backType = upper(config.getStrings("BACK_TYPE").at(0));
+  const std::string backType = upper(config.getString("BACK_TYPE", 0));
   s.backgroundType = backType == "MANUAL"   ? BackgroundType::Manual
                      : backType == "GLOBAL" ? BackgroundType::Global
                                             : BackgroundType::Auto;
-  s.backgroundValueAdu = config.getDoubles("BACK_VALUE").at(0);
-  const std::vector<double> meshSize = config.getDoubles("BACK_SIZE");
-  s.backMeshWidthPix = int(meshSize.at(0));
-  s.backMeshHeightPix = int(meshSize.size() > 1 ? meshSize[1] : meshSize[0]);
-  const std::vector<double> filterSize = config.getDoubles("BACK_FILTERSIZE");
-  s.backFilterWidth = int(filterSize.at(0));
-  s.backFilterHeight = int(filterSize.size() > 1 ? filterSize[1] : filterSize[0]);
+  s.backgroundValueAdu = config.getDouble("BACK_VALUE", 0);
+  s.backMeshWidthPix = config.getInt("BACK_SIZE", 0);
+  s.backMeshHeightPix = config.getInt("BACK_SIZE", config.count("BACK_SIZE") > 1 ? 1 : 0);
+  s.backFilterWidth = config.getInt("BACK_FILTERSIZE", 0);
+  s.backFilterHeight =
+      config.getInt("BACK_FILTERSIZE", config.count("BACK_FILTERSIZE") > 1 ? 1 : 0);
   s.backFilterThresholdAdu = config.getDouble("BACK_FILTTHRESH");
   // The optional file names and lists may be set to nothing (as the -d/-dd dumps write them):
   // that is the same as not setting them.
@@ -72,7 +71,8 @@ RunSettings settingsFromConfig(const sexcompat::Config& config) {
     s.backgroundRmsMapPath = config.getString("BACKGROUND_RMS_NAME");
   }
 
-  const std::string weightType = upper(config.getStrings("WEIGHT_TYPE").at(0));
+  // A bare WEIGHT_TYPE keeps the default, NONE (Config: an empty list is "not given").
+  const std::string weightType = upper(config.getString("WEIGHT_TYPE", 0));
   if (weightType == "BACKGROUND") {
     throw ConfigError(
         "WEIGHT_TYPE BACKGROUND is not supported; give a map with MAP_WEIGHT, MAP_RMS or MAP_VAR");
@@ -85,10 +85,9 @@ RunSettings settingsFromConfig(const sexcompat::Config& config) {
     if (!config.isExplicit("WEIGHT_IMAGE")) {
       throw ConfigError("WEIGHT_IMAGE: WEIGHT_TYPE " + weightType + " needs a weight map file");
     }
-    s.weightImagePath = config.getStrings("WEIGHT_IMAGE").at(0);
+    s.weightImagePath = config.getString("WEIGHT_IMAGE", 0);
   }
-  if (config.count("WEIGHT_THRESH") > 0)
-    s.weightThreshold = config.getDoubles("WEIGHT_THRESH").at(0);
+  if (config.isExplicit("WEIGHT_THRESH")) s.weightThreshold = config.getDouble("WEIGHT_THRESH", 0);
   s.rescaleWeights = config.getBool("RESCALE_WEIGHTS");
   s.weightGain = config.getBool("WEIGHT_GAIN");
   if (s.weightType != WeightType::None && !s.weightGain) {

@@ -9,6 +9,7 @@
 
 #include "octarc/core/DataFiles.h"
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 
 namespace octarc::simulation {
 
@@ -174,7 +175,7 @@ PopulationModel readPopulationModel(const std::string& path) {
     if (eq == std::string::npos) throw ConfigError(where + ": expected 'key = value'");
     const std::string key = trim(line.substr(0, eq));
     const auto setter = setters.find(key);
-    if (setter == setters.end()) throw ConfigError(where + ": unknown key '" + key + "'");
+    if (setter == setters.end()) throw ConfigError(where + ": unknown key " + quoteForMessage(key));
     if (!seen.insert(key).second) throw ConfigError(where + ": key " + key + " given twice");
     std::istringstream values(line.substr(eq + 1));
     std::vector<double> numbers;
@@ -188,7 +189,8 @@ PopulationModel readPopulationModel(const std::string& path) {
         used = 0;
       }
       if (used != token.size() || !std::isfinite(v))
-        throw ConfigError(where + ": key " + key + ": '" + token + "' is not a finite number");
+        throw ConfigError(where + ": key " + key + ": " + quoteForMessage(token) +
+                          " is not a finite number");
       numbers.push_back(v);
     }
     if (numbers.empty()) throw ConfigError(where + ": key " + key + " has no value");

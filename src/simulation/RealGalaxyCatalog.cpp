@@ -2,11 +2,13 @@
 // themselves go through octarc::readImage.
 #include "octarc/simulation/RealGalaxyCatalog.h"
 
+#include <climits>
 #include <cmath>
 #include <filesystem>
 #include <set>
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/detail/Cfitsio.h"
 #include "octarc/simulation/Psf.h"
@@ -16,6 +18,9 @@ namespace octarc::simulation {
 namespace {
 
 using detail::throwIfFitsError;
+
+// File names from the catalog are shown in messages up to this length.
+constexpr std::size_t kPathChars = 200;
 
 int columnNumber(fitsfile* f, const std::string& file, const char* name, bool required) {
   int status = 0;
@@ -88,6 +93,8 @@ RealGalaxyCatalog RealGalaxyCatalog::load(const std::string& catalogPath, bool c
     fits_clear_errmsg();
     throw IoError(catalogPath + ": not a RealGalaxyCatalog (no binary table in HDU 1)");
   }
+  // The row count sizes every column buffer: the table must fit in the file first.
+  detail::requireSoundHdu(f, catalogPath);
   long rows = 0;
   fits_get_num_rows(f, &rows, &status);
   throwIfFitsError(status, catalogPath, "cannot read the number of rows");
@@ -130,14 +137,17 @@ RealGalaxyCatalog RealGalaxyCatalog::load(const std::string& catalogPath, bool c
     }
     const std::string where =
         catalogPath + ": row " + std::to_string(r + 1) + " (IDENT " + std::to_string(e.ident) + ")";
-    if (!(e.pixelScaleArcsec > 0.0))
-      throw IoError(where + ": PIXEL_SCALE must be positive, got " +
+    if (!(e.pixelScaleArcsec > 0.0) || !std::isfinite(e.pixelScaleArcsec))
+      throw IoError(where + ": PIXEL_SCALE must be a finite number > 0, got " +
                     std::to_string(e.pixelScaleArcsec));
-    if (galHdu[r] < 0 || (!psfHdu.empty() && psfHdu[r] < 0))
-      throw IoError(where + ": negative HDU number");
+    if (!std::isfinite(e.mag)) throw IoError(where + ": MAG must be a finite number");
+    const auto badHdu = [](long long hdu) { return hdu < 0 || hdu > INT_MAX; };
+    if (badHdu(galHdu[r]) || (!psfHdu.empty() && badHdu(psfHdu[r])))
+      throw IoError(where + ": HDU number out of range");
     if (checkGalaxyFiles && checked.insert(e.galaxyPath).second &&
         !std::filesystem::exists(e.galaxyPath))
-      throw IoError(where + ": galaxy image file " + e.galaxyPath + " does not exist");
+      throw IoError(where + ": galaxy image file " + quoteForMessage(e.galaxyPath, kPathChars) +
+                    " does not exist");
     catalog.entries_.push_back(std::move(e));
   }
   return catalog;
@@ -147,7 +157,7 @@ SourceStamp RealGalaxyCatalog::loadGalaxy(std::size_t i) const {
   const RealGalaxyEntry& e = entry(i);
   if (!std::filesystem::exists(e.galaxyPath))
     throw IoError(path_ + ": IDENT " + std::to_string(e.ident) + ": galaxy image file " +
-                  e.galaxyPath + " does not exist");
+                  quoteForMessage(e.galaxyPath, kPathChars) + " does not exist");
   const ImageHdu hdu = readImage(e.galaxyPath + "[" + std::to_string(e.galaxyHdu) + "]");
   SourceStamp stamp;
   stamp.fluxPerPixel = ImageD(hdu.pixels.width(), hdu.pixels.height());
@@ -167,8 +177,8 @@ ImageD RealGalaxyCatalog::loadPsf(std::size_t i) const {
   if (e.psfPath.empty())
     throw IoError(path_ + ": no PSF_FILENAME/PSF_HDU columns, but a PSF was asked for");
   if (!std::filesystem::exists(e.psfPath))
-    throw IoError(path_ + ": IDENT " + std::to_string(e.ident) + ": PSF image file " + e.psfPath +
-                  " does not exist");
+    throw IoError(path_ + ": IDENT " + std::to_string(e.ident) + ": PSF image file " +
+                  quoteForMessage(e.psfPath, kPathChars) + " does not exist");
   const std::string hduPath = e.psfPath + "[" + std::to_string(e.psfHdu) + "]";
   const ImageHdu hdu = readImage(hduPath);
   ImageD psf(hdu.pixels.width(), hdu.pixels.height());

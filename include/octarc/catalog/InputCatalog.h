@@ -20,7 +20,11 @@ struct InputCatalogPart {
 
 // One part per LDAC_OBJECTS table (with the LDAC_IMHEAD before it), or the OBJECTS table of a
 // FITS_1.0 catalog. Throws IoError naming the file when it cannot be opened as FITS, holds no
-// LDAC_OBJECTS/OBJECTS table, or a table has no NUMBER column.
+// LDAC_OBJECTS/OBJECTS table, or a table has no NUMBER column. Nothing is allocated from a size
+// before it is checked, and no corrupt structure is passed on: every HDU must be an IMAGE,
+// BINTABLE or TABLE whose data (NAXIS1 * NAXIS2 + PCOUNT for a table) fit in the file, and an
+// LDAC_IMHEAD cell must hold 80-character cards that cfitsio can parse, up to an END card;
+// otherwise IoError naming the file and the HDU.
 std::vector<InputCatalogPart> readInputCatalog(const std::string& path);
 
 // The named columns (scalars, any numeric type, as double) of the table `extname` of a FITS

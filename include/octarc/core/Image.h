@@ -4,11 +4,29 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
+#include "octarc/core/Error.h"
 #include "octarc/core/UninitializedAllocator.h"
 
 namespace octarc {
+
+// width * height, refusing a negative side or a product whose pixels of `bytesPerPixel` bytes
+// could not be addressed (more than PTRDIFF_MAX bytes), without ever overflowing. Readers check
+// a file's sizes first and name the file; this is the guard of every Image.
+inline std::int64_t checkedPixelCount(std::int64_t width, std::int64_t height,
+                                      std::size_t bytesPerPixel) {
+  std::int64_t count = 0;
+  std::int64_t bytes = 0;
+  if (width < 0 || height < 0 || __builtin_mul_overflow(width, height, &count) ||
+      __builtin_mul_overflow(count, static_cast<std::int64_t>(bytesPerPixel), &bytes) ||
+      bytes > PTRDIFF_MAX) {
+    throw Error("image of " + std::to_string(width) + " x " + std::to_string(height) +
+                " pixels cannot be held in memory");
+  }
+  return count;
+}
 
 // Tag for the Image constructor that leaves the pixels unset.
 struct UninitializedPixels {};
@@ -17,11 +35,16 @@ template <typename T>
 class Image {
  public:
   Image() = default;
+  // Throws Error for a negative size or one whose pixels could not be addressed.
   Image(std::int64_t width, std::int64_t height, T fill = T{})
-      : width_(width), height_(height), pixels_(static_cast<std::size_t>(width * height), fill) {}
+      : width_(width),
+        height_(height),
+        pixels_(static_cast<std::size_t>(checkedPixelCount(width, height, sizeof(T))), fill) {}
   // Pixels left unset, for a caller that writes every one of them.
   Image(std::int64_t width, std::int64_t height, UninitializedPixels)
-      : width_(width), height_(height), pixels_(static_cast<std::size_t>(width * height)) {}
+      : width_(width),
+        height_(height),
+        pixels_(static_cast<std::size_t>(checkedPixelCount(width, height, sizeof(T)))) {}
 
   std::int64_t width() const { return width_; }
   std::int64_t height() const { return height_; }

@@ -32,13 +32,23 @@ std::vector<std::string> listImageHdus(const std::string& path);
 // Reads one image HDU (a path as returned by listImageHdus, or a plain file: its first
 // non-empty image HDU). Throws IoError for a missing/unreadable/truncated file, a table HDU, a
 // non-2-D image.
+//
+// Every reader here checks a file before it allocates anything from its header, and says
+// which file, HDU and size is wrong (IoError): every HDU passed must have an XTENSION of
+// IMAGE, BINTABLE or TABLE and data that fit in the file (|BITPIX|/8 * NAXIS1 * NAXIS2 ... may
+// not overflow and must not exceed the bytes after the header; tile-compressed images are
+// checked on their compressed table); a 2-D image needs NAXIS1, NAXIS2 >= 1 and a pixel count
+// that memory can address. BSCALE and BZERO must be finite numbers, BSCALE not 0, and the
+// BLANK of integer data an integer: otherwise the pixel values cannot be interpreted (IoError
+// naming the keyword). BLANK of floating-point data has no meaning in FITS and is ignored.
 ImageHdu readImage(const std::string& path);
 
-// Reads only the header and size of an image HDU (no pixels).
+// Reads only the header and size of an image HDU (no pixels), with the checks of readImage.
 ImageHdu readImageHeader(const std::string& path);
 
-// Reads an integer image exactly (for SExtractor segmentation maps). Throws IoError if the HDU
-// is not an integer image (BITPIX 8/16/32/64 with BSCALE 1 and integer BZERO).
+// Reads an integer image exactly (for SExtractor segmentation maps), with the checks of
+// readImage. Throws IoError if the HDU is not an integer image (BITPIX 8/16/32/64 with BSCALE 1
+// and integer BZERO).
 ImageI32 readIntImage(const std::string& path, FitsHeader* header = nullptr);
 
 // One HDU of an output image file: the header cards to copy (WCS etc.; structural keywords

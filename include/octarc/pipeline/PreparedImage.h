@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "octarc/background/MeshBackground.h"
+#include "octarc/catalog/InputCatalog.h"
 #include "octarc/core/Image.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/Wcs.h"
@@ -30,6 +31,21 @@ struct CatalogRunValues {
   std::optional<double> thresholdAdu;          // SEXTHLD
   std::optional<double> analysisThresholdAdu;  // SEXATHLD
 };
+
+// The run values of one part of an input catalog, from its LDAC_IMHEAD. A keyword that is
+// absent leaves its value unset; one that is present but not a finite number, or out of range
+// (SEXBKDEV <= 0, SEXGAIN < 0, SEXTHLD or SEXATHLD <= 0), is an IoError naming `catalogPath`
+// and the keyword and quoting the value: octarc would otherwise measure with a background,
+// noise or gain that SExtractor cannot have used.
+CatalogRunValues catalogRunValues(const InputCatalogPart& part, const std::string& catalogPath);
+
+// The value of header keyword `key` when it is a finite number >= 0 (a gain, a saturation
+// level). A keyword that is absent gives nullopt; one that is present with another value is
+// ignored, also nullopt, with a warning naming `imagePath`, the keyword and its value, and
+// saying what is used instead (`instead`, e.g. "GAIN 4 of the configuration").
+std::optional<double> headerNonNegative(const FitsHeader& header, const std::string& key,
+                                        const std::string& imagePath, const std::string& instead,
+                                        std::vector<std::string>& warnings);
 
 struct PreparedImage {
   ImageHdu hdu;     // pixels: background-subtracted measurement image

@@ -13,6 +13,7 @@
 #include "octarc/catalog/Catalog.h"
 #include "octarc/catalog/InputCatalog.h"
 #include "octarc/core/Error.h"
+#include "octarc/io/detail/Cfitsio.h"
 
 namespace octarc {
 namespace {
@@ -288,6 +289,104 @@ TEST_F(InputCatalog, NotACatalogIsAnIoError) {
   std::fclose(f);
   EXPECT_THROW(readInputCatalog((dir_ / "text.cat").string()), IoError);
   EXPECT_THROW(readInputCatalog((dir_ / "missing.ldac").string()), IoError);
+}
+
+// A copy of `file` with `count` bytes at the n-th occurrence (from `from`) of `needle` replaced by
+// `replacement`, padded with blanks to `count` bytes.
+std::filesystem::path patched(const std::filesystem::path& file, const std::string& name,
+                              const std::string& needle, std::size_t from,
+                              const std::string& replacement, std::size_t count) {
+  std::string bytes = test::readFile(file);
+  const std::size_t at = bytes.find(needle, from);
+  EXPECT_NE(at, std::string::npos) << needle;
+  std::string text = replacement;
+  text.resize(count, ' ');
+  bytes.replace(at, count, text);
+  const std::filesystem::path out = file.parent_path() / name;
+  std::FILE* f = std::fopen(out.c_str(), "wb");
+  std::fwrite(bytes.data(), 1, bytes.size(), f);
+  std::fclose(f);
+  return out;
+}
+
+// Byte offset of the data of HDU `hdu` (1-based), from cfitsio.
+std::size_t dataStart(const std::filesystem::path& file, int hdu) {
+  fitsfile* f = nullptr;
+  int status = 0;
+  fits_open_file(&f, file.c_str(), READONLY, &status);
+  fits_movabs_hdu(f, hdu, nullptr, &status);
+  LONGLONG head = 0, data = 0, end = 0;
+  fits_get_hduaddrll(f, &head, &data, &end, &status);
+  fits_close_file(f, &status);
+  EXPECT_EQ(status, 0);
+  return std::size_t(data);
+}
+
+// readInputCatalog refuses the file, naming it and every fragment, and nothing is appended.
+void expectRefused(const std::filesystem::path& file, const std::vector<std::string>& fragments) {
+  try {
+    readInputCatalog(file.string());
+    ADD_FAILURE() << "no IoError for " << file;
+  } catch (const IoError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(file.string() + ": "), std::string::npos) << what;
+    for (const std::string& f : fragments) EXPECT_NE(what.find(f), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+  const Table add = octopoleTable(3);
+  const std::filesystem::path out = file.string() + ".out";
+  EXPECT_THROW(writeAppendedCatalog(file.string(), out.string(), {&add}), IoError);
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// Found by mutation fuzzing: a table claiming 2^31 rows in a 20 KB file made readInputCatalog
+// allocate 16 GiB before cfitsio noticed; 2e8 rows cost 1.6 GB. The data size is checked
+// against the file first.
+TEST_F(InputCatalog, RowCountsTheFileCannotHoldAreRefusedBeforeAllocation) {
+  const auto cat = test::runSourceExtractor(dir_, "small.fits", "t.param", "FITS_LDAC", "c.ldac");
+  const std::size_t objects = test::readFile(cat).find("LDAC_OBJECTS");
+  for (const long long rows : {2147483648LL, 200000000LL}) {
+    char card[81];
+    std::snprintf(card, sizeof card, "NAXIS2  = %20lld", rows);
+    const auto bad =
+        patched(cat, "rows" + std::to_string(rows) + ".ldac", "NAXIS2  =", objects - 800, card, 30);
+    expectRefused(bad, {"HDU 2", "truncated", "x " + std::to_string(rows)});
+  }
+}
+
+// An extension type cfitsio does not know is read as an image HDU: appending then copied the
+// corrupt HDU into an output that failed fitsverify.
+TEST_F(InputCatalog, HduOfUnknownTypeIsRefused) {
+  const auto cat = test::runSourceExtractor(dir_, "small.fits", "t.param", "FITS_LDAC", "c.ldac");
+  const auto bad = patched(cat, "foo.ldac", "XTENSION= 'BINTABLE'", 0, "XTENSION= 'FOO     '", 20);
+  expectRefused(bad, {"HDU 1", "XTENSION 'FOO'"});
+}
+
+// Found by fuzzing: an unquoted TTYPEn value of 70 characters overflows a buffer in cfitsio 4.2
+// (abort); the header is refused before cfitsio parses it.
+TEST_F(InputCatalog, UnquotedColumnNameIsRefusedBeforeCfitsioReadsIt) {
+  const auto cat = test::runSourceExtractor(dir_, "small.fits", "t.param", "FITS_LDAC", "c.ldac");
+  const std::size_t objects = test::readFile(cat).find("LDAC_OBJECTS");
+  const auto bad = patched(cat, "ttype.ldac", "TTYPE1  = 'NUMBER", objects - 1200,
+                           "TTYPE1  = " + std::string(70, 'A'), 80);
+  expectRefused(bad, {"HDU 2: 'TTYPE1' is not a quoted string"});
+}
+
+TEST_F(InputCatalog, ImheadCellMustHoldCardsCfitsioCanParse) {
+  const auto cat = test::runSourceExtractor(dir_, "small.fits", "t.param", "FITS_LDAC", "c.ldac");
+  const std::size_t cell = dataStart(cat, 2);
+  // A terminal escape in a value, a keyword FITS does not allow, a value cfitsio cannot parse.
+  expectRefused(patched(cat, "esc.ldac", "OBJECT  = 'test", cell, "OBJECT  = '\x1b[31m'", 20),
+                {"LDAC_IMHEAD (HDU 1)", "card 8 'OBJECT  = '\\x1B[31m''", "not printable ASCII"});
+  expectRefused(patched(cat, "key.ldac", "OBJECT  = 'test", cell, "OB?ECT  = 'test'", 20),
+                {"LDAC_IMHEAD (HDU 1)", "illegal keyword 'OB?ECT'"});
+  expectRefused(patched(cat, "value.ldac", "GAIN    =", cell, "GAIN    = (1,", 80),
+                {"LDAC_IMHEAD (HDU 1)", "card 7 'GAIN    = (1,'", "cannot parse"});
+  // The cell's END card blanked out.
+  expectRefused(patched(cat, "noend.ldac", "END" + std::string(77, ' '), cell, "", 80),
+                {"LDAC_IMHEAD (HDU 1)", "no END card"});
+  // The same cards are read when nothing is wrong: 8 image cards and 46 SEx* cards.
+  EXPECT_EQ(readInputCatalog(cat.string())[0].imageHeader.cards.size(), 54u);
 }
 
 }  // namespace

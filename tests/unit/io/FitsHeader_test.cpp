@@ -2,6 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
 #include "octarc/core/Error.h"
 
 namespace octarc {
@@ -51,6 +56,21 @@ TEST(FitsHeader, NumberParsesFixedAndFortranFormats) {
   EXPECT_FALSE(h.number("OBJECT").has_value());
   EXPECT_FALSE(h.number("SIMPLE").has_value());
   EXPECT_FALSE(h.number("MISSING").has_value());
+}
+
+TEST(FitsHeader, NumberFollowsTheFitsSyntaxOnly) {
+  FitsHeader h;
+  const std::vector<std::pair<std::string, std::optional<double>>> cases = {
+      {"12", 12.0},       {"-3", -3.0},      {"+4.", 4.0},     {".5", 0.5}, {"1.5E-3", 1.5e-3},
+      {"2.0D+01", 20.0},  {"3d2", 300.0},    {"'7.25'", 7.25}, {"NaN", {}}, {"nan", {}},
+      {"Inf", {}},        {"-infinity", {}}, {"0x10", {}},     {"'x'", {}}, {"1E999", {}},
+      {"1.5.2", {}},      {"E5", {}},        {"1E", {}},       {".", {}},   {"T", {}},
+      {"(1.0, 2.0)", {}}, {"''", {}},
+  };
+  for (const auto& [text, expected] : cases) {
+    h.cards = {pad("VALUE   = " + text)};
+    EXPECT_EQ(h.number("VALUE"), expected) << text;
+  }
 }
 
 TEST(FitsHeader, SetFormatsStandardCardsAndReplaces) {

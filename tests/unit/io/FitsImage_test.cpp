@@ -201,6 +201,57 @@ TEST(FitsImage, LargeFloatImagesReadTheSameWhicheverWay) {
   expectStored(readImage((dir / "big.fits.gz").string()), 1.0, 0.0);
 }
 
+// Found by fuzzing (a leak under LeakSanitizer): a tile-compressed float image whose ZSCALE
+// column is not declared makes cfitsio fail while it rebuilds the image header, and the header
+// text it had allocated was not freed.
+TEST(FitsImage, CompressedImageWhoseHeaderCannotBeRebuiltIsAnIoError) {
+  const fs::path dir = test::scratchDir();
+  std::vector<double> raw;
+  for (int i = 0; i < 8 * 6; ++i) raw.push_back(0.37 * i - 3.0);
+  FitsWriter(dir / "float.fits").image(-32, {8, 6}, raw);
+  ASSERT_EQ(test::run("cd '" + dir.string() + "' && fpack float.fits"), 0) << "fpack failed";
+  std::string bytes = test::readText(dir / "float.fits.fz");
+  const std::size_t at = bytes.find("= 'ZSCALE");
+  ASSERT_NE(at, std::string::npos);
+  ASSERT_EQ(bytes.compare(at - 8, 5, "TTYPE"), 0);
+  bytes.replace(at - 8, 5, "TPYPE");  // the column keeps its TFORM but loses its name
+  const fs::path broken = dir / "broken.fits.fz";
+  std::ofstream(broken, std::ios::binary) << bytes;
+  expectIoError([&] { readImageHeader(broken.string()); }, broken.string(), "cannot read header");
+  expectIoError([&] { readImage(broken.string()); }, broken.string());
+}
+
+// Found by fuzzing (a segmentation fault in cfitsio): the HCOMPRESS decoder takes the tile size
+// from the stream and writes that many pixels into a buffer of the tile's size. A stream that
+// states another size is refused before cfitsio decodes it; real HCOMPRESS files still read.
+TEST(FitsImage, HcompressTileStatingAnotherSizeIsRefused) {
+  const fs::path dir = test::scratchDir();
+  std::vector<double> raw;
+  for (int i = 0; i < 40 * 30; ++i) raw.push_back((i * 37) % 2001 - 1000);
+  FitsWriter(dir / "plain.fits").image(32, {40, 30}, raw);
+  ASSERT_EQ(test::run("cd '" + dir.string() + "' && fpack -h -s 0 -w plain.fits"), 0)
+      << "fpack failed";
+  const fs::path packed = dir / "plain.fits.fz";
+  const ImageHdu a = readImage((dir / "plain.fits").string());
+  const ImageHdu b = readImage(packed.string());  // lossless (scale 0): the same pixels
+  EXPECT_EQ(a.pixels.pixels(), b.pixels.pixels());
+  EXPECT_EQ(readIntImage(packed.string())(1, 0), 37 - 1000);
+
+  std::string bytes = test::readText(packed);
+  const std::size_t stream = bytes.find("\xdd\x99");
+  ASSERT_NE(stream, std::string::npos);
+  bytes.replace(stream + 2, 4, std::string("\x00\x1e\x00\x00", 4));  // nx = 1966080
+  const fs::path bad = dir / "bad.fits.fz";
+  std::ofstream(bad, std::ios::binary) << bytes;
+  expectIoError([&] { readImage(bad.string()); }, bad.string() + ": HDU 1: HCOMPRESS tile 1",
+                "40 x 30 tile");
+  expectIoError([&] { readIntImage(bad.string()); }, bad.string() + ": HDU 1: HCOMPRESS tile 1");
+  // The magic number itself.
+  bytes[stream] = 'x';
+  std::ofstream(bad, std::ios::binary) << bytes;
+  expectIoError([&] { readImage(bad.string()); }, bad.string(), "is not a stream");
+}
+
 TEST(FitsImage, DegenerateThirdAxisIsAccepted) {
   const fs::path dir = test::scratchDir();
   FitsWriter(dir / "cube1.fits").image(-32, {2, 2, 1}, {1, 2, 3, 4});
@@ -244,6 +295,199 @@ TEST(FitsImage, BadInputGivesOneLineIoErrorNamingTheFile) {
   FitsWriter(cube).image(-32, {2, 2, 2}, {1, 2, 3, 4, 5, 6, 7, 8});
   expectIoError([&] { readImage(cube.string()); }, cube.string(), "NAXIS3 = 2");
   expectIoError([&] { listImageHdus(cube.string()); }, cube.string(), "NAXIS = 3");
+}
+
+// Sizes no file can hold are refused from the header, before any allocation, naming the file,
+// the HDU and the size, by every reader (images, headers, segmentation images). These headers
+// come from mutation fuzzing: 2^63 - 1 overflowed in Image, 2^62 x 4 wrapped to 0 pixels.
+TEST(FitsImage, SizesTheFileCannotHoldAreRefusedBeforeAllocation) {
+  const fs::path dir = test::scratchDir();
+  struct Case {
+    const char* name;
+    int bitpix;
+    std::vector<std::string> axes;
+    const char* fragment;
+  };
+  const std::vector<Case> cases = {
+      {"max63.fits", -32, {"9223372036854775807", "1"}, "9223372036854775807 x 1"},
+      {"wraps.fits", -32, {"4611686018427387904", "4"}, "4611686018427387904 x 4"},
+      {"max63seg.fits", 32, {"1", "9223372036854775807"}, "1 x 9223372036854775807"},
+      // 100000 x 100000 floats: 40 GB promised by a file of two blocks.
+      {"huge.fits", -32, {"100000", "100000"}, "40000000000 bytes"},
+      {"hugeseg.fits", 16, {"100000", "100000"}, "20000000000 bytes"},
+  };
+  for (const Case& c : cases) {
+    const fs::path path = dir / c.name;
+    test::writeRawFits(path, {{test::primaryCards(c.bitpix, c.axes), 400}});
+    const std::string file = path.string();
+    expectIoError([&] { readImage(file); }, file + ": HDU 0", c.fragment);
+    expectIoError([&] { readImageHeader(file); }, file + ": HDU 0", c.fragment);
+    expectIoError([&] { readIntImage(file); }, file + ": HDU 0", c.fragment);
+    expectIoError([&] { listImageHdus(file); }, file + ": HDU 0", c.fragment);
+  }
+  // The same in an extension of a multi-extension file names that HDU.
+  const fs::path mef = dir / "mef.fits";
+  std::vector<std::string> ext = {card("XTENSION", "'IMAGE   '"),
+                                  card("BITPIX", "-32"),
+                                  card("NAXIS", "2"),
+                                  card("NAXIS1", "3000"),
+                                  card("NAXIS2", "3000"),
+                                  card("PCOUNT", "0"),
+                                  card("GCOUNT", "1")};
+  test::writeRawFits(mef, {{test::primaryCards(8, {}, {card("EXTEND", "T")}), 0}, {ext, 36}});
+  expectIoError([&] { listImageHdus(mef.string()); }, mef.string() + ": HDU 1", "truncated");
+  expectIoError([&] { readImage(mef.string()); }, mef.string() + ": HDU 1", "36000000 bytes");
+  expectIoError([&] { readImage(mef.string() + "[1]"); }, mef.string() + ": HDU 1", "truncated");
+}
+
+TEST(FitsImage, ZeroAxisOfATwoDimensionalImageIsRefused) {
+  const fs::path dir = test::scratchDir();
+  const fs::path path = dir / "zero.fits";
+  test::writeRawFits(path, {{test::primaryCards(-32, {"0", "10"}), 0}});
+  expectIoError([&] { readImage(path.string()); }, path.string() + ": HDU 0", "0 x 10 pixels");
+  expectIoError([&] { readIntImage(path.string()); }, path.string() + ": HDU 0", "0 x 10");
+  expectIoError([&] { listImageHdus(path.string()); }, path.string() + ": HDU 0", "0 x 10");
+}
+
+TEST(FitsImage, ExtensionOfUnknownTypeIsRefused) {
+  // cfitsio takes any XTENSION for an image; 'FOO' must not be read as pixels.
+  const fs::path dir = test::scratchDir();
+  const fs::path path = dir / "foo.fits";
+  const std::vector<std::string> ext = {card("XTENSION", "'FOO     '"),
+                                        card("BITPIX", "-32"),
+                                        card("NAXIS", "2"),
+                                        card("NAXIS1", "2"),
+                                        card("NAXIS2", "2"),
+                                        card("PCOUNT", "0"),
+                                        card("GCOUNT", "1")};
+  test::writeRawFits(path, {{test::primaryCards(8, {}, {card("EXTEND", "T")}), 0}, {ext, 16}});
+  for (const std::string& p : {path.string(), path.string() + "[1]"}) {
+    expectIoError([&] { readImage(p); }, path.string() + ": HDU 1", "XTENSION 'FOO'");
+    expectIoError([&] { listImageHdus(p); }, path.string() + ": HDU 1", "XTENSION 'FOO'");
+  }
+}
+
+// BSCALE/BZERO/BLANK that are not numbers were ignored or replaced by cfitsio, so that a file
+// was read with other pixel values than it states. Both readers (the raw float reader and
+// cfitsio's) must refuse them, naming the file, the HDU and the keyword with its value.
+TEST(FitsImage, ScalingKeywordsThatAreNotNumbersAreRefused) {
+  const fs::path dir = test::scratchDir();
+  struct Case {
+    int bitpix;
+    std::string key;
+    std::string value;
+    std::string shown;
+  };
+  const std::vector<Case> cases = {
+      {-32, "BSCALE", "'x'", "BSCALE = 'x'"},   {16, "BSCALE", "'x'", "BSCALE = 'x'"},
+      {-32, "BSCALE", "NaN", "BSCALE = 'NaN'"}, {16, "BSCALE", "NaN", "BSCALE = 'NaN'"},
+      {-32, "BSCALE", "0", "BSCALE = '0'"},     {16, "BSCALE", "0.0", "BSCALE = '0.0'"},
+      {-32, "BZERO", "'x'", "BZERO = 'x'"},     {16, "BZERO", "'x'", "BZERO = 'x'"},
+      {-32, "BZERO", "Inf", "BZERO = 'Inf'"},   {32, "BZERO", "0x10", "BZERO = '0x10'"},
+      {16, "BLANK", "'x'", "BLANK = 'x'"},      {16, "BLANK", "1.5", "BLANK = '1.5'"},
+      {32, "BLANK", "NaN", "BLANK = 'NaN'"},
+  };
+  int k = 0;
+  for (const Case& c : cases) {
+    const fs::path path = dir / ("scaling" + std::to_string(k++) + ".fits");
+    test::writeRawFits(path, {{test::primaryCards(c.bitpix, {"10", "10"}, {card(c.key, c.value)}),
+                               std::size_t(100 * std::abs(c.bitpix) / 8)}});
+    const std::string where = path.string() + ": HDU 0: " + c.shown;
+    expectIoError([&] { readImage(path.string()); }, where, "cannot be interpreted");
+    expectIoError([&] { readImageHeader(path.string()); }, where, "cannot be interpreted");
+    if (c.bitpix > 0) expectIoError([&] { readIntImage(path.string()); }, where);
+  }
+  // BLANK means nothing for floating-point data (NaN marks undefined pixels): ignored there.
+  const fs::path floatBlank = dir / "floatblank.fits";
+  test::writeRawFits(floatBlank,
+                     {{test::primaryCards(-32, {"10", "10"}, {card("BLANK", "'x'")}), 400}});
+  const ImageHdu hdu = readImage(floatBlank.string());
+  EXPECT_EQ(hdu.pixels(9, 9), 0.0f);
+}
+
+TEST(FitsImage, ExplicitUnitScalingOfFloatsReadsTheStoredValues) {
+  // BSCALE = 1 and BZERO = 0 written out are the same as no scaling (the raw reader applies).
+  const fs::path dir = test::scratchDir();
+  const fs::path path = dir / "unit.fits";
+  FitsWriter(path).image(-32, {3, 1}, {1.5, -2.25, 1e30},
+                         {card("BSCALE", "1.0"), card("BZERO", "0.0")});
+  const ImageHdu hdu = readImage(path.string());
+  EXPECT_EQ(hdu.pixels[0], 1.5f);
+  EXPECT_EQ(hdu.pixels[1], -2.25f);
+  EXPECT_EQ(hdu.pixels[2], 1e30f);
+}
+
+// Found by fuzzing: cfitsio 4.2 copies a TTYPEn value into a 70-byte buffer with strcpy, so an
+// unquoted value of 70 characters (or one after "=" without the blank) aborted octarc with
+// "buffer overflow detected". Such a header is refused before cfitsio parses it.
+TEST(FitsImage, UnquotedTableColumnNameIsRefusedBeforeCfitsioReadsIt) {
+  const fs::path dir = test::scratchDir();
+  const std::vector<std::string> table = {card("XTENSION", "'BINTABLE'"),
+                                          card("BITPIX", "8"),
+                                          card("NAXIS", "2"),
+                                          card("NAXIS1", "4"),
+                                          card("NAXIS2", "1"),
+                                          card("PCOUNT", "0"),
+                                          card("GCOUNT", "1"),
+                                          card("TFIELDS", "1"),
+                                          card("TFORM1", "'J'")};
+  const std::vector<std::string> image = {card("XTENSION", "'IMAGE   '"),
+                                          card("BITPIX", "-32"),
+                                          card("NAXIS", "2"),
+                                          card("NAXIS1", "2"),
+                                          card("NAXIS2", "2"),
+                                          card("PCOUNT", "0"),
+                                          card("GCOUNT", "1")};
+  const std::vector<std::string> names = {"TTYPE1  = " + std::string(70, 'A'),
+                                          "TTYPE1  =" + std::string(71, '\xa8'),
+                                          "TTYPE1  = NUMBER"};
+  int k = 0;
+  for (const std::string& name : names) {
+    const fs::path path = dir / ("ttype" + std::to_string(k++) + ".fits");
+    std::vector<std::string> cards = table;
+    cards.push_back(name);
+    test::writeRawFits(
+        path, {{test::primaryCards(8, {}, {card("EXTEND", "T")}), 0}, {cards, 4}, {image, 16}});
+    // Every reader goes through the same open: also for the image after the table.
+    expectIoError([&] { listImageHdus(path.string()); }, path.string() + ": HDU 1: 'TTYPE1'",
+                  "is not a quoted string");
+    expectIoError([&] { readImage(path.string() + "[2]"); }, path.string() + ": HDU 1: 'TTYPE1'");
+  }
+  // The same file with a quoted name reads.
+  const fs::path good = dir / "good.fits";
+  std::vector<std::string> cards = table;
+  cards.push_back(card("TTYPE1", "'NUMBER'"));
+  test::writeRawFits(
+      good, {{test::primaryCards(8, {}, {card("EXTEND", "T")}), 0}, {cards, 4}, {image, 16}});
+  EXPECT_EQ(listImageHdus(good.string()), std::vector<std::string>{good.string() + "[2]"});
+}
+
+// Found by fuzzing: cfitsio sizes its buffer for a gzip file from the ISIZE trailer (for a zip
+// file from its local header), so a 1 KB file could make it allocate 4 GB. A stated size that
+// no deflate stream of the file's length can reach (1032 to 1) is refused.
+TEST(FitsImage, CompressedFileStatingAnImpossibleSizeIsRefused) {
+  const fs::path dir = test::scratchDir();
+  const fs::path gz = dir / "image.fits.gz";
+  FitsWriter(gz).image(-32, {4, 3}, std::vector<double>(12, 1.5));
+  EXPECT_EQ(readImage(gz.string()).pixels(3, 2), 1.5f);  // cfitsio writes it gzip-compressed
+  std::string bytes = test::readText(gz);
+  ASSERT_EQ(bytes.substr(0, 2), "\x1f\x8b");
+  bytes.replace(bytes.size() - 4, 4, "\xff\xff\xff\xff");  // ISIZE: 4294967295 bytes
+  const fs::path lying = dir / "lying.fits.gz";
+  std::ofstream(lying, std::ios::binary) << bytes;
+  expectIoError([&] { readImage(lying.string()); }, lying.string(),
+                "states an uncompressed size of 4294967295 bytes");
+  expectIoError([&] { listImageHdus(lying.string() + "[0]"); }, lying.string());
+  // The same bytes under a name without .gz: cfitsio looks at the content, and so does octarc.
+  const fs::path plain = dir / "lying.fits";
+  fs::copy_file(lying, plain);
+  expectIoError([&] { readImageHeader(plain.string()); }, plain.string(), "4294967295");
+  // A zip file states the size at byte 22.
+  std::string zip =
+      "PK\x03\x04" + std::string(18, '\0') + "\xff\xff\xff\x7f" + std::string(100, 'x');
+  const fs::path zipped = dir / "image.zip";
+  std::ofstream(zipped, std::ios::binary) << zip;
+  expectIoError([&] { readImage(zipped.string()); }, zipped.string(), "2147483647 bytes");
 }
 
 TEST(FitsImage, ReadIntImageIsExactAndRejectsNonIntegerImages) {

@@ -85,6 +85,40 @@ inline std::string card(const std::string& key, const std::string& value) {
   return c;
 }
 
+// A FITS file written byte by byte, for headers that cfitsio refuses to write (sizes larger than
+// the file, broken keywords): each HDU is its cards (padded to 80 characters, END added, blocks
+// of 2880) followed by `dataBytes` zero bytes padded to a full block.
+struct RawHdu {
+  std::vector<std::string> cards;
+  std::size_t dataBytes = 0;
+};
+inline void writeRawFits(const std::filesystem::path& path, const std::vector<RawHdu>& hdus) {
+  std::string bytes;
+  for (const RawHdu& hdu : hdus) {
+    for (std::string c : hdu.cards) {
+      c.resize(80, ' ');
+      bytes += c;
+    }
+    bytes += std::string("END").append(77, ' ');
+    bytes.append((2880 - bytes.size() % 2880) % 2880, ' ');
+    bytes.append(hdu.dataBytes, '\0');
+    bytes.append((2880 - bytes.size() % 2880) % 2880, '\0');
+  }
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+// The cards of a primary image header of the given BITPIX and axes, then `extra`.
+inline std::vector<std::string> primaryCards(int bitpix, const std::vector<std::string>& axes,
+                                             const std::vector<std::string>& extra = {}) {
+  std::vector<std::string> cards = {card("SIMPLE", "T"), card("BITPIX", std::to_string(bitpix)),
+                                    card("NAXIS", std::to_string(axes.size()))};
+  for (std::size_t k = 0; k < axes.size(); ++k) {
+    cards.push_back(card("NAXIS" + std::to_string(k + 1), axes[k]));
+  }
+  cards.insert(cards.end(), extra.begin(), extra.end());
+  return cards;
+}
+
 // Runs a shell command; returns its exit status.
 inline int run(const std::string& command) {
   const int rc = std::system(command.c_str());

@@ -242,6 +242,9 @@ TEST(AssocErrors, MalformedListsNameFileAndLine) {
   std::string msg = assocError("# header\n1 2 3\n4 five 6\n", {1, 2}, {3});
   EXPECT_NE(msg.find("bad.list:3"), std::string::npos) << msg;
   EXPECT_NE(msg.find("'five'"), std::string::npos) << msg;
+  msg = assocError("1 2 3\n4 \x1b]0;x\x07 6\n", {1, 2}, {3});
+  EXPECT_NE(msg.find("bad.list:2: field 2 '\\x1B]0;x\\x07' is not a number"), std::string::npos)
+      << msg;
   msg = assocError("1 2 3\n4 5\n", {1, 2}, {3});
   EXPECT_NE(msg.find("bad.list:2"), std::string::npos) << msg;
   EXPECT_NE(msg.find("2 fields, expected 3"), std::string::npos) << msg;

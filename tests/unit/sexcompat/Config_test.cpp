@@ -155,8 +155,60 @@ TEST(Config, MalformedValuesNameKeyValueAndPlace) {
 
   msg = loadError("", {{"DETECT_MINAREA", "-3"}});
   EXPECT_NE(msg.find("command line"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("DETECT_MINAREA -3"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("DETECT_MINAREA '-3'"), std::string::npos) << msg;
   EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line";
+}
+
+// A bare "WEIGHT_TYPE" line or "WEIGHT_THRESH ," used to reach an .at(0) on an empty list (an
+// internal error, exit 3). An empty list is "not given", as in SExtractor.
+TEST(Config, EmptyListMeansNotGiven) {
+  const auto dir = test::scratchDir();
+  const std::string path = test::writeTextFile(dir / "bare.sex",
+                                               "CHECKIMAGE_NAME a.fits\n"
+                                               "CHECKIMAGE_NAME\n"
+                                               "FILTER_THRESH ,\n"
+                                               "FILTER_THRESH ; # only separators\n");
+  const Config c = Config::load(schema(), path, {{"CHECKIMAGE_NAME", ""}}, nullptr);
+  EXPECT_EQ(c.getStrings("CHECKIMAGE_NAME"), (std::vector<std::string>{"a.fits"}));
+  EXPECT_TRUE(c.isExplicit("CHECKIMAGE_NAME"));  // from line 1; the bare line 2 changes nothing
+  EXPECT_EQ(c.count("FILTER_THRESH"), 0);
+  EXPECT_FALSE(c.isExplicit("FILTER_THRESH"));
+  const Config d = Config::load(schema(), "", {{"CHECKIMAGE_NAME", ","}}, nullptr);
+  EXPECT_EQ(d.getStrings("CHECKIMAGE_NAME"), (std::vector<std::string>{"check.fits"}));
+  EXPECT_FALSE(d.isExplicit("CHECKIMAGE_NAME"));
+  // Keys that need a value still say so.
+  const std::string msg = loadError(test::writeTextFile(dir / "b.sex", "DETECT_THRESH ,\n"), {});
+  EXPECT_NE(msg.find("b.sex:1: DETECT_THRESH (empty): expected 1 to 2 value(s), got 0"),
+            std::string::npos)
+      << msg;
+  // An index past the end is a ConfigError naming the key, never an internal error.
+  EXPECT_THROW(c.getString("FILTER_THRESH"), ConfigError);
+  EXPECT_THROW(c.getDouble("FILTER_THRESH", 0), ConfigError);
+}
+
+// A NUL in a file name cut it silently ("out\0x.cat" wrote "out"); an escape sequence in a
+// value went raw into messages. Both are refused, naming key and place, the value escaped.
+TEST(Config, ControlCharactersAreRefusedAndShownEscaped) {
+  const auto dir = test::scratchDir();
+  const std::string nul = test::writeTextFile(
+      dir / "nul.sex", std::string("FILTER Y\nCATALOG_NAME out") + '\0' + "x.cat\n");
+  std::string msg = loadError(nul, {});
+  EXPECT_EQ(msg, nul + ":2: CATALOG_NAME 'out\\x00x.cat': holds a control character");
+  const std::string esc = test::writeTextFile(dir / "esc.sex", "CATALOG_NAME \x1b[31mred\n");
+  msg = loadError(esc, {});
+  EXPECT_EQ(msg, esc + ":1: CATALOG_NAME '\\x1B[31mred': holds a control character");
+  msg = loadError("", {{"CHECKIMAGE_NAME", "a.fits,b\x7f.fits"}});
+  EXPECT_EQ(msg, "command line: CHECKIMAGE_NAME 'b\\x7F.fits': holds a control character");
+  // Long values are cut in messages.
+  msg = loadError("", {{"THRESH_TYPE", std::string(5000, 'X')}});
+  EXPECT_NE(msg.find("'" + std::string(60, 'X') + "'... (5000 characters)"), std::string::npos)
+      << msg;
+  EXPECT_LT(msg.size(), 200u);
+  // An unknown key with an escape: a warning, the key escaped.
+  std::vector<std::string> warnings;
+  Config::load(schema(), test::writeTextFile(dir / "k.sex", "\x1b[2JKEY 1\n"), {}, &warnings);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("unknown keyword '\\x1B[2JKEY'"), std::string::npos) << warnings[0];
 }
 
 TEST(Config, MissingExplicitFileIsAnError) {

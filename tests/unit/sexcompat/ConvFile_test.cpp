@@ -87,6 +87,13 @@ TEST(ConvFile, ErrorsNameFileAndLine) {
   msg = convError("CONV NORM\n1 2 1\n2 x 2\n");
   EXPECT_NE(msg.find("bad.conv:3"), std::string::npos) << msg;
   EXPECT_NE(msg.find("'x'"), std::string::npos) << msg;
+  // User text in messages is escaped and cut: an escape sequence, a 5000-character token.
+  msg = convError("CONV NORM\n1 \x1b[2J 1\n");
+  EXPECT_NE(msg.find("bad.conv:2: '\\x1B[2J' is not a number"), std::string::npos) << msg;
+  msg = convError("CONV NORM\n1 " + std::string(5000, '9') + "z\n");
+  EXPECT_NE(msg.find("'" + std::string(60, '9') + "'... (5001 characters) is not a number"),
+            std::string::npos)
+      << msg;
   msg = convError("CONV NORM\n# nothing\n");
   EXPECT_NE(msg.find("no values"), std::string::npos) << msg;
   msg = convError("CONV NORM\n0 0\n0 0\n");

@@ -61,15 +61,24 @@ std::string paramError(const std::string& text) {
 
 TEST(ParamFile, BadSizesNameFileAndLine) {
   std::string msg = paramError("FLUX_APER(0)");
-  EXPECT_NE(msg.find("bad.param:2: FLUX_APER"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("bad.param:2: 'FLUX_APER'"), std::string::npos) << msg;
   EXPECT_NE(msg.find("positive"), std::string::npos) << msg;
   msg = paramError("FLUX_APER(x)");
-  EXPECT_NE(msg.find("bad.param:2: FLUX_APER"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("bad.param:2: 'FLUX_APER'"), std::string::npos) << msg;
   EXPECT_NE(msg.find("'x'"), std::string::npos) << msg;
   msg = paramError("VIGNET(3,-1)");
   EXPECT_NE(msg.find("bad.param:2"), std::string::npos) << msg;
   msg = paramError("FLUX_APER(3a)");
   EXPECT_NE(msg.find("'3a'"), std::string::npos) << msg;
+  // The column holds the product of the sizes; 65536 x 65536 does not fit in an int.
+  msg = paramError("VECTOR_ASSOC(65536,65536)");
+  EXPECT_NE(msg.find("bad.param:2: 'VECTOR_ASSOC': vector of more than 2147483647 elements"),
+            std::string::npos)
+      << msg;
+  EXPECT_EQ(paramError("VECTOR_ASSOC(32768,65535)"), "");  // 2147450880 elements
+  // A name with an escape sequence is shown escaped.
+  msg = paramError("\x1bX(0)");
+  EXPECT_NE(msg.find("bad.param:2: '\\x1BX'"), std::string::npos) << msg;
 }
 
 TEST(ParamFile, MissingFileIsAnIoError) {

@@ -157,6 +157,14 @@ TEST(PopulationModel, BadFilesGiveOneLineErrorsNamingFileAndKey) {
   EXPECT_NE(msg.find("missing key source.size.scatter_dex"), std::string::npos) << msg;
   msg = readError(editedDefault("lens.fj.scatter_mag", "lens.fj.scatter_mag = 0.8x"));
   EXPECT_NE(msg.find("'0.8x' is not a finite number"), std::string::npos) << msg;
+  msg = readError(editedDefault("lens.fj.scatter_mag", "lens.fj.scatter_mag = \x1b[31m"));
+  EXPECT_NE(msg.find("key lens.fj.scatter_mag: '\\x1B[31m' is not a finite number"),
+            std::string::npos)
+      << msg;
+  msg = readError(editedDefault("lens.z_min", std::string(3000, 'k') + " = 1"));
+  EXPECT_NE(msg.find("unknown key '" + std::string(60, 'k') + "'... (3000 characters)"),
+            std::string::npos)
+      << msg;
   msg = readError(editedDefault("lens.kcorr.mag", "lens.kcorr.mag = 0 0.1"));
   EXPECT_NE(msg.find("key lens.kcorr.mag"), std::string::npos) << msg;
   msg = readError(editedDefault("lens.mag_slope", "lens.mag_slope = 0.3 0.4"));

@@ -4,6 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
 #include <string>
 
 #include "TestPaths.h"
@@ -88,7 +92,7 @@ TEST(RealGalaxyCatalog, CosmosGalaxyLoadsThoughItsPsfFileIsMissing) {
   EXPECT_EQ(g.fluxPerPixel.height(), 153);
   EXPECT_NEAR(totalFlux(g), 295.27060361218173, 1e-7);
   const std::string msg = ioErrorOf([&] { cat.loadPsf(0); });
-  EXPECT_NE(msg.find("real_galaxy_PSF_images_23.5_n4.fits does not exist"), std::string::npos)
+  EXPECT_NE(msg.find("real_galaxy_PSF_images_23.5_n4.fits' does not exist"), std::string::npos)
       << msg;
   EXPECT_EQ(msg.find('\n'), std::string::npos);
 }
@@ -101,12 +105,12 @@ TEST(RealGalaxyCatalog, MissingImageFileIsAClearError) {
                      "file "),
             std::string::npos)
       << msg;
-  EXPECT_NE(msg.find("real_galaxy_images.fits does not exist"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("real_galaxy_images.fits' does not exist"), std::string::npos) << msg;
   // Without the up-front check the table loads (100 rows) and the stamp read fails cleanly.
   const auto cat = RealGalaxyCatalog::load(path, false);
   EXPECT_EQ(cat.size(), 100u);
   msg = ioErrorOf([&] { cat.loadGalaxy(7); });
-  EXPECT_NE(msg.find("real_galaxy_images.fits does not exist"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("real_galaxy_images.fits' does not exist"), std::string::npos) << msg;
   EXPECT_THROW(cat.entry(100), std::out_of_range);
 }
 
@@ -141,6 +145,72 @@ TEST(RealGalaxyCatalog, BadCatalogFiles) {
   ASSERT_EQ(status, 0);
   msg = ioErrorOf([&] { RealGalaxyCatalog::load(imagePath); });
   EXPECT_NE(msg.find("image.fits: not a RealGalaxyCatalog"), std::string::npos) << msg;
+}
+
+// A one-row RealGalaxyCatalog table with the given MAG, PIXEL_SCALE and GAL_HDU.
+std::string writeCatalog(const std::filesystem::path& path, double mag, double scale,
+                         long long hdu) {
+  std::filesystem::remove(path);
+  int status = 0;
+  fitsfile* f = nullptr;
+  fits_create_file(&f, path.c_str(), &status);
+  const char* names[] = {"IDENT", "MAG", "BAND", "PIXEL_SCALE", "GAL_FILENAME", "GAL_HDU"};
+  const char* forms[] = {"J", "D", "5A", "D", "20A", "K"};
+  fits_create_tbl(f, BINARY_TBL, 0, 6, const_cast<char**>(names), const_cast<char**>(forms),
+                  nullptr, nullptr, &status);
+  int ident = 7;
+  const char* band[] = {"F814W"};
+  const char* file[] = {"gal.fits"};
+  fits_write_col(f, TINT, 1, 1, 1, 1, &ident, &status);
+  fits_write_col(f, TDOUBLE, 2, 1, 1, 1, &mag, &status);
+  fits_write_col(f, TSTRING, 3, 1, 1, 1, const_cast<char**>(band), &status);
+  fits_write_col(f, TDOUBLE, 4, 1, 1, 1, &scale, &status);
+  fits_write_col(f, TSTRING, 5, 1, 1, 1, const_cast<char**>(file), &status);
+  fits_write_col(f, TLONGLONG, 6, 1, 1, 1, &hdu, &status);
+  fits_close_file(f, &status);
+  EXPECT_EQ(status, 0);
+  return path.string();
+}
+
+TEST(RealGalaxyCatalog, ImpossibleRowValuesAreRefused) {
+  const auto dir = test::scratchDir();
+  const std::string good = writeCatalog(dir / "good.fits", 23.5, 0.03, 1);
+  EXPECT_EQ(RealGalaxyCatalog::load(good, false).entry(0).galaxyHdu, 1);
+  const double inf = std::numeric_limits<double>::infinity();
+  std::string msg = ioErrorOf([&] {
+    RealGalaxyCatalog::load(writeCatalog(dir / "mag.fits", std::nan(""), 0.03, 1), false);
+  });
+  EXPECT_NE(msg.find("mag.fits: row 1 (IDENT 7): MAG must be a finite number"), std::string::npos)
+      << msg;
+  msg = ioErrorOf(
+      [&] { RealGalaxyCatalog::load(writeCatalog(dir / "scale.fits", 23.5, inf, 1), false); });
+  EXPECT_NE(msg.find("scale.fits: row 1 (IDENT 7): PIXEL_SCALE must be a finite number > 0"),
+            std::string::npos)
+      << msg;
+  // An HDU number beyond an int wrapped to a negative one.
+  msg = ioErrorOf([&] {
+    RealGalaxyCatalog::load(writeCatalog(dir / "hdu.fits", 23.5, 0.03, 1LL << 32), false);
+  });
+  EXPECT_NE(msg.find("hdu.fits: row 1 (IDENT 7): HDU number out of range"), std::string::npos)
+      << msg;
+}
+
+TEST(RealGalaxyCatalog, RowCountTheFileCannotHoldIsRefusedBeforeAllocation) {
+  const auto dir = test::scratchDir();
+  const std::string good = writeCatalog(dir / "good.fits", 23.5, 0.03, 1);
+  std::string bytes;
+  {
+    std::ifstream in(good, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const std::size_t at = bytes.find("NAXIS2  =", 2880);
+  ASSERT_NE(at, std::string::npos);
+  bytes.replace(at, 30, "NAXIS2  =           2147483648");
+  const std::string bad = (dir / "rows.fits").string();
+  std::ofstream(bad, std::ios::binary) << bytes;
+  const std::string msg = ioErrorOf([&] { RealGalaxyCatalog::load(bad, false); });
+  EXPECT_NE(msg.find("rows.fits: HDU 1: file is truncated"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("x 2147483648"), std::string::npos) << msg;
 }
 
 }  // namespace

@@ -34,8 +34,11 @@ class Config {
   // Reads the defaults of `schema`, then `sexFile` (skipped when empty), then `overrides`
   // (KEY, value pairs from the command line, in order). Keys are case-insensitive.
   // Throws ConfigError for a file that cannot be read, a malformed value (naming key, value and
-  // file:line or "command line") or an unknown key on the command line. Unknown keys in the file
-  // are skipped with a message appended to `warnings` (may be null).
+  // file:line or "command line"), a value holding a control character (NUL, ESC, ...; shown
+  // escaped) or an unknown key on the command line. Unknown keys in the file are skipped with a
+  // message appended to `warnings` (may be null). A key given with an empty list, where the key
+  // allows one (a bare "WEIGHT_TYPE" line, "WEIGHT_THRESH ,"), counts as not given, as in
+  // SExtractor: it keeps its value (the default unless set before) and is not explicit.
   static Config load(const std::vector<KeySpec>& schema, const std::string& sexFile,
                      const std::vector<std::pair<std::string, std::string>>& overrides,
                      std::vector<std::string>* warnings);
@@ -68,6 +71,8 @@ class Config {
     bool isExplicit = false;
   };
   const Value& find(std::string_view key) const;
+  static void setValue(Value& v, const KeySpec& spec, const std::vector<std::string>& raw,
+                       const std::string& where);
   std::map<std::string, Value, std::less<>> values_;
   mutable std::set<std::string> read_;
 };
