@@ -4,11 +4,10 @@
 #include <cfloat>
 #include <cmath>
 #include <cstddef>
-#include <exception>
 #include <string>
-#include <thread>
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Parallel.h"
 
 namespace octarc {
 namespace {
@@ -87,23 +86,9 @@ ImageF applyFilter(const ImageF& image, const ConvKernel& kernel, int threads) {
   const std::int64_t height = image.height();
   if (image.width() == 0 || height == 0) return out;
 
-  if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  threads = static_cast<int>(std::min<std::int64_t>(threads, height));
-  std::vector<std::exception_ptr> errors(threads);
-  auto band = [&](int b) {
-    try {
-      filterRows(image, kernel, height * b / threads, height * (b + 1) / threads, out);
-    } catch (...) {
-      errors[b] = std::current_exception();  // std::bad_alloc of a ring buffer
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int b = 1; b < threads; ++b) pool.emplace_back(band, b);
-  band(0);
-  for (std::thread& t : pool) t.join();
-  for (const auto& e : errors) {
-    if (e) std::rethrow_exception(e);
-  }
+  // Row bands, each with its own ring buffer (whose std::bad_alloc reaches the caller).
+  parallelBlocks(height, resolveThreads(threads),
+                 [&](std::int64_t y0, std::int64_t y1) { filterRows(image, kernel, y0, y1, out); });
   return out;
 }
 

@@ -2,16 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <condition_variable>
 #include <cstddef>
 #include <exception>
 #include <limits>
-#include <mutex>
 #include <numeric>
 #include <string>
-#include <thread>
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Parallel.h"
 
 namespace octarc {
 namespace {
@@ -289,89 +287,6 @@ struct Detector {
   }
 };
 
-// Runs `compute(task, results)` for tasks 0..count-1 on `threads` workers and hands the results
-// to `emit` on the calling thread in task order. At most `window` tasks are in flight, which
-// bounds the memory held by finished but not yet emitted results.
-template <typename Result, typename Compute, typename Emit>
-void orderedParallel(std::size_t count, int threads, Compute compute, Emit emit) {
-  if (threads <= 1 || count <= 1) {
-    Scratch scratch;
-    Result result;
-    for (std::size_t i = 0; i < count; ++i) {
-      compute(i, scratch, result);
-      emit(result);
-    }
-    return;
-  }
-  const std::size_t window = 4 * static_cast<std::size_t>(threads);
-  std::vector<Result> slots(window);
-  std::vector<char> ready(window, 0);
-  std::mutex mutex;
-  std::condition_variable changed;
-  std::size_t nextTask = 0;
-  std::size_t emitted = 0;
-  bool stop = false;
-  std::exception_ptr error;
-
-  auto worker = [&] {
-    Scratch scratch;
-    Result result;
-    for (;;) {
-      std::size_t task = 0;
-      {
-        std::unique_lock lock(mutex);
-        changed.wait(lock,
-                     [&] { return stop || nextTask >= count || nextTask < emitted + window; });
-        if (stop || nextTask >= count) return;
-        task = nextTask++;
-      }
-      try {
-        compute(task, scratch, result);
-      } catch (...) {
-        std::lock_guard lock(mutex);
-        if (!error) error = std::current_exception();
-        stop = true;
-        changed.notify_all();
-        return;
-      }
-      {
-        std::lock_guard lock(mutex);
-        std::swap(slots[task % window], result);
-        ready[task % window] = 1;
-      }
-      changed.notify_all();
-    }
-  };
-
-  std::vector<std::thread> pool;
-  for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
-  try {
-    Result result;
-    for (std::size_t i = 0; i < count; ++i) {
-      {
-        std::unique_lock lock(mutex);
-        changed.wait(lock, [&] { return stop || ready[i % window]; });
-        if (stop) break;
-        std::swap(result, slots[i % window]);
-        ready[i % window] = 0;
-        ++emitted;
-      }
-      changed.notify_all();
-      emit(result);
-    }
-  } catch (...) {
-    std::lock_guard lock(mutex);
-    if (!error) error = std::current_exception();
-  }
-  {
-    std::lock_guard lock(mutex);
-    stop = true;
-  }
-  changed.notify_all();
-  for (std::thread& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
-}
-
 void validate(const ImageF& image, const DetectionSettings& settings) {
   const auto& t = settings.thresholdsAdu;
   if (t.empty()) throw ConfigError("DETECT_THRESH: no detection threshold given");
@@ -418,9 +333,8 @@ std::vector<std::int64_t> detectMultiThreshold(
   const std::int64_t height = detection.height();
   if (width == 0 || height == 0) return perLevel;
 
-  int threads = settings.threads;
-  if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  threads = static_cast<int>(std::min<std::int64_t>(threads, height));
+  const int threads =
+      static_cast<int>(std::min<std::int64_t>(resolveThreads(settings.threads), height));
 
   const Detector detector{
       detection,
@@ -433,27 +347,11 @@ std::vector<std::int64_t> detectMultiThreshold(
   // 1. Runs above the lowest level, by row bands; each band also links its own runs.
   std::vector<std::vector<Run>> bandRuns(threads);
   std::vector<std::vector<std::uint8_t>> bandLevels(threads);
-  {
-    std::vector<std::exception_ptr> errors(threads);
-    auto scanBand = [&](int band) {
-      try {
-        const std::int64_t y0 = height * band / threads;
-        const std::int64_t y1 = height * (band + 1) / threads;
-        for (std::int64_t y = y0; y < y1; ++y) {
-          detector.scanRow(y, bandRuns[band], bandLevels[band]);
-        }
-      } catch (...) {
-        errors[band] = std::current_exception();
-      }
-    };
-    std::vector<std::thread> pool;
-    for (int band = 1; band < threads; ++band) pool.emplace_back(scanBand, band);
-    scanBand(0);
-    for (std::thread& t : pool) t.join();
-    for (const auto& e : errors) {
-      if (e) std::rethrow_exception(e);
-    }
-  }
+  parallelFor(threads, threads, [&](std::int64_t band) {
+    const std::int64_t y0 = height * band / threads;
+    const std::int64_t y1 = height * (band + 1) / threads;
+    for (std::int64_t y = y0; y < y1; ++y) detector.scanRow(y, bandRuns[band], bandLevels[band]);
+  });
   std::vector<std::int64_t> bandBegin(threads + 1, 0);
   for (int band = 0; band < threads; ++band) {
     bandBegin[band + 1] = bandBegin[band] + static_cast<std::int64_t>(bandRuns[band].size());
@@ -485,16 +383,10 @@ std::vector<std::int64_t> detectMultiThreshold(
   // 2. Connected components of the runs: bands in parallel, then the band seams.
   std::vector<std::int32_t> parent(runCount);
   std::iota(parent.begin(), parent.end(), 0);
-  {
-    auto linkBand = [&](int band) {
-      linkRuns(runs.data(), static_cast<std::int32_t>(bandBegin[band]),
-               static_cast<std::int32_t>(bandBegin[band + 1]), parent.data());
-    };
-    std::vector<std::thread> pool;
-    for (int band = 1; band < threads; ++band) pool.emplace_back(linkBand, band);
-    linkBand(0);
-    for (std::thread& t : pool) t.join();
-  }
+  parallelFor(threads, threads, [&](std::int64_t band) {
+    linkRuns(runs.data(), static_cast<std::int32_t>(bandBegin[band]),
+             static_cast<std::int32_t>(bandBegin[band + 1]), parent.data());
+  });
   for (int band = 1; band < threads; ++band) {
     // Last row of the previous non-empty band against the first row of this one.
     const auto begin = static_cast<std::int32_t>(bandBegin[band]);
@@ -546,7 +438,7 @@ std::vector<std::int64_t> detectMultiThreshold(
   std::vector<std::int64_t>().swap(area);
 
   std::vector<std::int32_t> numberOf;  // NUMBER of each object of the component being emitted
-  orderedParallel<std::vector<ComponentObjects>>(
+  orderedParallel<std::vector<ComponentObjects>, Scratch>(
       taskBegin.size() - 1, threads,
       [&](std::size_t task, Scratch& scratch, std::vector<ComponentObjects>& result) {
         const std::size_t first = taskBegin[task];

@@ -6,7 +6,6 @@
 //   --> FIELD.fits + FIELD.weight.fits + FIELD.truth.txt
 
 #include <algorithm>
-#include <atomic>
 #include <boost/program_options.hpp>
 #include <chrono>
 #include <cmath>
@@ -14,8 +13,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <mutex>
-#include <thread>
 
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Conventions.h"
@@ -64,30 +61,6 @@ constexpr int kMaxLensRedraws = 100000;
 constexpr std::size_t kRenderBatch = 4096;
 // Rows per noise band (each band has its own stream, so threads do not change the result).
 constexpr std::int64_t kNoiseBandRows = 64;
-
-// Runs fn(i) for i in [0, n) on `threads` threads.
-template <typename Fn>
-void parallelFor(std::size_t n, int threads, Fn&& fn) {
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr failure;
-  std::mutex failureMutex;
-  auto worker = [&]() {
-    for (std::size_t i = next++; i < n; i = next++) {
-      try {
-        fn(i);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(failureMutex);
-        if (!failure) failure = std::current_exception();
-        next = n;
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
-  if (failure) std::rethrow_exception(failure);
-}
 
 std::string fmt(double v, const char* format = "%g") {
   char text[64];
@@ -274,7 +247,7 @@ SimulatedField simulateField(const FieldSimulationSettings& s, const ProgressFn&
                                         sourceOptions)
             : SourceDatabase::fromRealGalaxyCatalog(s.databasePath);
     const std::uint64_t lensSeed = systemSeed(s.seed, kStreamLenses);
-    parallelFor(lenses.size(), threads, [&](std::size_t i) {
+    parallelForDynamic(std::int64_t(lenses.size()), threads, [&](std::size_t i) {
       // Systems below the minimum Einstein radius are redrawn from the same stream.
       std::mt19937_64 rng = systemRng(lensSeed, i);
       LensSystemDraw draw = drawLensSystem(setup, sources, std::int64_t(i), rng);
@@ -321,7 +294,7 @@ SimulatedField simulateField(const FieldSimulationSettings& s, const ProgressFn&
   for (std::size_t b = 0; b < galaxies.size(); b += kRenderBatch) {
     const std::size_t count = std::min(kRenderBatch, galaxies.size() - b);
     std::vector<Stamp> stamps(count);
-    parallelFor(count, threads, [&](std::size_t k) {
+    parallelForDynamic(std::int64_t(count), threads, [&](std::size_t k) {
       const std::size_t i = galaxies[b + k];
       std::mt19937_64 rng = streamRng(s.seed, kStreamGalaxies, i);
       stamps[k] = renderGalaxyStamp(objects[i], s.population, s.pixelScaleArcsec, s.magZeroPoint,
@@ -345,7 +318,7 @@ SimulatedField simulateField(const FieldSimulationSettings& s, const ProgressFn&
   // noise (half the exposure doubles the variance).
   const std::int64_t bands = (n + kNoiseBandRows - 1) / kNoiseBandRows;
   field.image = ImageF(n, n);
-  parallelFor(std::size_t(bands), threads, [&](std::size_t band) {
+  parallelForDynamic(bands, threads, [&](std::size_t band) {
     const std::int64_t y0 = std::int64_t(band) * kNoiseBandRows;
     const std::int64_t rows = std::min<std::int64_t>(kNoiseBandRows, n - y0);
     ImageD part(n, rows);

@@ -7,7 +7,6 @@
 // Systems run in parallel; each is reproducible from (seed, index) alone and its results are
 // placed by index, so the output does not depend on the thread count.
 
-#include <atomic>
 #include <boost/program_options.hpp>
 #include <chrono>
 #include <cmath>
@@ -15,10 +14,8 @@
 #include <exception>
 #include <filesystem>
 #include <iostream>
-#include <mutex>
 #include <optional>
 #include <sstream>
-#include <thread>
 
 #include "octarc/catalog/Catalog.h"
 #include "octarc/catalog/FitsCard.h"
@@ -53,6 +50,7 @@ struct SystemResult {
   std::vector<double> arcDistanceArcsec;
   int chosenArc = -1;  // index into the arc rows
   ImageF image;        // kept for the stamps file only
+  StageTimings timings;
 };
 
 ColumnSpec column(const char* name, ColumnType type, const char* format, const char* unit,
@@ -369,20 +367,12 @@ int runSimulateLenses(const std::vector<std::string>& args) {
 
   const int threads = resolveThreads(vm["threads"].as<int>());
   std::vector<SystemResult> results(static_cast<std::size_t>(count));
-  std::atomic<std::int64_t> next{0}, done{0};
-  std::exception_ptr failure;
-  std::mutex failureMutex;
-  std::atomic<bool> stop{false};
-  std::vector<StageTimings> timings(static_cast<std::size_t>(threads));
-  auto worker = [&](int t) {
-    try {
-      for (;;) {
-        if (stop) return;
-        const std::int64_t i = next++;
-        if (i >= count) return;
-        SimulatedSystem s =
-            simulateSystem(setup, sources, seed, i, i < stampCount, &timings[std::size_t(t)]);
+  const ProgressFn progress = terminalProgress("simulating", "systems", quiet);
+  parallelForDynamic(
+      count, threads,
+      [&](std::int64_t i) {
         SystemResult& r = results[std::size_t(i)];
+        SimulatedSystem s = simulateSystem(setup, sources, seed, i, i < stampCount, &r.timings);
         r.draw = std::move(s.draw);
         r.magnification = s.magnification;
         r.objectCount = s.objects.rows();
@@ -394,27 +384,10 @@ int runSimulateLenses(const std::vector<std::string>& args) {
           if (row == s.arcs.chosenRow) r.chosenArc = int(a);
         }
         r.image = std::move(s.image);
-        ++done;
-      }
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(failureMutex);
-      if (!failure) failure = std::current_exception();
-      stop = true;
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 0; t < threads; ++t) pool.emplace_back(worker, t);
-  const ProgressFn progress = terminalProgress("simulating", "systems", quiet);
-  while (done < count && !stop) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    if (progress) progress(done, count);
-  }
-  for (std::thread& t : pool) t.join();
-  if (progress) {
-    progress(done, count);
-    if (done < count) std::fputc('\n', stderr);  // interrupted: end the bar's line
-  }
-  if (failure) std::rethrow_exception(failure);
+      },
+      [&](std::int64_t done) {
+        if (progress) progress(done, count);
+      });
 
   // Tables, in system order.
   const int measuredWidth = measuredPlan().rowWidth();
@@ -492,7 +465,7 @@ int runSimulateLenses(const std::vector<std::string>& args) {
   outputs.commit();
 
   StageTimings total;
-  for (const StageTimings& t : timings) total.add(t);
+  for (const SystemResult& r : results) total.add(r.timings);
   const double wallSec =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!quiet || vm.count("timing")) {

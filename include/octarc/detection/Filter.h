@@ -3,17 +3,10 @@
 
 #include <vector>
 
+#include "octarc/core/ConvKernel.h"
 #include "octarc/core/Image.h"
 
 namespace octarc {
-
-// A convolution mask as read from a .conv file, already normalised as the file asks.
-struct ConvKernel {
-  int width = 0;   // columns (odd in every SExtractor kernel)
-  int height = 0;  // rows
-  // Row-major, height rows of width values; the first row is the first line of the file.
-  std::vector<float> coefficients;
-};
 
 // The filtered image SExtractor thresholds: the kernel applied as a correlation centred on each
 // pixel, with zero padding outside the image and no renormalisation at the edges:

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "octarc/core/Image.h"
-#include "octarc/detection/Segment.h"
+#include "octarc/core/Segment.h"
 
 namespace octarc {
 

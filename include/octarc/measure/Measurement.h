@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "octarc/core/Column.h"
-#include "octarc/detection/Segment.h"
+#include "octarc/core/Segment.h"
 #include "octarc/measure/MeasureContext.h"
 #include "octarc/measure/ObjectState.h"
 

@@ -9,7 +9,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "octarc/detection/Segment.h"
+#include "octarc/core/Segment.h"
 #include "octarc/measure/MeasureContext.h"
 
 namespace octarc {

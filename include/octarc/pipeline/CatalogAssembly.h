@@ -10,7 +10,7 @@
 
 #include "octarc/catalog/RunSummary.h"
 #include "octarc/core/Table.h"
-#include "octarc/detection/Segment.h"
+#include "octarc/core/Segment.h"
 #include "octarc/io/Wcs.h"
 #include "octarc/measure/MeasureContext.h"
 #include "octarc/measure/Registry.h"

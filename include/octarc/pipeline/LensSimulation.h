@@ -17,7 +17,7 @@
 #include "octarc/core/Image.h"
 #include "octarc/core/Table.h"
 #include "octarc/detection/Filter.h"
-#include "octarc/detection/Segment.h"
+#include "octarc/core/Segment.h"
 #include "octarc/measure/Registry.h"
 #include "octarc/simulation/Cosmology.h"
 #include "octarc/simulation/LensSystem.h"

@@ -13,7 +13,7 @@
 #include <thread>
 #include <vector>
 
-#include "octarc/detection/Segment.h"
+#include "octarc/core/Segment.h"
 #include "octarc/measure/MeasureContext.h"
 #include "octarc/measure/Registry.h"
 

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "octarc/detection/Filter.h"
+#include "octarc/core/ConvKernel.h"
 
 namespace octarc::sexcompat {
 

@@ -1,4 +1,5 @@
-// One object at one threshold: a set of pixels that measurements read.
+// One object at one threshold: a set of pixels that measurements read. A value type of every
+// stage after detection (measurements, catalogs, simulations, the search).
 #pragma once
 
 #include <cstdint>
