@@ -1,6 +1,8 @@
 #include "octarc/core/Format.h"
 
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
 
 namespace octarc {
 
@@ -100,6 +102,21 @@ bool hasControlCharacter(std::string_view text) {
     if (isControl(static_cast<unsigned char>(c))) return true;
   }
   return false;
+}
+
+std::string formatNumber(double value, const char* printfFormat, bool dashIfNotFinite) {
+  if (dashIfNotFinite && !std::isfinite(value)) return "-";
+  char text[64];
+  std::snprintf(text, sizeof text, printfFormat, value);
+  return text;
+}
+
+std::string fitsRealValue(double value, int significantDigits) {
+  char text[48];
+  std::snprintf(text, sizeof text, "%.*G", significantDigits, value);
+  std::string out(text);
+  if (out.find_first_of(".EN") == std::string::npos) out += ".0";  // N: NAN, INF
+  return out;
 }
 
 }  // namespace octarc

@@ -13,11 +13,13 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <sstream>
 
 #include "octarc/background/MeshBackground.h"
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/detection/MultiThresholdDetector.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/Wcs.h"
@@ -74,12 +76,6 @@ struct DatabaseOptions {
 };
 
 // A number as the user would write it ("4", "0.05", "-1e+30"), for messages.
-std::string formatNumber(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", value);
-  return text;
-}
-
 // A value with where it came from, for the summary.
 template <typename T>
 struct Sourced {
@@ -191,7 +187,7 @@ std::optional<double> wcsPixelScaleArcsec(const Wcs& wcs, double xFits, double y
   const auto p0 = wcs.pixelToWorld(xFits, yFits);
   const auto px = wcs.pixelToWorld(xFits + 1.0, yFits);
   const auto py = wcs.pixelToWorld(xFits, yFits + 1.0);
-  const double cosDec = std::cos(p0[1] * M_PI / 180.0);
+  const double cosDec = std::cos(p0[1] * std::numbers::pi / 180.0);
   auto offset = [&](const std::array<double, 2>& p) {
     double dLng = p[0] - p0[0];
     dLng -= 360.0 * std::round(dLng / 360.0);  // across longitude 0

@@ -19,6 +19,7 @@
 #include "octarc/core/Conventions.h"
 #include "octarc/core/DataFiles.h"
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/core/Interrupt.h"
 #include "octarc/pipeline/FieldSimulation.h"
 #include "octarc/pipeline/LensSimulation.h"
@@ -75,13 +76,6 @@ double fractionAbove(const std::vector<double>& v, double cut) {
   if (v.empty()) return std::nan("");
   return double(std::count_if(v.begin(), v.end(), [cut](double a) { return a > cut; })) /
          double(v.size());
-}
-
-std::string fmt(double v, const char* format) {
-  if (!std::isfinite(v)) return "-";
-  char text[64];
-  std::snprintf(text, sizeof text, format, v);
-  return text;
 }
 
 void printUsage(const po::options_description& options) {
@@ -199,7 +193,7 @@ int runDemo(const std::vector<std::string>& args) {
         {"-ASSOC_NAME", paths.truth},
         {"-ASSOC_PARAMS", std::to_string(kTruthColumnX) + "," + std::to_string(kTruthColumnY)},
         {"-ASSOC_DATA", assocData},
-        {"-ASSOC_RADIUS", fmt(kAssocRadiusPix, "%.1f")},
+        {"-ASSOC_RADIUS", formatNumber(kAssocRadiusPix, "%.1f", true)},
         {"-ASSOC_TYPE", "NEAREST"},
         {"-ASSOCSELEC_TYPE", "ALL"},
         {"-CHECKIMAGE_TYPE", "NONE"},
@@ -290,15 +284,18 @@ int runDemo(const std::vector<std::string>& args) {
   o << "octarc demo: a simulated survey field with " << s.lensCount
     << " injected galaxy-galaxy lenses\n\n"
     << "Field: " << paths.image << "\n  " << s.sizePix << " x " << s.sizePix << " px of " << scale
-    << "\" (" << fmt(fieldArcmin, "%.1f") << "' x " << fmt(fieldArcmin, "%.1f") << "'), seeing "
-    << s.seeingFwhmArcsec << "\", gain " << s.gainElectronsPerAdu << " e-/ADU\n"
-    << "  sky noise " << fmt(field.skySigmaAdu, "%.3f") << " ADU per pixel (5-sigma limit "
-    << fmt(s.limitingMag, "%.1f") << " mag), chip gap at half weight\n"
+    << "\" (" << formatNumber(fieldArcmin, "%.1f", true) << "' x "
+    << formatNumber(fieldArcmin, "%.1f", true) << "'), seeing " << s.seeingFwhmArcsec << "\", gain "
+    << s.gainElectronsPerAdu << " e-/ADU\n"
+    << "  sky noise " << formatNumber(field.skySigmaAdu, "%.3f", true)
+    << " ADU per pixel (5-sigma limit " << formatNumber(s.limitingMag, "%.1f", true)
+    << " mag), chip gap at half weight\n"
     << "  " << field.galaxyCount << " galaxies, " << field.starCount << " stars ("
     << field.saturatedPixels << " saturated pixels), " << systems.size() << " lens systems\n"
-    << "  simulated in " << fmt(simulateSec, "%.1f") << " s\n\n"
+    << "  simulated in " << formatNumber(simulateSec, "%.1f", true) << " s\n\n"
     << "Detection: octarc detect -c " << shippedSex << " (" << levelCount
-    << " levels, MAP_WEIGHT, ASSOC with the truth list) in " << fmt(detectSec, "%.1f") << " s\n"
+    << " levels, MAP_WEIGHT, ASSOC with the truth list) in "
+    << formatNumber(detectSec, "%.1f", true) << " s\n"
     << "  level  threshold [ADU]  objects\n";
   for (const auto& [level, count] : perLevel) {
     char line[80];
@@ -310,7 +307,7 @@ int runDemo(const std::vector<std::string>& args) {
     << " systems (an object >= " << rules.minDistanceArcsec << "\" from the lens, sqrt(2) size > "
     << rules.minSizeArcsec << "\", within " << kArcMatchArcsec
     << "\" of a lensed image, at some level)\n"
-    << "  median best ARCNESS " << fmt(median(bestArcness), "%.3f") << "\n"
+    << "  median best ARCNESS " << formatNumber(median(bestArcness), "%.3f", true) << "\n"
     << "  system  theta_E[\"]  best ARCNESS  level     S/N\n";
   for (const auto& [id, sys] : systems) {
     char line[128];
@@ -326,13 +323,13 @@ int runDemo(const std::vector<std::string>& args) {
   }
   o << "\nArcness (resolved objects, every level):\n"
     << "  injected arcs   " << arcArcness.size() << " rows: median "
-    << fmt(median(arcArcness), "%.3f") << ", "
-    << fmt(100.0 * fractionAbove(arcArcness, kArcLikeArcness), "%.0f") << "% above "
+    << formatNumber(median(arcArcness), "%.3f", true) << ", "
+    << formatNumber(100.0 * fractionAbove(arcArcness, kArcLikeArcness), "%.0f", true) << "% above "
     << kArcLikeArcness << "\n"
     << "  other objects   " << otherArcness.size() << " rows: median "
-    << fmt(median(otherArcness), "%.3f") << ", "
-    << fmt(100.0 * fractionAbove(otherArcness, kArcLikeArcness), "%.1f") << "% above "
-    << kArcLikeArcness << "\n\n"
+    << formatNumber(median(otherArcness), "%.3f", true) << ", "
+    << formatNumber(100.0 * fractionAbove(otherArcness, kArcLikeArcness), "%.1f", true)
+    << "% above " << kArcLikeArcness << "\n\n"
     << "Outputs:\n"
     << "  " << paths.image << "  the image\n"
     << "  " << paths.weight << "  its weight map (MAP_WEIGHT)\n"
@@ -343,7 +340,8 @@ int runDemo(const std::vector<std::string>& args) {
     << "  the catalog (FITS_LDAC, every object at every level; VECTOR_ASSOC = truth id, kind, "
        "mag, theta_E, system)\n"
     << "Total "
-    << fmt(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), "%.1f")
+    << formatNumber(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                    "%.1f", true)
     << " s\n";
   return 0;
 }

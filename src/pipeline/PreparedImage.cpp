@@ -70,12 +70,6 @@ void weightsToVariance(ImageF& weights, const MeshBackground& mesh, const RunSet
   }
 }
 
-std::string numberText(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", value);
-  return text;
-}
-
 }  // namespace
 
 CatalogRunValues catalogRunValues(const InputCatalogPart& part, const std::string& catalogPath) {
@@ -222,12 +216,12 @@ PreparedImage prepareImage(const std::string& imagePath, const RunSettings& sett
   } else {
     out.gain = headerNonNegative(
                    out.hdu.header, settings.gainKey, imagePath,
-                   "GAIN " + numberText(settings.gainElectronPerAdu) + " of the configuration",
+                   "GAIN " + formatNumber(settings.gainElectronPerAdu) + " of the configuration",
                    out.warnings)
                    .value_or(settings.gainElectronPerAdu);
   }
   out.saturationAdu = headerNonNegative(out.hdu.header, settings.saturationKey, imagePath,
-                                        "SATUR_LEVEL " + numberText(settings.saturationAdu) +
+                                        "SATUR_LEVEL " + formatNumber(settings.saturationAdu) +
                                             " of the configuration",
                                         out.warnings)
                           .value_or(settings.saturationAdu);

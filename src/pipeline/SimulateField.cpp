@@ -17,6 +17,7 @@
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Conventions.h"
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/core/Parallel.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/Wcs.h"
@@ -62,18 +63,6 @@ constexpr std::size_t kRenderBatch = 4096;
 // Rows per noise band (each band has its own stream, so threads do not change the result).
 constexpr std::int64_t kNoiseBandRows = 64;
 
-std::string fmt(double v, const char* format = "%g") {
-  char text[64];
-  std::snprintf(text, sizeof text, format, v);
-  return text;
-}
-
-std::string fitsNumber(double v) {
-  std::string s = fmt(v, "%.10G");
-  if (s.find_first_of(".E") == std::string::npos) s += ".0";
-  return s;
-}
-
 // Lens centres: uniform, at least `margin` pixels inside the edges, `separation` apart and off
 // the chip gap.
 std::vector<Vec2> drawLensPositions(const FieldSimulationSettings& s, int gapX0, int gapX1) {
@@ -82,7 +71,7 @@ std::vector<Vec2> drawLensPositions(const FieldSimulationSettings& s, int gapX0,
   if (s.lensCount > 0 && !(s.sizePix - 1 - margin > margin)) {
     throw ConfigError("--lenses: a " + std::to_string(s.sizePix) + " x " +
                       std::to_string(s.sizePix) + " pixel field is too small for lens systems (" +
-                      fmt(margin) + " pixels from every edge)");
+                      formatNumber(margin) + " pixels from every edge)");
   }
   std::mt19937_64 rng = streamRng(s.seed, kStreamLensPositions, 0);
   std::uniform_real_distribution<double> u(margin, s.sizePix - 1 - margin);
@@ -192,30 +181,34 @@ void FieldSimulationSettings::validate() const {
   require(sizePix >= 64 && sizePix <= 16384,
           "--size: must be between 64 and 16384 pixels, got " + std::to_string(sizePix));
   require(pixelScaleArcsec > 0.0 && pixelScaleArcsec <= 10.0,
-          "--pixel-scale: must be in (0, 10] arcsec, got " + fmt(pixelScaleArcsec));
+          "--pixel-scale: must be in (0, 10] arcsec, got " + formatNumber(pixelScaleArcsec));
   require(seeingFwhmArcsec > 0.0 && seeingFwhmArcsec <= 20.0,
-          "--seeing: must be in (0, 20] arcsec, got " + fmt(seeingFwhmArcsec));
+          "--seeing: must be in (0, 20] arcsec, got " + formatNumber(seeingFwhmArcsec));
   require(gainElectronsPerAdu > 0.0 && std::isfinite(gainElectronsPerAdu),
-          "--gain: must be positive, got " + fmt(gainElectronsPerAdu));
+          "--gain: must be positive, got " + formatNumber(gainElectronsPerAdu));
   require(!noiseSigmaAdu || (*noiseSigmaAdu > 0.0 && std::isfinite(*noiseSigmaAdu)),
-          "--noise-sigma: must be positive, got " + fmt(noiseSigmaAdu.value_or(0.0)));
+          "--noise-sigma: must be positive, got " + formatNumber(noiseSigmaAdu.value_or(0.0)));
   require(limitingMag > 10.0 && limitingMag < 40.0,
-          "--limiting-mag: must be between 10 and 40, got " + fmt(limitingMag));
+          "--limiting-mag: must be between 10 and 40, got " + formatNumber(limitingMag));
   require(std::isfinite(magZeroPoint) && magZeroPoint > 0.0 && magZeroPoint < 50.0,
-          "--mag-zero: must be between 0 and 50, got " + fmt(magZeroPoint));
+          "--mag-zero: must be between 0 and 50, got " + formatNumber(magZeroPoint));
   require(saturationAdu > 0.0 && std::isfinite(saturationAdu),
-          "--saturate: must be positive, got " + fmt(saturationAdu));
+          "--saturate: must be positive, got " + formatNumber(saturationAdu));
   require(lensCount >= 0 && lensCount <= 100000,
           "--lenses: must be between 0 and 100000, got " + std::to_string(lensCount));
   require(minEinsteinRadiusArcsec >= 0.0 && minEinsteinRadiusArcsec < 10.0,
-          "--min-einstein-radius: must be in [0, 10) arcsec, got " + fmt(minEinsteinRadiusArcsec));
-  require(raDeg >= 0.0 && raDeg < 360.0, "--ra: must be in [0, 360) deg, got " + fmt(raDeg));
-  require(decDeg > -90.0 && decDeg < 90.0, "--dec: must be in (-90, 90) deg, got " + fmt(decDeg));
+          "--min-einstein-radius: must be in [0, 10) arcsec, got " +
+              formatNumber(minEinsteinRadiusArcsec));
+  require(raDeg >= 0.0 && raDeg < 360.0,
+          "--ra: must be in [0, 360) deg, got " + formatNumber(raDeg));
+  require(decDeg > -90.0 && decDeg < 90.0,
+          "--dec: must be in (-90, 90) deg, got " + formatNumber(decDeg));
   require(threads >= 0 && threads <= 256,
           "--threads: must be between 0 (all cores) and 256, got " + std::to_string(threads));
   const double sigma = skySigmaAdu();
-  require(sigma < saturationAdu, "--saturate: " + fmt(saturationAdu) +
-                                     " ADU is below the sky noise (" + fmt(sigma) + " ADU)");
+  require(sigma < saturationAdu, "--saturate: " + formatNumber(saturationAdu) +
+                                     " ADU is below the sky noise (" + formatNumber(sigma) +
+                                     " ADU)");
 }
 
 SimulatedField simulateField(const FieldSimulationSettings& s, const ProgressFn& progress) {
@@ -254,7 +247,7 @@ SimulatedField simulateField(const FieldSimulationSettings& s, const ProgressFn&
       for (int tries = 1; draw.einsteinRadiusArcsec < s.minEinsteinRadiusArcsec; ++tries) {
         if (tries == kMaxLensRedraws) {
           throw ConfigError("--min-einstein-radius: no lens system with theta_E >= " +
-                            fmt(s.minEinsteinRadiusArcsec) + "\" in " +
+                            formatNumber(s.minEinsteinRadiusArcsec) + "\" in " +
                             std::to_string(kMaxLensRedraws) + " draws of the population");
         }
         draw = drawLensSystem(setup, sources, std::int64_t(i), rng);
@@ -373,12 +366,12 @@ SimulatedField simulateField(const FieldSimulationSettings& s, const ProgressFn&
 
   FitsHeader& h = field.header;
   h.set("BUNIT", quoteFitsString("ADU"), "Sky-subtracted counts");
-  h.set("GAIN", fitsNumber(s.gainElectronsPerAdu), "Detector gain (e-/ADU)");
-  h.set("SATURATE", fitsNumber(s.saturationAdu), "Saturation level (ADU)");
-  h.set("MAGZERO", fitsNumber(s.magZeroPoint), "Magnitude zero point");
-  h.set("SEEING", fitsNumber(s.seeingFwhmArcsec), "PSF FWHM (arcsec), Gaussian");
-  h.set("PIXSCALE", fitsNumber(s.pixelScaleArcsec), "Pixel scale (arcsec/pixel)");
-  h.set("SKYSIGMA", fitsNumber(sigma), "Sky noise per pixel (ADU), outside the gap");
+  h.set("GAIN", fitsRealValue(s.gainElectronsPerAdu, 10), "Detector gain (e-/ADU)");
+  h.set("SATURATE", fitsRealValue(s.saturationAdu, 10), "Saturation level (ADU)");
+  h.set("MAGZERO", fitsRealValue(s.magZeroPoint, 10), "Magnitude zero point");
+  h.set("SEEING", fitsRealValue(s.seeingFwhmArcsec, 10), "PSF FWHM (arcsec), Gaussian");
+  h.set("PIXSCALE", fitsRealValue(s.pixelScaleArcsec, 10), "Pixel scale (arcsec/pixel)");
+  h.set("SKYSIGMA", fitsRealValue(sigma, 10), "Sky noise per pixel (ADU), outside the gap");
   h.set("SIMSEED", std::to_string(s.seed), "octarc simulate field master seed");
   h.set("NLENSES", std::to_string(s.lensCount), "Injected lens systems");
   h.set("OBJECT", quoteFitsString("octarc simulated field"));
@@ -523,8 +516,9 @@ int runSimulateField(const std::vector<std::string>& args) {
         << "> " << paths.image << ": " << s.sizePix << "x" << s.sizePix << " px, "
         << field.galaxyCount << " galaxies, " << field.starCount << " stars ("
         << field.saturatedPixels << " saturated pixels), " << field.lenses.size()
-        << " lens systems, sky sigma " << fmt(field.skySigmaAdu) << " ADU, in "
-        << fmt(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+        << " lens systems, sky sigma " << formatNumber(field.skySigmaAdu) << " ADU, in "
+        << formatNumber(
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
                "%.1f")
         << " s\n> " << paths.weight << ", " << paths.truth << "\n";
   }

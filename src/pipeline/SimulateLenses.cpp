@@ -20,6 +20,7 @@
 #include "octarc/catalog/Catalog.h"
 #include "octarc/catalog/FitsCard.h"
 #include "octarc/core/AtomicFile.h"
+#include "octarc/core/Conventions.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Parallel.h"
 #include "octarc/io/FitsImage.h"
@@ -399,7 +400,6 @@ int runSimulateLenses(const std::vector<std::string>& args) {
     const LensSystemDraw& d = r.draw;
     double* row = systems.appendRow();
     const double nan = std::nan("");
-    const double deg = 180.0 / 3.14159265358979323846;
     const double truth[] = {double(d.index),
                             d.lens.redshift,
                             d.source.redshift,
@@ -408,14 +408,14 @@ int runSimulateLenses(const std::vector<std::string>& args) {
                             d.lens.absoluteMag,
                             d.lensEllipticity,
                             d.system.mass.ellipticity,
-                            d.system.mass.positionAngleRad * deg,
+                            d.system.mass.positionAngleRad * kDegPerRad,
                             d.system.light.halfLightRadiusArcsec,
                             d.einsteinRadiusArcsec,
                             d.source.mag,
                             d.source.halfLightArcsec,
                             d.system.source.betaArcsec[0],
                             d.system.source.betaArcsec[1],
-                            d.system.source.rotationRad * deg,
+                            d.system.source.rotationRad * kDegPerRad,
                             double(d.sourceIndex),
                             double(int(sources.stamp(d.sourceIndex).type)),
                             r.magnification,

@@ -6,19 +6,12 @@
 #include <vector>
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/selection/ColumnExpression.h"
 
 namespace octarc {
 
-namespace {
-
-std::string formatLevel(double level) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g", level);
-  return text;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 OccupationGrid::OccupationGrid(GridBinning binning,
                                std::unordered_map<BinIndex, std::int64_t> counts,
@@ -125,10 +118,10 @@ std::optional<BinIndex> OccupationGrid::binOf(std::span<const double> values) co
 
 Contour OccupationGrid::contour(double level) const {
   if (!(level > 0.0 && level <= 1.0)) {
-    throw ConfigError("contour level P = " + formatLevel(level) + " outside (0, 1]");
+    throw ConfigError("contour level P = " + formatNumber(level, "%.6g") + " outside (0, 1]");
   }
   if (bins_.empty()) {
-    throw ConfigError("the contour at P = " + formatLevel(level) +
+    throw ConfigError("the contour at P = " + formatNumber(level, "%.6g") +
                       " selects nothing: no simulated arc fell in a bin of the grid (" +
                       std::to_string(outside_) + " outside the axis ranges, " +
                       std::to_string(undefined_) + " undefined)");

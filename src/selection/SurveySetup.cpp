@@ -5,15 +5,11 @@
 #include <string>
 #include <vector>
 
+#include "octarc/core/Format.h"
+
 namespace octarc {
 
 namespace {
-
-std::string number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g", v);
-  return text;
-}
 
 // Appends a warning when both values are known and differ by more than the tolerance.
 void compareValue(const char* what, const char* unit, double gridValue, double searchValue,
@@ -21,9 +17,11 @@ void compareValue(const char* what, const char* unit, double gridValue, double s
   if (std::isnan(gridValue) || std::isnan(searchValue)) return;
   const double apart = std::fabs(searchValue - gridValue) / std::fabs(gridValue);
   if (!(apart > tolerance)) return;
-  warnings.push_back(std::string(what) + ": the grid was made for " + number(gridValue) + unit +
-                     ", the search has " + number(searchValue) + " (" + number(100.0 * apart) +
-                     "% apart, tolerance " + number(100.0 * tolerance) + "%)");
+  warnings.push_back(std::string(what) + ": the grid was made for " +
+                     formatNumber(gridValue, "%.6g") + unit + ", the search has " +
+                     formatNumber(searchValue, "%.6g") + " (" +
+                     formatNumber(100.0 * apart, "%.6g") + "% apart, tolerance " +
+                     formatNumber(100.0 * tolerance, "%.6g") + "%)");
 }
 
 }  // namespace

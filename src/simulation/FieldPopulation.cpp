@@ -7,6 +7,7 @@
 #include <string>
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/simulation/LensLight.h"
 #include "octarc/simulation/RayTracer.h"
 #include "octarc/simulation/SyntheticGalaxy.h"
@@ -15,7 +16,6 @@ namespace octarc::simulation {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 // Largest stamp half-width in pixels: keeps one pathological draw from costing the whole run.
 constexpr std::int64_t kMaxStampHalfWidthPix = 600;
 // Spirals and irregulars are made at pixelScale / kSubPixels and summed in blocks.
@@ -34,14 +34,6 @@ GalaxyType drawType(const FieldPopulationParams& p, double mag, std::mt19937_64&
 }
 
 // A FITS real value with a decimal point (wcslib and fitsverify want reals written as reals).
-std::string fitsReal(double v) {
-  char text[40];
-  std::snprintf(text, sizeof text, "%.15G", v);
-  std::string s(text);
-  if (s.find_first_of(".E") == std::string::npos) s += ".0";
-  return s;
-}
-
 // Pixel-integrated 1-D Gaussian of sigmaPix centred at `centre` (0-based), for pixels
 // first .. first + n - 1.
 std::vector<double> integratedGaussian(double centre, double sigmaPix, std::int64_t first,
@@ -99,7 +91,7 @@ std::vector<FieldObject> drawFieldObjects(const FieldPopulationParams& params, i
         g.type == GalaxyType::Elliptical ? params.ellipticalSize : params.diskSize;
     g.halfLightArcsec = std::min(size.sample(g.mag, rng), params.maxHalfLightArcsec);
     g.axisRatio = g.type == GalaxyType::Elliptical ? 0.5 + 0.5 * u01(rng) : 1.0;
-    g.positionAngleRad = kPi * u01(rng);
+    g.positionAngleRad = std::numbers::pi * u01(rng);
     g.halo = g.type == GalaxyType::Elliptical && g.mag < params.haloMagLimit;
     place(g);
     objects.push_back(g);
@@ -198,7 +190,7 @@ Stamp renderStarStamp(double xPix, double yPix, double flux, double seeingFwhmAr
     throw ConfigError("star: seeing and pixel scale must be positive");
   const double sigmaPix =
       seeingFwhmArcsec / (2.0 * std::sqrt(2.0 * std::log(2.0))) / pixelScaleArcsec;
-  const double peak = flux / (2.0 * kPi * sigmaPix * sigmaPix);
+  const double peak = flux / (2.0 * std::numbers::pi * sigmaPix * sigmaPix);
   double radius = 5.0 * sigmaPix;
   if (minValueAdu > 0.0 && peak > minValueAdu)
     radius = std::max(radius, sigmaPix * std::sqrt(2.0 * std::log(peak / minValueAdu)));
@@ -331,15 +323,15 @@ FitsHeader tanWcsHeader(int width, int height, double pixelScaleArcsec, double r
   h.set("CTYPE2", quoteFitsString("DEC--TAN"), "Gnomonic projection");
   h.set("CUNIT1", quoteFitsString("deg"));
   h.set("CUNIT2", quoteFitsString("deg"));
-  h.set("CRPIX1", fitsReal(0.5 * (width + 1)), "Reference pixel: the image centre");
-  h.set("CRPIX2", fitsReal(0.5 * (height + 1)), "Reference pixel: the image centre");
-  h.set("CRVAL1", fitsReal(raDeg), "RA at the reference pixel (deg)");
-  h.set("CRVAL2", fitsReal(decDeg), "Dec at the reference pixel (deg)");
+  h.set("CRPIX1", fitsRealValue(0.5 * (width + 1), 15), "Reference pixel: the image centre");
+  h.set("CRPIX2", fitsRealValue(0.5 * (height + 1), 15), "Reference pixel: the image centre");
+  h.set("CRVAL1", fitsRealValue(raDeg, 15), "RA at the reference pixel (deg)");
+  h.set("CRVAL2", fitsRealValue(decDeg, 15), "Dec at the reference pixel (deg)");
   const double scaleDeg = pixelScaleArcsec / 3600.0;
-  h.set("CD1_1", fitsReal(-scaleDeg), "East to the left");
+  h.set("CD1_1", fitsRealValue(-scaleDeg, 15), "East to the left");
   h.set("CD1_2", "0.0");
   h.set("CD2_1", "0.0");
-  h.set("CD2_2", fitsReal(scaleDeg), "North up");
+  h.set("CD2_2", fitsRealValue(scaleDeg, 15), "North up");
   h.set("RADESYS", quoteFitsString("ICRS"));
   h.set("EQUINOX", "2000.0");
   return h;

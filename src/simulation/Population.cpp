@@ -24,12 +24,6 @@ std::string trim(const std::string& s) {
   return s.substr(b, e - b + 1);
 }
 
-std::string fmt(double v) {
-  std::ostringstream os;
-  os << v;
-  return os.str();
-}
-
 }  // namespace
 
 double MagnitudePowerLaw::sample(std::mt19937_64& rng) const {
@@ -102,7 +96,7 @@ LensDraw PopulationModel::drawLens(const FlatLambdaCdm& cosmology, std::mt19937_
     if (d.sigmaKmPerS > sigmaMinKmPerS && d.sigmaKmPerS < sigmaMaxKmPerS) return d;
   }
   throw ConfigError(sourcePath + ": lens.sigma_min_km_s/lens.sigma_max_km_s: no lens with " +
-                    fmt(sigmaMinKmPerS) + " < sigma_v < " + fmt(sigmaMaxKmPerS) +
+                    formatNumber(sigmaMinKmPerS) + " < sigma_v < " + formatNumber(sigmaMaxKmPerS) +
                     " km/s (and a redshift from lens.z) in " + std::to_string(maxLensAttempts) +
                     " draws");
 }
@@ -206,8 +200,8 @@ PopulationModel readPopulationModel(const std::string& path) {
   };
   auto checkRange = [&](const std::string& prefix, const MagnitudePowerLaw& p) {
     if (!(p.magMin < p.magMax))
-      fail(prefix + ".mag_min", "must be less than " + prefix + ".mag_max (" + fmt(p.magMin) +
-                                    " >= " + fmt(p.magMax) + ")");
+      fail(prefix + ".mag_min", "must be less than " + prefix + ".mag_max (" +
+                                    formatNumber(p.magMin) + " >= " + formatNumber(p.magMax) + ")");
   };
   checkRange("source", m.sourceMagnitude);
   checkRange("lens", m.lensMagnitude);
@@ -227,7 +221,8 @@ PopulationModel readPopulationModel(const std::string& path) {
   if (m.fjScatterMag < 0.0) fail("lens.fj.scatter_mag", "must be >= 0");
   if (!(m.sigmaMinKmPerS > 0.0 && m.sigmaMinKmPerS < m.sigmaMaxKmPerS))
     fail("lens.sigma_min_km_s", "must be positive and less than lens.sigma_max_km_s (" +
-                                    fmt(m.sigmaMinKmPerS) + " >= " + fmt(m.sigmaMaxKmPerS) + ")");
+                                    formatNumber(m.sigmaMinKmPerS) +
+                                    " >= " + formatNumber(m.sigmaMaxKmPerS) + ")");
   if (!(maxAttempts >= 1.0 && maxAttempts <= 1e9 && maxAttempts == std::floor(maxAttempts)))
     fail("lens.max_attempts", "must be a whole number between 1 and 1e9");
   m.maxLensAttempts = static_cast<int>(maxAttempts);

@@ -9,6 +9,7 @@
 
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/detail/Cfitsio.h"
 #include "octarc/simulation/Psf.h"
@@ -18,12 +19,6 @@ namespace octarc::simulation {
 namespace {
 
 using detail::throwIfFitsError;
-
-std::string numberCard(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.10G", value);
-  return text;
-}
 
 // One table column as cfitsio wants it (TTYPE, TFORM, TUNIT).
 struct ColumnSpec {
@@ -205,9 +200,9 @@ RealGalaxyCatalogPaths writeRealGalaxyCatalog(const std::string& catalogPath,
       const RealGalaxyRecord& r = records[k];
       FitsHeader& h = hdus[k].header;
       h.set("IDENT", std::to_string(r.ident), "galaxy identifier (catalog IDENT)");
-      h.set("PIXSCALE", numberCard(info.pixelScaleArcsec), "pixel size, arcsec");
-      h.set("XIMAGE", numberCard(r.xImage), "centroid x in the parent image (1-based)");
-      h.set("YIMAGE", numberCard(r.yImage), "centroid y in the parent image (1-based)");
+      h.set("PIXSCALE", formatNumber(info.pixelScaleArcsec, "%.10G"), "pixel size, arcsec");
+      h.set("XIMAGE", formatNumber(r.xImage, "%.10G"), "centroid x in the parent image (1-based)");
+      h.set("YIMAGE", formatNumber(r.yImage, "%.10G"), "centroid y in the parent image (1-based)");
       hdus[k].floatPixels = &r.stamp;
     }
     writeImageFile(path, hdus);
@@ -222,7 +217,7 @@ RealGalaxyCatalogPaths writeRealGalaxyCatalog(const std::string& catalogPath,
     ImageF pixels(normalised.width(), normalised.height());
     for (std::int64_t k = 0; k < pixels.size(); ++k) pixels[k] = static_cast<float>(normalised[k]);
     OutputImageHdu hdu;
-    hdu.header.set("PIXSCALE", numberCard(info.pixelScaleArcsec), "pixel size, arcsec");
+    hdu.header.set("PIXSCALE", formatNumber(info.pixelScaleArcsec, "%.10G"), "pixel size, arcsec");
     hdu.floatPixels = &pixels;
     outputs.write(2, [&](const std::string& path) { writeImageFile(path, {hdu}); });
   }

@@ -14,8 +14,6 @@ namespace octarc::simulation {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 // Evaluates f (arcsec offsets from the stamp centre) with 2x2 sub-samples per pixel, scales the
 // result to `flux` and adds it to the stamp. Pixels outside the stamp's inscribed circle stay
 // zero: a round support keeps the ray tracer's bounding circle (and so its cost) small.
@@ -83,7 +81,7 @@ SourceStamp makeSyntheticGalaxy(GalaxyType type, std::mt19937_64& rng,
 
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * unit(rng); };
-  const double pa = uniform(0.0, kPi);
+  const double pa = uniform(0.0, std::numbers::pi);
 
   switch (type) {
     case GalaxyType::Elliptical: {
@@ -101,8 +99,8 @@ SourceStamp makeSyntheticGalaxy(GalaxyType type, std::mt19937_64& rng,
       addComponent(img, scale, bulgeFraction, sersic({0, 0, pa, std::max(q, 0.7)}, 4.0, 0.35 * rh));
       // Exponential disc with two logarithmic spiral arms of pitch angle 10-30 degrees.
       const EllipseFrame disc(0, 0, pa, q);
-      const double tanPitch = std::tan(uniform(10.0, 30.0) * kPi / 180.0);
-      const double armPhase = uniform(0.0, 2.0 * kPi);
+      const double tanPitch = std::tan(uniform(10.0, 30.0) * std::numbers::pi / 180.0);
+      const double armPhase = uniform(0.0, 2.0 * std::numbers::pi);
       const double armContrast = uniform(0.4, 0.8);
       const double bDisc = sersicBn(1.0);
       auto armPhiAt = [=](double r) {
@@ -120,7 +118,7 @@ SourceStamp makeSyntheticGalaxy(GalaxyType type, std::mt19937_64& rng,
       const int nClumps = std::uniform_int_distribution<int>(3, 8)(rng);
       for (int k = 0; k < nClumps; ++k) {
         const double r = uniform(0.4, 1.8) * rh;
-        const double phi = armPhiAt(r) + (unit(rng) < 0.5 ? 0.0 : kPi);
+        const double phi = armPhiAt(r) + (unit(rng) < 0.5 ? 0.0 : std::numbers::pi);
         const double u = r * std::cos(phi);
         const double v = r * std::sin(phi) * q;  // project the disc-plane position
         const double x = disc.c * u - disc.s * v;
@@ -136,11 +134,11 @@ SourceStamp makeSyntheticGalaxy(GalaxyType type, std::mt19937_64& rng,
       const double lopsidedFraction = uniform(0.15, 0.3);
       const double mainFraction = 1.0 - clumpFraction - lopsidedFraction;
       addComponent(img, scale, mainFraction, sersic({0, 0, pa, q}, 1.0, rh));
-      const double offsetAngle = uniform(0.0, 2.0 * kPi);
+      const double offsetAngle = uniform(0.0, 2.0 * std::numbers::pi);
       const double offset = uniform(0.3, 0.7) * rh;
       addComponent(img, scale, lopsidedFraction,
                    sersic({offset * std::cos(offsetAngle), offset * std::sin(offsetAngle),
-                           uniform(0.0, kPi), uniform(0.4, 1.0)},
+                           uniform(0.0, std::numbers::pi), uniform(0.4, 1.0)},
                           1.0, 0.6 * rh));
       const int nClumps = std::uniform_int_distribution<int>(4, 10)(rng);
       std::vector<double> weights(nClumps);
@@ -148,7 +146,7 @@ SourceStamp makeSyntheticGalaxy(GalaxyType type, std::mt19937_64& rng,
       for (double& w : weights) wsum += (w = uniform(0.5, 1.5));
       for (int k = 0; k < nClumps; ++k) {
         const double r = rh * 1.3 * std::sqrt(unit(rng));
-        const double phi = uniform(0.0, 2.0 * kPi);
+        const double phi = uniform(0.0, 2.0 * std::numbers::pi);
         addComponent(
             img, scale, clumpFraction * weights[k] / wsum,
             gaussian(r * std::cos(phi), r * std::sin(phi), uniform(0.06, 0.18) * rh + 0.5 * scale));

@@ -1,4 +1,5 @@
-// Text from files and command lines, made fit for a one-line message.
+// Numbers and user text as octarc prints them: one number formatter for messages, reports and
+// header values, and text from files and command lines made fit for a one-line message.
 //
 // A value read from a user's file may hold anything: a NUL, terminal escape sequences, a line
 // break, or thousands of characters. Messages show it through quoteForMessage(), so that an
@@ -28,5 +29,14 @@ std::string printableMessage(std::string_view text, std::size_t maxChars = kMess
 
 // True when `text` holds a control byte (0x00-0x1F or 0x7F).
 bool hasControlCharacter(std::string_view text);
+
+// `value` through one printf conversion of a double (e.g. "%g", "%.3f", "%.10G"); with
+// `dashIfNotFinite`, "-" for NaN and infinities (report tables).
+std::string formatNumber(double value, const char* printfFormat = "%g",
+                         bool dashIfNotFinite = false);
+
+// A real FITS header value: `significantDigits` digits ("%.nG"), with ".0" appended when the text
+// would otherwise read as an integer.
+std::string fitsRealValue(double value, int significantDigits);
 
 }  // namespace octarc
