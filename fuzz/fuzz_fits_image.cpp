@@ -11,7 +11,7 @@
 #include "octarc/core/Error.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/Wcs.h"
-#include "octarc/pipeline/PreparedImage.h"
+#include "octarc/run/PreparedImage.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (octarc::fuzz::expandsTooMuch(data, size)) return 0;

@@ -9,7 +9,7 @@
 #include "FuzzInput.h"
 #include "octarc/catalog/InputCatalog.h"
 #include "octarc/core/Error.h"
-#include "octarc/pipeline/PreparedImage.h"
+#include "octarc/run/PreparedImage.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (octarc::fuzz::expandsTooMuch(data, size)) return 0;

@@ -7,8 +7,8 @@
 #include "FuzzInput.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Table.h"
-#include "octarc/pipeline/CatalogAssembly.h"
-#include "octarc/pipeline/RunSettings.h"
+#include "octarc/run/CatalogAssembly.h"
+#include "octarc/run/RunSettings.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   octarc::RunSettings settings;

@@ -9,7 +9,7 @@
 
 #include "FuzzInput.h"
 #include "octarc/core/Error.h"
-#include "octarc/pipeline/RunSettings.h"
+#include "octarc/run/RunSettings.h"
 #include "octarc/sexcompat/Assoc.h"
 #include "octarc/sexcompat/Config.h"
 #include "octarc/sexcompat/Keys.h"

@@ -20,13 +20,14 @@
 #include "octarc/background/MeshBackground.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
-#include "octarc/detection/MultiThresholdDetector.h"
+#include "octarc/core/Progress.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/Wcs.h"
 #include "octarc/pipeline/CommandLine.h"
 #include "octarc/pipeline/Pipeline.h"
-#include "octarc/pipeline/PreparedImage.h"
-#include "octarc/pipeline/Progress.h"
+#include "octarc/run/ImageRun.h"
+#include "octarc/run/Levels.h"
+#include "octarc/run/PreparedImage.h"
 #include "octarc/sexcompat/Config.h"
 #include "octarc/sexcompat/Keys.h"
 #include "octarc/simulation/GalaxyCutout.h"
@@ -311,25 +312,17 @@ int runBuildDatabase(const std::vector<std::string>& args) {
   const double sigmaAdu = background.globalSigmaAdu();
 
   // Saturation is judged on the raw pixels, before the background is subtracted.
-  std::vector<std::int64_t> saturated;
-  if (saturationAdu) {
-    const float level = static_cast<float>(*saturationAdu);
-    for (std::int64_t p = 0; p < pixels.size(); ++p) {
-      if (pixels[p] >= level) saturated.push_back(p);
-    }
-  }
+  const std::vector<std::int64_t> saturated =
+      saturationAdu ? findSaturatedPixels(pixels, *saturationAdu, 0) : std::vector<std::int64_t>();
   for (std::int64_t y = 0; y < height; ++y) background.subtractRow(y, &pixels(0, y));
 
-  DetectionSettings detect;
-  detect.thresholdsAdu = {o.thresholdSigma * sigmaAdu};
-  detect.minArea = o.minAreaPixels                 ? *o.minAreaPixels
-                   : explicitKey("DETECT_MINAREA") ? cfg->getInt("DETECT_MINAREA")
-                                                   : 5;
+  DetectionRequest detect;
+  detect.levels = levelsAtThresholds({o.thresholdSigma * sigmaAdu}, sigmaAdu);
+  detect.minAreaPix = o.minAreaPixels                 ? *o.minAreaPixels
+                      : explicitKey("DETECT_MINAREA") ? cfg->getInt("DETECT_MINAREA")
+                                                      : 5;
   detect.threads = 0;
-  std::vector<Segment> objects;
-  detectMultiThreshold(pixels, detect, [&](std::vector<Segment>& component) {
-    for (Segment& s : component) objects.push_back(std::move(s));
-  });
+  std::vector<Segment> objects = detectSegments(pixels, detect);
 
   CutoutSettings cut;
   cut.minAreaPixels = o.minSizePixels;

@@ -1,7 +1,7 @@
 // `octarc demo`: the whole method on a simulated survey field, in under two minutes.
 //
-//   simulate field (with injected lenses) --> octarc detect (octarc.sex: 15 levels,
-//   MAP_WEIGHT, ASSOC with the truth list) --> read the catalog back --> report: objects per
+//   simulate field (with injected lenses) --> detection run in memory (run/DetectionRun.h,
+//   octarc.sex: 15 levels, MAP_WEIGHT, ASSOC with the truth list) --> catalog + report: objects per
 //   level, injected arcs found and their arcness, arcness of arcs versus everything else
 
 #include <algorithm>
@@ -14,7 +14,7 @@
 #include <iostream>
 #include <map>
 
-#include "octarc/catalog/InputCatalog.h"
+#include "octarc/catalog/Catalog.h"
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Conventions.h"
 #include "octarc/core/DataFiles.h"
@@ -24,6 +24,12 @@
 #include "octarc/pipeline/FieldSimulation.h"
 #include "octarc/pipeline/LensSimulation.h"
 #include "octarc/pipeline/Pipeline.h"
+#include "octarc/run/CatalogAssembly.h"
+#include "octarc/run/DetectionRun.h"
+#include "octarc/run/Levels.h"
+#include "octarc/run/RunSettings.h"
+#include "octarc/sexcompat/Config.h"
+#include "octarc/sexcompat/Keys.h"
 
 namespace octarc {
 
@@ -50,19 +56,47 @@ struct CatalogRows {
   std::size_t rows() const { return level.size(); }
 };
 
-CatalogRows readCatalog(const std::string& path) {
-  std::vector<std::vector<double>> columns = readCatalogColumns(
-      path, "LDAC_OBJECTS",
-      {"THRESH_LEVEL", "THRESHOLD", "X_IMAGE", "Y_IMAGE", "ARCNESS", "SIZE_IMAGE", "SNR_ISO"});
+// The report's columns of `table`, each value as the catalog stores it (single-precision
+// columns rounded to float), rows in catalog order.
+CatalogRows reportRows(const Table& table, const std::vector<std::int64_t>& order) {
+  auto column = [&](const char* name) {
+    const int c = table.findColumn(name);
+    if (c < 0) throw Error(std::string("demo: the catalog has no column ") + name);
+    const bool single = table.columns()[std::size_t(c)].type == ColumnType::Float32;
+    std::vector<double> values;
+    for (std::int64_t i = 0; i < table.rows(); ++i) {
+      const double v = table.value(order.empty() ? i : order[std::size_t(i)], c);
+      values.push_back(single ? double(float(v)) : v);
+    }
+    return values;
+  };
   CatalogRows c;
-  c.level = std::move(columns[0]);
-  c.threshold = std::move(columns[1]);
-  c.x = std::move(columns[2]);
-  c.y = std::move(columns[3]);
-  c.arcness = std::move(columns[4]);
-  c.size = std::move(columns[5]);
-  c.snr = std::move(columns[6]);
+  c.level = column("THRESH_LEVEL");
+  c.threshold = column("THRESHOLD");
+  c.x = column("X_IMAGE");
+  c.y = column("Y_IMAGE");
+  c.arcness = column("ARCNESS");
+  c.size = column("SIZE_IMAGE");
+  c.snr = column("SNR_ISO");
   return c;
+}
+
+// The detection run of step 2: the shipped survey configuration with the demo's own keys on
+// top (its columns, the weight map, the truth list as ASSOC list), run in memory.
+DetectionRunResult detectField(const std::string& shippedSex,
+                               const std::vector<std::pair<std::string, std::string>>& keys,
+                               const std::string& imagePath, const std::string& paramPath) {
+  std::vector<std::string> warnings;
+  const sexcompat::Config config =
+      sexcompat::Config::load(sexcompat::octarcMeasureKeys(), shippedSex, keys, &warnings);
+  RunSettings settings = settingsFromConfig(config);
+  settings.imagePaths = {imagePath};
+  settings.configPath = shippedSex;
+  settings.parametersPath = paramPath;
+  const ColumnPlan columns =
+      planColumns(settings, true, int(detectionLevels(settings, 1.0).size()));
+  const sexcompat::AssocSettings assoc = sexcompat::AssocSettings::fromConfig(config);
+  return runDetection(settings, columns, assoc, RunLog());
 }
 
 double median(std::vector<double> v) {
@@ -157,6 +191,7 @@ int runDemo(const std::vector<std::string>& args) {
   if (madeDir) provisional.push_back(removeOnInterrupt(outDir.string(), true));
   double simulateSec = 0.0, detectSec = 0.0;
   SimulatedField field;
+  DetectionRunResult detection;
   try {
     // 1. The field, and the column list of step 2 (octarc.param's columns plus the truth data
     // of the nearest truth-list entry: id, kind, mag, theta_E, system).
@@ -184,29 +219,29 @@ int runDemo(const std::vector<std::string>& args) {
         std::to_string(kTruthColumnId) + "," + std::to_string(kTruthColumnKind) + "," +
         std::to_string(kTruthColumnMag) + "," + std::to_string(kTruthColumnEinsteinRadius) + "," +
         std::to_string(kTruthColumnSystem);
-    const std::pair<const char*, std::string> keys[] = {
-        {"-PARAMETERS_NAME", paramPath},
-        {"-CATALOG_NAME", catalogPath},
-        {"-CATALOG_TYPE", "FITS_LDAC"},
-        {"-WEIGHT_TYPE", "MAP_WEIGHT"},
-        {"-WEIGHT_IMAGE", paths.weight},
-        {"-ASSOC_NAME", paths.truth},
-        {"-ASSOC_PARAMS", std::to_string(kTruthColumnX) + "," + std::to_string(kTruthColumnY)},
-        {"-ASSOC_DATA", assocData},
-        {"-ASSOC_RADIUS", formatNumber(kAssocRadiusPix, "%.1f", true)},
-        {"-ASSOC_TYPE", "NEAREST"},
-        {"-ASSOCSELEC_TYPE", "ALL"},
-        {"-CHECKIMAGE_TYPE", "NONE"},
-        {"-NTHREADS", std::to_string(s.threads)},
-        {"-VERBOSE_TYPE", "QUIET"}};
-    std::vector<std::string> detectArgs = {paths.image, "-c", shippedSex};
-    for (const auto& [key, value] : keys) {
-      detectArgs.push_back(key);
-      detectArgs.push_back(value);
-    }
+    const std::vector<std::pair<std::string, std::string>> keys = {
+        {"PARAMETERS_NAME", paramPath},
+        {"CATALOG_NAME", catalogPath},
+        {"CATALOG_TYPE", "FITS_LDAC"},
+        {"WEIGHT_TYPE", "MAP_WEIGHT"},
+        {"WEIGHT_IMAGE", paths.weight},
+        {"ASSOC_NAME", paths.truth},
+        {"ASSOC_PARAMS", std::to_string(kTruthColumnX) + "," + std::to_string(kTruthColumnY)},
+        {"ASSOC_DATA", assocData},
+        {"ASSOC_RADIUS", formatNumber(kAssocRadiusPix, "%.1f", true)},
+        {"ASSOC_TYPE", "NEAREST"},
+        {"ASSOCSELEC_TYPE", "ALL"},
+        {"CHECKIMAGE_TYPE", "NONE"},
+        {"NTHREADS", std::to_string(s.threads)},
+        {"VERBOSE_TYPE", "QUIET"}};
     if (!quiet) std::cerr << "> Detecting and measuring at 15 levels (octarc detect)\n";
-    const int detectStatus = runDetect(detectArgs);
-    if (detectStatus != 0) throw Error("octarc detect failed on " + paths.image);
+    detection = detectField(shippedSex, keys, paths.image, paramPath);
+    OutputFiles catalog;
+    catalog.add(catalogPath);
+    catalog.write(0, [&](const std::string& path) {
+      writeCatalog(path, CatalogType::FitsLdac, detection.parts(), detection.fits10Cards);
+    });
+    catalog.commit();
     detectSec = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() -
                 simulateSec;
   } catch (...) {
@@ -222,7 +257,7 @@ int runDemo(const std::vector<std::string>& args) {
   for (const int slot : provisional) forgetOnInterrupt(slot);
 
   // 3. The report.
-  const CatalogRows cat = readCatalog(catalogPath);
+  const CatalogRows cat = reportRows(detection.extensions[0].table, detection.extensions[0].order);
   const double scale = s.pixelScaleArcsec;
   const ArcRules rules;
   int levelCount = 0;

@@ -9,8 +9,8 @@
 #include <utility>
 
 #include "octarc/core/Error.h"
-#include "octarc/detection/MultiThresholdDetector.h"
-#include "octarc/pipeline/CatalogAssembly.h"
+#include "octarc/run/ImageRun.h"
+#include "octarc/run/Levels.h"
 #include "octarc/simulation/LensModel.h"
 #include "octarc/simulation/RealGalaxyCatalog.h"
 #include "octarc/simulation/Seeds.h"
@@ -51,13 +51,11 @@ void StageTimings::add(const StageTimings& o) {
   psfSec += o.psfSec;
   noiseSec += o.noiseSec;
   detectionSec += o.detectionSec;
-  measurementSec += o.measurementSec;
   arcRulesSec += o.arcRulesSec;
 }
 
 double StageTimings::totalSec() const {
-  return drawSec + rayTraceSec + lensLightSec + psfSec + noiseSec + detectionSec + measurementSec +
-         arcRulesSec;
+  return drawSec + rayTraceSec + lensLightSec + psfSec + noiseSec + detectionSec + arcRulesSec;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -187,58 +185,32 @@ const MeasurementPlan& measuredPlan() {
   return plan;
 }
 
-Table detectAndMeasure(const ImageF& image, const SimulationSetup& setup,
+Table detectAndMeasure(PreparedImage& image, const SimulationSetup& setup,
                        std::vector<std::int64_t>* levelCounts, StageTimings* timings) {
-  double t0 = timings ? threadCpuSec() : 0.0;
-  ImageF filtered;
-  if (setup.filter) filtered = applyFilter(image, *setup.filter, 1);
-  const ImageF& detection = setup.filter ? filtered : image;
-
-  DetectionSettings settings;
-  settings.thresholdsAdu = setup.thresholdsAdu;
-  settings.minArea = setup.minAreaPix;
-  settings.threads = 1;
-  std::vector<Segment> segments;
-  std::vector<std::int64_t> counts =
-      detectMultiThreshold(detection, settings, [&](std::vector<Segment>& objects) {
-        for (Segment& o : objects) segments.push_back(std::move(o));
-      });
-  // Rows ordered by (level, NUMBER), as `octarc detect` writes them.
-  std::sort(segments.begin(), segments.end(), [](const Segment& a, const Segment& b) {
-    return std::pair(a.level, a.number) < std::pair(b.level, b.number);
-  });
-  if (timings) {
-    const double t1 = threadCpuSec();
-    timings->detectionSec += t1 - t0;
-    t0 = t1;
-  }
-
+  const double t0 = timings ? threadCpuSec() : 0.0;
   const double sigmaAdu = setup.observing.skySigmaAdu;
-  MeasureContext context;
-  context.measurement = &image;
-  context.detection = &detection;
-  std::vector<std::int64_t> saturated;
-  for (std::int64_t i = 0; i < image.size(); ++i) {
-    if (image[i] >= setup.saturationAdu) saturated.push_back(i);
-  }
-  context.saturatedPixels = saturated.empty() ? nullptr : &saturated;
-  context.sigmaAdu = sigmaAdu;
-  context.gain = setup.observing.gainElectronsPerAdu;
-  context.magZeropoint = setup.observing.magZeroPoint;
-  context.pixelScaleArcsec = setup.observing.grid.pixelScaleArcsec;
-  for (std::size_t k = 0; k < setup.thresholdsAdu.size(); ++k) {
-    ThresholdLevel l;
-    l.level = int(k) + 1;
-    l.thresholdAdu = setup.thresholdsAdu[k];
-    l.analysisThresholdAdu = l.thresholdAdu;
-    l.thresholdSigma = l.thresholdAdu / sigmaAdu;
-    context.levels.push_back(l);
-  }
-  Table table(measuredColumns());
-  measureSegments(measuredPlan(), segments, context, table, 1);
-  if (timings) timings->measurementSec += threadCpuSec() - t0;
-  if (levelCounts) *levelCounts = std::move(counts);
+  MeasureContext context =
+      image.context(setup.observing.magZeroPoint, setup.observing.grid.pixelScaleArcsec);
+  context.levels = levelsAtThresholds(setup.thresholdsAdu, sigmaAdu);
+  DetectionRequest request;
+  request.levels = context.levels;
+  request.minAreaPix = setup.minAreaPix;
+  request.threads = 1;
+  request.footprintRuns = false;
+  ImageRunResult run = detectAndMeasure(image, measuredPlan(), context, request);
+  Table table = run.rowsInCatalogOrder();
+  if (timings) timings->detectionSec += threadCpuSec() - t0;
+  if (levelCounts) *levelCounts = std::move(run.objectsPerLevel);
   return table;
+}
+
+PreparedImage prepareStamp(ImageF pixels, const SimulationSetup& setup) {
+  InMemoryImage description;
+  description.sigmaAdu = setup.observing.skySigmaAdu;
+  description.gain = setup.observing.gainElectronsPerAdu;
+  description.saturationAdu = setup.saturationAdu;
+  description.filter = setup.filter ? &*setup.filter : nullptr;
+  return prepareInMemory(std::move(pixels), description);
 }
 
 ArcSelection selectArcs(const Table& objects, double lensXPix, double lensYPix,
@@ -318,13 +290,16 @@ SimulatedSystem simulateSystem(const SimulationSetup& setup, const SourceDatabas
   ImageF image(rendered.image.width(), rendered.image.height());
   for (std::int64_t i = 0; i < image.size(); ++i) image[i] = float(rendered.image[i]);
 
-  out.objects = detectAndMeasure(image, setup, &out.levelCounts, timings);
+  const double tPrepare = timings ? threadCpuSec() : 0.0;
+  PreparedImage prepared = prepareStamp(std::move(image), setup);
+  if (timings) timings->detectionSec += threadCpuSec() - tPrepare;
+  out.objects = detectAndMeasure(prepared, setup, &out.levelCounts, timings);
   t0 = timings ? threadCpuSec() : 0.0;
   const sim::SurveyGrid& grid = setup.observing.grid;
   out.arcs = selectArcs(out.objects, grid.lensXPix, grid.lensYPix, grid.pixelScaleArcsec,
                         setup.arcRules, rng);
   if (timings) timings->arcRulesSec += threadCpuSec() - t0;
-  if (keepImage) out.image = std::move(image);
+  if (keepImage) out.image = std::move(prepared.hdu.pixels);
   return out;
 }
 

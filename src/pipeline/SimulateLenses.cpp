@@ -23,13 +23,14 @@
 #include "octarc/core/Conventions.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Parallel.h"
+#include "octarc/core/Progress.h"
 #include "octarc/io/FitsImage.h"
-#include "octarc/pipeline/CatalogAssembly.h"
 #include "octarc/pipeline/LensSimulation.h"
 #include "octarc/pipeline/Pipeline.h"
-#include "octarc/pipeline/PreparedImage.h"
-#include "octarc/pipeline/Progress.h"
-#include "octarc/pipeline/RunSettings.h"
+#include "octarc/run/CatalogAssembly.h"
+#include "octarc/run/Levels.h"
+#include "octarc/run/PreparedImage.h"
+#include "octarc/run/RunSettings.h"
 #include "octarc/sexcompat/Config.h"
 #include "octarc/sexcompat/ConvFile.h"
 #include "octarc/sexcompat/Keys.h"
@@ -474,15 +475,14 @@ int runSimulateLenses(const std::vector<std::string>& args) {
                  "> %lld systems, %lld with an arc, %lld arc rows -> %s\n"
                  "> %lld lens-source pairs redrawn (the relations gave no source redshift)\n"
                  "> wall %.1f s on %d thread(s); CPU %.1f s = %.2f ms/system: draw %.3f, ray "
-                 "trace %.3f, lens light %.3f, PSF %.3f, noise %.3f, detection %.3f, "
+                 "trace %.3f, lens light %.3f, PSF %.3f, noise %.3f, detection and "
                  "measurement %.3f, arc rules %.3f ms/system\n",
                  static_cast<long long>(count), static_cast<long long>(found),
                  static_cast<long long>(arcs.rows()), outPath.c_str(),
                  static_cast<long long>(redraws), wallSec, threads, total.totalSec(),
                  1e3 * total.totalSec() / n, 1e3 * total.drawSec / n, 1e3 * total.rayTraceSec / n,
                  1e3 * total.lensLightSec / n, 1e3 * total.psfSec / n, 1e3 * total.noiseSec / n,
-                 1e3 * total.detectionSec / n, 1e3 * total.measurementSec / n,
-                 1e3 * total.arcRulesSec / n);
+                 1e3 * total.detectionSec / n, 1e3 * total.arcRulesSec / n);
   }
   return 0;
 }

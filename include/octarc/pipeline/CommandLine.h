@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "octarc/pipeline/RunSettings.h"
+#include "octarc/run/RunSettings.h"
 #include "octarc/sexcompat/Config.h"
 
 namespace octarc {

@@ -14,8 +14,8 @@
 
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Image.h"
+#include "octarc/core/Progress.h"
 #include "octarc/io/FitsHeader.h"
-#include "octarc/pipeline/Progress.h"
 #include "octarc/simulation/FieldPopulation.h"
 
 namespace octarc {

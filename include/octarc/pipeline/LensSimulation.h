@@ -15,10 +15,11 @@
 #include <vector>
 
 #include "octarc/core/Image.h"
+#include "octarc/core/Segment.h"
 #include "octarc/core/Table.h"
 #include "octarc/detection/Filter.h"
-#include "octarc/core/Segment.h"
 #include "octarc/measure/Registry.h"
+#include "octarc/run/PreparedImage.h"
 #include "octarc/simulation/Cosmology.h"
 #include "octarc/simulation/LensSystem.h"
 #include "octarc/simulation/Population.h"
@@ -102,7 +103,8 @@ constexpr int kMaxSystemRedraws = 1000;
 // CPU seconds spent per stage (summed over systems and threads).
 struct StageTimings {
   double drawSec = 0, rayTraceSec = 0, lensLightSec = 0, psfSec = 0, noiseSec = 0;
-  double detectionSec = 0, measurementSec = 0, arcRulesSec = 0;
+  double detectionSec = 0;  // filter, detection and measurement (one pass, run/ImageRun.h)
+  double arcRulesSec = 0;
   void add(const StageTimings& other);
   double totalSec() const;
 };
@@ -153,10 +155,14 @@ SimulatedSystem simulateSystem(const SimulationSetup& setup, const SourceDatabas
                                std::uint64_t masterSeed, std::int64_t index, bool keepImage,
                                StageTimings* timings = nullptr);
 
-// Detection and measurement of one background-subtracted image with known noise sigma, as
-// `octarc detect` does it (filter, detectMultiThreshold, MeasurementPlan), one thread. Returns
-// the objects (measuredColumns(), ordered by level then NUMBER) and fills levelCounts.
-Table detectAndMeasure(const ImageF& image, const SimulationSetup& setup,
+// A simulated stamp (background-free, noise sigma known: no background is estimated) as a
+// PreparedImage: filtered with setup.filter, saturated pixels at setup.saturationAdu.
+PreparedImage prepareStamp(ImageF pixels, const SimulationSetup& setup);
+
+// Detection and measurement of a prepared stamp through the run API (run/ImageRun.h), as
+// `octarc detect` does it, one thread. Returns the objects (measuredColumns(), ordered by level
+// then NUMBER) and fills levelCounts.
+Table detectAndMeasure(PreparedImage& image, const SimulationSetup& setup,
                        std::vector<std::int64_t>* levelCounts, StageTimings* timings = nullptr);
 
 }  // namespace octarc

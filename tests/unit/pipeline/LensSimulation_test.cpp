@@ -120,7 +120,8 @@ TEST(SimulateSystem, BigEinsteinRadiusAndBrightSourceGiveAnArc) {
   ImageF image(r.image.width(), r.image.height());
   for (std::int64_t i = 0; i < image.size(); ++i) image[i] = float(r.image[i]);
   std::vector<std::int64_t> counts;
-  const Table objects = detectAndMeasure(image, setup, &counts);
+  PreparedImage stamp = prepareStamp(std::move(image), setup);
+  const Table objects = detectAndMeasure(stamp, setup, &counts);
   ASSERT_EQ(counts.size(), 15u);
   const ArcSelection s = selectArcs(objects, 50.0, 50.0, 0.257, ArcRules{}, rng);
   ASSERT_GE(s.chosenRow, 0);

@@ -1,4 +1,4 @@
-#include "octarc/pipeline/Progress.h"
+#include "octarc/core/Progress.h"
 
 #include <unistd.h>
 

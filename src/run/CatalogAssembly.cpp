@@ -1,4 +1,4 @@
-#include "octarc/pipeline/CatalogAssembly.h"
+#include "octarc/run/CatalogAssembly.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,8 +13,8 @@
 #include "octarc/core/Parallel.h"
 #include "octarc/core/Version.h"
 #include "octarc/io/Wcs.h"
-#include "octarc/pipeline/PreparedImage.h"
-#include "octarc/pipeline/RunSettings.h"
+#include "octarc/run/PreparedImage.h"
+#include "octarc/run/RunSettings.h"
 #include "octarc/sexcompat/ParamFile.h"
 
 namespace octarc {

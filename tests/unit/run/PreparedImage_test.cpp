@@ -1,6 +1,6 @@
 // Values octarc takes from headers it did not write: an input catalog's LDAC_IMHEAD and the
 // image's GAIN / SATURATE keywords.
-#include "octarc/pipeline/PreparedImage.h"
+#include "octarc/run/PreparedImage.h"
 
 #include <gtest/gtest.h>
 

@@ -6,7 +6,7 @@
 #include <fstream>
 
 #include "TestPaths.h"
-#include "octarc/pipeline/PreparedImage.h"
+#include "octarc/run/PreparedImage.h"
 
 namespace octarc {
 namespace {

@@ -1,4 +1,4 @@
-#include "octarc/pipeline/PreparedImage.h"
+#include "octarc/run/PreparedImage.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,8 +14,8 @@
 #include "octarc/core/Format.h"
 #include "octarc/core/Parallel.h"
 #include "octarc/detection/Filter.h"
-#include "octarc/pipeline/CatalogAssembly.h"
-#include "octarc/pipeline/RunSettings.h"
+#include "octarc/run/CatalogAssembly.h"
+#include "octarc/run/RunSettings.h"
 #include "octarc/sexcompat/ConvFile.h"
 
 namespace octarc {
@@ -140,29 +140,11 @@ std::string resolveFilterFile(const std::string& path) {
   return fs::exists(sextractorShare) ? sextractorShare.string() : path;
 }
 
-std::vector<double> logSpacedLevels(double low, double high, int count) {
-  if (count < 1) throw ConfigError("DETECT_NLEVELS must be at least 1");
-  if (count == 1) return {low};
-  if (!(low > 0) || !(high > low)) {
-    char text[160];
-    std::snprintf(text, sizeof text,
-                  "DETECT_THRESH_MAX (%g) must be above DETECT_THRESH (%g), both positive, for "
-                  "several levels",
-                  high, low);
-    throw ConfigError(text);
-  }
-  std::vector<double> levels;
-  for (int k = 0; k < count; ++k) {
-    levels.push_back(low * std::pow(high / low, double(k) / double(count - 1)));
-  }
-  return levels;
-}
-
-double thresholdToAdu(double value, bool relative, double sigmaAdu) {
-  return relative ? value * sigmaAdu : value;
-}
-
 MeasureContext PreparedImage::context(const RunSettings& settings) const {
+  return context(settings.magZeropoint, settings.pixelScaleArcsec);
+}
+
+MeasureContext PreparedImage::context(double magZeropoint, double pixelScaleArcsec) const {
   MeasureContext c;
   c.measurement = &hdu.pixels;
   c.detection = &detectionImage();
@@ -170,8 +152,8 @@ MeasureContext PreparedImage::context(const RunSettings& settings) const {
   c.variance = variance.empty() ? nullptr : &variance;
   c.sigmaAdu = sigmaAdu;
   c.gain = gain;
-  c.magZeropoint = settings.magZeropoint;
-  c.pixelScaleArcsec = settings.pixelScaleArcsec;
+  c.magZeropoint = magZeropoint;
+  c.pixelScaleArcsec = pixelScaleArcsec;
   c.wcs = wcs ? &*wcs : nullptr;
   return c;
 }
@@ -226,24 +208,7 @@ PreparedImage prepareImage(const std::string& imagePath, const RunSettings& sett
                                         out.warnings)
                           .value_or(settings.saturationAdu);
   // SATUR_LEVEL applies to raw values, so saturated pixels are found before the background goes.
-  if (out.saturationAdu > 0) {
-    // Blocks of pixels on every core, each listing its own; joined in order.
-    const int workers = resolveThreads(settings.threads);
-    std::vector<std::vector<std::int64_t>> found(static_cast<std::size_t>(workers));
-    const float* data = pixels.data();
-    const double level = out.saturationAdu;
-    parallelBlocks(workers, workers, [&](std::int64_t w0, std::int64_t w1) {
-      for (std::int64_t w = w0; w < w1; ++w) {
-        const std::int64_t end = pixels.size() * (w + 1) / workers;
-        for (std::int64_t p = pixels.size() * w / workers; p < end; ++p) {
-          if (data[p] >= level) found[std::size_t(w)].push_back(p);
-        }
-      }
-    });
-    for (const std::vector<std::int64_t>& band : found) {
-      out.saturatedPixels.insert(out.saturatedPixels.end(), band.begin(), band.end());
-    }
-  }
+  out.saturatedPixels = findSaturatedPixels(pixels, out.saturationAdu, settings.threads);
 
   // Background level, in order of precedence: a BACKGROUND check-image, the input catalog's
   // SEXBKGND, then BACK_TYPE. The noise sigma: the input catalog's SEXBKDEV, a BACKGROUND_RMS
@@ -367,6 +332,28 @@ PreparedImage prepareImage(const std::string& imagePath, const RunSettings& sett
   if (kernel) out.filtered = applyFilter(pixels, *kernel, settings.threads);
   out.wcs = Wcs::fromHeader(out.hdu.header, imagePath);
   return out;
+}
+
+std::vector<std::int64_t> findSaturatedPixels(const ImageF& raw, double levelAdu, int threads) {
+  std::vector<std::int64_t> saturated;
+  if (!(levelAdu > 0)) return saturated;
+  // Blocks of pixels on every worker, each listing its own; joined in order.
+  const int workers = std::max(1, resolveThreads(threads));
+  std::vector<std::vector<std::int64_t>> found(static_cast<std::size_t>(workers));
+  const float* data = raw.data();
+  const std::int64_t n = raw.size();
+  parallelBlocks(workers, workers, [&](std::int64_t w0, std::int64_t w1) {
+    for (std::int64_t w = w0; w < w1; ++w) {
+      const std::int64_t end = n * (w + 1) / workers;
+      for (std::int64_t p = n * w / workers; p < end; ++p) {
+        if (data[p] >= levelAdu) found[std::size_t(w)].push_back(p);
+      }
+    }
+  });
+  for (const std::vector<std::int64_t>& band : found) {
+    saturated.insert(saturated.end(), band.begin(), band.end());
+  }
+  return saturated;
 }
 
 }  // namespace octarc

@@ -1,9 +1,9 @@
-#include "octarc/pipeline/MeasurementQueue.h"
+#include "octarc/run/MeasurementQueue.h"
 
 #include <algorithm>
 #include <optional>
 
-#include "octarc/pipeline/CatalogAssembly.h"
+#include "octarc/run/CatalogAssembly.h"
 
 namespace octarc {
 

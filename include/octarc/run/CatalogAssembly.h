@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "octarc/catalog/RunSummary.h"
-#include "octarc/core/Table.h"
 #include "octarc/core/Segment.h"
+#include "octarc/core/Table.h"
 #include "octarc/io/Wcs.h"
 #include "octarc/measure/MeasureContext.h"
 #include "octarc/measure/Registry.h"

@@ -1,4 +1,4 @@
-#include "octarc/pipeline/RunSettings.h"
+#include "octarc/run/RunSettings.h"
 
 #include <algorithm>
 #include <cctype>

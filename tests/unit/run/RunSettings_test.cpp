@@ -1,4 +1,4 @@
-#include "octarc/pipeline/RunSettings.h"
+#include "octarc/run/RunSettings.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 
 #include "TestPaths.h"
 #include "octarc/core/Error.h"
-#include "octarc/pipeline/CatalogAssembly.h"
+#include "octarc/run/CatalogAssembly.h"
 #include "octarc/sexcompat/Assoc.h"
 #include "octarc/sexcompat/Config.h"
 #include "octarc/sexcompat/Keys.h"

@@ -13,7 +13,7 @@
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/Wcs.h"
 #include "octarc/measure/MeasureContext.h"
-#include "octarc/pipeline/RunSettings.h"
+#include "octarc/run/RunSettings.h"
 
 namespace octarc {
 
@@ -84,6 +84,7 @@ struct PreparedImage {
   void reloadVariance(const RunSettings& settings);
   // The measurement context for this image (levels to be filled by the caller).
   MeasureContext context(const RunSettings& settings) const;
+  MeasureContext context(double magZeropoint, double pixelScaleArcsec) const;
 };
 
 // Reads `imagePath` and resolves background, noise, gain, saturation, filter and WCS following
@@ -106,12 +107,10 @@ std::string extensionPath(const std::string& path, int e, int count, const char*
 // BACKGROUND_RMS_NAME, WEIGHT_IMAGE) point at their own extension `e`.
 RunSettings settingsForExtension(const RunSettings& settings, int e, int count);
 
-// Converts a threshold in THRESH_TYPE units to ADU (RELATIVE: multiples of sigma).
-double thresholdToAdu(double value, bool relative, double sigmaAdu);
-
-// `count` thresholds spaced logarithmically from `low` to `high` (both included), lowest first;
-// `count` 1 gives {low}. ConfigError unless 0 < low < high when count > 1.
-std::vector<double> logSpacedLevels(double low, double high, int count);
+// The pixels of `raw` at or above `levelAdu` (ascending linear indices), found on `threads`
+// threads; none when levelAdu <= 0. SATUR_LEVEL applies to raw values: call it before the
+// background is subtracted.
+std::vector<std::int64_t> findSaturatedPixels(const ImageF& raw, double levelAdu, int threads);
 
 // A FILTER_NAME given without a directory and absent from the working directory is looked up,
 // as a convenience, in octarc's data directory (core/DataFiles.h) and then in Debian's

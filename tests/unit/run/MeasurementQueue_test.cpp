@@ -1,6 +1,6 @@
 // Measuring on worker threads while objects keep coming: every row is filled exactly as a
 // direct measurement fills it, whatever the number of threads, and huge objects do not block.
-#include "octarc/pipeline/MeasurementQueue.h"
+#include "octarc/run/MeasurementQueue.h"
 
 #include <gtest/gtest.h>
 
