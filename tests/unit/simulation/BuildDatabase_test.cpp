@@ -12,7 +12,7 @@
 #include "TestPaths.h"
 #include "octarc/core/Error.h"
 #include "octarc/io/FitsImage.h"
-#include "octarc/pipeline/Pipeline.h"
+#include "octarc/app/Commands.h"
 #include "octarc/simulation/LensSystem.h"
 #include "octarc/simulation/RealGalaxyCatalog.h"
 

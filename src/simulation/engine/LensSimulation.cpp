@@ -1,4 +1,4 @@
-#include "octarc/pipeline/LensSimulation.h"
+#include "octarc/simulation/engine/LensSimulation.h"
 
 #include <time.h>
 

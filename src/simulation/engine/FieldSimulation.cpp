@@ -1,18 +1,18 @@
-// `octarc simulate field`: a survey-like image with injected lenses, its weight map and a truth
-// list.
+// A survey-like image with injected lenses, its weight map and a truth list (the engine of
+// `octarc simulate field` and of the demo).
 //
 //   draws (one seeded stream) --> galaxy and lens stamps (threads, one stream each) --> sum
 //   --> Gaussian PSF --> star stamps --> Poisson sky noise (per row band) --> saturation
 //   --> FIELD.fits + FIELD.weight.fits + FIELD.truth.txt
 
+#include "octarc/simulation/engine/FieldSimulation.h"
+
 #include <algorithm>
-#include <boost/program_options.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <iostream>
 
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Conventions.h"
@@ -21,9 +21,6 @@
 #include "octarc/core/Parallel.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/Wcs.h"
-#include "octarc/pipeline/FieldSimulation.h"
-#include "octarc/pipeline/LensSimulation.h"
-#include "octarc/pipeline/Pipeline.h"
 #include "octarc/run/CatalogAssembly.h"
 #include "octarc/sexcompat/Config.h"
 #include "octarc/sexcompat/Keys.h"
@@ -31,10 +28,10 @@
 #include "octarc/simulation/Noise.h"
 #include "octarc/simulation/Psf.h"
 #include "octarc/simulation/Seeds.h"
+#include "octarc/simulation/engine/LensSimulation.h"
 
 namespace octarc {
 
-namespace po = boost::program_options;
 using namespace octarc::simulation;
 
 namespace {
@@ -93,77 +90,6 @@ std::vector<Vec2> drawLensPositions(const FieldSimulationSettings& s, int gapX0,
                       std::to_string(positions.size()) + " placed");
   }
   return positions;
-}
-
-void printUsage() {
-  std::cout
-      << "Usage: octarc simulate field -o FIELD.fits [options]\n"
-         "\n"
-         "Simulates a survey-like image (default: 4096^2 pixels at 0.257\"/px, the Deep Lens\n"
-         "Survey R-band setup): field galaxies with realistic number counts, sizes and\n"
-         "morphologies (bright ellipticals with extended de Vaucouleurs haloes), stars down from\n"
-         "saturation, Poisson sky noise, a TAN WCS and N injected galaxy-galaxy lenses. Writes\n"
-         "FIELD.fits, FIELD.weight.fits (MAP_WEIGHT: 1/variance, a chip gap at half weight) and\n"
-         "FIELD.truth.txt, an ASSOC list: id x y ra dec kind mag theta_E system\n"
-         "(kind 1 = lens galaxy, 2 = lensed image, 3 = galaxy, 4 = star; x, y 1-based pixels).\n"
-         "\n"
-         "Options:\n";
-}
-
-po::options_description fieldOptions() {
-  po::options_description o;
-  auto add = o.add_options();
-  add("help,h", "this help");
-  add("output,o", po::value<std::string>(), "output image FIELD.fits");
-  add("size", po::value<int>()->default_value(4096), "image side, pixels");
-  add("pixel-scale", po::value<double>()->default_value(0.257, "0.257"), "arcsec per pixel");
-  add("seeing", po::value<double>()->default_value(0.9, "0.9"), "PSF FWHM, arcsec");
-  add("gain", po::value<double>()->default_value(54.0), "e-/ADU");
-  add("noise-sigma", po::value<double>(), "sky noise per pixel, ADU");
-  add("limiting-mag", po::value<double>()->default_value(26.0),
-      "5-sigma limiting magnitude in a 2xFWHM aperture (sets the noise)");
-  add("mag-zero", po::value<double>()->default_value(30.0), "magnitude zero point");
-  add("saturate", po::value<double>()->default_value(30000.0), "saturation level, ADU");
-  add("lenses", po::value<int>()->default_value(0), "number of injected lens systems");
-  add("min-einstein-radius", po::value<double>()->default_value(0.0),
-      "redraw lens systems with a smaller Einstein radius, arcsec");
-  add("seed", po::value<std::uint64_t>()->default_value(1), "master random seed");
-  add("ra", po::value<double>()->default_value(150.0), "RA of the field centre, deg");
-  add("dec", po::value<double>()->default_value(2.0), "Dec of the field centre, deg");
-  add("config", po::value<std::string>(),
-      "octarc .sex file: PIXEL_SCALE, SEEING_FWHM, GAIN, MAG_ZEROPOINT, SATUR_LEVEL");
-  add("database", po::value<std::string>(),
-      "RealGalaxyCatalog FITS table of lensed source galaxies (default: synthetic)");
-  add("population", po::value<std::string>(),
-      "lens population file (default: simulation/population.txt of share/octarc)");
-  add("threads", po::value<int>()->default_value(0), "worker threads (0 = all cores)");
-  add("quiet", "no progress bar");
-  return o;
-}
-
-// Boost would read a negative number after an option as an option of its own: glue the values
-// of value-taking options to their names ("--lenses=-1"), so they reach the range checks.
-std::vector<std::string> glueValues(const std::vector<std::string>& args,
-                                    const po::options_description& options) {
-  std::vector<std::string> out;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    std::string name;
-    if (a.rfind("--", 0) == 0 && a.find('=') == std::string::npos) {
-      name = a.substr(2);
-    } else if (a.size() == 2 && a[0] == '-' && a[1] != '-') {
-      name = a.substr(1);
-    }
-    const po::option_description* d =
-        name.empty() ? nullptr : options.find_nothrow(name, false, false, false);
-    if (d && d->semantic()->max_tokens() > 0 && i + 1 < args.size()) {
-      out.push_back("--" + d->long_name() + "=" + args[i + 1]);
-      ++i;
-    } else {
-      out.push_back(a);
-    }
-  }
-  return out;
 }
 
 }  // namespace
@@ -438,91 +364,6 @@ void writeSimulatedField(const SimulatedField& field, const FieldSimulationSetti
       if (!f) throw IoError(paths.truth + ": write failed");
     }
   });
-}
-
-int runSimulateField(const std::vector<std::string>& args) {
-  const po::options_description options = fieldOptions();
-  po::variables_map vm;
-  try {
-    po::store(po::command_line_parser(glueValues(args, options)).options(options).run(), vm);
-    po::notify(vm);
-  } catch (const po::error& e) {
-    throw ConfigError(std::string(e.what()) + " (see octarc simulate field -h)");
-  }
-  if (vm.count("help")) {
-    printUsage();
-    std::cout << options;
-    return 0;
-  }
-  if (!vm.count("output")) throw ConfigError("-o/--output: the output image name is required");
-  FieldSimulationSettings s;
-  // Survey settings from an octarc .sex file, then the explicit command-line options.
-  if (vm.count("config")) {
-    const std::string path = vm["config"].as<std::string>();
-    std::vector<std::string> warnings;
-    const sexcompat::Config config =
-        sexcompat::Config::load(sexcompat::octarcMeasureKeys(), path, {}, &warnings);
-    if (config.isExplicit("PIXEL_SCALE") && config.getDouble("PIXEL_SCALE") > 0)
-      s.pixelScaleArcsec = config.getDouble("PIXEL_SCALE");
-    if (config.isExplicit("SEEING_FWHM")) s.seeingFwhmArcsec = config.getDouble("SEEING_FWHM");
-    if (config.isExplicit("GAIN") && config.getDouble("GAIN") > 0)
-      s.gainElectronsPerAdu = config.getDouble("GAIN");
-    if (config.isExplicit("MAG_ZEROPOINT")) s.magZeroPoint = config.getDouble("MAG_ZEROPOINT");
-    if (config.isExplicit("SATUR_LEVEL")) s.saturationAdu = config.getDouble("SATUR_LEVEL");
-  }
-  auto pick = [&](const char* name, double& target) {
-    if (vm.count(name) && (!vm[name].defaulted() || !vm.count("config")))
-      target = vm[name].as<double>();
-  };
-  pick("pixel-scale", s.pixelScaleArcsec);
-  pick("seeing", s.seeingFwhmArcsec);
-  pick("gain", s.gainElectronsPerAdu);
-  pick("mag-zero", s.magZeroPoint);
-  pick("saturate", s.saturationAdu);
-  s.limitingMag = vm["limiting-mag"].as<double>();
-  if (vm.count("noise-sigma")) {
-    if (!vm["limiting-mag"].defaulted())
-      throw ConfigError("--noise-sigma and --limiting-mag: give one of them, not both");
-    s.noiseSigmaAdu = vm["noise-sigma"].as<double>();
-  }
-  s.sizePix = vm["size"].as<int>();
-  s.lensCount = vm["lenses"].as<int>();
-  s.minEinsteinRadiusArcsec = vm["min-einstein-radius"].as<double>();
-  s.seed = vm["seed"].as<std::uint64_t>();
-  s.raDeg = vm["ra"].as<double>();
-  s.decDeg = vm["dec"].as<double>();
-  s.threads = vm["threads"].as<int>();
-  if (vm.count("database")) s.databasePath = vm["database"].as<std::string>();
-  if (vm.count("population")) s.populationPath = vm["population"].as<std::string>();
-  const bool quiet = vm.count("quiet") > 0;
-  s.validate();
-
-  const FieldOutputPaths paths = FieldOutputPaths::fromImagePath(vm["output"].as<std::string>());
-  OutputFiles outputs;
-  addFieldOutputs(outputs, paths);
-  for (const char* input : {"config", "database", "population"}) {
-    if (!vm.count(input)) continue;
-    for (std::size_t i = 0; i < outputs.size(); ++i) {
-      refuseOutputOverInput(outputs[i].finalPath(), "-o", vm[input].as<std::string>(),
-                            std::string("--") + input + " file");
-    }
-  }
-  const auto start = std::chrono::steady_clock::now();
-  const SimulatedField field = simulateField(s, terminalProgress("field", "objects", quiet));
-  writeSimulatedField(field, s, paths, outputs);
-  outputs.commit();
-  if (!quiet) {
-    std::cerr
-        << "> " << paths.image << ": " << s.sizePix << "x" << s.sizePix << " px, "
-        << field.galaxyCount << " galaxies, " << field.starCount << " stars ("
-        << field.saturatedPixels << " saturated pixels), " << field.lenses.size()
-        << " lens systems, sky sigma " << formatNumber(field.skySigmaAdu) << " ADU, in "
-        << formatNumber(
-               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
-               "%.1f")
-        << " s\n> " << paths.weight << ", " << paths.truth << "\n";
-  }
-  return 0;
 }
 
 }  // namespace octarc

@@ -1,4 +1,4 @@
-#include "octarc/pipeline/CommandLine.h"
+#include "octarc/app/CommandLine.h"
 
 #include <filesystem>
 #include <iostream>

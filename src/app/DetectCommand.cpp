@@ -7,11 +7,11 @@
 #include <chrono>
 #include <iostream>
 
+#include "octarc/app/CommandLine.h"
+#include "octarc/app/Commands.h"
 #include "octarc/catalog/Catalog.h"
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
-#include "octarc/pipeline/CommandLine.h"
-#include "octarc/pipeline/Pipeline.h"
 #include "octarc/run/CatalogAssembly.h"
 #include "octarc/run/DetectionRun.h"
 #include "octarc/run/Levels.h"

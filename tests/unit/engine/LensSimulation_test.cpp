@@ -1,4 +1,4 @@
-#include "octarc/pipeline/LensSimulation.h"
+#include "octarc/simulation/engine/LensSimulation.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 
 #include "TestPaths.h"
 #include "octarc/core/Error.h"
-#include "octarc/pipeline/Pipeline.h"
+#include "octarc/app/Commands.h"
 #include "octarc/simulation/Seeds.h"
 
 namespace octarc {

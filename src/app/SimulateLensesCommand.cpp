@@ -17,6 +17,7 @@
 #include <optional>
 #include <sstream>
 
+#include "octarc/app/Commands.h"
 #include "octarc/catalog/Catalog.h"
 #include "octarc/catalog/FitsCard.h"
 #include "octarc/core/AtomicFile.h"
@@ -25,16 +26,14 @@
 #include "octarc/core/Parallel.h"
 #include "octarc/core/Progress.h"
 #include "octarc/io/FitsImage.h"
-#include "octarc/pipeline/LensSimulation.h"
-#include "octarc/pipeline/Pipeline.h"
 #include "octarc/run/CatalogAssembly.h"
 #include "octarc/run/Levels.h"
 #include "octarc/run/PreparedImage.h"
 #include "octarc/run/RunSettings.h"
-#include "octarc/sexcompat/Config.h"
-#include "octarc/sexcompat/ConvFile.h"
-#include "octarc/sexcompat/Keys.h"
 #include "octarc/simulation/Noise.h"
+#include "octarc/simulation/engine/LensCatalog.h"
+#include "octarc/simulation/engine/LensSimulation.h"
+#include "octarc/simulation/engine/SurveySettings.h"
 
 namespace octarc {
 
@@ -42,73 +41,6 @@ namespace {
 
 namespace po = boost::program_options;
 namespace sim = octarc::simulation;
-
-// What one system leaves for the output tables.
-struct SystemResult {
-  LensSystemDraw draw;
-  double magnification = 0.0;
-  std::int64_t objectCount = 0;
-  std::vector<double> arcValues;  // arc rows, measuredColumns() each, in table order
-  std::vector<double> arcDistanceArcsec;
-  int chosenArc = -1;  // index into the arc rows
-  ImageF image;        // kept for the stamps file only
-  StageTimings timings;
-};
-
-ColumnSpec column(const char* name, ColumnType type, const char* format, const char* unit,
-                  const char* description) {
-  ColumnSpec c;
-  c.name = name;
-  c.type = type;
-  c.printfFormat = format;
-  c.unit = unit;
-  c.description = description;
-  return c;
-}
-
-// The truth columns of the systems table, then ARC_FOUND and the chosen arc's columns.
-std::vector<ColumnSpec> systemColumns() {
-  using T = ColumnType;
-  std::vector<ColumnSpec> c = {
-      column("SYSTEM", T::Int32, "%9d", "", "Index of the simulated system (seed stream)"),
-      column("Z_LENS", T::Float32, "%8.4f", "", "Lens redshift"),
-      column("Z_SOURCE", T::Float32, "%8.4f", "", "Source redshift"),
-      column("SIGMA_V", T::Float32, "%8.2f", "km/s", "Lens velocity dispersion (Faber-Jackson)"),
-      column("LENS_MAG", T::Float32, "%8.4f", "mag", "Lens apparent magnitude"),
-      column("LENS_ABSMAG", T::Float32, "%8.4f", "mag", "Lens absolute magnitude"),
-      column("LENS_ELLIPTICITY", T::Float32, "%8.4f", "", "Lens light ellipticity 1 - b/a"),
-      column("LENS_EPSILON", T::Float32, "%8.5f", "", "Potential ellipticity 0.2 e/(0.6 + e)"),
-      column("LENS_THETA", T::Float32, "%8.3f", "deg", "Lens position angle (CCW from x)"),
-      column("LENS_RHALF", T::Float32, "%8.4f", "arcsec", "Lens light half-light radius"),
-      column("EINSTEIN_RADIUS", T::Float32, "%8.4f", "arcsec", "SIS Einstein radius"),
-      column("SOURCE_MAG", T::Float32, "%8.4f", "mag", "Unlensed source magnitude"),
-      column("SOURCE_RHALF", T::Float32, "%8.4f", "arcsec", "Source half-light radius"),
-      column("SOURCE_X", T::Float32, "%9.5f", "arcsec", "Source position beta_x from the lens"),
-      column("SOURCE_Y", T::Float32, "%9.5f", "arcsec", "Source position beta_y from the lens"),
-      column("SOURCE_ROTATION", T::Float32, "%8.3f", "deg", "Source stamp rotation (CCW)"),
-      column("SOURCE_INDEX", T::Int32, "%6d", "", "Row of the source database"),
-      column("SOURCE_TYPE", T::Int16, "%2d", "", "0 elliptical, 1 spiral, 2 irregular"),
-      column("MAGNIFICATION", T::Float32, "%10.4f", "", "Traced source flux / unlensed flux"),
-      column("N_OBJECTS", T::Int32, "%6d", "", "Objects detected over all levels"),
-      column("N_ARC_ROWS", T::Int32, "%4d", "", "Arc rows over all qualifying levels"),
-      column("ARC_FOUND", T::Int16, "%2d", "", "1 if an arc passed the arc rules"),
-      column("LENS_DISTANCE", T::Float32, "%8.4f", "arcsec",
-             "Distance of the chosen arc to the lens centre"),
-  };
-  for (const ColumnSpec& m : measuredColumns()) c.push_back(m);
-  return c;
-}
-
-std::vector<ColumnSpec> arcColumns() {
-  using T = ColumnType;
-  std::vector<ColumnSpec> c = {
-      column("SYSTEM", T::Int32, "%9d", "", "Index of the simulated system"),
-      column("CHOSEN", T::Int16, "%2d", "", "1 for the system's chosen arc row"),
-      column("LENS_DISTANCE", T::Float32, "%8.4f", "arcsec", "Distance to the lens centre"),
-  };
-  for (const ColumnSpec& m : measuredColumns()) c.push_back(m);
-  return c;
-}
 
 void printUsage(const po::options_description& options) {
   std::cout
@@ -122,27 +54,6 @@ void printUsage(const po::options_description& options) {
          "then the options below. The output depends only on the seed, never on --threads.\n"
          "\n"
       << options << "\n";
-}
-
-// Writes the systems table and the arc table into one FITS-LDAC file at the temporary path
-// of `out` (the caller commits it together with the stamps).
-void writeTables(const AtomicFile& out, const Table& systems, const Table& arcs,
-                 const std::vector<std::string>& runCards) {
-  writeLdacTables(out.tempPath(), runCards, {{"LDAC_OBJECTS", &systems}, {"ARCS", &arcs}});
-}
-
-// The stamps of the first systems as one float cube (NAXIS3 = system index).
-void writeStampCube(const AtomicFile& out, const std::vector<SystemResult>& results, int count,
-                    double pixelScaleArcsec) {
-  std::vector<const ImageF*> planes;
-  for (int k = 0; k < count; ++k) planes.push_back(&results[std::size_t(k)].image);
-  FitsHeader header;
-  char scale[32];
-  std::snprintf(scale, sizeof scale, "%.6f", pixelScaleArcsec);
-  header.set("PIXSCALE", scale, "arcsec/pixel");
-  header.set("BUNIT", quoteFitsString("ADU"), "background-subtracted counts");
-  header.set("COMMENT", "Plane k (1-based) is simulated system k - 1 of the catalog.");
-  writeImageCube(out.tempPath(), planes, header);
 }
 
 template <typename T>
@@ -238,28 +149,22 @@ int runSimulateLenses(const std::vector<std::string>& args) {
   bool relative = true;
   int minArea = 5;
   if (vm.count("config")) {
-    const std::string path = vm["config"].as<std::string>();
-    std::vector<std::string> warnings;
-    const sexcompat::Config config =
-        sexcompat::Config::load(sexcompat::octarcMeasureKeys(), path, {}, &warnings);
-    const RunSettings s = settingsFromConfig(config);
-    // Only keys the file sets replace the survey defaults: SExtractor's own defaults (zero
-    // point 0, gain 0 = infinite, 1.2" seeing) would describe no survey.
-    auto given = [&config](const char* key) { return config.isExplicit(key); };
-    if (given("PIXEL_SCALE") && s.pixelScaleArcsec > 0) {
-      obs.grid.pixelScaleArcsec = s.pixelScaleArcsec;
+    SurveySettings survey = readSurveySettings(vm["config"].as<std::string>());
+    if (!quiet) {
+      for (const std::string& w : survey.warnings) std::cerr << "WARNING: " << w << "\n";
     }
-    if (given("SEEING_FWHM")) obs.seeingFwhmArcsec = s.seeingFwhmArcsec;
-    if (given("GAIN")) obs.gainElectronsPerAdu = s.gainElectronPerAdu;
-    if (given("MAG_ZEROPOINT")) obs.magZeroPoint = s.magZeropoint;
-    if (given("SATUR_LEVEL")) setup.saturationAdu = s.saturationAdu;
-    if (given("DETECT_THRESH")) threshLow = s.detectThreshold;
-    if (given("DETECT_THRESH_MAX")) threshHigh = s.detectThresholdMax;
-    if (given("DETECT_NLEVELS")) levelCount = s.detectLevelCount;
-    explicitLevels = s.detectLevels;
-    relative = s.detectThresholdType == ThresholdType::Relative;
-    if (given("DETECT_MINAREA")) minArea = s.minAreaPix;
-    if (s.filter) setup.filter = sexcompat::readConvFile(resolveFilterFile(s.filterPath));
+    obs.grid.pixelScaleArcsec = survey.pixelScaleArcsec.value_or(obs.grid.pixelScaleArcsec);
+    obs.seeingFwhmArcsec = survey.seeingFwhmArcsec.value_or(obs.seeingFwhmArcsec);
+    obs.gainElectronsPerAdu = survey.gainElectronPerAdu.value_or(obs.gainElectronsPerAdu);
+    obs.magZeroPoint = survey.magZeropoint.value_or(obs.magZeroPoint);
+    setup.saturationAdu = survey.saturationAdu.value_or(setup.saturationAdu);
+    threshLow = survey.detectThreshold.value_or(threshLow);
+    threshHigh = survey.detectThresholdMax.value_or(threshHigh);
+    levelCount = survey.detectLevelCount.value_or(levelCount);
+    explicitLevels = survey.detectLevels;
+    relative = survey.relativeLevels;
+    minArea = survey.minAreaPix.value_or(minArea);
+    setup.filter = std::move(survey.filter);
   }
   if (auto v = optionValue<double>(vm, "pixel-scale")) obs.grid.pixelScaleArcsec = *v;
   if (auto v = optionValue<double>(vm, "seeing")) obs.seeingFwhmArcsec = *v;
@@ -367,106 +272,22 @@ int runSimulateLenses(const std::vector<std::string>& args) {
   // with one message, before any thread starts.
   (void)drawLensSystem(setup, sources, seed, 0);
 
-  const int threads = resolveThreads(vm["threads"].as<int>());
-  std::vector<SystemResult> results(static_cast<std::size_t>(count));
-  const ProgressFn progress = terminalProgress("simulating", "systems", quiet);
-  parallelForDynamic(
-      count, threads,
-      [&](std::int64_t i) {
-        SystemResult& r = results[std::size_t(i)];
-        SimulatedSystem s = simulateSystem(setup, sources, seed, i, i < stampCount, &r.timings);
-        r.draw = std::move(s.draw);
-        r.magnification = s.magnification;
-        r.objectCount = s.objects.rows();
-        for (std::size_t a = 0; a < s.arcs.arcRows.size(); ++a) {
-          const std::int64_t row = s.arcs.arcRows[a];
-          const double* values = s.objects.row(row);
-          r.arcValues.insert(r.arcValues.end(), values, values + s.objects.rowWidth());
-          r.arcDistanceArcsec.push_back(s.arcs.distanceArcsec[std::size_t(row)]);
-          if (row == s.arcs.chosenRow) r.chosenArc = int(a);
-        }
-        r.image = std::move(s.image);
-      },
-      [&](std::int64_t done) {
-        if (progress) progress(done, count);
-      });
-
-  // Tables, in system order.
-  const int measuredWidth = measuredPlan().rowWidth();
-  Table systems(systemColumns());
-  Table arcs(arcColumns());
-  std::int64_t found = 0, redraws = 0;
-  for (const SystemResult& r : results) {
-    redraws += r.draw.redraws;
-    const LensSystemDraw& d = r.draw;
-    double* row = systems.appendRow();
-    const double nan = std::nan("");
-    const double truth[] = {double(d.index),
-                            d.lens.redshift,
-                            d.source.redshift,
-                            d.lens.sigmaKmPerS,
-                            d.lens.mag,
-                            d.lens.absoluteMag,
-                            d.lensEllipticity,
-                            d.system.mass.ellipticity,
-                            d.system.mass.positionAngleRad * kDegPerRad,
-                            d.system.light.halfLightRadiusArcsec,
-                            d.einsteinRadiusArcsec,
-                            d.source.mag,
-                            d.source.halfLightArcsec,
-                            d.system.source.betaArcsec[0],
-                            d.system.source.betaArcsec[1],
-                            d.system.source.rotationRad * kDegPerRad,
-                            double(d.sourceIndex),
-                            double(int(sources.stamp(d.sourceIndex).type)),
-                            r.magnification,
-                            double(r.objectCount),
-                            double(r.arcDistanceArcsec.size()),
-                            r.chosenArc >= 0 ? 1.0 : 0.0,
-                            r.chosenArc >= 0 ? r.arcDistanceArcsec[std::size_t(r.chosenArc)] : nan};
-    const int truthCount = int(sizeof truth / sizeof truth[0]);
-    std::copy(truth, truth + truthCount, row);
-    if (r.chosenArc >= 0) {
-      ++found;
-      std::copy_n(r.arcValues.data() + std::size_t(r.chosenArc) * std::size_t(measuredWidth),
-                  measuredWidth, row + truthCount);
-    } else {
-      std::fill_n(row + truthCount, measuredWidth, nan);
-    }
-    for (std::size_t a = 0; a < r.arcDistanceArcsec.size(); ++a) {
-      double* arcRow = arcs.appendRow();
-      arcRow[0] = double(d.index);
-      arcRow[1] = int(a) == r.chosenArc ? 1.0 : 0.0;
-      arcRow[2] = r.arcDistanceArcsec[a];
-      std::copy_n(r.arcValues.data() + a * std::size_t(measuredWidth), measuredWidth, arcRow + 3);
-    }
-  }
-
-  std::vector<std::string> cards = {
-      formatCard("OCTSEED", std::int64_t(seed), "Master seed of the simulation"),
-      formatCard("OCTNSYS", std::int64_t(count), "Simulated systems"),
-      formatCard("OCTNARC", found, "Systems with an arc"),
-      formatCard("OCTPIXSC", RealValue(obs.grid.pixelScaleArcsec, RealFormat::Fixed),
-                 "Pixel scale (arcsec)"),
-      formatCard("OCTSEEIN", RealValue(obs.seeingFwhmArcsec, RealFormat::Fixed),
-                 "PSF FWHM (arcsec)"),
-      formatCard("OCTSKYSG", RealValue(obs.skySigmaAdu), "Sky noise sigma (ADU)"),
-      formatCard("OCTGAIN", RealValue(obs.gainElectronsPerAdu), "Gain (e-/ADU)"),
-      formatCard("OCTMAGZP", RealValue(obs.magZeroPoint, RealFormat::Fixed), "Zero point"),
-      formatCard("OCTNLEV", std::int64_t(setup.thresholdsAdu.size()), "Detection levels"),
-      formatCard("OCTTHLO", RealValue(setup.thresholdsAdu.front()), "Lowest level (ADU)"),
-      formatCard("OCTTHHI", RealValue(setup.thresholdsAdu.back()), "Highest level (ADU)"),
-      formatCard("OCTMINAR", std::int64_t(setup.minAreaPix), "DETECT_MINAREA"),
-      formatCard("OCTSRCDB", sources.description().substr(0, 60), "Source database"),
-      formatCard("OCTREDRW", redraws, "Lens-source pairs redrawn (no source redshift)"),
-  };
+  const LensRun lensRun =
+      runLensSimulation(setup, sources, seed, count, resolveThreads(vm["threads"].as<int>()),
+                        stampCount, terminalProgress("simulating", "systems", quiet));
   // Both files are complete before either appears.
-  writeTables(outputs[0], systems, arcs, cards);
-  if (stampsPath) writeStampCube(outputs[1], results, stampCount, obs.grid.pixelScaleArcsec);
+  outputs.write(0, [&](const std::string& path) {
+    writeLensCatalog(path, lensRun, lensRunCards(lensRun, setup, sources, seed));
+  });
+  if (stampsPath) {
+    outputs.write(1, [&](const std::string& path) {
+      writeLensStamps(path, lensRun, obs.grid.pixelScaleArcsec);
+    });
+  }
   outputs.commit();
 
-  StageTimings total;
-  for (const SystemResult& r : results) total.add(r.timings);
+  const StageTimings& total = lensRun.timings;
+  const int threads = resolveThreads(vm["threads"].as<int>());
   const double wallSec =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!quiet || vm.count("timing")) {
@@ -477,9 +298,9 @@ int runSimulateLenses(const std::vector<std::string>& args) {
                  "> wall %.1f s on %d thread(s); CPU %.1f s = %.2f ms/system: draw %.3f, ray "
                  "trace %.3f, lens light %.3f, PSF %.3f, noise %.3f, detection and "
                  "measurement %.3f, arc rules %.3f ms/system\n",
-                 static_cast<long long>(count), static_cast<long long>(found),
-                 static_cast<long long>(arcs.rows()), outPath.c_str(),
-                 static_cast<long long>(redraws), wallSec, threads, total.totalSec(),
+                 static_cast<long long>(count), static_cast<long long>(lensRun.systemsWithArc),
+                 static_cast<long long>(lensRun.arcs.rows()), outPath.c_str(),
+                 static_cast<long long>(lensRun.redraws), wallSec, threads, total.totalSec(),
                  1e3 * total.totalSec() / n, 1e3 * total.drawSec / n, 1e3 * total.rayTraceSec / n,
                  1e3 * total.lensLightSec / n, 1e3 * total.psfSec / n, 1e3 * total.noiseSec / n,
                  1e3 * total.detectionSec / n, 1e3 * total.arcRulesSec / n);

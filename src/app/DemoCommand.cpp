@@ -14,6 +14,7 @@
 #include <iostream>
 #include <map>
 
+#include "octarc/app/Commands.h"
 #include "octarc/catalog/Catalog.h"
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Conventions.h"
@@ -21,15 +22,14 @@
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
 #include "octarc/core/Interrupt.h"
-#include "octarc/pipeline/FieldSimulation.h"
-#include "octarc/pipeline/LensSimulation.h"
-#include "octarc/pipeline/Pipeline.h"
 #include "octarc/run/CatalogAssembly.h"
 #include "octarc/run/DetectionRun.h"
 #include "octarc/run/Levels.h"
 #include "octarc/run/RunSettings.h"
 #include "octarc/sexcompat/Config.h"
 #include "octarc/sexcompat/Keys.h"
+#include "octarc/simulation/engine/FieldSimulation.h"
+#include "octarc/simulation/engine/LensSimulation.h"
 
 namespace octarc {
 

@@ -10,6 +10,8 @@
 #include <map>
 #include <set>
 
+#include "octarc/app/CommandLine.h"
+#include "octarc/app/Commands.h"
 #include "octarc/catalog/AppendedCatalog.h"
 #include "octarc/catalog/Catalog.h"
 #include "octarc/catalog/InputCatalog.h"
@@ -18,8 +20,6 @@
 #include "octarc/core/Parallel.h"
 #include "octarc/detection/SegmentationReader.h"
 #include "octarc/io/FitsImage.h"
-#include "octarc/pipeline/CommandLine.h"
-#include "octarc/pipeline/Pipeline.h"
 #include "octarc/run/CatalogAssembly.h"
 #include "octarc/run/Levels.h"
 #include "octarc/run/MeasurementRun.h"

@@ -5,11 +5,11 @@
 #include <string>
 #include <vector>
 
+#include "octarc/app/CommandLine.h"
+#include "octarc/app/Commands.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
 #include "octarc/core/Interrupt.h"
-#include "octarc/pipeline/CommandLine.h"
-#include "octarc/pipeline/Pipeline.h"
 
 namespace {
 

@@ -1,0 +1,51 @@
+// `octarc simulate lenses` as a library: N systems simulated in parallel (LensSimulation.h),
+// gathered into the systems table (truth + the chosen arc) and the arc table (every arc row at
+// every qualifying level), and written as one FITS-LDAC file.
+//
+// Each system is reproducible from (seed, index) alone and its results are placed by index, so
+// the tables do not depend on the thread count.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "octarc/core/Column.h"
+#include "octarc/core/Image.h"
+#include "octarc/core/Progress.h"
+#include "octarc/core/Table.h"
+#include "octarc/simulation/engine/LensSimulation.h"
+
+namespace octarc {
+
+// The columns of the systems table: truth, ARC_FOUND, LENS_DISTANCE, then the chosen arc's
+// measuredColumns() (NaN without an arc).
+std::vector<ColumnSpec> lensSystemColumns();
+// The columns of the arc table: SYSTEM, CHOSEN, LENS_DISTANCE, then measuredColumns().
+std::vector<ColumnSpec> lensArcColumns();
+
+struct LensRun {
+  Table systems;  // lensSystemColumns(), one row per system, in index order
+  Table arcs;     // lensArcColumns()
+  std::int64_t systemsWithArc = 0;
+  std::int64_t redraws = 0;    // lens-source pairs redrawn (LensSystemDraw::redraws)
+  StageTimings timings;        // summed over systems
+  std::vector<ImageF> stamps;  // the first `stampCount` systems' stamps
+};
+
+// Simulates systems 0..count-1 of `seed` on `threads` threads; `progress` gets the number done.
+LensRun runLensSimulation(const SimulationSetup& setup, const SourceDatabase& sources,
+                          std::uint64_t seed, std::int64_t count, int threads, int stampCount,
+                          const ProgressFn& progress);
+
+// The OCT* header cards of the systems file: seed, counts, survey, levels, source database.
+std::vector<std::string> lensRunCards(const LensRun& run, const SimulationSetup& setup,
+                                      const SourceDatabase& sources, std::uint64_t seed);
+
+// Writes the two tables into one FITS-LDAC file at `path` (LDAC_OBJECTS, ARCS).
+void writeLensCatalog(const std::string& path, const LensRun& run,
+                      const std::vector<std::string>& cards);
+// Writes the stamps as one float cube (plane k, 1-based, is system k - 1).
+void writeLensStamps(const std::string& path, const LensRun& run, double pixelScaleArcsec);
+
+}  // namespace octarc

@@ -1,0 +1,208 @@
+#include "octarc/simulation/engine/LensCatalog.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "octarc/catalog/Catalog.h"
+#include "octarc/catalog/FitsCard.h"
+#include "octarc/core/Conventions.h"
+#include "octarc/core/Parallel.h"
+#include "octarc/io/FitsImage.h"
+
+namespace octarc {
+
+namespace {
+
+// What one system leaves for the output tables.
+struct SystemResult {
+  LensSystemDraw draw;
+  double magnification = 0.0;
+  std::int64_t objectCount = 0;
+  std::vector<double> arcValues;  // arc rows, measuredColumns() each, in table order
+  std::vector<double> arcDistanceArcsec;
+  int chosenArc = -1;  // index into the arc rows
+  ImageF image;        // kept for the stamps file only
+  StageTimings timings;
+};
+
+ColumnSpec column(const char* name, ColumnType type, const char* format, const char* unit,
+                  const char* description) {
+  ColumnSpec c;
+  c.name = name;
+  c.type = type;
+  c.printfFormat = format;
+  c.unit = unit;
+  c.description = description;
+  return c;
+}
+
+// The truth columns of the systems table, then ARC_FOUND and the chosen arc's columns.
+}  // namespace
+
+std::vector<ColumnSpec> lensSystemColumns() {
+  using T = ColumnType;
+  std::vector<ColumnSpec> c = {
+      column("SYSTEM", T::Int32, "%9d", "", "Index of the simulated system (seed stream)"),
+      column("Z_LENS", T::Float32, "%8.4f", "", "Lens redshift"),
+      column("Z_SOURCE", T::Float32, "%8.4f", "", "Source redshift"),
+      column("SIGMA_V", T::Float32, "%8.2f", "km/s", "Lens velocity dispersion (Faber-Jackson)"),
+      column("LENS_MAG", T::Float32, "%8.4f", "mag", "Lens apparent magnitude"),
+      column("LENS_ABSMAG", T::Float32, "%8.4f", "mag", "Lens absolute magnitude"),
+      column("LENS_ELLIPTICITY", T::Float32, "%8.4f", "", "Lens light ellipticity 1 - b/a"),
+      column("LENS_EPSILON", T::Float32, "%8.5f", "", "Potential ellipticity 0.2 e/(0.6 + e)"),
+      column("LENS_THETA", T::Float32, "%8.3f", "deg", "Lens position angle (CCW from x)"),
+      column("LENS_RHALF", T::Float32, "%8.4f", "arcsec", "Lens light half-light radius"),
+      column("EINSTEIN_RADIUS", T::Float32, "%8.4f", "arcsec", "SIS Einstein radius"),
+      column("SOURCE_MAG", T::Float32, "%8.4f", "mag", "Unlensed source magnitude"),
+      column("SOURCE_RHALF", T::Float32, "%8.4f", "arcsec", "Source half-light radius"),
+      column("SOURCE_X", T::Float32, "%9.5f", "arcsec", "Source position beta_x from the lens"),
+      column("SOURCE_Y", T::Float32, "%9.5f", "arcsec", "Source position beta_y from the lens"),
+      column("SOURCE_ROTATION", T::Float32, "%8.3f", "deg", "Source stamp rotation (CCW)"),
+      column("SOURCE_INDEX", T::Int32, "%6d", "", "Row of the source database"),
+      column("SOURCE_TYPE", T::Int16, "%2d", "", "0 elliptical, 1 spiral, 2 irregular"),
+      column("MAGNIFICATION", T::Float32, "%10.4f", "", "Traced source flux / unlensed flux"),
+      column("N_OBJECTS", T::Int32, "%6d", "", "Objects detected over all levels"),
+      column("N_ARC_ROWS", T::Int32, "%4d", "", "Arc rows over all qualifying levels"),
+      column("ARC_FOUND", T::Int16, "%2d", "", "1 if an arc passed the arc rules"),
+      column("LENS_DISTANCE", T::Float32, "%8.4f", "arcsec",
+             "Distance of the chosen arc to the lens centre"),
+  };
+  for (const ColumnSpec& m : measuredColumns()) c.push_back(m);
+  return c;
+}
+
+std::vector<ColumnSpec> lensArcColumns() {
+  using T = ColumnType;
+  std::vector<ColumnSpec> c = {
+      column("SYSTEM", T::Int32, "%9d", "", "Index of the simulated system"),
+      column("CHOSEN", T::Int16, "%2d", "", "1 for the system's chosen arc row"),
+      column("LENS_DISTANCE", T::Float32, "%8.4f", "arcsec", "Distance to the lens centre"),
+  };
+  for (const ColumnSpec& m : measuredColumns()) c.push_back(m);
+  return c;
+}
+
+LensRun runLensSimulation(const SimulationSetup& setup, const SourceDatabase& sources,
+                          std::uint64_t seed, std::int64_t count, int threads, int stampCount,
+                          const ProgressFn& progress) {
+  std::vector<SystemResult> results(static_cast<std::size_t>(count));
+  parallelForDynamic(
+      count, threads,
+      [&](std::int64_t i) {
+        SystemResult& r = results[std::size_t(i)];
+        SimulatedSystem s = simulateSystem(setup, sources, seed, i, i < stampCount, &r.timings);
+        r.draw = std::move(s.draw);
+        r.magnification = s.magnification;
+        r.objectCount = s.objects.rows();
+        for (std::size_t a = 0; a < s.arcs.arcRows.size(); ++a) {
+          const std::int64_t row = s.arcs.arcRows[a];
+          const double* values = s.objects.row(row);
+          r.arcValues.insert(r.arcValues.end(), values, values + s.objects.rowWidth());
+          r.arcDistanceArcsec.push_back(s.arcs.distanceArcsec[std::size_t(row)]);
+          if (row == s.arcs.chosenRow) r.chosenArc = int(a);
+        }
+        r.image = std::move(s.image);
+      },
+      [&](std::int64_t done) {
+        if (progress) progress(done, count);
+      });
+
+  // Tables, in system order.
+  const int measuredWidth = measuredPlan().rowWidth();
+  LensRun out;
+  out.systems = Table(lensSystemColumns());
+  out.arcs = Table(lensArcColumns());
+  for (const SystemResult& r : results) {
+    out.redraws += r.draw.redraws;
+    out.timings.add(r.timings);
+    const LensSystemDraw& d = r.draw;
+    double* row = out.systems.appendRow();
+    const double nan = std::nan("");
+    const double truth[] = {double(d.index),
+                            d.lens.redshift,
+                            d.source.redshift,
+                            d.lens.sigmaKmPerS,
+                            d.lens.mag,
+                            d.lens.absoluteMag,
+                            d.lensEllipticity,
+                            d.system.mass.ellipticity,
+                            d.system.mass.positionAngleRad * kDegPerRad,
+                            d.system.light.halfLightRadiusArcsec,
+                            d.einsteinRadiusArcsec,
+                            d.source.mag,
+                            d.source.halfLightArcsec,
+                            d.system.source.betaArcsec[0],
+                            d.system.source.betaArcsec[1],
+                            d.system.source.rotationRad * kDegPerRad,
+                            double(d.sourceIndex),
+                            double(int(sources.stamp(d.sourceIndex).type)),
+                            r.magnification,
+                            double(r.objectCount),
+                            double(r.arcDistanceArcsec.size()),
+                            r.chosenArc >= 0 ? 1.0 : 0.0,
+                            r.chosenArc >= 0 ? r.arcDistanceArcsec[std::size_t(r.chosenArc)] : nan};
+    const int truthCount = int(sizeof truth / sizeof truth[0]);
+    std::copy(truth, truth + truthCount, row);
+    if (r.chosenArc >= 0) {
+      ++out.systemsWithArc;
+      std::copy_n(r.arcValues.data() + std::size_t(r.chosenArc) * std::size_t(measuredWidth),
+                  measuredWidth, row + truthCount);
+    } else {
+      std::fill_n(row + truthCount, measuredWidth, nan);
+    }
+    for (std::size_t a = 0; a < r.arcDistanceArcsec.size(); ++a) {
+      double* arcRow = out.arcs.appendRow();
+      arcRow[0] = double(d.index);
+      arcRow[1] = int(a) == r.chosenArc ? 1.0 : 0.0;
+      arcRow[2] = r.arcDistanceArcsec[a];
+      std::copy_n(r.arcValues.data() + a * std::size_t(measuredWidth), measuredWidth, arcRow + 3);
+    }
+  }
+
+  for (int k = 0; k < stampCount; ++k)
+    out.stamps.push_back(std::move(results[std::size_t(k)].image));
+  return out;
+}
+
+std::vector<std::string> lensRunCards(const LensRun& run, const SimulationSetup& setup,
+                                      const SourceDatabase& sources, std::uint64_t seed) {
+  const simulation::ObservingSetup& obs = setup.observing;
+  return {
+      formatCard("OCTSEED", std::int64_t(seed), "Master seed of the simulation"),
+      formatCard("OCTNSYS", run.systems.rows(), "Simulated systems"),
+      formatCard("OCTNARC", run.systemsWithArc, "Systems with an arc"),
+      formatCard("OCTPIXSC", RealValue(obs.grid.pixelScaleArcsec, RealFormat::Fixed),
+                 "Pixel scale (arcsec)"),
+      formatCard("OCTSEEIN", RealValue(obs.seeingFwhmArcsec, RealFormat::Fixed),
+                 "PSF FWHM (arcsec)"),
+      formatCard("OCTSKYSG", RealValue(obs.skySigmaAdu), "Sky noise sigma (ADU)"),
+      formatCard("OCTGAIN", RealValue(obs.gainElectronsPerAdu), "Gain (e-/ADU)"),
+      formatCard("OCTMAGZP", RealValue(obs.magZeroPoint, RealFormat::Fixed), "Zero point"),
+      formatCard("OCTNLEV", std::int64_t(setup.thresholdsAdu.size()), "Detection levels"),
+      formatCard("OCTTHLO", RealValue(setup.thresholdsAdu.front()), "Lowest level (ADU)"),
+      formatCard("OCTTHHI", RealValue(setup.thresholdsAdu.back()), "Highest level (ADU)"),
+      formatCard("OCTMINAR", std::int64_t(setup.minAreaPix), "DETECT_MINAREA"),
+      formatCard("OCTSRCDB", sources.description().substr(0, 60), "Source database"),
+      formatCard("OCTREDRW", run.redraws, "Lens-source pairs redrawn (no source redshift)"),
+  };
+}
+
+void writeLensCatalog(const std::string& path, const LensRun& run,
+                      const std::vector<std::string>& cards) {
+  writeLdacTables(path, cards, {{"LDAC_OBJECTS", &run.systems}, {"ARCS", &run.arcs}});
+}
+
+void writeLensStamps(const std::string& path, const LensRun& run, double pixelScaleArcsec) {
+  std::vector<const ImageF*> planes;
+  for (const ImageF& stamp : run.stamps) planes.push_back(&stamp);
+  FitsHeader header;
+  char scale[32];
+  std::snprintf(scale, sizeof scale, "%.6f", pixelScaleArcsec);
+  header.set("PIXSCALE", scale, "arcsec/pixel");
+  header.set("BUNIT", quoteFitsString("ADU"), "background-subtracted counts");
+  header.set("COMMENT", "Plane k (1-based) is simulated system k - 1 of the catalog.");
+  writeImageCube(path, planes, header);
+}
+
+}  // namespace octarc
