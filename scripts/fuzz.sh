@@ -3,7 +3,9 @@
 # UndefinedBehaviorSanitizer in build/fuzz, writes their seed corpus (scripts/make-fuzz-corpus.py:
 # testdata/, params/ and small generated files) and runs each target for SECONDS (default 600).
 # Inputs that grow coverage are kept in build/fuzz/corpus/TARGET and reused by the next run; a
-# crash, sanitizer report, leak, timeout (10 s) or out-of-memory (2 GB) is saved in
+# crash, sanitizer report, leak (tests/lsan.supp lists the known leaks of cfitsio itself), hang
+# (an input taking over 30 s: the targets run under ASan, at low priority, beside other work) or
+# out-of-memory (2 GB) is saved in
 # build/fuzz/crashes/TARGET/ and makes the script fail. Reproduce one with
 #   build/fuzz/fuzz/TARGET build/fuzz/crashes/TARGET/crash-...
 #
@@ -30,6 +32,7 @@ mkdir -p build/fuzz/logs
 
 export ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+export LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp:print_suppressions=0
 
 # One target; its summary line goes to build/fuzz/logs/TARGET.result.
 run_target() {
@@ -43,7 +46,7 @@ run_target() {
   mkdir -p "build/fuzz/corpus/$t" "build/fuzz/crashes/$t"
   local log="build/fuzz/logs/$t.log"
   result=ok
-  if ! "build/fuzz/fuzz/$t" "${options[@]}" -max_total_time="$seconds" -timeout=10 \
+  if ! nice -n 10 "build/fuzz/fuzz/$t" "${options[@]}" -max_total_time="$seconds" -timeout=30 \
       -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="build/fuzz/crashes/$t/" \
       "build/fuzz/corpus/$t" "build/fuzz/seeds/$t" >"$log" 2>&1; then
     result="FAILED (see $log and build/fuzz/crashes/$t/)"

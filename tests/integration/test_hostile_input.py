@@ -117,6 +117,13 @@ class HostileImages(HostileInput):
                           "-VERBOSE_TYPE", "QUIET", check=False)
         self.assert_fails(proc, seg + ": HDU 0: ", "9223372036854775807 x 1")
 
+    def test_corrupt_compressed_tile(self):
+        # Found by scripts/fuzz.sh (fuzz_fits_image): an HCOMPRESS_1 tile that cfitsio cannot
+        # decode (cfitsio then leaks 4 bytes of its own, see tests/lsan.supp).
+        path = os.path.join(TESTDATA, "hostile", "hcompress-corrupt-tile.fits")
+        self.assert_fails(self.detect(path), path + "[1]: cannot read pixels",
+                          "error uncompressing image")
+
     def test_zero_axis(self):
         path = raw_fits(self.path("zero.fits"), -32, (0, 10))
         self.assert_fails(self.detect(path), path + ": HDU 0: image is 0 x 10 pixels")
