@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "octarc/app/Commands.h"
+#include "octarc/app/Options.h"
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
@@ -63,31 +64,6 @@ po::options_description fieldOptions() {
   add("threads", po::value<int>()->default_value(0), "worker threads (0 = all cores)");
   add("quiet", "no progress bar");
   return o;
-}
-
-// Boost would read a negative number after an option as an option of its own: glue the values
-// of value-taking options to their names ("--lenses=-1"), so they reach the range checks.
-std::vector<std::string> glueValues(const std::vector<std::string>& args,
-                                    const po::options_description& options) {
-  std::vector<std::string> out;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    std::string name;
-    if (a.rfind("--", 0) == 0 && a.find('=') == std::string::npos) {
-      name = a.substr(2);
-    } else if (a.size() == 2 && a[0] == '-' && a[1] != '-') {
-      name = a.substr(1);
-    }
-    const po::option_description* d =
-        name.empty() ? nullptr : options.find_nothrow(name, false, false, false);
-    if (d && d->semantic()->max_tokens() > 0 && i + 1 < args.size()) {
-      out.push_back("--" + d->long_name() + "=" + args[i + 1]);
-      ++i;
-    } else {
-      out.push_back(a);
-    }
-  }
-  return out;
 }
 
 }  // namespace

@@ -4,34 +4,22 @@
 //   population draw --> ray trace + lens light + PSF + noise --> multi-threshold detection
 //   --> measurements --> arc rules --> one row per system + every arc row --> FITS-LDAC file
 //
-// Systems run in parallel; each is reproducible from (seed, index) alone and its results are
-// placed by index, so the output does not depend on the thread count.
+// The work is simulation/engine/LensSetup.h (options -> setup) and LensCatalog.h (the run).
 
 #include <boost/program_options.hpp>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <exception>
-#include <filesystem>
 #include <iostream>
 #include <optional>
-#include <sstream>
 
 #include "octarc/app/Commands.h"
-#include "octarc/catalog/Catalog.h"
-#include "octarc/catalog/FitsCard.h"
+#include "octarc/app/Options.h"
 #include "octarc/core/AtomicFile.h"
-#include "octarc/core/Conventions.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Parallel.h"
 #include "octarc/core/Progress.h"
-#include "octarc/io/FitsImage.h"
-#include "octarc/run/CatalogAssembly.h"
-#include "octarc/run/Levels.h"
-#include "octarc/run/PreparedImage.h"
-#include "octarc/run/RunSettings.h"
-#include "octarc/simulation/Noise.h"
 #include "octarc/simulation/engine/LensCatalog.h"
+#include "octarc/simulation/engine/LensSetup.h"
 #include "octarc/simulation/engine/LensSimulation.h"
 #include "octarc/simulation/engine/SurveySettings.h"
 
@@ -62,18 +50,8 @@ std::optional<T> optionValue(const po::variables_map& vm, const char* name) {
   return std::nullopt;
 }
 
-void requireRange(double lo, double hi, const char* loName, const char* hiName) {
-  if (!(lo < hi)) {
-    std::ostringstream s;
-    s << loName << " (" << lo << ") must be below " << hiName << " (" << hi << ")";
-    throw ConfigError(s.str());
-  }
-}
-
-}  // namespace
-
-int runSimulateLenses(const std::vector<std::string>& args) {
-  const auto start = std::chrono::steady_clock::now();
+// The options; those of the setup are stored straight into `o`.
+po::options_description lensOptions(LensSetupOptions& o) {
   po::options_description options("Options");
   // clang-format off
   options.add_options()
@@ -89,37 +67,58 @@ int runSimulateLenses(const std::vector<std::string>& args) {
     ("sources", po::value<int>()->default_value(90), "number of synthetic source galaxies")
     ("source-extent", po::value<double>()->default_value(4.0),
      "synthetic source stamp radius in half-light radii")
-    ("population", po::value<std::string>(), "population relations file "
+    ("population", po::value(&o.populationPath), "population relations file "
      "(default: simulation/population.txt of octarc's data directory, share/octarc)")
     ("threads", po::value<int>()->default_value(0), "worker threads (0 = all cores)")
     ("stamps", po::value<std::string>(), "also write the stamps of the first systems (FITS cube)")
     ("stamp-count", po::value<int>()->default_value(10), "systems in the stamps file")
     ("quiet", "no progress bar and no summary")
-    ("pixel-scale", po::value<double>(), "survey pixel scale, arcsec (default 0.257)")
-    ("seeing", po::value<double>(), "Gaussian PSF FWHM, arcsec (default 0.9)")
-    ("gain", po::value<double>(), "gain, e-/ADU (default 54)")
-    ("zero-point", po::value<double>(), "magnitude zero point (default 30)")
-    ("sky-sigma", po::value<double>(), "per-pixel sky noise, ADU (default: from --limiting-mag)")
-    ("limiting-mag", po::value<double>()->default_value(26.0),
+    ("pixel-scale", optionalValue(o.pixelScaleArcsec), "survey pixel scale, arcsec (default 0.257)")
+    ("seeing", optionalValue(o.seeingFwhmArcsec), "Gaussian PSF FWHM, arcsec (default 0.9)")
+    ("gain", optionalValue(o.gainElectronPerAdu), "gain, e-/ADU (default 54)")
+    ("zero-point", optionalValue(o.magZeropoint), "magnitude zero point (default 30)")
+    ("sky-sigma", optionalValue(o.skySigmaAdu), "per-pixel sky noise, ADU (default: from --limiting-mag)")
+    ("limiting-mag", po::value(&o.limitingMag)->default_value(26.0),
      "5-sigma limiting magnitude in a 2\" aperture, sets the sky noise")
-    ("stamp-size", po::value<int>()->default_value(101), "stamp side, survey pixels")
-    ("thresh", po::value<double>(), "lowest level, sigma (default 2.5)")
-    ("thresh-max", po::value<double>(), "highest level, sigma (default 20)")
-    ("nlevels", po::value<int>(), "number of levels (default 15)")
-    ("minarea", po::value<int>(), "DETECT_MINAREA, pixels (default 5)")
-    ("lens-mag-min", po::value<double>(), "lens magnitude range (population file: 21)")
-    ("lens-mag-max", po::value<double>(), "(population file: 23)")
-    ("source-mag-min", po::value<double>(), "source magnitude range (population file: 22)")
-    ("source-mag-max", po::value<double>(), "(population file: 25)")
-    ("sigma-min", po::value<double>(), "velocity dispersion cut, km/s (population file: 250)")
-    ("sigma-max", po::value<double>(), "(population file: 400)")
-    ("lens-e-max", po::value<double>()->default_value(0.5), "largest lens light ellipticity")
-    ("lens-rhalf-min", po::value<double>()->default_value(0.5), "lens half-light radius range, arcsec")
-    ("lens-rhalf-max", po::value<double>()->default_value(1.5), "")
-    ("fine-scale", po::value<double>()->default_value(0.03), "ray-tracing grid step, arcsec")
-    ("subsamples", po::value<int>()->default_value(4), "rays per fine pixel along each axis")
+    ("stamp-size", po::value(&o.stampSizePix)->default_value(101), "stamp side, survey pixels")
+    ("thresh", optionalValue(o.detectThreshold), "lowest level, sigma (default 2.5)")
+    ("thresh-max", optionalValue(o.detectThresholdMax), "highest level, sigma (default 20)")
+    ("nlevels", optionalValue(o.detectLevelCount), "number of levels (default 15)")
+    ("minarea", optionalValue(o.minAreaPix), "DETECT_MINAREA, pixels (default 5)")
+    ("lens-mag-min", optionalValue(o.lensMagMin), "lens magnitude range (population file: 21)")
+    ("lens-mag-max", optionalValue(o.lensMagMax), "(population file: 23)")
+    ("source-mag-min", optionalValue(o.sourceMagMin), "source magnitude range (population file: 22)")
+    ("source-mag-max", optionalValue(o.sourceMagMax), "(population file: 25)")
+    ("sigma-min", optionalValue(o.sigmaMinKmPerS), "velocity dispersion cut, km/s (population file: 250)")
+    ("sigma-max", optionalValue(o.sigmaMaxKmPerS), "(population file: 400)")
+    ("lens-e-max", po::value(&o.lensEllipticityMax)->default_value(0.5), "largest lens light ellipticity")
+    ("lens-rhalf-min", po::value(&o.lensHalfLightMinArcsec)->default_value(0.5), "lens half-light radius range, arcsec")
+    ("lens-rhalf-max", po::value(&o.lensHalfLightMaxArcsec)->default_value(1.5), "")
+    ("fine-scale", po::value(&o.fineScaleArcsec)->default_value(0.03), "ray-tracing grid step, arcsec")
+    ("subsamples", po::value(&o.subSamples)->default_value(4), "rays per fine pixel along each axis")
     ("timing", "print the CPU time per stage even with --quiet");
   // clang-format on
+  return options;
+}
+
+// The source galaxies: a RealGalaxyCatalog, or the synthetic generator.
+SourceDatabase sourceDatabase(const po::variables_map& vm) {
+  if (vm.count("database")) {
+    return SourceDatabase::fromRealGalaxyCatalog(vm["database"].as<std::string>());
+  }
+  sim::SyntheticGalaxyOptions galaxy;
+  galaxy.stampHalfLightRadii = vm["source-extent"].as<double>();
+  if (!(galaxy.stampHalfLightRadii > 0)) throw ConfigError("--source-extent must be positive");
+  // A database of its own seed stream, so that the same sources serve every master seed.
+  return SourceDatabase::synthetic(vm["sources"].as<int>(), 0x5EEDDA7AULL, galaxy);
+}
+
+}  // namespace
+
+int runSimulateLenses(const std::vector<std::string>& args) {
+  const auto start = std::chrono::steady_clock::now();
+  LensSetupOptions o;
+  const po::options_description options = lensOptions(o);
   po::variables_map vm;
   try {
     po::store(po::command_line_parser(args).options(options).run(), vm);
@@ -141,102 +140,13 @@ int runSimulateLenses(const std::vector<std::string>& args) {
   const bool quiet = vm.count("quiet") > 0;
 
   // Survey: DLS defaults, then the .sex file, then explicit options.
-  SimulationSetup setup;
-  sim::ObservingSetup& obs = setup.observing;
-  double threshLow = 2.5, threshHigh = 20.0;
-  int levelCount = 15;
-  std::vector<double> explicitLevels;
-  bool relative = true;
-  int minArea = 5;
   if (vm.count("config")) {
-    SurveySettings survey = readSurveySettings(vm["config"].as<std::string>());
+    o.survey = readSurveySettings(vm["config"].as<std::string>());
     if (!quiet) {
-      for (const std::string& w : survey.warnings) std::cerr << "WARNING: " << w << "\n";
+      for (const std::string& w : o.survey->warnings) std::cerr << "WARNING: " << w << "\n";
     }
-    obs.grid.pixelScaleArcsec = survey.pixelScaleArcsec.value_or(obs.grid.pixelScaleArcsec);
-    obs.seeingFwhmArcsec = survey.seeingFwhmArcsec.value_or(obs.seeingFwhmArcsec);
-    obs.gainElectronsPerAdu = survey.gainElectronPerAdu.value_or(obs.gainElectronsPerAdu);
-    obs.magZeroPoint = survey.magZeropoint.value_or(obs.magZeroPoint);
-    setup.saturationAdu = survey.saturationAdu.value_or(setup.saturationAdu);
-    threshLow = survey.detectThreshold.value_or(threshLow);
-    threshHigh = survey.detectThresholdMax.value_or(threshHigh);
-    levelCount = survey.detectLevelCount.value_or(levelCount);
-    explicitLevels = survey.detectLevels;
-    relative = survey.relativeLevels;
-    minArea = survey.minAreaPix.value_or(minArea);
-    setup.filter = std::move(survey.filter);
   }
-  if (auto v = optionValue<double>(vm, "pixel-scale")) obs.grid.pixelScaleArcsec = *v;
-  if (auto v = optionValue<double>(vm, "seeing")) obs.seeingFwhmArcsec = *v;
-  if (auto v = optionValue<double>(vm, "gain")) obs.gainElectronsPerAdu = *v;
-  if (auto v = optionValue<double>(vm, "zero-point")) obs.magZeroPoint = *v;
-  if (auto v = optionValue<double>(vm, "thresh")) threshLow = *v, explicitLevels.clear();
-  if (auto v = optionValue<double>(vm, "thresh-max")) threshHigh = *v, explicitLevels.clear();
-  if (auto v = optionValue<int>(vm, "nlevels")) levelCount = *v, explicitLevels.clear();
-  if (auto v = optionValue<int>(vm, "minarea")) minArea = *v;
-  if (!(obs.grid.pixelScaleArcsec > 0)) throw ConfigError("--pixel-scale must be positive");
-  if (!(obs.seeingFwhmArcsec > 0)) throw ConfigError("--seeing (SEEING_FWHM) must be positive");
-  if (!(obs.gainElectronsPerAdu > 0)) {
-    throw ConfigError("--gain (GAIN) must be positive: Poisson noise needs a finite gain");
-  }
-  if (minArea < 1) throw ConfigError("--minarea (DETECT_MINAREA) must be at least 1");
-  const int stampSize = vm["stamp-size"].as<int>();
-  if (stampSize < 9) throw ConfigError("--stamp-size must be at least 9 pixels");
-  obs.grid.width = obs.grid.height = stampSize;
-  obs.grid.lensXPix = obs.grid.lensYPix = 0.5 * (stampSize - 1);
-  obs.skySigmaAdu = vm.count("sky-sigma") ? vm["sky-sigma"].as<double>()
-                                          : sim::skySigmaFromLimitingMagnitude(
-                                                vm["limiting-mag"].as<double>(), obs.magZeroPoint,
-                                                2.0, obs.grid.pixelScaleArcsec);
-  if (!(obs.skySigmaAdu > 0)) throw ConfigError("--sky-sigma must be positive");
-  obs.rayTrace.fineScaleArcsec = vm["fine-scale"].as<double>();
-  obs.rayTrace.subSamples = vm["subsamples"].as<int>();
-  if (!(obs.rayTrace.fineScaleArcsec > 0)) throw ConfigError("--fine-scale must be positive");
-  if (obs.rayTrace.subSamples < 1) throw ConfigError("--subsamples must be at least 1");
-
-  // Levels: the same log spacing as octarc detect (DETECT_NLEVELS from DETECT_THRESH to
-  // DETECT_THRESH_MAX); RELATIVE levels are multiples of the stamp's known sky sigma.
-  std::vector<double> levels = explicitLevels;
-  if (levels.empty()) {
-    if (levelCount < 1) throw ConfigError("--nlevels (DETECT_NLEVELS) must be at least 1");
-    if (levelCount > 1) {
-      requireRange(threshLow, threshHigh, "--thresh (DETECT_THRESH)",
-                   "--thresh-max (DETECT_THRESH_MAX)");
-    }
-    levels = logSpacedLevels(threshLow, threshHigh, levelCount);
-  }
-  for (double l : levels) {
-    const double adu = relative ? l * obs.skySigmaAdu : l;
-    if (!(adu > 0)) throw ConfigError("detection thresholds must be positive");
-    setup.thresholdsAdu.push_back(adu);
-  }
-  setup.minAreaPix = minArea;
-
-  // Population: the relations file, then the range options.
-  setup.population =
-      sim::readPopulationModel(vm.count("population") ? vm["population"].as<std::string>()
-                                                      : sim::defaultPopulationModelPath());
-  sim::PopulationModel& pop = setup.population;
-  if (auto v = optionValue<double>(vm, "lens-mag-min")) pop.lensMagnitude.magMin = *v;
-  if (auto v = optionValue<double>(vm, "lens-mag-max")) pop.lensMagnitude.magMax = *v;
-  if (auto v = optionValue<double>(vm, "source-mag-min")) pop.sourceMagnitude.magMin = *v;
-  if (auto v = optionValue<double>(vm, "source-mag-max")) pop.sourceMagnitude.magMax = *v;
-  if (auto v = optionValue<double>(vm, "sigma-min")) pop.sigmaMinKmPerS = *v;
-  if (auto v = optionValue<double>(vm, "sigma-max")) pop.sigmaMaxKmPerS = *v;
-  requireRange(pop.lensMagnitude.magMin, pop.lensMagnitude.magMax, "--lens-mag-min",
-               "--lens-mag-max");
-  requireRange(pop.sourceMagnitude.magMin, pop.sourceMagnitude.magMax, "--source-mag-min",
-               "--source-mag-max");
-  requireRange(pop.sigmaMinKmPerS, pop.sigmaMaxKmPerS, "--sigma-min", "--sigma-max");
-  setup.lensEllipticityMax = vm["lens-e-max"].as<double>();
-  if (!(setup.lensEllipticityMax >= 0 && setup.lensEllipticityMax < 1)) {
-    throw ConfigError("--lens-e-max must be in [0, 1)");
-  }
-  setup.lensHalfLightMinArcsec = vm["lens-rhalf-min"].as<double>();
-  setup.lensHalfLightMaxArcsec = vm["lens-rhalf-max"].as<double>();
-  if (!(setup.lensHalfLightMinArcsec > 0)) throw ConfigError("--lens-rhalf-min must be positive");
-  requireRange(setup.lensHalfLightMinArcsec, setup.lensHalfLightMaxArcsec, "--lens-rhalf-min",
-               "--lens-rhalf-max");
+  const SimulationSetup setup = makeSimulationSetup(o);
 
   const std::optional<std::string> stampsPath = optionValue<std::string>(vm, "stamps");
   const int stampCount =
@@ -256,17 +166,7 @@ int runSimulateLenses(const std::vector<std::string>& args) {
     }
   }
 
-  // Sources.
-  SourceDatabase sources = [&] {
-    if (vm.count("database")) {
-      return SourceDatabase::fromRealGalaxyCatalog(vm["database"].as<std::string>());
-    }
-    sim::SyntheticGalaxyOptions galaxy;
-    galaxy.stampHalfLightRadii = vm["source-extent"].as<double>();
-    if (!(galaxy.stampHalfLightRadii > 0)) throw ConfigError("--source-extent must be positive");
-    // A database of its own seed stream, so that the same sources serve every master seed.
-    return SourceDatabase::synthetic(vm["sources"].as<int>(), 0x5EEDDA7AULL, galaxy);
-  }();
+  const SourceDatabase sources = sourceDatabase(vm);
 
   // System 0 on this thread first: bad settings (e.g. a sigma range giving no lenses) fail here
   // with one message, before any thread starts.
@@ -281,7 +181,7 @@ int runSimulateLenses(const std::vector<std::string>& args) {
   });
   if (stampsPath) {
     outputs.write(1, [&](const std::string& path) {
-      writeLensStamps(path, lensRun, obs.grid.pixelScaleArcsec);
+      writeLensStamps(path, lensRun, setup.observing.grid.pixelScaleArcsec);
     });
   }
   outputs.commit();

@@ -12,6 +12,8 @@
 #include "octarc/io/FitsImage.h"
 #include "octarc/run/ImageRun.h"
 #include "octarc/run/Levels.h"
+#include "octarc/sexcompat/Config.h"
+#include "octarc/sexcompat/Keys.h"
 
 namespace octarc {
 
@@ -196,6 +198,22 @@ DetectionRunResult runDetection(const RunSettings& s, const ColumnPlan& columns,
                                                 count, start, clock, result, log));
   }
   return result;
+}
+
+DetectionRunResult runConfiguredDetection(
+    const std::string& imagePath, const std::string& configPath,
+    const std::vector<std::pair<std::string, std::string>>& keys) {
+  std::vector<std::string> warnings;
+  const sexcompat::Config config =
+      sexcompat::Config::load(sexcompat::octarcMeasureKeys(), configPath, keys, &warnings);
+  RunSettings settings = settingsFromConfig(config);
+  settings.imagePaths = {imagePath};
+  settings.configPath = configPath;
+  const ColumnPlan columns =
+      planColumns(settings, true, int(detectionLevels(settings, 1.0).size()));
+  std::optional<sexcompat::AssocSettings> assoc;
+  if (columns.assoc) assoc = sexcompat::AssocSettings::fromConfig(config);
+  return runDetection(settings, columns, assoc, RunLog());
 }
 
 void writeCheckImages(const RunSettings& s, DetectionRunResult& result, const OutputFiles& outputs,

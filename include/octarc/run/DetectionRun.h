@@ -60,6 +60,13 @@ DetectionRunResult runDetection(const RunSettings& settings, const ColumnPlan& c
                                 const std::optional<sexcompat::AssocSettings>& assoc,
                                 const RunLog& log);
 
+// The run `octarc detect IMAGE -c configPath -KEY value ...` makes, in memory and silent: the
+// .sex file with `keys` (KEY, value) on top, PARAMETERS_NAME as given, ASSOC when its columns
+// are asked for. Nothing is written.
+DetectionRunResult runConfiguredDetection(
+    const std::string& imagePath, const std::string& configPath,
+    const std::vector<std::pair<std::string, std::string>>& keys);
+
 // Writes the check-images of `result` (CHECKIMAGE_TYPE / CHECKIMAGE_NAME of `settings`), check
 // image i to output firstCheck + i of `outputs`, each through at most one image-sized buffer;
 // `log` gets a line when each is done. Frees buffers of `result` as it goes (OBJECTS blanks the

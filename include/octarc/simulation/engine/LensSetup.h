@@ -1,0 +1,41 @@
+// The settings of a lens-simulation run as a user gives them (command-line options, or a
+// caller's own values) and the SimulationSetup they make: Deep Lens Survey defaults, then a
+// survey .sex file, then these values; every value checked, with a message that names the option
+// (and its .sex key where there is one).
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "octarc/simulation/engine/LensSimulation.h"
+#include "octarc/simulation/engine/SurveySettings.h"
+
+namespace octarc {
+
+struct LensSetupOptions {
+  std::optional<SurveySettings> survey;                  // --config
+  std::optional<double> pixelScaleArcsec;                // --pixel-scale (default 0.257)
+  std::optional<double> seeingFwhmArcsec;                // --seeing (0.9)
+  std::optional<double> gainElectronPerAdu;              // --gain (54)
+  std::optional<double> magZeropoint;                    // --zero-point (30)
+  std::optional<double> skySigmaAdu;                     // --sky-sigma (default: from limitingMag)
+  double limitingMag = 26.0;                             // --limiting-mag: 5 sigma in a 2" aperture
+  int stampSizePix = 101;                                // --stamp-size
+  std::optional<double> detectThreshold;                 // --thresh (2.5 sigma)
+  std::optional<double> detectThresholdMax;              // --thresh-max (20 sigma)
+  std::optional<int> detectLevelCount;                   // --nlevels (15)
+  std::optional<int> minAreaPix;                         // --minarea (5)
+  std::string populationPath;                            // --population ("" = the shipped file)
+  std::optional<double> lensMagMin, lensMagMax;          // --lens-mag-min/max
+  std::optional<double> sourceMagMin, sourceMagMax;      // --source-mag-min/max
+  std::optional<double> sigmaMinKmPerS, sigmaMaxKmPerS;  // --sigma-min/max
+  double lensEllipticityMax = 0.5;                       // --lens-e-max
+  double lensHalfLightMinArcsec = 0.5, lensHalfLightMaxArcsec = 1.5;  // --lens-rhalf-min/max
+  double fineScaleArcsec = 0.03;  // --fine-scale: ray-tracing grid step
+  int subSamples = 4;             // --subsamples: rays per fine pixel along each axis
+};
+
+// The run's setup; ConfigError naming the option for a value out of range.
+SimulationSetup makeSimulationSetup(const LensSetupOptions& options);
+
+}  // namespace octarc
