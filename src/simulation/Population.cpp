@@ -105,6 +105,50 @@ std::string defaultPopulationModelPath() {
   return dataFile("simulation/population.txt");
 }
 
+namespace {
+
+// The ranges and relations that the draws need, ConfigError naming the file and key otherwise.
+void checkPopulationModel(const PopulationModel& m, double maxAttempts) {
+  auto fail = [&m](const std::string& key, const std::string& what) {
+    throw ConfigError(m.sourcePath + ": key " + key + ": " + what);
+  };
+  auto checkRange = [&](const std::string& prefix, const MagnitudePowerLaw& p) {
+    if (!(p.magMin < p.magMax))
+      fail(prefix + ".mag_min", "must be less than " + prefix + ".mag_max (" +
+                                    formatNumber(p.magMin) + " >= " + formatNumber(p.magMax) + ")");
+  };
+  checkRange("source", m.sourceMagnitude);
+  checkRange("lens", m.lensMagnitude);
+  if (!(m.sourceSize.halfLightArcsecAtRef > 0.0))
+    fail("source.size.r_half_arcsec_at_ref", "must be positive");
+  if (m.sourceSize.scatterDex < 0.0) fail("source.size.scatter_dex", "must be >= 0");
+  if (!(m.sourceZMin >= 0.0 && m.sourceZMin < m.sourceZMax))
+    fail("source.z_min", "must be >= 0 and less than source.z_max");
+  if (m.sourceMinDzBehindLens < 0.0) fail("source.min_dz_behind_lens", "must be >= 0");
+  for (const auto& [type, rel] : m.sourceRedshift)
+    if (rel.scatter < 0.0)
+      fail(std::string("source.z.") + galaxyTypeName(type) + ".scatter", "must be >= 0");
+  if (m.lensRedshift.scatter < 0.0) fail("lens.z.scatter", "must be >= 0");
+  if (!(m.lensZMin > 0.0 && m.lensZMin < m.lensZMax))
+    fail("lens.z_min", "must be > 0 and less than lens.z_max");
+  if (!(m.fjSigmaStarKmPerS > 0.0)) fail("lens.fj.sigma_star_km_s", "must be positive");
+  if (m.fjScatterMag < 0.0) fail("lens.fj.scatter_mag", "must be >= 0");
+  if (!(m.sigmaMinKmPerS > 0.0 && m.sigmaMinKmPerS < m.sigmaMaxKmPerS))
+    fail("lens.sigma_min_km_s", "must be positive and less than lens.sigma_max_km_s (" +
+                                    formatNumber(m.sigmaMinKmPerS) +
+                                    " >= " + formatNumber(m.sigmaMaxKmPerS) + ")");
+  if (!(maxAttempts >= 1.0 && maxAttempts <= 1e9 && maxAttempts == std::floor(maxAttempts)))
+    fail("lens.max_attempts", "must be a whole number between 1 and 1e9");
+  const LinearTable& k = m.lensKCorrectionMag;
+  if (k.x.size() != k.y.size())
+    fail("lens.kcorr.mag", "has " + std::to_string(k.y.size()) + " values but lens.kcorr.z has " +
+                               std::to_string(k.x.size()));
+  for (std::size_t i = 1; i < k.x.size(); ++i)
+    if (!(k.x[i] > k.x[i - 1])) fail("lens.kcorr.z", "must be strictly increasing");
+}
+
+}  // namespace
+
 PopulationModel readPopulationModel(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw IoError(path + ": cannot open population parameter file");
@@ -195,43 +239,8 @@ PopulationModel readPopulationModel(const std::string& path) {
   for (const auto& [key, setter] : setters)
     if (!seen.count(key)) throw ConfigError(path + ": missing key " + key);
 
-  auto fail = [&path](const std::string& key, const std::string& what) {
-    throw ConfigError(path + ": key " + key + ": " + what);
-  };
-  auto checkRange = [&](const std::string& prefix, const MagnitudePowerLaw& p) {
-    if (!(p.magMin < p.magMax))
-      fail(prefix + ".mag_min", "must be less than " + prefix + ".mag_max (" +
-                                    formatNumber(p.magMin) + " >= " + formatNumber(p.magMax) + ")");
-  };
-  checkRange("source", m.sourceMagnitude);
-  checkRange("lens", m.lensMagnitude);
-  if (!(m.sourceSize.halfLightArcsecAtRef > 0.0))
-    fail("source.size.r_half_arcsec_at_ref", "must be positive");
-  if (m.sourceSize.scatterDex < 0.0) fail("source.size.scatter_dex", "must be >= 0");
-  if (!(m.sourceZMin >= 0.0 && m.sourceZMin < m.sourceZMax))
-    fail("source.z_min", "must be >= 0 and less than source.z_max");
-  if (m.sourceMinDzBehindLens < 0.0) fail("source.min_dz_behind_lens", "must be >= 0");
-  for (const auto& [type, rel] : m.sourceRedshift)
-    if (rel.scatter < 0.0)
-      fail(std::string("source.z.") + galaxyTypeName(type) + ".scatter", "must be >= 0");
-  if (m.lensRedshift.scatter < 0.0) fail("lens.z.scatter", "must be >= 0");
-  if (!(m.lensZMin > 0.0 && m.lensZMin < m.lensZMax))
-    fail("lens.z_min", "must be > 0 and less than lens.z_max");
-  if (!(m.fjSigmaStarKmPerS > 0.0)) fail("lens.fj.sigma_star_km_s", "must be positive");
-  if (m.fjScatterMag < 0.0) fail("lens.fj.scatter_mag", "must be >= 0");
-  if (!(m.sigmaMinKmPerS > 0.0 && m.sigmaMinKmPerS < m.sigmaMaxKmPerS))
-    fail("lens.sigma_min_km_s", "must be positive and less than lens.sigma_max_km_s (" +
-                                    formatNumber(m.sigmaMinKmPerS) +
-                                    " >= " + formatNumber(m.sigmaMaxKmPerS) + ")");
-  if (!(maxAttempts >= 1.0 && maxAttempts <= 1e9 && maxAttempts == std::floor(maxAttempts)))
-    fail("lens.max_attempts", "must be a whole number between 1 and 1e9");
+  checkPopulationModel(m, maxAttempts);
   m.maxLensAttempts = static_cast<int>(maxAttempts);
-  const LinearTable& k = m.lensKCorrectionMag;
-  if (k.x.size() != k.y.size())
-    fail("lens.kcorr.mag", "has " + std::to_string(k.y.size()) + " values but lens.kcorr.z has " +
-                               std::to_string(k.x.size()));
-  for (std::size_t i = 1; i < k.x.size(); ++i)
-    if (!(k.x[i] > k.x[i - 1])) fail("lens.kcorr.z", "must be strictly increasing");
   return m;
 }
 

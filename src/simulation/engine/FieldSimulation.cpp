@@ -92,6 +92,120 @@ std::vector<Vec2> drawLensPositions(const FieldSimulationSettings& s, int gapX0,
   return positions;
 }
 
+// The injected lens systems: drawn by the lens-simulation engine's population draw (one stream
+// per system; systems below the minimum Einstein radius are redrawn from the same stream),
+// rendered noise-free and before the PSF.
+std::vector<FieldLens> renderLenses(const FieldSimulationSettings& s,
+                                    const std::vector<Vec2>& lensPositions, int threads) {
+  std::vector<FieldLens> lenses(lensPositions.size());
+  if (lenses.empty()) return lenses;
+  SimulationSetup setup;
+  setup.population = readPopulationModel(s.populationPath.empty() ? defaultPopulationModelPath()
+                                                                  : s.populationPath);
+  SyntheticGalaxyOptions sourceOptions;
+  const SourceDatabase sources =
+      s.databasePath.empty()
+          ? SourceDatabase::synthetic(kSyntheticSources, systemSeed(s.seed, kStreamSources),
+                                      sourceOptions)
+          : SourceDatabase::fromRealGalaxyCatalog(s.databasePath);
+  const std::uint64_t lensSeed = systemSeed(s.seed, kStreamLenses);
+  parallelForDynamic(std::int64_t(lenses.size()), threads, [&](std::size_t i) {
+    // Systems below the minimum Einstein radius are redrawn from the same stream.
+    std::mt19937_64 rng = systemRng(lensSeed, i);
+    LensSystemDraw draw = drawLensSystem(setup, sources, std::int64_t(i), rng);
+    for (int tries = 1; draw.einsteinRadiusArcsec < s.minEinsteinRadiusArcsec; ++tries) {
+      if (tries == kMaxLensRedraws) {
+        throw ConfigError("--min-einstein-radius: no lens system with theta_E >= " +
+                          formatNumber(s.minEinsteinRadiusArcsec) + "\" in " +
+                          std::to_string(kMaxLensRedraws) + " draws of the population");
+      }
+      draw = drawLensSystem(setup, sources, std::int64_t(i), rng);
+    }
+    lenses[i] = renderFieldLens(draw.system, sources.stamp(draw.sourceIndex), lensPositions[i][0],
+                                lensPositions[i][1], s.pixelScaleArcsec, s.magZeroPoint);
+  });
+  return lenses;
+}
+
+// Sky noise per band of rows, each band with its own stream; the gap gets a second, equal
+// noise (half the exposure doubles the variance). Fills the image, the saturation and the
+// weight map of `field` from the noise-free `sky`.
+void addNoise(const FieldSimulationSettings& s, const ImageD& sky, int threads,
+              SimulatedField& field) {
+  const int n = s.sizePix;
+  const double sigma = field.skySigmaAdu;
+  const std::int64_t bands = (n + kNoiseBandRows - 1) / kNoiseBandRows;
+  field.image = ImageF(n, n);
+  parallelForDynamic(bands, threads, [&](std::size_t band) {
+    const std::int64_t y0 = std::int64_t(band) * kNoiseBandRows;
+    const std::int64_t rows = std::min<std::int64_t>(kNoiseBandRows, n - y0);
+    ImageD part(n, rows);
+    std::copy_n(&sky(0, y0), n * rows, part.data());
+    std::mt19937_64 rng = streamRng(s.seed, kStreamNoise, band);
+    addPoissonSkyNoise(part, sigma, s.gainElectronsPerAdu, rng);
+    std::mt19937_64 gapRng = streamRng(s.seed, kStreamGapNoise, band);
+    std::normal_distribution<double> gapNoise(0.0, sigma);
+    for (std::int64_t y = 0; y < rows; ++y)
+      for (std::int64_t x = field.gapX0; x < field.gapX1; ++x) part(x, y) += gapNoise(gapRng);
+    for (std::int64_t k = 0; k < part.size(); ++k) field.image[y0 * n + k] = float(part[k]);
+  });
+  field.saturatedPixels = clipSaturation(field.image, float(s.saturationAdu));
+  field.weight = ImageF(n, n, float(1.0 / (sigma * sigma)));
+  for (std::int64_t y = 0; y < n; ++y)
+    for (std::int64_t x = field.gapX0; x < field.gapX1; ++x)
+      field.weight(x, y) = float(0.5 / (sigma * sigma));
+}
+
+// The truth list: each lens system (lens galaxy, then its images), galaxies, stars.
+void addTruthRows(const std::vector<FieldLens>& lenses, const std::vector<FieldObject>& objects,
+                  const std::vector<std::size_t>& galaxies, const std::vector<std::size_t>& stars,
+                  const std::vector<double>& usedX, const std::vector<double>& usedY,
+                  const Wcs& wcs, SimulatedField& field) {
+  std::int64_t id = 0;
+  auto addRow = [&](double x0, double y0, FieldObjectKind kind, double mag, double thetaE,
+                    int system) {
+    TruthRow r;
+    r.id = ++id;
+    r.xFits = toFitsPixel(x0);
+    r.yFits = toFitsPixel(y0);
+    const std::array<double, 2> world = wcs.pixelToWorld(r.xFits, r.yFits);
+    r.raDeg = world[0];
+    r.decDeg = world[1];
+    r.kind = kind;
+    r.mag = mag;
+    r.einsteinRadiusArcsec = thetaE;
+    r.systemId = system;
+    field.truth.push_back(r);
+  };
+  for (std::size_t i = 0; i < lenses.size(); ++i) {
+    const FieldLens& l = lenses[i];
+    const double thetaE = l.system.mass.einsteinRadiusArcsec;
+    addRow(l.xPix, l.yPix, FieldObjectKind::LensGalaxy, l.system.lensMag, thetaE, int(i) + 1);
+    for (const FieldLens::LensedImage& im : l.images) {
+      addRow(im.xPix, im.yPix, FieldObjectKind::LensedSource, im.mag, thetaE, int(i) + 1);
+    }
+  }
+  for (std::size_t i : galaxies) {
+    addRow(usedX[i], usedY[i], FieldObjectKind::Galaxy, objects[i].mag, 0.0, 0);
+  }
+  for (std::size_t i : stars)
+    addRow(usedX[i], usedY[i], FieldObjectKind::Star, objects[i].mag, 0.0, 0);
+}
+
+void setHeaderCards(const FieldSimulationSettings& s, FitsHeader& h) {
+  const double sigma = s.skySigmaAdu();
+  h.set("BUNIT", quoteFitsString("ADU"), "Sky-subtracted counts");
+  h.set("GAIN", fitsRealValue(s.gainElectronsPerAdu, 10), "Detector gain (e-/ADU)");
+  h.set("SATURATE", fitsRealValue(s.saturationAdu, 10), "Saturation level (ADU)");
+  h.set("MAGZERO", fitsRealValue(s.magZeroPoint, 10), "Magnitude zero point");
+  h.set("SEEING", fitsRealValue(s.seeingFwhmArcsec, 10), "PSF FWHM (arcsec), Gaussian");
+  h.set("PIXSCALE", fitsRealValue(s.pixelScaleArcsec, 10), "Pixel scale (arcsec/pixel)");
+  h.set("SKYSIGMA", fitsRealValue(sigma, 10), "Sky noise per pixel (ADU), outside the gap");
+  h.set("SIMSEED", std::to_string(s.seed), "octarc simulate field master seed");
+  h.set("NLENSES", std::to_string(s.lensCount), "Injected lens systems");
+  h.set("OBJECT", quoteFitsString("octarc simulated field"));
+}
+
 }  // namespace
 
 double FieldSimulationSettings::skySigmaAdu() const {
@@ -154,35 +268,7 @@ SimulatedField simulateField(const FieldSimulationSettings& s, const ProgressFn&
   // Lens systems: drawn by the lens-simulation engine's population draw (one stream per
   // system), rendered here noise-free and before the PSF.
   const std::vector<Vec2> lensPositions = drawLensPositions(s, field.gapX0, field.gapX1);
-  std::vector<FieldLens> lenses(lensPositions.size());
-  if (!lenses.empty()) {
-    SimulationSetup setup;
-    setup.population = readPopulationModel(s.populationPath.empty() ? defaultPopulationModelPath()
-                                                                    : s.populationPath);
-    SyntheticGalaxyOptions sourceOptions;
-    const SourceDatabase sources =
-        s.databasePath.empty()
-            ? SourceDatabase::synthetic(kSyntheticSources, systemSeed(s.seed, kStreamSources),
-                                        sourceOptions)
-            : SourceDatabase::fromRealGalaxyCatalog(s.databasePath);
-    const std::uint64_t lensSeed = systemSeed(s.seed, kStreamLenses);
-    parallelForDynamic(std::int64_t(lenses.size()), threads, [&](std::size_t i) {
-      // Systems below the minimum Einstein radius are redrawn from the same stream.
-      std::mt19937_64 rng = systemRng(lensSeed, i);
-      LensSystemDraw draw = drawLensSystem(setup, sources, std::int64_t(i), rng);
-      for (int tries = 1; draw.einsteinRadiusArcsec < s.minEinsteinRadiusArcsec; ++tries) {
-        if (tries == kMaxLensRedraws) {
-          throw ConfigError("--min-einstein-radius: no lens system with theta_E >= " +
-                            formatNumber(s.minEinsteinRadiusArcsec) + "\" in " +
-                            std::to_string(kMaxLensRedraws) + " draws of the population");
-        }
-        draw = drawLensSystem(setup, sources, std::int64_t(i), rng);
-      }
-      lenses[i] = renderFieldLens(draw.system, sources.stamp(draw.sourceIndex), lensPositions[i][0],
-                                  lensPositions[i][1], s.pixelScaleArcsec, s.magZeroPoint);
-    });
-  }
-
+  std::vector<FieldLens> lenses = renderLenses(s, lensPositions, threads);
   // Field objects, kept away from the lenses when bright.
   std::mt19937_64 populationRng = streamRng(s.seed, kStreamPopulation, 0);
   const std::vector<FieldObject> objects =
@@ -233,74 +319,14 @@ SimulatedField simulateField(const FieldSimulationSettings& s, const ProgressFn&
   }
   report(std::int64_t(stars.size()));
 
-  // Sky noise per band of rows, each band with its own stream; the gap gets a second, equal
-  // noise (half the exposure doubles the variance).
-  const std::int64_t bands = (n + kNoiseBandRows - 1) / kNoiseBandRows;
-  field.image = ImageF(n, n);
-  parallelForDynamic(bands, threads, [&](std::size_t band) {
-    const std::int64_t y0 = std::int64_t(band) * kNoiseBandRows;
-    const std::int64_t rows = std::min<std::int64_t>(kNoiseBandRows, n - y0);
-    ImageD part(n, rows);
-    std::copy_n(&sky(0, y0), n * rows, part.data());
-    std::mt19937_64 rng = streamRng(s.seed, kStreamNoise, band);
-    addPoissonSkyNoise(part, sigma, s.gainElectronsPerAdu, rng);
-    std::mt19937_64 gapRng = streamRng(s.seed, kStreamGapNoise, band);
-    std::normal_distribution<double> gapNoise(0.0, sigma);
-    for (std::int64_t y = 0; y < rows; ++y)
-      for (std::int64_t x = field.gapX0; x < field.gapX1; ++x) part(x, y) += gapNoise(gapRng);
-    for (std::int64_t k = 0; k < part.size(); ++k) field.image[y0 * n + k] = float(part[k]);
-  });
+  addNoise(s, sky, threads, field);
   sky = ImageD();
-  field.saturatedPixels = clipSaturation(field.image, float(s.saturationAdu));
-  field.weight = ImageF(n, n, float(1.0 / (sigma * sigma)));
-  for (std::int64_t y = 0; y < n; ++y)
-    for (std::int64_t x = field.gapX0; x < field.gapX1; ++x)
-      field.weight(x, y) = float(0.5 / (sigma * sigma));
   report(1);  // the noise
 
-  // The truth list: each lens system (lens galaxy, then its images), galaxies, stars.
-  std::int64_t id = 0;
-  auto addRow = [&](double x0, double y0, FieldObjectKind kind, double mag, double thetaE,
-                    int system) {
-    TruthRow r;
-    r.id = ++id;
-    r.xFits = toFitsPixel(x0);
-    r.yFits = toFitsPixel(y0);
-    const std::array<double, 2> world = wcs->pixelToWorld(r.xFits, r.yFits);
-    r.raDeg = world[0];
-    r.decDeg = world[1];
-    r.kind = kind;
-    r.mag = mag;
-    r.einsteinRadiusArcsec = thetaE;
-    r.systemId = system;
-    field.truth.push_back(r);
-  };
-  for (std::size_t i = 0; i < lenses.size(); ++i) {
-    const FieldLens& l = lenses[i];
-    const double thetaE = l.system.mass.einsteinRadiusArcsec;
-    addRow(l.xPix, l.yPix, FieldObjectKind::LensGalaxy, l.system.lensMag, thetaE, int(i) + 1);
-    for (const FieldLens::LensedImage& im : l.images) {
-      addRow(im.xPix, im.yPix, FieldObjectKind::LensedSource, im.mag, thetaE, int(i) + 1);
-    }
-  }
-  for (std::size_t i : galaxies) {
-    addRow(usedX[i], usedY[i], FieldObjectKind::Galaxy, objects[i].mag, 0.0, 0);
-  }
-  for (std::size_t i : stars)
-    addRow(usedX[i], usedY[i], FieldObjectKind::Star, objects[i].mag, 0.0, 0);
+  addTruthRows(lenses, objects, galaxies, stars, usedX, usedY, *wcs, field);
   field.lenses = std::move(lenses);
 
-  FitsHeader& h = field.header;
-  h.set("BUNIT", quoteFitsString("ADU"), "Sky-subtracted counts");
-  h.set("GAIN", fitsRealValue(s.gainElectronsPerAdu, 10), "Detector gain (e-/ADU)");
-  h.set("SATURATE", fitsRealValue(s.saturationAdu, 10), "Saturation level (ADU)");
-  h.set("MAGZERO", fitsRealValue(s.magZeroPoint, 10), "Magnitude zero point");
-  h.set("SEEING", fitsRealValue(s.seeingFwhmArcsec, 10), "PSF FWHM (arcsec), Gaussian");
-  h.set("PIXSCALE", fitsRealValue(s.pixelScaleArcsec, 10), "Pixel scale (arcsec/pixel)");
-  h.set("SKYSIGMA", fitsRealValue(sigma, 10), "Sky noise per pixel (ADU), outside the gap");
-  h.set("SIMSEED", std::to_string(s.seed), "octarc simulate field master seed");
-  h.set("NLENSES", std::to_string(s.lensCount), "Injected lens systems");
-  h.set("OBJECT", quoteFitsString("octarc simulated field"));
+  setHeaderCards(s, field.header);
   return field;
 }
 
