@@ -9,6 +9,7 @@
 
 #include "FuzzInput.h"
 #include "octarc/core/Error.h"
+#include "octarc/run/RunKeys.h"
 #include "octarc/run/RunSettings.h"
 #include "octarc/sexcompat/Assoc.h"
 #include "octarc/sexcompat/Config.h"
@@ -30,8 +31,7 @@ void settingsOf(const octarc::sexcompat::Config& config) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static const std::vector<octarc::sexcompat::KeySpec> schema =
-      octarc::sexcompat::octarcMeasureKeys();
+  static const std::vector<octarc::sexcompat::KeySpec> schema = octarc::octarcKeys();
   const std::string path = octarc::fuzz::writeInput(data, size, "run.sex");
   std::vector<std::string> warnings;
   try {

@@ -9,8 +9,8 @@
 #include "octarc/core/Format.h"
 #include "octarc/core/Version.h"
 #include "octarc/measure/Registry.h"
+#include "octarc/run/RunKeys.h"
 #include "octarc/sexcompat/Assoc.h"
-#include "octarc/sexcompat/Keys.h"
 
 namespace octarc {
 
@@ -87,7 +87,7 @@ const char* octarcVersion() {
 
 std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std::string& command,
                                  const std::function<void()>& printUsage) {
-  const std::vector<sexcompat::KeySpec> schema = sexcompat::octarcMeasureKeys();
+  const std::vector<sexcompat::KeySpec> schema = octarcKeys();
   const sexcompat::CommandLine cl = sexcompat::parseCommandLine(args, schema);
   if (cl.help) {
     printUsage();

@@ -12,8 +12,8 @@
 #include "octarc/io/FitsImage.h"
 #include "octarc/run/ImageRun.h"
 #include "octarc/run/Levels.h"
+#include "octarc/run/RunKeys.h"
 #include "octarc/sexcompat/Config.h"
-#include "octarc/sexcompat/Keys.h"
 
 namespace octarc {
 
@@ -205,7 +205,7 @@ DetectionRunResult runConfiguredDetection(
     const std::vector<std::pair<std::string, std::string>>& keys) {
   std::vector<std::string> warnings;
   const sexcompat::Config config =
-      sexcompat::Config::load(sexcompat::octarcMeasureKeys(), configPath, keys, &warnings);
+      sexcompat::Config::load(octarcKeys(), configPath, keys, &warnings);
   RunSettings settings = settingsFromConfig(config);
   settings.imagePaths = {imagePath};
   settings.configPath = configPath;

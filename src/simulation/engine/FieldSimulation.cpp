@@ -22,8 +22,6 @@
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/Wcs.h"
 #include "octarc/run/CatalogAssembly.h"
-#include "octarc/sexcompat/Config.h"
-#include "octarc/sexcompat/Keys.h"
 #include "octarc/simulation/LensLight.h"
 #include "octarc/simulation/Noise.h"
 #include "octarc/simulation/Psf.h"

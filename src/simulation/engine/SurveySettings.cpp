@@ -1,10 +1,10 @@
 #include "octarc/simulation/engine/SurveySettings.h"
 
 #include "octarc/run/PreparedImage.h"
+#include "octarc/run/RunKeys.h"
 #include "octarc/run/RunSettings.h"
 #include "octarc/sexcompat/Config.h"
 #include "octarc/sexcompat/ConvFile.h"
-#include "octarc/sexcompat/Keys.h"
 
 namespace octarc {
 
@@ -12,7 +12,7 @@ SurveySettings readSurveySettings(const std::string& configPath) {
   SurveySettings out;
   out.configPath = configPath;
   const sexcompat::Config config =
-      sexcompat::Config::load(sexcompat::octarcMeasureKeys(), configPath, {}, &out.warnings);
+      sexcompat::Config::load(octarcKeys(), configPath, {}, &out.warnings);
   const RunSettings s = settingsFromConfig(config);
   auto given = [&config](const char* key) { return config.isExplicit(key); };
   if (given("PIXEL_SCALE") && s.pixelScaleArcsec > 0) out.pixelScaleArcsec = s.pixelScaleArcsec;

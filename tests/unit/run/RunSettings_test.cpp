@@ -9,6 +9,7 @@
 #include "TestPaths.h"
 #include "octarc/core/Error.h"
 #include "octarc/run/CatalogAssembly.h"
+#include "octarc/run/RunKeys.h"
 #include "octarc/sexcompat/Assoc.h"
 #include "octarc/sexcompat/Config.h"
 #include "octarc/sexcompat/Keys.h"
@@ -24,7 +25,7 @@ bool markedIgnored(const sexcompat::KeySpec& k) {
 // settings of a detect/measure run (and its ASSOC settings) read is unmarked, and every unmarked
 // key is read.
 TEST(RunSettings, KeysMarkedIgnoredAreExactlyTheUnreadOnes) {
-  const std::vector<sexcompat::KeySpec> schema = sexcompat::octarcMeasureKeys();
+  const std::vector<sexcompat::KeySpec> schema = octarcKeys();
   // Options that switch on the reading of other keys (weight map, check images).
   const sexcompat::Config config = sexcompat::Config::load(schema, "",
                                                            {{"WEIGHT_TYPE", "MAP_WEIGHT"},
@@ -71,7 +72,7 @@ RunSettings settingsFromFile(const std::string& text) {
   const std::filesystem::path path = test::scratchDir() / "run.sex";
   std::ofstream(path) << text;
   const sexcompat::Config config =
-      sexcompat::Config::load(sexcompat::octarcMeasureKeys(), path.string(), {}, nullptr);
+      sexcompat::Config::load(octarcKeys(), path.string(), {}, nullptr);
   return settingsFromConfig(config);
 }
 

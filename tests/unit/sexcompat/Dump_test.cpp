@@ -45,7 +45,7 @@ void expectSameValues(const Config& a, const Config& b, const std::vector<KeySpe
 }
 
 TEST(ConfigDump, FullDumpListsEveryKeyOnceInTableOrder) {
-  const std::vector<KeySpec> schema = octarcMeasureKeys();
+  const std::vector<KeySpec> schema = sextractorKeys();
   const Config defaults = Config::load(schema, "", {}, nullptr);
   std::vector<std::string> names;
   for (const KeySpec& k : schema) names.push_back(k.name);
@@ -53,7 +53,7 @@ TEST(ConfigDump, FullDumpListsEveryKeyOnceInTableOrder) {
 }
 
 TEST(ConfigDump, ShortDumpListsTheKeysThatAreNotForExperts) {
-  const std::vector<KeySpec> schema = octarcMeasureKeys();
+  const std::vector<KeySpec> schema = sextractorKeys();
   const Config defaults = Config::load(schema, "", {}, nullptr);
   std::vector<std::string> names;
   for (const KeySpec& k : schema)
@@ -63,7 +63,7 @@ TEST(ConfigDump, ShortDumpListsTheKeysThatAreNotForExperts) {
 }
 
 TEST(ConfigDump, DefaultsLoadBack) {
-  const std::vector<KeySpec> schema = octarcMeasureKeys();
+  const std::vector<KeySpec> schema = sextractorKeys();
   const Config defaults = Config::load(schema, "", {}, nullptr);
   for (const bool full : {false, true}) {
     expectSameValues(reload(defaults.dump(schema, full), schema), defaults, schema);
@@ -100,7 +100,7 @@ std::string otherValue(const KeySpec& k) {
 }
 
 TEST(ConfigDump, ValuesFromFileAndCommandLineLoadBack) {
-  const std::vector<KeySpec> schema = octarcMeasureKeys();
+  const std::vector<KeySpec> schema = sextractorKeys();
   std::vector<std::pair<std::string, std::string>> overrides;
   for (const KeySpec& k : schema) overrides.emplace_back(k.name, otherValue(k));
   // Half of the keys from a file, the other half from the command line.

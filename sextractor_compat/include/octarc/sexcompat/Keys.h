@@ -1,4 +1,4 @@
-// Key tables: SExtractor 2.25's configuration keys and the keys of `octarc measure`.
+// SExtractor 2.25's configuration key table (octarc's own keys: run/RunKeys.h).
 #pragma once
 
 #include <vector>
@@ -11,10 +11,5 @@ namespace octarc::sexcompat {
 // range (as in SExtractor's key table) or allowed keywords. Keys octarc does not act on say
 // "(ignored by octarc)" in their comment; they are accepted so that existing .sex files load.
 const std::vector<KeySpec>& sextractorKeys();
-
-// sextractorKeys() plus the keys of `octarc measure`: SEGMENTATION_NAME, INPUT_CATALOG,
-// BACKGROUND_NAME, BACKGROUND_RMS_NAME, DETECT_THRESH_MAX, DETECT_NLEVELS, DETECT_LEVELS; with
-// BACK_TYPE extended by GLOBAL and NTHREADS meaning "0 = all cores".
-std::vector<KeySpec> octarcMeasureKeys();
 
 }  // namespace octarc::sexcompat
