@@ -350,5 +350,61 @@ TEST(FitsTable, WriteErrorsLeaveNoFile) {
   EXPECT_EQ(fs::file_size(path), size);
 }
 
+TEST(FitsTable, PrimaryCardsAreWrittenVerbatim) {
+  const fs::path path = test::scratchDir() / "primary.fits";
+  const std::vector<std::string> cards = {"HISTORY   made by a test", "COMMENT a second card"};
+  writeFitsTables(path.string(), sampleTables(), cards);
+  const std::string bytes = test::readText(path);
+  // The primary header: SIMPLE, BITPIX, NAXIS, EXTEND and their two comment cards, then ours.
+  ASSERT_GE(bytes.size(), 2880u);
+  const std::string primary = bytes.substr(0, 2880);
+  for (const std::string& card : cards) {
+    EXPECT_NE(primary.find(card + std::string(80 - card.size(), ' ')), std::string::npos) << card;
+  }
+  EXPECT_EQ(listFitsTables(path.string()), (std::vector<std::string>{"FIRST", "SECOND"}));
+  EXPECT_EQ(readFitsTable(path.string(), "FIRST").rows(), 3);
+}
+
+TEST(FitsTable, ReadsByHduIndexWithOptionalColumns) {
+  const fs::path dir = test::scratchDir();
+  const fs::path path = dir / "indexed.fits";
+  writeFitsTables(path.string(), sampleTables());
+  EXPECT_FALSE(hasFitsTableAt(path.string(), 0));  // the primary HDU is an image
+  EXPECT_TRUE(hasFitsTableAt(path.string(), 1));
+  EXPECT_TRUE(hasFitsTableAt(path.string(), 2));
+  EXPECT_FALSE(hasFitsTableAt(path.string(), 3));
+  EXPECT_FALSE(hasFitsTableAt(path.string(), -1));
+
+  const FitsTable all = readFitsTableAt(path.string(), 1);
+  EXPECT_EQ(all.name, "FIRST");
+  EXPECT_EQ(all.columns.size(), 9u);
+  EXPECT_EQ(all.integer("NEG"), -123456789012LL);
+
+  // Required columns must exist; optional ones are read when present, in file order.
+  const FitsTable some = readFitsTableAt(path.string(), 1, {"f64"}, {"NAME", "NOPE"});
+  ASSERT_EQ(some.columns.size(), 2u);
+  EXPECT_EQ(some.columns[0].name, "F64");
+  EXPECT_EQ(some.columns[1].name, "NAME");
+  EXPECT_EQ(some.strings("NAME"), (std::vector<std::string>{"lens", "", "arc 'x'"}));
+  const FitsTable optionalOnly = readFitsTableAt(path.string(), 1, {}, {"I64", "NOPE"});
+  ASSERT_EQ(optionalOnly.columns.size(), 1u);
+  EXPECT_EQ(optionalOnly.integers("I64")[1], 9007199254740993LL);
+  EXPECT_EQ(readFitsTableAt(path.string(), 2).name, "SECOND");
+
+  const std::string at = path.string() + "[FIRST]";
+  expectIoError([&] { readFitsTableAt(path.string(), 1, {"NOPE"}); }, {at, "no column NOPE"});
+  expectIoError([&] { readFitsTableAt(path.string(), 0); },
+                {path.string(), "HDU 0 is not a binary table"});
+  expectIoError([&] { readFitsTableAt(path.string(), 5); },
+                {path.string(), "HDU 5 is not a binary table"});
+
+  // A table whose rows do not fit in the file is refused before anything is allocated.
+  const std::string cut = (dir / "indexed-cut.fits").string();
+  fs::copy_file(path, cut);
+  fs::resize_file(cut, 2880 * 3 + 50);
+  expectIoError([&] { readFitsTableAt(cut, 1); }, {cut});
+  expectIoError([&] { hasFitsTableAt((dir / "none.fits").string(), 1); }, {"none.fits"});
+}
+
 }  // namespace
 }  // namespace octarc
