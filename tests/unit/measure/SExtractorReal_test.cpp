@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "ConvKernels.h"
 #include "TestPaths.h"
 #include "octarc/detection/Filter.h"
 #include "octarc/io/FitsImage.h"
@@ -121,10 +122,7 @@ void compareWithSExtractor(bool filter) {
   }
   ImageF filtered;
   if (filter) {
-    // default.conv: 1 2 1 / 2 4 2 / 1 2 1, NORM.
-    ConvKernel k{3, 3, {1, 2, 1, 2, 4, 2, 1, 2, 1}};
-    for (float& c : k.coefficients) c /= 16.0f;
-    filtered = applyFilter(measurement, k);
+    filtered = applyFilter(measurement, test::defaultConvKernel());
   }
   const ImageI32 seg = readIntImage((dir / "seg.fits").string());
   const std::map<int, Segment> segments = segmentsOf(seg);

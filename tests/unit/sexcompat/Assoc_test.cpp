@@ -7,8 +7,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "TestFiles.h"
 #include "TestPaths.h"
-#include "WriteFile.h"
 #include "octarc/core/Error.h"
 
 namespace octarc::sexcompat {
