@@ -11,6 +11,7 @@
 #include <string>
 
 #include "BackgroundTestSupport.h"
+#include "TestCommands.h"
 #include "TestPaths.h"
 #include "octarc/core/Error.h"
 
@@ -121,13 +122,10 @@ TEST(GlobalBackground, MatchesAstropySigmaClippedStats) {
   const std::string cmd = "/usr/bin/python3 '" + std::string(OCTARC_SOURCE_DIR) +
                           "/tests/unit/background/astropy_sigma_clip.py' '" +
                           (dir / "clip.fits").string() + "' 3 2>/dev/null";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
-  char buffer[256] = {};
-  const bool got = std::fgets(buffer, sizeof buffer, pipe) != nullptr;
-  ASSERT_EQ(pclose(pipe), 0) << cmd;
-  ASSERT_TRUE(got);
-  std::istringstream in(buffer);
+  std::string output;
+  ASSERT_EQ(test::runCommand(cmd, &output), 0) << cmd;
+  ASSERT_FALSE(output.empty());
+  std::istringstream in(output);
   double mean = 0, median = 0, std = 0;
   in >> mean >> median >> std;
   const GlobalBackground g = estimateGlobalBackground(image, 3.0);

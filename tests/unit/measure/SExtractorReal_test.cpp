@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "ConvKernels.h"
+#include "TestCommands.h"
 #include "TestPaths.h"
 #include "octarc/detection/Filter.h"
 #include "octarc/io/FitsImage.h"
@@ -74,7 +75,7 @@ std::map<int, Segment> segmentsOf(const ImageI32& seg) {
 
 void compareWithSExtractor(bool filter) {
   OCTARC_REQUIRE_SHARED_DATA(shared);
-  if (std::system("command -v source-extractor > /dev/null 2>&1") != 0) {
+  if (!test::haveProgram("source-extractor")) {
     OCTARC_SKIP_MISSING() << "source-extractor not installed";
   }
   if (filter && !std::ifstream(kConv)) OCTARC_SKIP_MISSING() << kConv << " not found";
