@@ -313,10 +313,14 @@ void writeTable(fitsfile* f, const FitsTable& table, const std::string& path) {
 // Writes into a file just created at `path`; on any failure the file is removed (it did not
 // exist before: createFits refuses to overwrite).
 void writeCreated(detail::FitsPtr file, const std::string& path,
-                  const std::vector<FitsTable>& tables) {
+                  const std::vector<FitsTable>& tables,
+                  const std::vector<std::string>& primaryCards) {
   try {
     int status = 0;
     fits_create_img(file.get(), BYTE_IMG, 0, nullptr, &status);
+    for (const std::string& card : primaryCards) {
+      fits_write_record(file.get(), card.c_str(), &status);
+    }
     throwIfFitsError(status, path, "cannot write the primary HDU");
     for (const FitsTable& t : tables) writeTable(file.get(), t, path);
     fits_close_file(file.release(), &status);
@@ -642,10 +646,42 @@ void requireCompleteTable(fitsfile* f, std::int64_t rows, const std::string& at)
                 std::to_string(std::min<LONGLONG>(held, rows)) + " complete rows");
 }
 
-bool wanted(const std::vector<std::string>& onlyColumns, const std::string& name) {
-  if (onlyColumns.empty()) return true;
-  return std::any_of(onlyColumns.begin(), onlyColumns.end(),
+bool listed(const std::vector<std::string>& names, const std::string& name) {
+  return std::any_of(names.begin(), names.end(),
                      [&](const std::string& c) { return sameName(c, name); });
+}
+
+// The table of the current HDU of `f`: its keywords and the chosen columns (every column when
+// both lists are empty); each of `onlyColumns` must exist.
+FitsTable readCurrentTable(fitsfile* f, const std::string& path,
+                           const std::vector<std::string>& onlyColumns,
+                           const std::vector<std::string>& optionalColumns) {
+  FitsTable table;
+  table.source = path;
+  table.name = extnameOf(f);
+  const std::string at = table.where();
+  LONGLONG rows = 0;
+  int columnCount = 0;
+  int status = 0;
+  fits_get_num_rowsll(f, &rows, &status);
+  fits_get_num_cols(f, &columnCount, &status);
+  throwIfFitsError(status, at, "cannot read the table size");
+  requireCompleteTable(f, rows, at);
+  table.keywords = readKeywords(f, at);
+  const bool all = onlyColumns.empty() && optionalColumns.empty();
+  for (int colnum = 1; colnum <= columnCount; ++colnum) {
+    FitsColumnType type = FitsColumnType::Unsupported;
+    FitsColumn column = readColumnInfo(f, colnum, &type, at);
+    if (!all && !listed(onlyColumns, column.name) && !listed(optionalColumns, column.name)) {
+      continue;
+    }
+    readColumnValues(f, colnum, rows, column, type, at);
+    table.columns.push_back(std::move(column));
+  }
+  for (const std::string& name : onlyColumns) {
+    if (table.findColumn(name) == nullptr) throw IoError(at + ": no column " + name);
+  }
+  return table;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -863,8 +899,13 @@ std::string FitsTable::text(std::string_view keyword) const {
 }
 
 void writeFitsTables(const std::string& path, const std::vector<FitsTable>& tables) {
+  writeFitsTables(path, tables, {});
+}
+
+void writeFitsTables(const std::string& path, const std::vector<FitsTable>& tables,
+                     const std::vector<std::string>& primaryCards) {
   for (const FitsTable& t : tables) validateTable(t, path);
-  writeCreated(detail::createFits(path), path, tables);
+  writeCreated(detail::createFits(path), path, tables, primaryCards);
 }
 
 std::vector<std::string> listFitsTables(const std::string& path) {
@@ -875,31 +916,41 @@ std::vector<std::string> listFitsTables(const std::string& path) {
 FitsTable readFitsTable(const std::string& path, std::string_view hduName,
                         const std::vector<std::string>& onlyColumns) {
   detail::FitsPtr file = detail::openFits(path);
-  fitsfile* f = file.get();
-  moveToTable(f, path, hduName);
-  FitsTable table;
-  table.source = path;
-  table.name = extnameOf(f);
-  const std::string at = table.where();
-  LONGLONG rows = 0;
-  int columnCount = 0;
+  moveToTable(file.get(), path, hduName);
+  return readCurrentTable(file.get(), path, onlyColumns, {});
+}
+
+namespace {
+
+// Moves to 0-based HDU `hduIndex`; false when there is none or it is not a BINTABLE.
+bool moveToTableAt(fitsfile* f, int hduIndex) {
   int status = 0;
-  fits_get_num_rowsll(f, &rows, &status);
-  fits_get_num_cols(f, &columnCount, &status);
-  throwIfFitsError(status, at, "cannot read the table size");
-  requireCompleteTable(f, rows, at);
-  table.keywords = readKeywords(f, at);
-  for (int colnum = 1; colnum <= columnCount; ++colnum) {
-    FitsColumnType type = FitsColumnType::Unsupported;
-    FitsColumn column = readColumnInfo(f, colnum, &type, at);
-    if (!wanted(onlyColumns, column.name)) continue;
-    readColumnValues(f, colnum, rows, column, type, at);
-    table.columns.push_back(std::move(column));
+  int type = 0;
+  if (hduIndex >= 0) fits_movabs_hdu(f, hduIndex + 1, &type, &status);
+  if (hduIndex < 0 || status != 0 || type != BINARY_TBL) {
+    fits_clear_errmsg();
+    return false;
   }
-  for (const std::string& name : onlyColumns) {
-    if (table.findColumn(name) == nullptr) throw IoError(at + ": no column " + name);
+  return true;
+}
+
+}  // namespace
+
+bool hasFitsTableAt(const std::string& path, int hduIndex) {
+  detail::FitsPtr file = detail::openFits(path);
+  return moveToTableAt(file.get(), hduIndex);
+}
+
+FitsTable readFitsTableAt(const std::string& path, int hduIndex,
+                          const std::vector<std::string>& onlyColumns,
+                          const std::vector<std::string>& optionalColumns) {
+  detail::FitsPtr file = detail::openFits(path);
+  if (!moveToTableAt(file.get(), hduIndex)) {
+    throw IoError(path + ": HDU " + std::to_string(hduIndex) + " is not a binary table");
   }
-  return table;
+  // The row count sizes every column buffer: the table must fit in the file first.
+  detail::requireSoundHdu(file.get(), path);
+  return readCurrentTable(file.get(), path, onlyColumns, optionalColumns);
 }
 
 }  // namespace octarc

@@ -1,5 +1,4 @@
-// Reads the catalog table with cfitsio directly (the io stage reads images only); the stamps
-// themselves go through octarc::readImage.
+// The catalog table is read through io/FitsTable, the stamps through octarc::readImage.
 #include "octarc/simulation/RealGalaxyCatalog.h"
 
 #include <climits>
@@ -10,69 +9,20 @@
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
 #include "octarc/io/FitsImage.h"
-#include "octarc/io/detail/Cfitsio.h"
+#include "octarc/io/FitsTable.h"
 #include "octarc/simulation/Psf.h"
 
 namespace octarc::simulation {
 
 namespace {
 
-using detail::throwIfFitsError;
-
 // File names from the catalog are shown in messages up to this length.
 constexpr std::size_t kPathChars = 200;
 
-int columnNumber(fitsfile* f, const std::string& file, const char* name, bool required) {
-  int status = 0;
-  int col = 0;
-  fits_get_colnum(f, CASEINSEN, const_cast<char*>(name), &col, &status);
-  if (status == 0) return col;
-  fits_clear_errmsg();
-  if (required)
-    throw IoError(file + ": RealGalaxyCatalog table has no column " + std::string(name));
-  return 0;
-}
-
-std::vector<double> readDoubles(fitsfile* f, const std::string& file, int col, long rows) {
-  std::vector<double> v(static_cast<std::size_t>(rows));
-  int status = 0;
-  int anyNull = 0;
-  if (rows > 0) fits_read_col(f, TDOUBLE, col, 1, 1, rows, nullptr, v.data(), &anyNull, &status);
-  throwIfFitsError(status, file, "cannot read table column " + std::to_string(col));
-  return v;
-}
-
-std::vector<long long> readIntegers(fitsfile* f, const std::string& file, int col, long rows) {
-  std::vector<long long> v(static_cast<std::size_t>(rows));
-  int status = 0;
-  int anyNull = 0;
-  if (rows > 0) fits_read_col(f, TLONGLONG, col, 1, 1, rows, nullptr, v.data(), &anyNull, &status);
-  throwIfFitsError(status, file, "cannot read table column " + std::to_string(col));
-  return v;
-}
-
-std::vector<std::string> readStrings(fitsfile* f, const std::string& file, int col, long rows) {
-  int status = 0;
-  int typecode = 0;
-  long repeat = 0;
-  long width = 0;
-  fits_get_eqcoltype(f, col, &typecode, &repeat, &width, &status);
-  throwIfFitsError(status, file, "cannot read table column " + std::to_string(col));
-  if (typecode != TSTRING)
-    throw IoError(file + ": table column " + std::to_string(col) + " is not a string column");
-  std::vector<std::string> out;
-  std::vector<char> buffer(static_cast<std::size_t>(repeat) + 1);
-  for (long r = 1; r <= rows; ++r) {
-    char* ptr = buffer.data();
-    int anyNull = 0;
-    fits_read_col_str(f, col, r, 1, 1, const_cast<char*>(""), &ptr, &anyNull, &status);
-    throwIfFitsError(status, file, "cannot read string in row " + std::to_string(r));
-    std::string s(ptr);
-    while (!s.empty() && s.back() == ' ') s.pop_back();
-    out.push_back(s);
-  }
-  return out;
-}
+// The columns read, in the order their absence is reported; the PSF ones may be missing.
+const std::vector<std::string> kRequiredColumns = {"IDENT",       "MAG",          "BAND",
+                                                   "PIXEL_SCALE", "GAL_FILENAME", "GAL_HDU"};
+const std::vector<std::string> kPsfColumns = {"PSF_FILENAME", "PSF_HDU"};
 
 std::string resolve(const std::filesystem::path& dir, const std::string& name) {
   const std::filesystem::path p(name);
@@ -84,45 +34,34 @@ std::string resolve(const std::filesystem::path& dir, const std::string& name) {
 RealGalaxyCatalog RealGalaxyCatalog::load(const std::string& catalogPath, bool checkGalaxyFiles) {
   if (!std::filesystem::exists(catalogPath))
     throw IoError(catalogPath + ": RealGalaxyCatalog file does not exist");
-  detail::FitsPtr file = detail::openFits(catalogPath);
-  fitsfile* f = file.get();
-  int status = 0;
-  int hduType = 0;
-  fits_movabs_hdu(f, 2, &hduType, &status);
-  if (status != 0 || hduType != BINARY_TBL) {
-    fits_clear_errmsg();
+  if (!hasFitsTableAt(catalogPath, 1))
     throw IoError(catalogPath + ": not a RealGalaxyCatalog (no binary table in HDU 1)");
+  std::vector<std::string> columns = kRequiredColumns;
+  columns.insert(columns.end(), kPsfColumns.begin(), kPsfColumns.end());
+  const FitsTable table = readFitsTableAt(catalogPath, 1, {}, columns);
+  for (const std::string& name : kRequiredColumns) {
+    if (table.findColumn(name) == nullptr)
+      throw IoError(catalogPath + ": RealGalaxyCatalog table has no column " + name);
   }
-  // The row count sizes every column buffer: the table must fit in the file first.
-  detail::requireSoundHdu(f, catalogPath);
-  long rows = 0;
-  fits_get_num_rows(f, &rows, &status);
-  throwIfFitsError(status, catalogPath, "cannot read the number of rows");
-
-  const auto ident =
-      readIntegers(f, catalogPath, columnNumber(f, catalogPath, "IDENT", true), rows);
-  const auto mag = readDoubles(f, catalogPath, columnNumber(f, catalogPath, "MAG", true), rows);
-  const auto band = readStrings(f, catalogPath, columnNumber(f, catalogPath, "BAND", true), rows);
-  const auto scale =
-      readDoubles(f, catalogPath, columnNumber(f, catalogPath, "PIXEL_SCALE", true), rows);
-  const auto galFile =
-      readStrings(f, catalogPath, columnNumber(f, catalogPath, "GAL_FILENAME", true), rows);
-  const auto galHdu =
-      readIntegers(f, catalogPath, columnNumber(f, catalogPath, "GAL_HDU", true), rows);
-  const int psfFileCol = columnNumber(f, catalogPath, "PSF_FILENAME", false);
-  const int psfHduCol = columnNumber(f, catalogPath, "PSF_HDU", false);
+  const std::int64_t rows = table.rows();
+  const std::vector<std::int64_t> ident = table.integers("IDENT");
+  const std::vector<double> mag = table.doubles("MAG");
+  const std::vector<std::string> band = table.strings("BAND");
+  const std::vector<double> scale = table.doubles("PIXEL_SCALE");
+  const std::vector<std::string> galFile = table.strings("GAL_FILENAME");
+  const std::vector<std::int64_t> galHdu = table.integers("GAL_HDU");
   std::vector<std::string> psfFile;
-  std::vector<long long> psfHdu;
-  if (psfFileCol > 0 && psfHduCol > 0) {
-    psfFile = readStrings(f, catalogPath, psfFileCol, rows);
-    psfHdu = readIntegers(f, catalogPath, psfHduCol, rows);
+  std::vector<std::int64_t> psfHdu;
+  if (table.findColumn("PSF_FILENAME") != nullptr && table.findColumn("PSF_HDU") != nullptr) {
+    psfFile = table.strings("PSF_FILENAME");
+    psfHdu = table.integers("PSF_HDU");
   }
 
   RealGalaxyCatalog catalog;
   catalog.path_ = catalogPath;
   const std::filesystem::path dir = std::filesystem::path(catalogPath).parent_path();
   std::set<std::string> checked;
-  for (long r = 0; r < rows; ++r) {
+  for (std::int64_t r = 0; r < rows; ++r) {
     RealGalaxyEntry e;
     e.ident = ident[r];
     e.mag = mag[r];
@@ -141,7 +80,7 @@ RealGalaxyCatalog RealGalaxyCatalog::load(const std::string& catalogPath, bool c
       throw IoError(where + ": PIXEL_SCALE must be a finite number > 0, got " +
                     std::to_string(e.pixelScaleArcsec));
     if (!std::isfinite(e.mag)) throw IoError(where + ": MAG must be a finite number");
-    const auto badHdu = [](long long hdu) { return hdu < 0 || hdu > INT_MAX; };
+    const auto badHdu = [](std::int64_t hdu) { return hdu < 0 || hdu > INT_MAX; };
     if (badHdu(galHdu[r]) || (!psfHdu.empty() && badHdu(psfHdu[r])))
       throw IoError(where + ": HDU number out of range");
     if (checkGalaxyFiles && checked.insert(e.galaxyPath).second &&

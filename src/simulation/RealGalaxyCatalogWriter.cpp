@@ -1,60 +1,39 @@
-// The table is written with cfitsio directly (as RealGalaxyCatalog.cpp reads it); the stamp and
-// PSF files go through octarc::writeImageFile.
+// The table is written through io/FitsTable (as RealGalaxyCatalog.cpp reads it), the stamp and
+// PSF files through octarc::writeImageFile.
 #include "octarc/simulation/RealGalaxyCatalogWriter.h"
 
-#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
-#include <memory>
 
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
 #include "octarc/io/FitsImage.h"
-#include "octarc/io/detail/Cfitsio.h"
+#include "octarc/io/FitsTable.h"
 #include "octarc/simulation/Psf.h"
 
 namespace octarc::simulation {
 
 namespace {
 
-using detail::throwIfFitsError;
-
-// One table column as cfitsio wants it (TTYPE, TFORM, TUNIT).
-struct ColumnSpec {
-  std::string name;
-  std::string form;
-  std::string unit;
-};
-
-void writeStrings(fitsfile* f, const std::string& file, int col,
-                  const std::vector<std::string>& values) {
-  std::vector<char*> pointers;
-  for (const std::string& v : values) pointers.push_back(const_cast<char*>(v.c_str()));
-  int status = 0;
-  fits_write_col_str(f, col, 1, 1, static_cast<LONGLONG>(values.size()), pointers.data(), &status);
-  throwIfFitsError(status, file, "cannot write table column " + std::to_string(col));
+// A table column named `name` (unit `unit`) holding one value per row. Its TTYPEn comment is the
+// one cfitsio gives a new column, which the files written so far carry.
+FitsColumn column(std::string name, std::string unit, FitsColumnValues values) {
+  FitsColumn c;
+  c.name = std::move(name);
+  c.unit = std::move(unit);
+  c.values = std::move(values);
+  if (c.type() == FitsColumnType::String) c.repeat = 0;  // as wide as the longest value
+  return c;
 }
 
-void writeDoubles(fitsfile* f, const std::string& file, int col, std::vector<double> values) {
-  int status = 0;
-  fits_write_col(f, TDOUBLE, col, 1, 1, static_cast<LONGLONG>(values.size()), values.data(),
-                 &status);
-  throwIfFitsError(status, file, "cannot write table column " + std::to_string(col));
-}
-
-void writeIntegers(fitsfile* f, const std::string& file, int col, std::vector<LONGLONG> values) {
-  int status = 0;
-  fits_write_col(f, TLONGLONG, col, 1, 1, static_cast<LONGLONG>(values.size()), values.data(),
-                 &status);
-  throwIfFitsError(status, file, "cannot write table column " + std::to_string(col));
-}
-
-// Width of a fixed-length string column holding `values` (FITS wants at least 1).
-std::string stringForm(const std::vector<std::string>& values) {
-  std::size_t width = 1;
-  for (const std::string& v : values) width = std::max(width, v.size());
-  return std::to_string(width) + "A";
+void numberColumnComments(std::vector<FitsColumn>& columns) {
+  for (std::size_t i = 0; i < columns.size(); ++i) {
+    char text[32];
+    std::snprintf(text, sizeof text, "label for field %3d", static_cast<int>(i + 1));
+    columns[i].comment = text;
+  }
 }
 
 void writeTable(const std::string& path, const std::string& finalName,
@@ -64,90 +43,62 @@ void writeTable(const std::string& path, const std::string& finalName,
   const std::string galName = std::filesystem::path(paths.galaxyImages).filename().string();
   const std::string psfName =
       paths.psfImage.empty() ? "" : std::filesystem::path(paths.psfImage).filename().string();
-  // A single stamp is the primary image; several follow an empty primary.
-  auto galHdu = [n](std::size_t k) { return n == 1 ? LONGLONG(0) : LONGLONG(k + 1); };
-
-  std::vector<std::string> band(n, info.band), galFile(n, galName), psfFile(n, psfName),
-      noiseFile(n, info.noiseFilename);
-  const std::vector<ColumnSpec> columns = {
-      {"IDENT", "1K", ""},
-      {"RA", "1D", "deg"},
-      {"DEC", "1D", "deg"},
-      {"MAG", "1D", "mag"},
-      {"BAND", stringForm(band), ""},
-      {"WEIGHT", "1D", ""},
-      {"GAL_FILENAME", stringForm(galFile), ""},
-      {"PSF_FILENAME", stringForm(psfFile), ""},
-      {"GAL_HDU", "1K", ""},
-      {"PSF_HDU", "1K", ""},
-      {"PIXEL_SCALE", "1D", "arcsec"},
-      {"NOISE_MEAN", "1D", ""},
-      {"NOISE_VARIANCE", "1D", ""},
-      {"NOISE_FILENAME", stringForm(noiseFile), ""},
-      {"stamp_flux", "1D", ""},
-      {"X_IMAGE", "1D", "pixel"},
-      {"Y_IMAGE", "1D", "pixel"},
-      {"ISOAREA_IMAGE", "1K", "pixel**2"},
-  };
-
-  detail::FitsPtr file = detail::createFits(path);
-  fitsfile* f = file.get();
-  int status = 0;
-  fits_create_img(f, BYTE_IMG, 0, nullptr, &status);
-  for (const std::string& card : info.extraCards) {
-    fits_write_record(f, card.c_str(), &status);
-  }
-  throwIfFitsError(status, finalName, "cannot write the primary header");
-
-  std::vector<char*> ttype, tform, tunit;
-  for (const ColumnSpec& c : columns) {
-    ttype.push_back(const_cast<char*>(c.name.c_str()));
-    tform.push_back(const_cast<char*>(c.form.c_str()));
-    tunit.push_back(const_cast<char*>(c.unit.c_str()));
-  }
-  fits_create_tbl(f, BINARY_TBL, static_cast<LONGLONG>(n), static_cast<int>(columns.size()),
-                  ttype.data(), tform.data(), tunit.data(), "OBJECTS", &status);
-  throwIfFitsError(status, finalName, "cannot create the catalog table");
 
   auto doubles = [&](auto get) {
     std::vector<double> v;
+    v.reserve(n);
     for (const RealGalaxyRecord& r : records) v.push_back(get(r));
     return v;
   };
   auto integers = [&](auto get) {
-    std::vector<LONGLONG> v;
+    std::vector<std::int64_t> v;
+    v.reserve(n);
     for (std::size_t k = 0; k < n; ++k) v.push_back(get(k));
     return v;
   };
-  writeIntegers(f, finalName, 1, integers([&](std::size_t k) { return records[k].ident; }));
-  writeDoubles(f, finalName, 2, doubles([](const RealGalaxyRecord& r) { return r.raDeg; }));
-  writeDoubles(f, finalName, 3, doubles([](const RealGalaxyRecord& r) { return r.decDeg; }));
-  writeDoubles(f, finalName, 4, doubles([](const RealGalaxyRecord& r) { return r.mag; }));
-  writeStrings(f, finalName, 5, band);
-  writeDoubles(f, finalName, 6, doubles([](const RealGalaxyRecord& r) { return r.weight; }));
-  writeStrings(f, finalName, 7, galFile);
-  writeStrings(f, finalName, 8, psfFile);
-  writeIntegers(f, finalName, 9, integers(galHdu));
-  writeIntegers(f, finalName, 10, integers([](std::size_t) { return LONGLONG(0); }));
-  writeDoubles(f, finalName, 11,
-               doubles([&](const RealGalaxyRecord&) { return info.pixelScaleArcsec; }));
-  writeDoubles(f, finalName, 12, doubles([](const RealGalaxyRecord& r) { return r.noiseMean; }));
-  writeDoubles(f, finalName, 13,
-               doubles([](const RealGalaxyRecord& r) { return r.noiseVariance; }));
-  writeStrings(f, finalName, 14, noiseFile);
-  writeDoubles(f, finalName, 15, doubles([](const RealGalaxyRecord& r) {
-                 double sum = 0.0;  // float pixels summed in double, as a reader would
-                 for (float v : r.stamp.pixels()) sum += v;
-                 return sum;
-               }));
-  writeDoubles(f, finalName, 16, doubles([](const RealGalaxyRecord& r) { return r.xImage; }));
-  writeDoubles(f, finalName, 17, doubles([](const RealGalaxyRecord& r) { return r.yImage; }));
-  writeIntegers(f, finalName, 18,
-                integers([&](std::size_t k) { return LONGLONG(records[k].isoAreaPixels); }));
+  // A single stamp is the primary image; several follow an empty primary.
+  auto galHdu = [n](std::size_t k) { return n == 1 ? std::int64_t(0) : std::int64_t(k + 1); };
+  const std::vector<std::string> band(n, info.band), galFile(n, galName), psfFile(n, psfName),
+      noiseFile(n, info.noiseFilename);
 
-  fitsfile* raw = file.release();
-  fits_close_file(raw, &status);
-  throwIfFitsError(status, finalName, "cannot finish writing the catalog");
+  FitsTable table;
+  table.name = "OBJECTS";
+  table.columns = {
+      column("IDENT", "", integers([&](std::size_t k) { return records[k].ident; })),
+      column("RA", "deg", doubles([](const RealGalaxyRecord& r) { return r.raDeg; })),
+      column("DEC", "deg", doubles([](const RealGalaxyRecord& r) { return r.decDeg; })),
+      column("MAG", "mag", doubles([](const RealGalaxyRecord& r) { return r.mag; })),
+      column("BAND", "", band),
+      column("WEIGHT", "", doubles([](const RealGalaxyRecord& r) { return r.weight; })),
+      column("GAL_FILENAME", "", galFile),
+      column("PSF_FILENAME", "", psfFile),
+      column("GAL_HDU", "", integers(galHdu)),
+      column("PSF_HDU", "", integers([](std::size_t) { return std::int64_t(0); })),
+      column("PIXEL_SCALE", "arcsec",
+             doubles([&](const RealGalaxyRecord&) { return info.pixelScaleArcsec; })),
+      column("NOISE_MEAN", "", doubles([](const RealGalaxyRecord& r) { return r.noiseMean; })),
+      column("NOISE_VARIANCE", "",
+             doubles([](const RealGalaxyRecord& r) { return r.noiseVariance; })),
+      column("NOISE_FILENAME", "", noiseFile),
+      column("stamp_flux", "", doubles([](const RealGalaxyRecord& r) {
+               double sum = 0.0;  // float pixels summed in double, as a reader would
+               for (float v : r.stamp.pixels()) sum += v;
+               return sum;
+             })),
+      column("X_IMAGE", "pixel", doubles([](const RealGalaxyRecord& r) { return r.xImage; })),
+      column("Y_IMAGE", "pixel", doubles([](const RealGalaxyRecord& r) { return r.yImage; })),
+      column("ISOAREA_IMAGE", "pixel**2",
+             integers([&](std::size_t k) { return std::int64_t(records[k].isoAreaPixels); })),
+  };
+  numberColumnComments(table.columns);
+  try {
+    writeFitsTables(path, {table}, info.extraCards);
+  } catch (const IoError& e) {
+    // Messages name the catalog, not the temporary file it is written to.
+    std::string what = e.what();
+    if (what.compare(0, path.size(), path) == 0) what.replace(0, path.size(), finalName);
+    throw IoError(what);
+  }
 }
 
 }  // namespace

@@ -48,9 +48,13 @@ def require_shared(test, *parts):
     return os.path.join(base, *parts)
 
 
+def have_program(name):
+    return shutil.which(name) is not None
+
+
 def require_program(name):
     """Skips the running test (raises unittest.SkipTest) when `name` is not on PATH."""
-    if shutil.which(name) is None:
+    if not have_program(name):
         raise unittest.SkipTest("%s %s" % (MISSING_PROGRAM, name))
 
 
@@ -74,6 +78,18 @@ def run_octarc(*args, check=True, cwd=None):
         raise AssertionError("octarc %s failed (%d):\n%s" % (" ".join(map(str, args)),
                                                             proc.returncode, proc.stderr))
     return proc
+
+
+def param_names(path):
+    """The column names of a .param file, in order (comments and vector sizes left out)."""
+    names = []
+    with open(path) as f:
+        lines = f.read().splitlines()
+    for line in lines:
+        line = line.split("#")[0].strip()
+        if line:
+            names.append(re.split(r"[\s(]", line)[0])
+    return names
 
 
 def write_param(path, names):

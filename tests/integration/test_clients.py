@@ -10,8 +10,8 @@ import unittest
 import numpy as np
 from astropy.io import fits
 
-from octarc_testlib import (OCTARC, SEX_SHARE, WorkDirTest, run_octarc, run_sextractor,
-                            write_param)
+from octarc_testlib import (OCTARC, SEX_SHARE, WorkDirTest, have_program, run_octarc,
+                            run_sextractor, write_param)
 
 SHIPPED = os.path.normpath(os.path.join(os.path.dirname(OCTARC), "..", "share", "octarc"))
 # The columns of a SExtractor run made for PSFEx and SCAMP.
@@ -20,10 +20,6 @@ SEX_COLUMNS = ["NUMBER", "X_IMAGE", "Y_IMAGE", "XWIN_IMAGE", "YWIN_IMAGE", "ERRA
                "ERRB_WORLD", "ERRTHETA_WORLD", "FLUX_AUTO", "FLUXERR_AUTO", "MAG_AUTO",
                "MAGERR_AUTO", "FLUX_APER(1)", "FLUXERR_APER(1)", "FLUX_RADIUS", "ELONGATION",
                "SNR_WIN", "FLAGS", "VIGNET(35,35)"]
-
-
-def have(program):
-    return shutil.which(program) is not None
 
 
 def run_tool(cmd, cwd):
@@ -48,7 +44,8 @@ def scamp(catalog, reference, cwd):
                      "-VERBOSE_TYPE", "QUIET"], cwd)
 
 
-@unittest.skipUnless(have("psfex") and have("scamp"), "psfex and scamp not installed")
+@unittest.skipUnless(have_program("psfex") and have_program("scamp"),
+                     "psfex and scamp not installed")
 class PsfexAndScamp(WorkDirTest):
     """A simulated 1024^2 field with a TAN WCS; its truth list is SCAMP's reference catalog."""
 

@@ -3,29 +3,18 @@
 ./default.param, the shipped column list with a warning; a PARAMETERS_NAME that names a missing
 file is an error naming it."""
 import os
-import re
 import shutil
 import subprocess
 import unittest
 
 from astropy.io import fits
 
-from octarc_testlib import OCTARC, SEX_SHARE, SOURCE_DIR, WorkDirTest, run_octarc, write_param
+from octarc_testlib import (OCTARC, SEX_SHARE, SOURCE_DIR, WorkDirTest, param_names, run_octarc,
+                            write_param)
 
 IMAGE = os.path.join(SOURCE_DIR, "testdata", "example.fits.gz")
 SHIPPED_PARAM = os.path.normpath(os.path.join(os.path.dirname(OCTARC), "..", "share", "octarc",
                                               "octarc.param"))
-
-
-def param_names(path):
-    names = []
-    with open(path) as f:
-        lines = f.read().splitlines()
-    for line in lines:
-        line = line.split("#")[0].strip()
-        if line:
-            names.append(re.split(r"[\s(]", line)[0])
-    return names
 
 
 def ascii_head_names(path):

@@ -12,7 +12,7 @@ import unittest
 import numpy as np
 from astropy.io import fits
 
-from octarc_testlib import OCTARC, SOURCE_DIR, WorkDirTest
+from octarc_testlib import OCTARC, SOURCE_DIR, WorkDirTest, param_names
 
 BUILD_DIR = os.environ.get("OCTARC_BUILD_DIR", "")
 CMAKE = os.environ.get("OCTARC_CMAKE", "cmake")
@@ -29,17 +29,6 @@ INSTALLED = sorted(["bin/octarc", "share/doc/octarc/README.md", "share/doc/octar
 def files_under(root):
     return sorted(os.path.relpath(os.path.join(d, f), root)
                   for d, _, names in os.walk(root) for f in names)
-
-
-def param_names(path):
-    names = []
-    with open(path) as f:
-        lines = f.read().splitlines()
-    for line in lines:
-        line = line.split("#")[0].strip()
-        if line:
-            names.append(re.split(r"[\s(]", line)[0])
-    return names
 
 
 def has_debug_info(binary):

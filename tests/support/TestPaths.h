@@ -30,6 +30,7 @@ inline bool onCi() {
 // which ctest reports as "Skipped", with the streamed reason; on the CI machine a failure,
 // since a missing dependency there means a broken installation, not a test to leave out.
 // Usage: if (!haveProgram("fitsverify")) OCTARC_SKIP_MISSING() << "fitsverify not installed";
+// (TestCommands.h has the program checks.)
 #define OCTARC_SKIP_MISSING()                                                     \
   return ::testing::internal::AssertHelper(                                       \
              ::octarc::test::onCi() ? ::testing::TestPartResult::kFatalFailure    \
@@ -38,15 +39,6 @@ inline bool onCi() {
              ::octarc::test::onCi()                                               \
                  ? "CI=true: a missing dependency is a failure on the CI machine" \
                  : "") = ::testing::Message()
-
-// True when `name` is a program on PATH.
-inline bool programInstalled(const std::string& name) {
-  return std::system(("command -v '" + name + "' >/dev/null 2>&1").c_str()) == 0;
-}
-
-// Skips the test (fails it on the CI machine) when a program it runs is not installed.
-#define OCTARC_REQUIRE_PROGRAM(name) \
-  if (!::octarc::test::programInstalled(name)) OCTARC_SKIP_MISSING() << (name) << " not installed"
 
 // The shared reference data directory (real survey images and SExtractor outputs that the
 // project does not ship): $OCTARC_SHARED_DIR, else ../shared next to the source tree. Empty

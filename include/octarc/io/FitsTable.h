@@ -113,6 +113,10 @@ struct FitsTable {
 // not fill whole rows, strings longer than their width, infinite keyword values, ...); the
 // partly written file is removed.
 void writeFitsTables(const std::string& path, const std::vector<FitsTable>& tables);
+// The same, with `primaryCards` (whole header cards of at most 80 characters, such as HISTORY
+// records) written verbatim into the primary header after its structural keywords.
+void writeFitsTables(const std::string& path, const std::vector<FitsTable>& tables,
+                     const std::vector<std::string>& primaryCards);
 
 // EXTNAMEs of the file's BINTABLE HDUs, in file order ("" for one without EXTNAME).
 std::vector<std::string> listFitsTables(const std::string& path);
@@ -123,5 +127,17 @@ std::vector<std::string> listFitsTables(const std::string& path);
 // it has are listed), or is shorter than its table's rows.
 FitsTable readFitsTable(const std::string& path, std::string_view hduName,
                         const std::vector<std::string>& onlyColumns = {});
+
+// True when the file has a BINTABLE at 0-based HDU index `hduIndex` (1: the first extension);
+// IoError when the file cannot be opened.
+bool hasFitsTableAt(const std::string& path, int hduIndex);
+
+// Reads the BINTABLE at 0-based HDU index `hduIndex`, whatever its EXTNAME, as readFitsTable
+// does, after checking that the HDU's stated data size fits in the file. The columns named in
+// `optionalColumns` are read as well when the table has them; with both lists empty, every
+// column is read. IoError naming the file when that HDU is missing or not a BINTABLE.
+FitsTable readFitsTableAt(const std::string& path, int hduIndex,
+                          const std::vector<std::string>& onlyColumns = {},
+                          const std::vector<std::string>& optionalColumns = {});
 
 }  // namespace octarc

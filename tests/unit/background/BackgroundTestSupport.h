@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "FitsTestFiles.h"
+#include "TestCommands.h"
 #include "octarc/core/Image.h"
 
 namespace octarc::test {
@@ -60,11 +61,6 @@ inline ImageF readFitsAsSExtractor(const std::filesystem::path& path) {
   return image;
 }
 
-// Runs a shell command; returns its exit status.
-inline int run(const std::string& command) {
-  return runQuiet(command);
-}
-
 // Value of a numeric card (e.g. SEXBKDEV) stored in a FITS_LDAC catalog's LDAC_IMHEAD cell.
 inline double ldacHeaderValue(const std::filesystem::path& path, const std::string& key) {
   std::ifstream in(path, std::ios::binary);
@@ -91,7 +87,7 @@ inline void runSExtractorBackground(const std::filesystem::path& image,
                           "' -PARAMETERS_NAME bg.param -FILTER N -BACK_TYPE AUTO " + extraArgs +
                           " -CHECKIMAGE_TYPE " + checkTypes + " -CHECKIMAGE_NAME " + checkNames +
                           " -CATALOG_TYPE FITS_LDAC -CATALOG_NAME " + catalog;
-  ASSERT_EQ(run(cmd), 0) << cmd;
+  ASSERT_EQ(runQuiet(cmd), 0) << cmd;
 }
 
 // Largest |a - b| over all pixels.

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "BackgroundTestSupport.h"
+#include "TestCommands.h"
 #include "TestPaths.h"
 #include "octarc/core/Error.h"
 
@@ -111,7 +112,7 @@ TEST(GlobalBackground, SourcesBarelyMoveTheClippedSigma) {
 
 TEST(GlobalBackground, MatchesAstropySigmaClippedStats) {
   if (!test::haveProgram("/usr/bin/python3") ||
-      test::run("/usr/bin/python3 -c 'import astropy.stats'") != 0)
+      test::runQuiet("/usr/bin/python3 -c 'import astropy.stats'") != 0)
     OCTARC_SKIP_MISSING() << "astropy not available";
   ImageF image = test::skyWithGradient(600, 500, 1000.0, 0.0, 0.0, 8.0, 5);
   test::addSources(image, 800, 30000.0, 6);
@@ -121,13 +122,10 @@ TEST(GlobalBackground, MatchesAstropySigmaClippedStats) {
   const std::string cmd = "/usr/bin/python3 '" + std::string(OCTARC_SOURCE_DIR) +
                           "/tests/unit/background/astropy_sigma_clip.py' '" +
                           (dir / "clip.fits").string() + "' 3 2>/dev/null";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
-  char buffer[256] = {};
-  const bool got = std::fgets(buffer, sizeof buffer, pipe) != nullptr;
-  ASSERT_EQ(pclose(pipe), 0) << cmd;
-  ASSERT_TRUE(got);
-  std::istringstream in(buffer);
+  std::string output;
+  ASSERT_EQ(test::runCommand(cmd, &output), 0) << cmd;
+  ASSERT_FALSE(output.empty());
+  std::istringstream in(output);
   double mean = 0, median = 0, std = 0;
   in >> mean >> median >> std;
   const GlobalBackground g = estimateGlobalBackground(image, 3.0);

@@ -564,7 +564,7 @@ class GalaxiesSep : public ::testing::TestWithParam<MeshCase> {};
 TEST_P(GalaxiesSep, MatchesPythonSep) {
   // python3-sep's Background on the same pixel values (SEP carries SExtractor's algorithm).
   OCTARC_REQUIRE_SHARED_DATA(shared);
-  if (test::run("/usr/bin/python3 -c 'import sep, astropy'") != 0)
+  if (test::runQuiet("/usr/bin/python3 -c 'import sep, astropy'") != 0)
     OCTARC_SKIP_MISSING() << "python3-sep or astropy not available";
   const MeshCase p = GetParam();
   const fs::path dir = test::scratchDir();
@@ -576,7 +576,7 @@ TEST_P(GalaxiesSep, MatchesPythonSep) {
                           (dir / "sr.fits").string() + "' " + std::to_string(p.meshWidth) + " " +
                           std::to_string(p.meshHeight) + " " + std::to_string(p.filterWidth) + " " +
                           std::to_string(p.filterHeight);
-  ASSERT_EQ(test::run(cmd), 0) << cmd;
+  ASSERT_EQ(test::runQuiet(cmd), 0) << cmd;
   MeshBackgroundSettings s;
   s.meshWidth = p.meshWidth;
   s.meshHeight = p.meshHeight;

@@ -1,12 +1,7 @@
 #include "CatalogTestSupport.h"
 
-#include <sys/wait.h>
-
 #include <cmath>
-#include <cstdio>
-#include <fstream>
 #include <regex>
-#include <sstream>
 #include <stdexcept>
 
 #include "octarc/io/detail/Cfitsio.h"
@@ -80,22 +75,6 @@ void writeTwoExtensionImage(const std::filesystem::path& file) {
   writeImageHdu(f.get(), smallPixels(false));
 }
 
-int runCommand(const std::string& command, std::string* output) {
-  std::FILE* pipe = ::popen(command.c_str(), "r");
-  if (pipe == nullptr) return -1;
-  std::string text;
-  char buffer[4096];
-  std::size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) text.append(buffer, n);
-  const int status = ::pclose(pipe);
-  if (output != nullptr) *output = text;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-bool haveProgram(const std::string& name) {
-  return runCommand("command -v " + name + " >/dev/null 2>&1") == 0;
-}
-
 FitsverifyReport fitsverify(const std::filesystem::path& file) {
   FitsverifyReport report;
   runCommand("fitsverify -q '" + file.string() + "' 2>&1", &report.text);
@@ -136,13 +115,6 @@ std::filesystem::path runSourceExtractor(const std::filesystem::path& dir, const
     throw std::runtime_error("source-extractor failed: " + readFile(dir / "se.log"));
   }
   return dir / catalogName;
-}
-
-std::string readFile(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 int hduCount(const std::filesystem::path& file) {

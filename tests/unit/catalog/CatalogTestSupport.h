@@ -1,5 +1,5 @@
-// Shared helpers of the catalog tests: small FITS images, source-extractor runs, header and
-// table reading with cfitsio.
+// Helpers of the catalog tests: small FITS images, source-extractor runs, header and table
+// reading with cfitsio. Commands and whole files: tests/support/TestCommands.h, TestFiles.h.
 #pragma once
 
 #include <cstdint>
@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "TestCommands.h"
+#include "TestFiles.h"
 #include "octarc/core/Table.h"
 
 namespace octarc::test {
@@ -26,8 +28,6 @@ void writeSmallImage(const std::filesystem::path& file);
 // only the block and the diagonal (two objects).
 void writeTwoExtensionImage(const std::filesystem::path& file);
 
-bool haveProgram(const std::string& name);
-
 // Runs source-extractor in `dir` on `image` in the pure-thresholding configuration (FILTER N,
 // DEBLEND_NTHRESH 1, CLEAN N, absolute threshold 1 ADU, BACK_VALUE 0) with `param` as
 // PARAMETERS_NAME; returns the catalog path.
@@ -35,7 +35,6 @@ std::filesystem::path runSourceExtractor(const std::filesystem::path& dir, const
                                          const std::string& param, const std::string& catalogType,
                                          const std::string& catalogName);
 
-std::string readFile(const std::filesystem::path& file);
 int hduCount(const std::filesystem::path& file);
 std::vector<Card> headerCards(const std::filesystem::path& file, int hdu);
 // The whole data area of a table HDU (NAXIS1 * NAXIS2 bytes).
@@ -47,9 +46,6 @@ Table readTable(const std::filesystem::path& file, int hdu, const std::vector<Co
 // Values of one column (every element of every row) as double.
 std::vector<double> columnValues(const std::filesystem::path& file, int hdu,
                                  const std::string& name);
-
-// Runs a shell command, returns its exit status and stdout.
-int runCommand(const std::string& command, std::string* output = nullptr);
 
 // What `fitsverify -q` says about one file, read from its summary line ("verification OK: FILE",
 // or "verification FAILED: FILE, 2 warnings and 0 errors"): the counts, or -1 when the line is

@@ -8,6 +8,7 @@
 #include <map>
 
 #include "CatalogTestSupport.h"
+#include "TestCommands.h"
 #include "TestPaths.h"
 #include "octarc/catalog/AppendedCatalog.h"
 #include "octarc/catalog/Catalog.h"

@@ -1,26 +1,16 @@
-// source-extractor utilities for the detection tests; the FITS basics are in
-// tests/support/FitsTestFiles.h.
+// source-extractor runs of the detection tests; the FITS basics are in tests/support/
+// FitsTestFiles.h, the program checks in tests/support/TestCommands.h.
 #pragma once
 
-#include <fitsio.h>
-#include <gtest/gtest.h>
-
-#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <string>
-#include <type_traits>
 
 #include "FitsTestFiles.h"
+#include "TestCommands.h"
 #include "TestPaths.h"
-#include "octarc/core/Image.h"
 
 namespace octarc::test {
-
-inline bool haveSourceExtractor() {
-  return std::system("source-extractor -v > /dev/null 2>&1") == 0;
-}
 
 // Runs source-extractor on `image` in `dir` with SExtractor's built-in defaults (-dd) overridden
 // by `options`; the catalog is not written. Returns the exit status.
@@ -34,9 +24,5 @@ inline int runSourceExtractor(const std::filesystem::path& dir, const std::strin
                           options + " > se.log 2>&1";
   return std::system(cmd.c_str());
 }
-
-#define OCTARC_REQUIRE_SOURCE_EXTRACTOR()                                                      \
-  if (!::octarc::test::haveSourceExtractor()) OCTARC_SKIP_MISSING() << "source-extractor not " \
-                                                                       "found"
 
 }  // namespace octarc::test

@@ -8,6 +8,7 @@
 #include <limits>
 #include <random>
 
+#include "ConvKernels.h"
 #include "DetectionTestUtil.h"
 #include "TestPaths.h"
 #include "octarc/core/Error.h"
@@ -143,9 +144,8 @@ TEST(Filter, MatchesSourceExtractorAsymmetricMask) {
 
 TEST(Filter, MatchesSourceExtractorDefaultConv) {
   OCTARC_REQUIRE_SOURCE_EXTRACTOR();
-  // default.conv: CONV NORM, 1 2 1 / 2 4 2 / 1 2 1, normalised by the sum of |k| = 16.
-  ConvKernel k{3, 3, {1, 2, 1, 2, 4, 2, 1, 2, 1}};
-  for (float& c : k.coefficients) c /= 16.0f;
+  // default.conv: CONV NORM, normalised by the sum of |k| = 16.
+  const ConvKernel k = test::defaultConvKernel();
   const auto dir = test::scratchDir();
   std::ifstream in("/usr/share/source-extractor/default.conv");
   ASSERT_TRUE(in) << "default.conv not installed";

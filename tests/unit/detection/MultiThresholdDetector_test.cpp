@@ -11,6 +11,7 @@
 #include <random>
 #include <set>
 
+#include "ConvKernels.h"
 #include "DetectionTestUtil.h"
 #include "TestPaths.h"
 #include "octarc/core/Error.h"
@@ -518,9 +519,7 @@ void compareWithSourceExtractor(bool filter) {
   const int minArea = 4;
   ImageF detection = image;
   if (filter) {
-    ConvKernel k{3, 3, {1, 2, 1, 2, 4, 2, 1, 2, 1}};  // default.conv, normalised by 16
-    for (float& c : k.coefficients) c /= 16.0f;
-    detection = applyFilter(image, k);
+    detection = applyFilter(image, test::defaultConvKernel());
   }
   SegmentationRuns runs(w, h, static_cast<int>(thresholds.size()));
   const auto perLevel = detectMultiThreshold(detection, settingsOf(thresholds, minArea, 2),
@@ -561,9 +560,7 @@ void compareOnRealImage(const std::filesystem::path& data, bool filter) {
   ImageF detection = raw;
   for (float& v : detection.pixels()) v -= 6850.0f;
   if (filter) {
-    ConvKernel k{3, 3, {1, 2, 1, 2, 4, 2, 1, 2, 1}};
-    for (float& c : k.coefficients) c /= 16.0f;
-    detection = applyFilter(detection, k, 2);
+    detection = applyFilter(detection, test::defaultConvKernel(), 2);
   }
   const std::vector<double> thresholds = {162.5, 270.0, 433.3, 780.0, 1300.0};
   const int minArea = 5;

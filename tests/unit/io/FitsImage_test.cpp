@@ -7,7 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "IoTestFiles.h"
+#include "ExpectError.h"
+#include "FitsTestFiles.h"
+#include "TestCommands.h"
+#include "TestFiles.h"
 #include "TestPaths.h"
 #include "octarc/core/Error.h"
 
@@ -17,22 +20,6 @@ namespace {
 namespace fs = std::filesystem;
 using test::card;
 using test::FitsWriter;
-
-// Expects an IoError whose one-line message names the file.
-template <typename Fn>
-void expectIoError(Fn&& fn, const std::string& fileName, const std::string& fragment = "") {
-  try {
-    fn();
-    ADD_FAILURE() << "no IoError for " << fileName;
-  } catch (const IoError& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find(fileName), std::string::npos) << what;
-    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
-    if (!fragment.empty()) {
-      EXPECT_NE(what.find(fragment), std::string::npos) << what;
-    }
-  }
-}
 
 struct BitpixCase {
   int bitpix;
@@ -210,15 +197,16 @@ TEST(FitsImage, CompressedImageWhoseHeaderCannotBeRebuiltIsAnIoError) {
   for (int i = 0; i < 8 * 6; ++i) raw.push_back(0.37 * i - 3.0);
   FitsWriter(dir / "float.fits").image(-32, {8, 6}, raw);
   ASSERT_EQ(test::run("cd '" + dir.string() + "' && fpack float.fits"), 0) << "fpack failed";
-  std::string bytes = test::readText(dir / "float.fits.fz");
+  std::string bytes = test::readFile(dir / "float.fits.fz");
   const std::size_t at = bytes.find("= 'ZSCALE");
   ASSERT_NE(at, std::string::npos);
   ASSERT_EQ(bytes.compare(at - 8, 5, "TTYPE"), 0);
   bytes.replace(at - 8, 5, "TPYPE");  // the column keeps its TFORM but loses its name
   const fs::path broken = dir / "broken.fits.fz";
   std::ofstream(broken, std::ios::binary) << bytes;
-  expectIoError([&] { readImageHeader(broken.string()); }, broken.string(), "cannot read header");
-  expectIoError([&] { readImage(broken.string()); }, broken.string());
+  test::expectIoError([&] { readImageHeader(broken.string()); },
+                      {broken.string(), "cannot read header"});
+  test::expectIoError([&] { readImage(broken.string()); }, {broken.string()});
 }
 
 // Found by fuzzing (a segmentation fault in cfitsio): the HCOMPRESS decoder takes the tile size
@@ -237,19 +225,20 @@ TEST(FitsImage, HcompressTileStatingAnotherSizeIsRefused) {
   EXPECT_EQ(a.pixels.pixels(), b.pixels.pixels());
   EXPECT_EQ(readIntImage(packed.string())(1, 0), 37 - 1000);
 
-  std::string bytes = test::readText(packed);
+  std::string bytes = test::readFile(packed);
   const std::size_t stream = bytes.find("\xdd\x99");
   ASSERT_NE(stream, std::string::npos);
   bytes.replace(stream + 2, 4, std::string("\x00\x1e\x00\x00", 4));  // nx = 1966080
   const fs::path bad = dir / "bad.fits.fz";
   std::ofstream(bad, std::ios::binary) << bytes;
-  expectIoError([&] { readImage(bad.string()); }, bad.string() + ": HDU 1: HCOMPRESS tile 1",
-                "40 x 30 tile");
-  expectIoError([&] { readIntImage(bad.string()); }, bad.string() + ": HDU 1: HCOMPRESS tile 1");
+  test::expectIoError([&] { readImage(bad.string()); },
+                      {bad.string() + ": HDU 1: HCOMPRESS tile 1", "40 x 30 tile"});
+  test::expectIoError([&] { readIntImage(bad.string()); },
+                      {bad.string() + ": HDU 1: HCOMPRESS tile 1"});
   // The magic number itself.
   bytes[stream] = 'x';
   std::ofstream(bad, std::ios::binary) << bytes;
-  expectIoError([&] { readImage(bad.string()); }, bad.string(), "is not a stream");
+  test::expectIoError([&] { readImage(bad.string()); }, {bad.string(), "is not a stream"});
 }
 
 TEST(FitsImage, DegenerateThirdAxisIsAccepted) {
@@ -263,38 +252,39 @@ TEST(FitsImage, DegenerateThirdAxisIsAccepted) {
 TEST(FitsImage, BadInputGivesOneLineIoErrorNamingTheFile) {
   const fs::path dir = test::scratchDir();
   const std::string missing = (dir / "missing.fits").string();
-  expectIoError([&] { readImage(missing); }, missing);
-  expectIoError([&] { listImageHdus(missing); }, missing);
+  test::expectIoError([&] { readImage(missing); }, {missing});
+  test::expectIoError([&] { listImageHdus(missing); }, {missing});
 
   const fs::path text = dir / "notfits.fits";
   { std::ofstream(text) << "this is not a FITS file\n" << std::string(3000, 'x'); }
-  expectIoError([&] { readImage(text.string()); }, text.string());
+  test::expectIoError([&] { readImage(text.string()); }, {text.string()});
 
   // Truncated: the header promises 100x100 floats, the file stops half way through the data.
   const fs::path truncated = dir / "truncated.fits";
   FitsWriter(truncated).image(-32, {100, 100}, std::vector<double>(10000, 1.0));
   fs::resize_file(truncated, 2880 + 20000);
-  expectIoError([&] { readImage(truncated.string()); }, truncated.string(), "truncated");
-  expectIoError([&] { readImageHeader(truncated.string()); }, truncated.string(), "truncated");
-  expectIoError([&] { readIntImage(truncated.string()); }, truncated.string(), "truncated");
+  test::expectIoError([&] { readImage(truncated.string()); }, {truncated.string(), "truncated"});
+  test::expectIoError([&] { readImageHeader(truncated.string()); },
+                      {truncated.string(), "truncated"});
+  test::expectIoError([&] { readIntImage(truncated.string()); }, {truncated.string(), "truncated"});
 
   const std::string mef = writeMef(dir).string();
-  expectIoError([&] { readImage(mef + "[2]"); }, mef, "binary table");
-  expectIoError([&] { readImage(mef + "[CAT]"); }, mef, "not an image");
-  expectIoError([&] { listImageHdus(mef + "[2]"); }, mef, "not an image");
+  test::expectIoError([&] { readImage(mef + "[2]"); }, {mef, "binary table"});
+  test::expectIoError([&] { readImage(mef + "[CAT]"); }, {mef, "not an image"});
+  test::expectIoError([&] { listImageHdus(mef + "[2]"); }, {mef, "not an image"});
 
   const fs::path tableOnly = dir / "tableonly.fits";
   FitsWriter(tableOnly).emptyPrimary().table("CAT");
-  expectIoError([&] { readImage(tableOnly.string()); }, tableOnly.string(), "no image");
-  expectIoError([&] { listImageHdus(tableOnly.string()); }, tableOnly.string(), "no image");
+  test::expectIoError([&] { readImage(tableOnly.string()); }, {tableOnly.string(), "no image"});
+  test::expectIoError([&] { listImageHdus(tableOnly.string()); }, {tableOnly.string(), "no image"});
 
   const fs::path oneD = dir / "oned.fits";
   FitsWriter(oneD).image(-32, {5}, {1, 2, 3, 4, 5});
-  expectIoError([&] { readImage(oneD.string()); }, oneD.string(), "NAXIS = 1");
+  test::expectIoError([&] { readImage(oneD.string()); }, {oneD.string(), "NAXIS = 1"});
   const fs::path cube = dir / "cube.fits";
   FitsWriter(cube).image(-32, {2, 2, 2}, {1, 2, 3, 4, 5, 6, 7, 8});
-  expectIoError([&] { readImage(cube.string()); }, cube.string(), "NAXIS3 = 2");
-  expectIoError([&] { listImageHdus(cube.string()); }, cube.string(), "NAXIS = 3");
+  test::expectIoError([&] { readImage(cube.string()); }, {cube.string(), "NAXIS3 = 2"});
+  test::expectIoError([&] { listImageHdus(cube.string()); }, {cube.string(), "NAXIS = 3"});
 }
 
 // Sizes no file can hold are refused from the header, before any allocation, naming the file,
@@ -320,10 +310,10 @@ TEST(FitsImage, SizesTheFileCannotHoldAreRefusedBeforeAllocation) {
     const fs::path path = dir / c.name;
     test::writeRawFits(path, {{test::primaryCards(c.bitpix, c.axes), 400}});
     const std::string file = path.string();
-    expectIoError([&] { readImage(file); }, file + ": HDU 0", c.fragment);
-    expectIoError([&] { readImageHeader(file); }, file + ": HDU 0", c.fragment);
-    expectIoError([&] { readIntImage(file); }, file + ": HDU 0", c.fragment);
-    expectIoError([&] { listImageHdus(file); }, file + ": HDU 0", c.fragment);
+    test::expectIoError([&] { readImage(file); }, {file + ": HDU 0", c.fragment});
+    test::expectIoError([&] { readImageHeader(file); }, {file + ": HDU 0", c.fragment});
+    test::expectIoError([&] { readIntImage(file); }, {file + ": HDU 0", c.fragment});
+    test::expectIoError([&] { listImageHdus(file); }, {file + ": HDU 0", c.fragment});
   }
   // The same in an extension of a multi-extension file names that HDU.
   const fs::path mef = dir / "mef.fits";
@@ -335,18 +325,22 @@ TEST(FitsImage, SizesTheFileCannotHoldAreRefusedBeforeAllocation) {
                                   card("PCOUNT", "0"),
                                   card("GCOUNT", "1")};
   test::writeRawFits(mef, {{test::primaryCards(8, {}, {card("EXTEND", "T")}), 0}, {ext, 36}});
-  expectIoError([&] { listImageHdus(mef.string()); }, mef.string() + ": HDU 1", "truncated");
-  expectIoError([&] { readImage(mef.string()); }, mef.string() + ": HDU 1", "36000000 bytes");
-  expectIoError([&] { readImage(mef.string() + "[1]"); }, mef.string() + ": HDU 1", "truncated");
+  test::expectIoError([&] { listImageHdus(mef.string()); },
+                      {mef.string() + ": HDU 1", "truncated"});
+  test::expectIoError([&] { readImage(mef.string()); },
+                      {mef.string() + ": HDU 1", "36000000 bytes"});
+  test::expectIoError([&] { readImage(mef.string() + "[1]"); },
+                      {mef.string() + ": HDU 1", "truncated"});
 }
 
 TEST(FitsImage, ZeroAxisOfATwoDimensionalImageIsRefused) {
   const fs::path dir = test::scratchDir();
   const fs::path path = dir / "zero.fits";
   test::writeRawFits(path, {{test::primaryCards(-32, {"0", "10"}), 0}});
-  expectIoError([&] { readImage(path.string()); }, path.string() + ": HDU 0", "0 x 10 pixels");
-  expectIoError([&] { readIntImage(path.string()); }, path.string() + ": HDU 0", "0 x 10");
-  expectIoError([&] { listImageHdus(path.string()); }, path.string() + ": HDU 0", "0 x 10");
+  test::expectIoError([&] { readImage(path.string()); },
+                      {path.string() + ": HDU 0", "0 x 10 pixels"});
+  test::expectIoError([&] { readIntImage(path.string()); }, {path.string() + ": HDU 0", "0 x 10"});
+  test::expectIoError([&] { listImageHdus(path.string()); }, {path.string() + ": HDU 0", "0 x 10"});
 }
 
 TEST(FitsImage, ExtensionOfUnknownTypeIsRefused) {
@@ -362,8 +356,8 @@ TEST(FitsImage, ExtensionOfUnknownTypeIsRefused) {
                                         card("GCOUNT", "1")};
   test::writeRawFits(path, {{test::primaryCards(8, {}, {card("EXTEND", "T")}), 0}, {ext, 16}});
   for (const std::string& p : {path.string(), path.string() + "[1]"}) {
-    expectIoError([&] { readImage(p); }, path.string() + ": HDU 1", "XTENSION 'FOO'");
-    expectIoError([&] { listImageHdus(p); }, path.string() + ": HDU 1", "XTENSION 'FOO'");
+    test::expectIoError([&] { readImage(p); }, {path.string() + ": HDU 1", "XTENSION 'FOO'"});
+    test::expectIoError([&] { listImageHdus(p); }, {path.string() + ": HDU 1", "XTENSION 'FOO'"});
   }
 }
 
@@ -393,9 +387,9 @@ TEST(FitsImage, ScalingKeywordsThatAreNotNumbersAreRefused) {
     test::writeRawFits(path, {{test::primaryCards(c.bitpix, {"10", "10"}, {card(c.key, c.value)}),
                                std::size_t(100 * std::abs(c.bitpix) / 8)}});
     const std::string where = path.string() + ": HDU 0: " + c.shown;
-    expectIoError([&] { readImage(path.string()); }, where, "cannot be interpreted");
-    expectIoError([&] { readImageHeader(path.string()); }, where, "cannot be interpreted");
-    if (c.bitpix > 0) expectIoError([&] { readIntImage(path.string()); }, where);
+    test::expectIoError([&] { readImage(path.string()); }, {where, "cannot be interpreted"});
+    test::expectIoError([&] { readImageHeader(path.string()); }, {where, "cannot be interpreted"});
+    if (c.bitpix > 0) test::expectIoError([&] { readIntImage(path.string()); }, {where});
   }
   // BLANK means nothing for floating-point data (NaN marks undefined pixels): ignored there.
   const fs::path floatBlank = dir / "floatblank.fits";
@@ -449,9 +443,10 @@ TEST(FitsImage, UnquotedTableColumnNameIsRefusedBeforeCfitsioReadsIt) {
     test::writeRawFits(
         path, {{test::primaryCards(8, {}, {card("EXTEND", "T")}), 0}, {cards, 4}, {image, 16}});
     // Every reader goes through the same open: also for the image after the table.
-    expectIoError([&] { listImageHdus(path.string()); }, path.string() + ": HDU 1: 'TTYPE1'",
-                  "is not a quoted string");
-    expectIoError([&] { readImage(path.string() + "[2]"); }, path.string() + ": HDU 1: 'TTYPE1'");
+    test::expectIoError([&] { listImageHdus(path.string()); },
+                        {path.string() + ": HDU 1: 'TTYPE1'", "is not a quoted string"});
+    test::expectIoError([&] { readImage(path.string() + "[2]"); },
+                        {path.string() + ": HDU 1: 'TTYPE1'"});
   }
   // The same file with a quoted name reads.
   const fs::path good = dir / "good.fits";
@@ -470,24 +465,24 @@ TEST(FitsImage, CompressedFileStatingAnImpossibleSizeIsRefused) {
   const fs::path gz = dir / "image.fits.gz";
   FitsWriter(gz).image(-32, {4, 3}, std::vector<double>(12, 1.5));
   EXPECT_EQ(readImage(gz.string()).pixels(3, 2), 1.5f);  // cfitsio writes it gzip-compressed
-  std::string bytes = test::readText(gz);
+  std::string bytes = test::readFile(gz);
   ASSERT_EQ(bytes.substr(0, 2), "\x1f\x8b");
   bytes.replace(bytes.size() - 4, 4, "\xff\xff\xff\xff");  // ISIZE: 4294967295 bytes
   const fs::path lying = dir / "lying.fits.gz";
   std::ofstream(lying, std::ios::binary) << bytes;
-  expectIoError([&] { readImage(lying.string()); }, lying.string(),
-                "states an uncompressed size of 4294967295 bytes");
-  expectIoError([&] { listImageHdus(lying.string() + "[0]"); }, lying.string());
+  test::expectIoError([&] { readImage(lying.string()); },
+                      {lying.string(), "states an uncompressed size of 4294967295 bytes"});
+  test::expectIoError([&] { listImageHdus(lying.string() + "[0]"); }, {lying.string()});
   // The same bytes under a name without .gz: cfitsio looks at the content, and so does octarc.
   const fs::path plain = dir / "lying.fits";
   fs::copy_file(lying, plain);
-  expectIoError([&] { readImageHeader(plain.string()); }, plain.string(), "4294967295");
+  test::expectIoError([&] { readImageHeader(plain.string()); }, {plain.string(), "4294967295"});
   // A zip file states the size at byte 22.
   std::string zip =
       "PK\x03\x04" + std::string(18, '\0') + "\xff\xff\xff\x7f" + std::string(100, 'x');
   const fs::path zipped = dir / "image.zip";
   std::ofstream(zipped, std::ios::binary) << zip;
-  expectIoError([&] { readImage(zipped.string()); }, zipped.string(), "2147483647 bytes");
+  test::expectIoError([&] { readImage(zipped.string()); }, {zipped.string(), "2147483647 bytes"});
 }
 
 TEST(FitsImage, ReadIntImageIsExactAndRejectsNonIntegerImages) {
@@ -511,21 +506,22 @@ TEST(FitsImage, ReadIntImageIsExactAndRejectsNonIntegerImages) {
 
   const fs::path flt = dir / "float.fits";
   FitsWriter(flt).image(-32, {2, 1}, {1, 2});
-  expectIoError([&] { readIntImage(flt.string()); }, flt.string(), "not an integer image");
+  test::expectIoError([&] { readIntImage(flt.string()); }, {flt.string(), "not an integer image"});
   const fs::path scaled = dir / "scaled.fits";
   FitsWriter(scaled).image(16, {2, 1}, {1, 2}, {card("BSCALE", "2.0")});
-  expectIoError([&] { readIntImage(scaled.string()); }, scaled.string(), "not an integer image");
+  test::expectIoError([&] { readIntImage(scaled.string()); },
+                      {scaled.string(), "not an integer image"});
   const fs::path big = dir / "big.fits";
   FitsWriter(big).image(64, {2, 1}, {1, 4294967296.0});
-  expectIoError([&] { readIntImage(big.string()); }, big.string(), "32-bit");
+  test::expectIoError([&] { readIntImage(big.string()); }, {big.string(), "32-bit"});
 }
 
 // fitsverify -q prints one summary line and exits with the number of errors plus warnings.
 void expectFitsverifyOk(const fs::path& path) {
   const fs::path log = path.string() + ".verify";
   const int rc = test::run("fitsverify -q '" + path.string() + "' > '" + log.string() + "' 2>&1");
-  EXPECT_EQ(rc, 0) << test::readText(log);
-  EXPECT_NE(test::readText(log).find("verification OK"), std::string::npos) << test::readText(log);
+  EXPECT_EQ(rc, 0) << test::readFile(log);
+  EXPECT_NE(test::readFile(log).find("verification OK"), std::string::npos) << test::readFile(log);
 }
 
 TEST(FitsImage, WriteImageFileRoundTripsIntAndFloatKeepingWcsCards) {
@@ -651,11 +647,11 @@ TEST(FitsImage, WriteImageFileFailureLeavesNoFile) {
   const fs::path dir = test::scratchDir();
   ImageF empty;
   const fs::path path = dir / "never.fits";
-  expectIoError(
+  test::expectIoError(
       [&] {
         writeImageFile(path.string(), {{FitsHeader{}, &empty, nullptr}});
       },
-      path.string());
+      {path.string()});
   EXPECT_FALSE(fs::exists(path));
   EXPECT_TRUE(fs::is_empty(dir));
   const fs::path noDir = dir / "no-such-dir" / "out.fits";

@@ -12,7 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "IoTestFiles.h"
+#include "ExpectError.h"
+#include "TestCommands.h"
+#include "TestFiles.h"
 #include "TestPaths.h"
 #include "octarc/core/Error.h"
 
@@ -23,37 +25,11 @@ namespace fs = std::filesystem;
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
-// Runs a shell command and returns its standard output (and error), with its exit status.
-int capture(const std::string& command, std::string* output) {
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (pipe == nullptr) return -1;
-  char buffer[4096];
-  std::size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) output->append(buffer, n);
-  const int rc = pclose(pipe);
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-}
-
 std::string astropyScript() {
   return std::string(OCTARC_SOURCE_DIR) + "/tests/unit/io/fits_table_astropy.py";
 }
 
-bool haveFitsverify() {
-  return test::run("command -v fitsverify >/dev/null 2>&1") == 0;
-}
-
-// Expects an IoError whose one-line message contains every fragment.
-template <typename Fn>
-void expectIoError(Fn&& fn, const std::vector<std::string>& fragments) {
-  try {
-    fn();
-    ADD_FAILURE() << "no IoError (expected '" << fragments.front() << "')";
-  } catch (const IoError& e) {
-    const std::string what = e.what();
-    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
-    for (const std::string& f : fragments) EXPECT_NE(what.find(f), std::string::npos) << what;
-  }
-}
+using test::expectIoError;
 
 FitsColumn column(std::string name, FitsColumnValues values, int repeat = 1, std::string unit = "",
                   std::string display = "", std::string comment = "") {
@@ -195,7 +171,9 @@ TEST(FitsTable, AstropyReadsWhatItWrites) {
   writeFitsTables(path.string(), sampleTables());
   std::string out;
   ASSERT_EQ(
-      capture("/usr/bin/python3 '" + astropyScript() + "' dump '" + path.string() + "'", &out), 0)
+      test::runCommand(
+          "/usr/bin/python3 '" + astropyScript() + "' dump '" + path.string() + "' 2>&1", &out),
+      0)
       << out;
   // Every value as written, in astropy's reading (reals as Python's shortest repr).
   const std::vector<std::string> expected = {
@@ -229,11 +207,11 @@ TEST(FitsTable, AstropyReadsWhatItWrites) {
 }
 
 TEST(FitsTable, FitsverifyReportsNoError) {
-  if (!haveFitsverify()) GTEST_SKIP() << "fitsverify not installed";
+  if (!test::haveFitsverify()) GTEST_SKIP() << "fitsverify not installed";
   const fs::path path = test::scratchDir() / "tables.fits";
   writeFitsTables(path.string(), sampleTables());
   std::string report;
-  capture("fitsverify '" + path.string() + "'", &report);
+  test::runCommand("fitsverify '" + path.string() + "' 2>&1", &report);
   // No error; the one warning is for the undefined value that stands for NaN (legal since
   // FITS 4.0, which fitsverify still flags).
   EXPECT_NE(report.find("1 warning(s) and 0 error(s)"), std::string::npos) << report;
@@ -244,7 +222,7 @@ TEST(FitsTable, FitsverifyReportsNoError) {
   const fs::path clean = path.parent_path() / "clean.fits";
   writeFitsTables(clean.string(), tables);
   report.clear();
-  capture("fitsverify -q '" + clean.string() + "'", &report);
+  test::runCommand("fitsverify -q '" + clean.string() + "' 2>&1", &report);
   EXPECT_NE(report.find("verification OK"), std::string::npos) << report;
 }
 
@@ -253,7 +231,9 @@ TEST(FitsTable, ReadsWhatAstropyWrites) {
   const fs::path path = test::scratchDir() / "astropy.fits";
   std::string out;
   ASSERT_EQ(
-      capture("/usr/bin/python3 '" + astropyScript() + "' write '" + path.string() + "'", &out), 0)
+      test::runCommand(
+          "/usr/bin/python3 '" + astropyScript() + "' write '" + path.string() + "' 2>&1", &out),
+      0)
       << out;
   // The values fits_table_astropy.py writes.
   const FitsTable t = readFitsTable(path.string(), "ASTROPY");
@@ -348,6 +328,62 @@ TEST(FitsTable, WriteErrorsLeaveNoFile) {
   const auto size = fs::file_size(path);
   expectIoError([&] { writeFitsTables(path, {t, t}); }, {path, "cannot create"});
   EXPECT_EQ(fs::file_size(path), size);
+}
+
+TEST(FitsTable, PrimaryCardsAreWrittenVerbatim) {
+  const fs::path path = test::scratchDir() / "primary.fits";
+  const std::vector<std::string> cards = {"HISTORY   made by a test", "COMMENT a second card"};
+  writeFitsTables(path.string(), sampleTables(), cards);
+  const std::string bytes = test::readFile(path);
+  // The primary header: SIMPLE, BITPIX, NAXIS, EXTEND and their two comment cards, then ours.
+  ASSERT_GE(bytes.size(), 2880u);
+  const std::string primary = bytes.substr(0, 2880);
+  for (const std::string& card : cards) {
+    EXPECT_NE(primary.find(card + std::string(80 - card.size(), ' ')), std::string::npos) << card;
+  }
+  EXPECT_EQ(listFitsTables(path.string()), (std::vector<std::string>{"FIRST", "SECOND"}));
+  EXPECT_EQ(readFitsTable(path.string(), "FIRST").rows(), 3);
+}
+
+TEST(FitsTable, ReadsByHduIndexWithOptionalColumns) {
+  const fs::path dir = test::scratchDir();
+  const fs::path path = dir / "indexed.fits";
+  writeFitsTables(path.string(), sampleTables());
+  EXPECT_FALSE(hasFitsTableAt(path.string(), 0));  // the primary HDU is an image
+  EXPECT_TRUE(hasFitsTableAt(path.string(), 1));
+  EXPECT_TRUE(hasFitsTableAt(path.string(), 2));
+  EXPECT_FALSE(hasFitsTableAt(path.string(), 3));
+  EXPECT_FALSE(hasFitsTableAt(path.string(), -1));
+
+  const FitsTable all = readFitsTableAt(path.string(), 1);
+  EXPECT_EQ(all.name, "FIRST");
+  EXPECT_EQ(all.columns.size(), 9u);
+  EXPECT_EQ(all.integer("NEG"), -123456789012LL);
+
+  // Required columns must exist; optional ones are read when present, in file order.
+  const FitsTable some = readFitsTableAt(path.string(), 1, {"f64"}, {"NAME", "NOPE"});
+  ASSERT_EQ(some.columns.size(), 2u);
+  EXPECT_EQ(some.columns[0].name, "F64");
+  EXPECT_EQ(some.columns[1].name, "NAME");
+  EXPECT_EQ(some.strings("NAME"), (std::vector<std::string>{"lens", "", "arc 'x'"}));
+  const FitsTable optionalOnly = readFitsTableAt(path.string(), 1, {}, {"I64", "NOPE"});
+  ASSERT_EQ(optionalOnly.columns.size(), 1u);
+  EXPECT_EQ(optionalOnly.integers("I64")[1], 9007199254740993LL);
+  EXPECT_EQ(readFitsTableAt(path.string(), 2).name, "SECOND");
+
+  const std::string at = path.string() + "[FIRST]";
+  expectIoError([&] { readFitsTableAt(path.string(), 1, {"NOPE"}); }, {at, "no column NOPE"});
+  expectIoError([&] { readFitsTableAt(path.string(), 0); },
+                {path.string(), "HDU 0 is not a binary table"});
+  expectIoError([&] { readFitsTableAt(path.string(), 5); },
+                {path.string(), "HDU 5 is not a binary table"});
+
+  // A table whose rows do not fit in the file is refused before anything is allocated.
+  const std::string cut = (dir / "indexed-cut.fits").string();
+  fs::copy_file(path, cut);
+  fs::resize_file(cut, 2880 * 3 + 50);
+  expectIoError([&] { readFitsTableAt(cut, 1); }, {cut});
+  expectIoError([&] { hasFitsTableAt((dir / "none.fits").string(), 1); }, {"none.fits"});
 }
 
 }  // namespace

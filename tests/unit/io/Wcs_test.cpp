@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "IoTestFiles.h"
+#include "TestCommands.h"
 #include "TestPaths.h"
 #include "octarc/core/Conventions.h"
 #include "octarc/core/Error.h"

@@ -17,6 +17,7 @@
 
 #include "ArcClosedForm.h"
 #include "FitsTestFiles.h"
+#include "TestCommands.h"
 #include "TestPaths.h"
 #include "octarc/core/Conventions.h"
 #include "octarc/core/Flags.h"

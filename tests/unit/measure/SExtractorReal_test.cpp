@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "ConvKernels.h"
+#include "TestCommands.h"
 #include "TestPaths.h"
 #include "octarc/detection/Filter.h"
 #include "octarc/io/FitsImage.h"
@@ -73,7 +75,7 @@ std::map<int, Segment> segmentsOf(const ImageI32& seg) {
 
 void compareWithSExtractor(bool filter) {
   OCTARC_REQUIRE_SHARED_DATA(shared);
-  if (std::system("command -v source-extractor > /dev/null 2>&1") != 0) {
+  if (!test::haveProgram("source-extractor")) {
     OCTARC_SKIP_MISSING() << "source-extractor not installed";
   }
   if (filter && !std::ifstream(kConv)) OCTARC_SKIP_MISSING() << kConv << " not found";
@@ -121,10 +123,7 @@ void compareWithSExtractor(bool filter) {
   }
   ImageF filtered;
   if (filter) {
-    // default.conv: 1 2 1 / 2 4 2 / 1 2 1, NORM.
-    ConvKernel k{3, 3, {1, 2, 1, 2, 4, 2, 1, 2, 1}};
-    for (float& c : k.coefficients) c /= 16.0f;
-    filtered = applyFilter(measurement, k);
+    filtered = applyFilter(measurement, test::defaultConvKernel());
   }
   const ImageI32 seg = readIntImage((dir / "seg.fits").string());
   const std::map<int, Segment> segments = segmentsOf(seg);

@@ -15,6 +15,8 @@
 #include <vector>
 
 #include "SelectionTestSupport.h"
+#include "TestCommands.h"
+#include "TestFiles.h"
 #include "TestPaths.h"
 #include "octarc/core/Error.h"
 #include "octarc/io/FitsTable.h"
@@ -25,13 +27,6 @@ namespace {
 namespace fs = std::filesystem;
 using test::expectError;
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
-
-std::string readFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // The 3 x 2 grid of the scoring tests (probabilities 0.5, 0.25, 0.125, 0.125 in bins 0, 1, 3,
 // 4), on the first and last default axes, with one sample outside and two undefined.
@@ -125,10 +120,11 @@ TEST(GridFile, TheFileHoldsTheBinsInProbabilityOrder) {
   EXPECT_EQ(t.integer("NSELECT"), 3);
   EXPECT_EQ(t.integer("NTHRESH"), 15);
   EXPECT_EQ(t.number("THRESH1"), 2.5);
-  if (std::system("command -v fitsverify >/dev/null 2>&1") == 0) {
+  if (test::haveFitsverify()) {
     const std::string report = (fs::path(path).parent_path() / "report.txt").string();
     std::system(("fitsverify -q '" + path + "' > '" + report + "' 2>&1").c_str());
-    EXPECT_NE(readFile(report).find("verification OK"), std::string::npos) << readFile(report);
+    EXPECT_NE(test::readFile(report).find("verification OK"), std::string::npos)
+        << test::readFile(report);
   }
 }
 

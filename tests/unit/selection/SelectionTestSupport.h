@@ -1,12 +1,11 @@
-// Small tables and error checks for the selection tests.
+// Small tables for the selection tests (error checks: tests/support/ExpectError.h).
 #pragma once
-
-#include <gtest/gtest.h>
 
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "ExpectError.h"
 #include "octarc/core/Table.h"
 
 namespace octarc::test {
@@ -27,19 +26,6 @@ inline Table makeTable(const std::vector<std::pair<std::string, std::vector<doub
     for (std::size_t c = 0; c < columns.size(); ++c) row[c] = columns[c].second[r];
   }
   return table;
-}
-
-// Expects an exception of type E whose one-line message contains every fragment.
-template <typename E, typename Fn>
-void expectError(Fn&& fn, const std::vector<std::string>& fragments) {
-  try {
-    fn();
-    ADD_FAILURE() << "no exception (expected '" << fragments.front() << "')";
-  } catch (const E& e) {
-    const std::string what = e.what();
-    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
-    for (const std::string& f : fragments) EXPECT_NE(what.find(f), std::string::npos) << what;
-  }
 }
 
 }  // namespace octarc::test

@@ -7,8 +7,9 @@
 #include <fstream>
 #include <sstream>
 
+#include "TestCommands.h"
+#include "TestFiles.h"
 #include "TestPaths.h"
-#include "WriteFile.h"
 #include "octarc/core/Error.h"
 
 namespace octarc::sexcompat {
@@ -363,8 +364,7 @@ struct SexRow {
 };
 
 TEST(AssocVsSourceExtractor, EveryTypeAgreesObjectByObject) {
-  if (std::system("source-extractor -v > /dev/null 2>&1") != 0)
-    OCTARC_SKIP_MISSING() << "source-extractor not installed";
+  if (!test::haveSourceExtractor()) OCTARC_SKIP_MISSING() << "source-extractor not installed";
   const auto dir = test::scratchDir();
   const std::string image = (dir / "tiny.fits").string();
   // Objects at (10,10), (20,10), (30,15), (35,25), and (10,30) in the top row.

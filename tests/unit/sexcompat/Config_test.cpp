@@ -4,8 +4,8 @@
 
 #include <cstdlib>
 
+#include "TestFiles.h"
 #include "TestPaths.h"
-#include "WriteFile.h"
 #include "octarc/core/Error.h"
 
 namespace octarc::sexcompat {

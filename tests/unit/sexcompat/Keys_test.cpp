@@ -2,32 +2,19 @@
 
 #include <gtest/gtest.h>
 
-#include <cstdio>
-#include <memory>
 #include <set>
 #include <sstream>
 
+#include "TestCommands.h"
+#include "TestFiles.h"
 #include "TestPaths.h"
-#include "WriteFile.h"
 #include "octarc/core/Error.h"
 
 namespace octarc::sexcompat {
 namespace {
 
-// Output of a shell command, or "" if it could not run.
-std::string runCommand(const std::string& command) {
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(::popen(command.c_str(), "r"), ::pclose);
-  if (!pipe) return "";
-  std::string out;
-  char buffer[4096];
-  std::size_t n;
-  while ((n = std::fread(buffer, 1, sizeof buffer, pipe.get())) > 0) out.append(buffer, n);
-  return out;
-}
-
-bool haveSourceExtractor() {
-  return std::system("source-extractor -v > /dev/null 2>&1") == 0;
-}
+using test::commandOutput;
+using test::haveSourceExtractor;
 
 // Key names of a .sex text: the first token of every line that does not start with a blank or '#'.
 std::vector<std::string> keyNames(const std::string& text) {
@@ -50,15 +37,15 @@ std::vector<std::string> tableNames(bool full) {
 
 TEST(SextractorKeys, SameKeysInSameOrderAsSourceExtractorDumps) {
   if (!haveSourceExtractor()) OCTARC_SKIP_MISSING() << "source-extractor not installed";
-  EXPECT_EQ(keyNames(runCommand("source-extractor -dd 2>/dev/null")), tableNames(true));
-  EXPECT_EQ(keyNames(runCommand("source-extractor -d 2>/dev/null")), tableNames(false));
+  EXPECT_EQ(keyNames(commandOutput("source-extractor -dd 2>/dev/null")), tableNames(true));
+  EXPECT_EQ(keyNames(commandOutput("source-extractor -d 2>/dev/null")), tableNames(false));
 }
 
 TEST(SextractorKeys, FullDumpOfSourceExtractorLoadsWithoutWarnings) {
   if (!haveSourceExtractor()) OCTARC_SKIP_MISSING() << "source-extractor not installed";
   const auto dir = test::scratchDir();
-  const std::string path =
-      test::writeTextFile(dir / "default_full.sex", runCommand("source-extractor -dd 2>/dev/null"));
+  const std::string path = test::writeTextFile(dir / "default_full.sex",
+                                               commandOutput("source-extractor -dd 2>/dev/null"));
   std::vector<std::string> warnings;
   const Config c = Config::load(sextractorKeys(), path, {}, &warnings);
   EXPECT_TRUE(warnings.empty()) << warnings.front();
@@ -86,13 +73,13 @@ TEST(SextractorKeys, OurFullDumpIsReadBySourceExtractorWithoutComplaint) {
   // source-extractor reads the configuration before it opens the (missing) image; it names every
   // unknown or out-of-range keyword it finds.
   const std::string log =
-      runCommand("cd " + dir.string() + " && source-extractor missing.fits -c ours.sex 2>&1");
+      commandOutput("cd " + dir.string() + " && source-extractor missing.fits -c ours.sex 2>&1");
   EXPECT_NE(log.find("Source Extractor"), std::string::npos) << log;
   EXPECT_EQ(log.find("keyword"), std::string::npos) << log;
   // And the check itself works: a wrong key is reported.
   test::writeTextFile(dir / "bad.sex", c.dump(keys, true) + "NO_SUCH_KEY 1\n");
   const std::string badLog =
-      runCommand("cd " + dir.string() + " && source-extractor missing.fits -c bad.sex 2>&1");
+      commandOutput("cd " + dir.string() + " && source-extractor missing.fits -c bad.sex 2>&1");
   EXPECT_NE(badLog.find("NO_SUCH_KEY keyword unknown"), std::string::npos) << badLog;
 }
 

@@ -5,8 +5,8 @@
 #include <cstdlib>
 #include <fstream>
 
+#include "TestFiles.h"
 #include "TestPaths.h"
-#include "WriteFile.h"
 #include "octarc/core/Error.h"
 
 namespace octarc::sexcompat {

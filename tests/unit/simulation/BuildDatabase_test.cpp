@@ -9,6 +9,7 @@
 #include <fstream>
 #include <random>
 
+#include "FitsTestFiles.h"
 #include "TestPaths.h"
 #include "octarc/core/Error.h"
 #include "octarc/io/FitsImage.h"
@@ -85,20 +86,6 @@ std::string writeDeepImage(const fs::path& dir, bool withPixelScale = true, bool
   return path;
 }
 
-double tableValue(const std::string& path, const char* column, long row) {
-  fitsfile* f = nullptr;
-  int status = 0;
-  fits_open_file(&f, (path + "[1]").c_str(), READONLY, &status);
-  int col = 0;
-  fits_get_colnum(f, CASEINSEN, const_cast<char*>(column), &col, &status);
-  double v = NAN;
-  int anyNull = 0;
-  fits_read_col(f, TDOUBLE, col, row, 1, 1, nullptr, &v, &anyNull, &status);
-  fits_close_file(f, &status);
-  EXPECT_EQ(status, 0) << column;
-  return v;
-}
-
 bool isEmptyDir(const fs::path& dir) {
   return fs::is_empty(dir);
 }
@@ -116,14 +103,14 @@ TEST(BuildDatabase, CutsTheKnownGalaxies) {
     const Blob& g = kGalaxies[i];  // rows follow the detection order (raster order of first pixel)
     const long row = long(i) + 1;
     SCOPED_TRACE("galaxy at " + std::to_string(g.x) + "," + std::to_string(g.y));
-    EXPECT_NEAR(tableValue(cat, "X_IMAGE", row), g.x + 1.0, 0.1);
-    EXPECT_NEAR(tableValue(cat, "Y_IMAGE", row), g.y + 1.0, 0.1);
+    EXPECT_NEAR(test::tableValue(cat, "X_IMAGE", row), g.x + 1.0, 0.1);
+    EXPECT_NEAR(test::tableValue(cat, "Y_IMAGE", row), g.y + 1.0, 0.1);
     EXPECT_EQ(db.entry(i).band, "F850LP");
     EXPECT_DOUBLE_EQ(db.entry(i).pixelScaleArcsec, 0.06);
 
     // The stamp's flux is the galaxy's flux above 8 ADU: for a Gaussian of peak A and width s,
     // 2 pi s^2 (A - T) analytically. Noise and pixelisation at the isophote move it by ~1%.
-    const double stampFlux = tableValue(cat, "stamp_flux", row);
+    const double stampFlux = test::tableValue(cat, "stamp_flux", row);
     const double analytic = 2.0 * M_PI * g.sigmaPix * g.sigmaPix * (g.peakAdu - 4.0 * kNoiseAdu);
     EXPECT_NEAR(stampFlux, analytic, 0.03 * analytic);
     EXPECT_NEAR(db.entry(i).mag, 25.0 - 2.5 * std::log10(stampFlux), 1e-9);
@@ -139,7 +126,7 @@ TEST(BuildDatabase, CutsTheKnownGalaxies) {
     EXPECT_NEAR(p((p.width() - 1) / 2, (p.height() - 1) / 2), g.peakAdu, 4.0 * kNoiseAdu);
   }
   // The measured noise is the one put in.
-  EXPECT_NEAR(tableValue(cat, "NOISE_VARIANCE", 1), kNoiseAdu * kNoiseAdu, 0.05 * 4.0);
+  EXPECT_NEAR(test::tableValue(cat, "NOISE_VARIANCE", 1), kNoiseAdu * kNoiseAdu, 0.05 * 4.0);
 
   // Clean: the pair's bright member (row 3, at 70,180) has its neighbour (86,180, peak 80 ADU)
   // inside the stamp, zeroed.
@@ -161,8 +148,8 @@ TEST(BuildDatabase, MaxGalaxiesKeepsTheBrightest) {
   ASSERT_EQ(db.size(), 2u);
   // Fluxes 2 pi s^2 (A - 8): 10857, 4398, 5576, 1810 ADU: the galaxies at x = 60 and 70, kept
   // in detection order.
-  EXPECT_NEAR(tableValue(cat, "X_IMAGE", 1), 61.0, 0.1);
-  EXPECT_NEAR(tableValue(cat, "X_IMAGE", 2), 71.0, 0.1);
+  EXPECT_NEAR(test::tableValue(cat, "X_IMAGE", 1), 61.0, 0.1);
+  EXPECT_NEAR(test::tableValue(cat, "X_IMAGE", 2), 71.0, 0.1);
   EXPECT_LT(db.entry(0).mag, db.entry(1).mag);
 }
 
@@ -202,12 +189,13 @@ TEST(BuildDatabase, PixelScaleAndPositionsFromTheWcs) {
   ASSERT_EQ(db.size(), kGalaxies.size());
   EXPECT_NEAR(db.entry(0).pixelScaleArcsec, 0.05, 1e-6);
   // The first galaxy sits on the reference pixel (to the 0.1 px of its noisy centroid).
-  EXPECT_NEAR(tableValue(cat, "RA", 1), 53.16, 0.1 * 0.05 / 3600.0 / std::cos(27.78 * M_PI / 180));
-  EXPECT_NEAR(tableValue(cat, "DEC", 1), -27.78, 0.1 * 0.05 / 3600.0);
+  EXPECT_NEAR(test::tableValue(cat, "RA", 1), 53.16,
+              0.1 * 0.05 / 3600.0 / std::cos(27.78 * M_PI / 180));
+  EXPECT_NEAR(test::tableValue(cat, "DEC", 1), -27.78, 0.1 * 0.05 / 3600.0);
   // The second is 120 px west (RA falls as x grows, CD1_1 < 0) and 10 px north of it.
   const double cosDec = std::cos(-27.78 * M_PI / 180.0);
-  EXPECT_NEAR(tableValue(cat, "RA", 2), 53.16 - 120 * 0.05 / 3600.0 / cosDec, 2e-6);
-  EXPECT_NEAR(tableValue(cat, "DEC", 2), -27.78 + 10 * 0.05 / 3600.0, 2e-6);
+  EXPECT_NEAR(test::tableValue(cat, "RA", 2), 53.16 - 120 * 0.05 / 3600.0 / cosDec, 2e-6);
+  EXPECT_NEAR(test::tableValue(cat, "DEC", 2), -27.78 + 10 * 0.05 / 3600.0, 2e-6);
 }
 
 TEST(BuildDatabase, SurveySettingsComeFromAConfigFile) {
@@ -220,7 +208,8 @@ TEST(BuildDatabase, SurveySettingsComeFromAConfigFile) {
   const RealGalaxyCatalog db = RealGalaxyCatalog::load(cat);
   ASSERT_EQ(db.size(), kGalaxies.size());
   EXPECT_DOUBLE_EQ(db.entry(0).pixelScaleArcsec, 0.07);
-  EXPECT_NEAR(db.entry(0).mag, 27.5 - 2.5 * std::log10(tableValue(cat, "stamp_flux", 1)), 1e-9);
+  EXPECT_NEAR(db.entry(0).mag, 27.5 - 2.5 * std::log10(test::tableValue(cat, "stamp_flux", 1)),
+              1e-9);
   // Options win over the file.
   const std::string cat2 = (dir / "db2.fits").string();
   ASSERT_EQ(runBuildDatabase({image, "-o", cat2, "--config", sex, "--pixel-scale", "0.09",
@@ -228,7 +217,8 @@ TEST(BuildDatabase, SurveySettingsComeFromAConfigFile) {
             0);
   const RealGalaxyCatalog db2 = RealGalaxyCatalog::load(cat2);
   EXPECT_DOUBLE_EQ(db2.entry(0).pixelScaleArcsec, 0.09);
-  EXPECT_NEAR(db2.entry(0).mag, 20.0 - 2.5 * std::log10(tableValue(cat2, "stamp_flux", 1)), 1e-9);
+  EXPECT_NEAR(db2.entry(0).mag, 20.0 - 2.5 * std::log10(test::tableValue(cat2, "stamp_flux", 1)),
+              1e-9);
   // A configuration file that is not there is an error naming it.
   try {
     runBuildDatabase({image, "-o", cat, "--config", (dir / "missing.sex").string(), "--quiet"});

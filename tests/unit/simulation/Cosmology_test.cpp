@@ -8,21 +8,12 @@
 #include <string>
 #include <vector>
 
+#include "TestCommands.h"
 #include "TestPaths.h"
 #include "octarc/core/Error.h"
 
 namespace octarc::simulation {
 namespace {
-
-// Runs a shell command; returns its exit status and, in *out, its standard output.
-int runCommand(const std::string& command, std::string* out) {
-  out->clear();
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return -1;
-  char buffer[256];
-  while (fgets(buffer, sizeof buffer, pipe)) *out += buffer;
-  return pclose(pipe);
-}
 
 // Values printed by astropy 5.2.1, FlatLambdaCDM(H0=70, Om0=0.3) (Tcmb0 = 0, no radiation):
 // comoving_distance, angular_diameter_distance, distmod at z = 0.5, 1.5, 3.0, and
@@ -45,9 +36,9 @@ TEST(FlatLambdaCdm, MatchesAstropyPublishedValues) {
 TEST(FlatLambdaCdm, MatchesAstropyAtTestTime) {
   std::string out;
   // Only a missing astropy is a reason to skip; once it imports, the script must run.
-  if (runCommand("/usr/bin/python3 -c 'import astropy.cosmology' 2>&1", &out) != 0)
+  if (test::runCommand("/usr/bin/python3 -c 'import astropy.cosmology' 2>&1", &out) != 0)
     OCTARC_SKIP_MISSING() << "/usr/bin/python3 with astropy not available: " << out;
-  const int status = runCommand(
+  const int status = test::runCommand(
       "/usr/bin/python3 -c \"from astropy.cosmology import FlatLambdaCDM as F\n"
       "c = F(H0=65, Om0=0.25)\n"
       "for z in (0.1, 0.7, 2.2, 5.0): print(c.comoving_distance(z).value, "

@@ -5,18 +5,13 @@
 #include <cmath>
 #include <numbers>
 
+#include "LensTestSupport.h"
 #include "octarc/io/Wcs.h"
 #include "octarc/simulation/LensLight.h"
 #include "octarc/simulation/Seeds.h"
 
 namespace octarc::simulation {
 namespace {
-
-double sum(const ImageD& image) {
-  double s = 0.0;
-  for (double v : image.pixels()) s += v;
-  return s;
-}
 
 TEST(NumberCounts, ExpectedCountIsTheIntegralOfThePowerLaw) {
   // 1000 / deg^2 / mag at m = 21, slope 0.35, 20 < m < 22, 1 deg^2:
@@ -120,7 +115,7 @@ TEST(GalaxyStamp, SyntheticGalaxyStampHoldsTheFluxOfItsMagnitude) {
     double xUsed = 0, yUsed = 0;
     const Stamp s = renderGalaxyStamp(g, p, 0.257, 30.0, rng, &xUsed, &yUsed);
     // 10^(-0.4 (20 - 30)) = 1e4 ADU, exactly (the synthetic stamp is summed in 3x3 blocks).
-    EXPECT_NEAR(sum(s.pixels), 1.0e4, 1e-6);
+    EXPECT_NEAR(test::pixelSum(s.pixels), 1.0e4, 1e-6);
     // The centre is placed to a third of a pixel.
     EXPECT_LE(std::abs(xUsed - g.xPix), 1.0 / 6.0 + 1e-9);
     EXPECT_LE(std::abs(yUsed - g.yPix), 1.0 / 6.0 + 1e-9);
@@ -152,8 +147,8 @@ TEST(GalaxyStamp, EllipticalStampHoldsTheProfileFluxInsideTheStamp) {
     // off-centre position) and its circumscribed circle.
     const double inner = sersicEnclosedFraction(4.0, (halfWidthArcsec - 0.257) / 1.0);
     const double outer = sersicEnclosedFraction(4.0, std::sqrt(2.0) * halfWidthArcsec / 1.0);
-    EXPECT_GT(sum(s.pixels), flux * inner * (1 - 1e-3));
-    EXPECT_LT(sum(s.pixels), flux * outer * (1 + 1e-3));
+    EXPECT_GT(test::pixelSum(s.pixels), flux * inner * (1 - 1e-3));
+    EXPECT_LT(test::pixelSum(s.pixels), flux * outer * (1 + 1e-3));
     // Flux-weighted centre on the requested position: the profile is symmetric, but the square
     // cut sits on the nearest pixel, up to half a pixel off, and cuts the wings unevenly.
     double sx = 0, sy = 0, st = 0;
@@ -170,7 +165,7 @@ TEST(GalaxyStamp, EllipticalStampHoldsTheProfileFluxInsideTheStamp) {
 
 TEST(StarStamp, HoldsTheFluxAndIsCentredOnThePosition) {
   const Stamp s = renderStarStamp(20.3, 11.8, 5000.0, 0.9, 0.257, 0.01);
-  EXPECT_NEAR(sum(s.pixels), 5000.0, 5000.0 * 1e-6);
+  EXPECT_NEAR(test::pixelSum(s.pixels), 5000.0, 5000.0 * 1e-6);
   double sx = 0, sy = 0;
   for (std::int64_t y = 0; y < s.pixels.height(); ++y)
     for (std::int64_t x = 0; x < s.pixels.width(); ++x) {
@@ -215,7 +210,7 @@ TEST(Stamp, AddStampDropsWhatFallsOutsideTheImage) {
   s.y0 = 8;   // row 10 falls off the top of a 10-row image
   ImageD image(5, 10);
   addStamp(image, s);
-  EXPECT_DOUBLE_EQ(sum(image), 4.0);
+  EXPECT_DOUBLE_EQ(test::pixelSum(image), 4.0);
   EXPECT_DOUBLE_EQ(image(0, 8), 1.0);
   EXPECT_DOUBLE_EQ(image(1, 9), 1.0);
   EXPECT_DOUBLE_EQ(image(2, 9), 0.0);
@@ -290,7 +285,7 @@ TEST(FieldLensRender, SingularIsothermalSphereGivesItsTwoImagesAndMagnifications
   EXPECT_NEAR(inner.mag - outer.mag, 2.5 * std::log10(2.0), 0.01);
   // The stamp holds the lensed flux (the lens light is 1e-6 ADU).
   const double sourceFlux = fluxFromMagnitude(22.0, 30.0);
-  EXPECT_NEAR(sum(f.stamp.pixels), 6.0 * sourceFlux, 0.05 * sourceFlux);
+  EXPECT_NEAR(test::pixelSum(f.stamp.pixels), 6.0 * sourceFlux, 0.05 * sourceFlux);
   // The lens centre sits at (100, 200) in field pixels.
   EXPECT_EQ(f.stamp.x0 + (f.stamp.pixels.width() - 1) / 2, 100);
   EXPECT_EQ(f.stamp.y0 + (f.stamp.pixels.height() - 1) / 2, 200);

@@ -5,32 +5,12 @@
 #include <cmath>
 #include <numbers>
 
+#include "LensTestSupport.h"
 #include "octarc/core/Error.h"
 #include "octarc/simulation/Cosmology.h"
 
 namespace octarc::simulation {
 namespace {
-
-// Newton iteration on beta(theta) = target, with the Jacobian by central differences.
-Vec2 solveLensEquation(const EllipticalPotentialLens& lens, Vec2 theta, const Vec2& target) {
-  for (int it = 0; it < 100; ++it) {
-    const Vec2 beta = lens.sourcePositionArcsec(theta);
-    const double fx = beta[0] - target[0];
-    const double fy = beta[1] - target[1];
-    if (std::hypot(fx, fy) < 1e-14) break;
-    const double h = 1e-7;
-    const Vec2 bxp = lens.sourcePositionArcsec({theta[0] + h, theta[1]});
-    const Vec2 bxm = lens.sourcePositionArcsec({theta[0] - h, theta[1]});
-    const Vec2 byp = lens.sourcePositionArcsec({theta[0], theta[1] + h});
-    const Vec2 bym = lens.sourcePositionArcsec({theta[0], theta[1] - h});
-    const double a = (bxp[0] - bxm[0]) / (2 * h), b = (byp[0] - bym[0]) / (2 * h);
-    const double c = (bxp[1] - bxm[1]) / (2 * h), d = (byp[1] - bym[1]) / (2 * h);
-    const double det = a * d - b * c;
-    theta[0] -= (d * fx - b * fy) / det;
-    theta[1] -= (-c * fx + a * fy) / det;
-  }
-  return theta;
-}
 
 TEST(EllipticalPotentialLens, ImagesOfACentralSourceAreAnalytic) {
   const double b = 1.3;
@@ -41,7 +21,8 @@ TEST(EllipticalPotentialLens, ImagesOfACentralSourceAreAnalytic) {
   const Vec2 expected[4] = {{onMajor, 0}, {-onMajor, 0}, {0, onMinor}, {0, -onMinor}};
   for (const Vec2& e : expected) {
     // Start 10% off the answer; the solver must converge to the analytic position.
-    const Vec2 theta = solveLensEquation(lens, {e[0] * 1.1 + 0.01, e[1] * 0.9 + 0.01}, {0, 0});
+    const Vec2 theta =
+        test::solveLensEquation(lens, {e[0] * 1.1 + 0.01, e[1] * 0.9 + 0.01}, {0, 0});
     EXPECT_NEAR(theta[0], e[0], 1e-10);
     EXPECT_NEAR(theta[1], e[1], 1e-10);
   }
@@ -52,7 +33,7 @@ TEST(EllipticalPotentialLens, RotatedLensRotatesItsImages) {
   const EllipticalPotentialLens lens({b, eps, 0.0, pa});
   const double r = b * std::sqrt(1.0 - eps);
   const Vec2 start{r * std::cos(pa) * 1.05, r * std::sin(pa) * 0.95};
-  const Vec2 theta = solveLensEquation(lens, start, {0, 0});
+  const Vec2 theta = test::solveLensEquation(lens, start, {0, 0});
   EXPECT_NEAR(theta[0], r * std::cos(pa), 1e-10);
   EXPECT_NEAR(theta[1], r * std::sin(pa), 1e-10);
 }

@@ -4,31 +4,13 @@
 
 #include <cmath>
 
+#include "LensTestSupport.h"
 #include "octarc/core/Error.h"
 #include "octarc/simulation/Psf.h"
 #include "octarc/simulation/Seeds.h"
 
 namespace octarc::simulation {
 namespace {
-
-double sum(const ImageD& img) {
-  double s = 0.0;
-  for (double v : img.pixels()) s += v;
-  return s;
-}
-
-SourceStamp gaussianSource(double sigmaArcsec, double scaleArcsec, int halfWidth) {
-  SourceStamp s;
-  s.pixelScaleArcsec = scaleArcsec;
-  s.fluxPerPixel = ImageD(2 * halfWidth + 1, 2 * halfWidth + 1);
-  for (int y = 0; y <= 2 * halfWidth; ++y)
-    for (int x = 0; x <= 2 * halfWidth; ++x)
-      s.fluxPerPixel(x, y) =
-          7.0 * std::exp(-0.5 * (std::pow(x - halfWidth, 2) + std::pow(y - halfWidth, 2)) *
-                         scaleArcsec * scaleArcsec / (sigmaArcsec * sigmaArcsec));
-  s.name = "gaussian";
-  return s;
-}
 
 LensSystem sisSystem(double b, const Vec2& beta) {
   LensSystem sys;
@@ -45,7 +27,7 @@ TEST(LensSystem, NoiseFreeStampHoldsLensedSourceAndLensLight) {
   setup.addNoise = false;
   setup.rayTrace.fineScaleArcsec = 0.01;
   const double b = 1.5, beta = 0.45;
-  const SourceStamp src = gaussianSource(0.01, 0.0025, 40);
+  const SourceStamp src = test::gaussianSource(0.01, 0.0025, 40, 7.0);
   std::mt19937_64 rng(1);
   const RenderedLensSystem r = renderLensSystem(sisSystem(b, {beta, 0.0}), src, setup, rng);
   // SIS: total magnification 2 b / beta (to 1e-3 for this tiny source).
@@ -57,7 +39,7 @@ TEST(LensSystem, NoiseFreeStampHoldsLensedSourceAndLensLight) {
   const double light = std::pow(10.0, -0.4 * (21.0 - 30.0));
   const double lightMin = light * sersicEnclosedFraction(4.0, 13.0 / 0.3);
   const double lightMax = light * sersicEnclosedFraction(4.0, 18.4 / 0.3);
-  const double total = sum(r.image);
+  const double total = test::pixelSum(r.image);
   EXPECT_GT(total, r.lensedSourceFlux + lightMin - 1e-6 * light);
   EXPECT_LT(total, r.lensedSourceFlux + lightMax + 1e-6 * light);
 }
@@ -68,7 +50,7 @@ TEST(LensSystem, UserPsfImageGivesTheSameStampAsTheSeeing) {
   const ImageD psf = gaussianPsfImage(0.9, 0.257);
   ObservingSetup user = gaussian;
   user.userPsf = &psf;
-  const SourceStamp src = gaussianSource(0.2, 0.03, 30);
+  const SourceStamp src = test::gaussianSource(0.2, 0.03, 30, 7.0);
   std::mt19937_64 rng(2);
   const LensSystem sys = sisSystem(1.2, {0.3, -0.2});
   const ImageD a = renderLensSystem(sys, src, gaussian, rng).image;
@@ -80,7 +62,7 @@ TEST(LensSystem, UserPsfImageGivesTheSameStampAsTheSeeing) {
 TEST(LensSystem, NoiseIsSeededAndHasTheSkySigmaFarFromTheLens) {
   ObservingSetup setup;
   setup.skySigmaAdu = 2.0;
-  const SourceStamp src = gaussianSource(0.2, 0.03, 30);
+  const SourceStamp src = test::gaussianSource(0.2, 0.03, 30, 7.0);
   const LensSystem sys = sisSystem(1.2, {0.3, -0.2});
   auto r1 = systemRng(9, 4), r2 = systemRng(9, 4);
   const ImageD a = renderLensSystem(sys, src, setup, r1).image;

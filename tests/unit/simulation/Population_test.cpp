@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 
+#include "TestFiles.h"
 #include "TestPaths.h"
 #include "octarc/core/Error.h"
 #include "octarc/simulation/LensModel.h"
@@ -17,17 +18,10 @@
 namespace octarc::simulation {
 namespace {
 
-std::string readAll(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // The default file with one "key = ..." line replaced (or removed if replacement is empty),
 // written to the scratch directory.
 std::string editedDefault(const std::string& key, const std::string& replacement) {
-  const std::string text = readAll(defaultPopulationModelPath());
+  const std::string text = test::readFile(defaultPopulationModelPath());
   const std::regex line("(^|\n)" + std::regex_replace(key, std::regex("\\."), "\\.") + " *=[^\n]*");
   EXPECT_TRUE(std::regex_search(text, line)) << key;
   const std::string edited =

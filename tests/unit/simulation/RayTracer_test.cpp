@@ -6,16 +6,11 @@
 #include <numbers>
 #include <random>
 
+#include "LensTestSupport.h"
 #include "octarc/core/Error.h"
 
 namespace octarc::simulation {
 namespace {
-
-double sum(const ImageD& img) {
-  double s = 0.0;
-  for (double v : img.pixels()) s += v;
-  return s;
-}
 
 ImageD randomImage(int w, int h, unsigned seed) {
   std::mt19937_64 rng(seed);
@@ -23,23 +18,6 @@ ImageD randomImage(int w, int h, unsigned seed) {
   ImageD img(w, h);
   for (double& v : img.pixels()) v = u(rng);
   return img;
-}
-
-// A circular Gaussian source of total flux 1 and width sigmaArcsec, sampled at scaleArcsec.
-SourceStamp gaussianSource(double sigmaArcsec, double scaleArcsec, int halfWidth) {
-  SourceStamp s;
-  s.pixelScaleArcsec = scaleArcsec;
-  s.fluxPerPixel = ImageD(2 * halfWidth + 1, 2 * halfWidth + 1);
-  double total = 0.0;
-  for (int y = 0; y <= 2 * halfWidth; ++y)
-    for (int x = 0; x <= 2 * halfWidth; ++x) {
-      const double r2 =
-          (std::pow(x - halfWidth, 2) + std::pow(y - halfWidth, 2)) * scaleArcsec * scaleArcsec;
-      total += (s.fluxPerPixel(x, y) = std::exp(-0.5 * r2 / (sigmaArcsec * sigmaArcsec)));
-    }
-  for (double& v : s.fluxPerPixel.pixels()) v /= total;
-  s.name = "gaussian";
-  return s;
 }
 
 TEST(RebinFluxConserving, HandComputedTwoToThree) {
@@ -60,12 +38,12 @@ TEST(RebinFluxConserving, ConservesFluxForIntegerAndNonIntegerRatios) {
   {
     const ImageD in = randomImage(257, 171, 1);  // 7.71" x 5.13" = 30 x 19.96 survey px
     const ImageD out = rebinFluxConserving(in, 0.03, 30, 20, 0.257);
-    EXPECT_NEAR(sum(out) / sum(in), 1.0, 1e-6);
+    EXPECT_NEAR(test::pixelSum(out) / test::pixelSum(in), 1.0, 1e-6);
   }
   {
     const ImageD in = randomImage(120, 80, 2);
     const ImageD out = rebinFluxConserving(in, 0.03, 30, 20, 0.12);
-    EXPECT_NEAR(sum(out) / sum(in), 1.0, 1e-12);
+    EXPECT_NEAR(test::pixelSum(out) / test::pixelSum(in), 1.0, 1e-12);
     double block = 0.0;  // output (0,0) is the sum of the first 4x4 input block
     for (int y = 0; y < 4; ++y)
       for (int x = 0; x < 4; ++x) block += in(x, y);
@@ -74,7 +52,7 @@ TEST(RebinFluxConserving, ConservesFluxForIntegerAndNonIntegerRatios) {
   {
     const ImageD in = randomImage(30, 20, 3);
     const ImageD out = rebinFluxConserving(in, 0.257, 257, 172, 0.03);
-    EXPECT_NEAR(sum(out) / sum(in), 1.0, 1e-6);
+    EXPECT_NEAR(test::pixelSum(out) / test::pixelSum(in), 1.0, 1e-6);
   }
   {
     // Only the overlapping part is kept: an output half as wide holds exactly the left half.
@@ -83,7 +61,7 @@ TEST(RebinFluxConserving, ConservesFluxForIntegerAndNonIntegerRatios) {
     double left = 0.0;
     for (int y = 0; y < 10; ++y)
       for (int x = 0; x < 5; ++x) left += in(x, y);
-    EXPECT_NEAR(sum(out), left, 1e-10);
+    EXPECT_NEAR(test::pixelSum(out), left, 1e-10);
   }
 }
 
@@ -95,7 +73,7 @@ TEST(TraceLensedImage, TinySourceThroughSisHasAnalyticMagnification) {
   const double b = 1.5;
   const double sigma = 0.01;
   const EllipticalPotentialLens sis({b, 0.0, 0.0, 0.0});
-  const SourceStamp source = gaussianSource(sigma, 0.0025, 40);
+  const SourceStamp source = test::gaussianSource(sigma, 0.0025, 40);
   SurveyGrid grid;  // 101 x 101 px of 0.257" (26"), lens at the centre
   RayTraceOptions options;
   options.fineScaleArcsec = 0.01;  // rays every 0.0025", four per source sigma
@@ -106,29 +84,9 @@ TEST(TraceLensedImage, TinySourceThroughSisHasAnalyticMagnification) {
     RayTraceStats stats;
     const ImageD img = traceLensedImage(sis, source, place, grid, options, &stats);
     const double expected = 2.0 * b / beta0 * (1.0 + sigma * sigma / (2.0 * beta0 * beta0));
-    EXPECT_NEAR(sum(img) / expected, 1.0, 1e-3) << "beta/b " << betaOverB;
+    EXPECT_NEAR(test::pixelSum(img) / expected, 1.0, 1e-3) << "beta/b " << betaOverB;
     EXPECT_GT(stats.finePixelsSkipped, stats.finePixelsTotal * 9 / 10);  // tiny source
   }
-}
-
-// Newton iteration on beta(theta) = target (Jacobian by central differences).
-Vec2 solveLensEquation(const EllipticalPotentialLens& lens, Vec2 theta, const Vec2& target) {
-  for (int it = 0; it < 100; ++it) {
-    const Vec2 beta = lens.sourcePositionArcsec(theta);
-    const double fx = beta[0] - target[0], fy = beta[1] - target[1];
-    if (std::hypot(fx, fy) < 1e-14) break;
-    const double h = 1e-7;
-    const Vec2 bxp = lens.sourcePositionArcsec({theta[0] + h, theta[1]});
-    const Vec2 bxm = lens.sourcePositionArcsec({theta[0] - h, theta[1]});
-    const Vec2 byp = lens.sourcePositionArcsec({theta[0], theta[1] + h});
-    const Vec2 bym = lens.sourcePositionArcsec({theta[0], theta[1] - h});
-    const double a = (bxp[0] - bxm[0]) / (2 * h), b = (byp[0] - bym[0]) / (2 * h);
-    const double c = (bxp[1] - bxm[1]) / (2 * h), d = (byp[1] - bym[1]) / (2 * h);
-    const double det = a * d - b * c;
-    theta[0] -= (d * fx - b * fy) / det;
-    theta[1] -= (-c * fx + a * fy) / det;
-  }
-  return theta;
 }
 
 // A tiny source near the centre of the elliptical potential (theta_c = 0) has four images; the
@@ -145,7 +103,7 @@ TEST(TraceLensedImage, TinySourceThroughEllipticalPotentialHasFourImageMagnifica
   double sumAbsMu = 0.0;
   Vec2 images[4];
   for (int i = 0; i < 4; ++i) {
-    images[i] = solveLensEquation(lens, starts[i], beta0);
+    images[i] = test::solveLensEquation(lens, starts[i], beta0);
     const Vec2 back = lens.sourcePositionArcsec(images[i]);
     ASSERT_NEAR(back[0], beta0[0], 1e-12);
     ASSERT_NEAR(back[1], beta0[1], 1e-12);
@@ -154,18 +112,18 @@ TEST(TraceLensedImage, TinySourceThroughEllipticalPotentialHasFourImageMagnifica
   for (int i = 0; i < 4; ++i)
     for (int j = 0; j < i; ++j)
       ASSERT_GT(std::hypot(images[i][0] - images[j][0], images[i][1] - images[j][1]), 0.1);
-  const SourceStamp source = gaussianSource(0.005, 0.00125, 40);
+  const SourceStamp source = test::gaussianSource(0.005, 0.00125, 40);
   RayTraceOptions options;
   options.fineScaleArcsec = 0.005;
   SourcePlacement place;
   place.betaArcsec = beta0;
   const ImageD img = traceLensedImage(lens, source, place, SurveyGrid{}, options);
-  EXPECT_NEAR(sum(img) / sumAbsMu, 1.0, 3e-3) << "sum |mu| = " << sumAbsMu;
+  EXPECT_NEAR(test::pixelSum(img) / sumAbsMu, 1.0, 3e-3) << "sum |mu| = " << sumAbsMu;
 }
 
 TEST(TraceLensedImage, SkippingUnreachablePixelsChangesNothing) {
   const EllipticalPotentialLens lens({1.3, 0.15, 0.02, 0.4});
-  const SourceStamp source = gaussianSource(0.15, 0.03, 25);
+  const SourceStamp source = test::gaussianSource(0.15, 0.03, 25);
   SourcePlacement place;
   place.betaArcsec = {0.2, -0.1};
   place.rotationRad = 0.3;
@@ -187,24 +145,24 @@ TEST(TraceLensedImage, SkippingUnreachablePixelsChangesNothing) {
 TEST(TraceLensedImage, NegligibleLensReproducesTheSource) {
   // With b -> 0 the image is the source itself: flux conserved, centroid at the source position.
   const EllipticalPotentialLens lens({1e-9, 0.0, 0.0, 0.0});
-  const SourceStamp source = gaussianSource(0.3, 0.03, 60);
+  const SourceStamp source = test::gaussianSource(0.3, 0.03, 60);
   SourcePlacement place;
   place.betaArcsec = {1.0, -0.5};
   SurveyGrid grid;
   const ImageD img = traceLensedImage(lens, source, place, grid);
-  EXPECT_NEAR(sum(img), 1.0, 1e-4);
+  EXPECT_NEAR(test::pixelSum(img), 1.0, 1e-4);
   double sx = 0.0, sy = 0.0;
   for (int y = 0; y < grid.height; ++y)
     for (int x = 0; x < grid.width; ++x) {
       sx += img(x, y) * (x - grid.lensXPix);
       sy += img(x, y) * (y - grid.lensYPix);
     }
-  EXPECT_NEAR(sx / sum(img) * grid.pixelScaleArcsec, 1.0, 2e-3);
-  EXPECT_NEAR(sy / sum(img) * grid.pixelScaleArcsec, -0.5, 2e-3);
+  EXPECT_NEAR(sx / test::pixelSum(img) * grid.pixelScaleArcsec, 1.0, 2e-3);
+  EXPECT_NEAR(sy / test::pixelSum(img) * grid.pixelScaleArcsec, -0.5, 2e-3);
 
   // Resizing through the placement scale: a source twice as large keeps its flux.
   place.pixelScaleArcsec = 0.06;
-  EXPECT_NEAR(sum(traceLensedImage(lens, source, place, grid)), 1.0, 1e-4);
+  EXPECT_NEAR(test::pixelSum(traceLensedImage(lens, source, place, grid)), 1.0, 1e-4);
 }
 
 TEST(TraceLensedImage, RotationTurnsAnElongatedSource) {
@@ -231,7 +189,7 @@ TEST(TraceLensedImage, RotationTurnsAnElongatedSource) {
 
 TEST(TraceLensedImage, RejectsBadOptions) {
   const EllipticalPotentialLens lens({1.0, 0.0, 0.0, 0.0});
-  const SourceStamp source = gaussianSource(0.1, 0.03, 10);
+  const SourceStamp source = test::gaussianSource(0.1, 0.03, 10);
   RayTraceOptions bad;
   bad.subSamples = 0;
   EXPECT_THROW(traceLensedImage(lens, source, {}, {}, bad), ConfigError);

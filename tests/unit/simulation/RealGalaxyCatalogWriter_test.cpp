@@ -1,11 +1,11 @@
 #include "octarc/simulation/RealGalaxyCatalogWriter.h"
 
-#include <fitsio.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 
+#include "FitsTestFiles.h"
 #include "TestPaths.h"
 #include "octarc/core/Error.h"
 #include "octarc/simulation/Psf.h"
@@ -39,21 +39,6 @@ std::vector<std::string> filesIn(const fs::path& dir) {
   return names;
 }
 
-// A double column of row `row` (1-based) of the catalog table, read with cfitsio.
-double tableValue(const std::string& path, const char* column, long row) {
-  fitsfile* f = nullptr;
-  int status = 0;
-  fits_open_file(&f, (path + "[1]").c_str(), READONLY, &status);
-  int col = 0;
-  fits_get_colnum(f, CASEINSEN, const_cast<char*>(column), &col, &status);
-  double v = NAN;
-  int anyNull = 0;
-  fits_read_col(f, TDOUBLE, col, row, 1, 1, nullptr, &v, &anyNull, &status);
-  fits_close_file(f, &status);
-  EXPECT_EQ(status, 0) << column;
-  return v;
-}
-
 TEST(RealGalaxyCatalogWriter, ReadsBackThroughTheReader) {
   const fs::path dir = test::scratchDir();
   const std::string cat = (dir / "db.fits").string();
@@ -85,12 +70,12 @@ TEST(RealGalaxyCatalogWriter, ReadsBackThroughTheReader) {
   }
   EXPECT_THROW(loaded.loadPsf(0), IoError);
   // stamp_flux of row 2: 0.5 * sum_{x<9, y<11} (1 + x + 10 y) = 0.5 * (99 + 11*36 + 10*9*55)
-  EXPECT_DOUBLE_EQ(tableValue(cat, "stamp_flux", 2), 2722.5);
-  EXPECT_DOUBLE_EQ(tableValue(cat, "RA", 3), 53.003);
-  EXPECT_DOUBLE_EQ(tableValue(cat, "NOISE_VARIANCE", 1), 4.0);
-  EXPECT_DOUBLE_EQ(tableValue(cat, "X_IMAGE", 2), 20.0);
-  EXPECT_DOUBLE_EQ(tableValue(cat, "ISOAREA_IMAGE", 3), 9.0);
-  EXPECT_DOUBLE_EQ(tableValue(cat, "WEIGHT", 1), 1.0);
+  EXPECT_DOUBLE_EQ(test::tableValue(cat, "stamp_flux", 2), 2722.5);
+  EXPECT_DOUBLE_EQ(test::tableValue(cat, "RA", 3), 53.003);
+  EXPECT_DOUBLE_EQ(test::tableValue(cat, "NOISE_VARIANCE", 1), 4.0);
+  EXPECT_DOUBLE_EQ(test::tableValue(cat, "X_IMAGE", 2), 20.0);
+  EXPECT_DOUBLE_EQ(test::tableValue(cat, "ISOAREA_IMAGE", 3), 9.0);
+  EXPECT_DOUBLE_EQ(test::tableValue(cat, "WEIGHT", 1), 1.0);
 }
 
 TEST(RealGalaxyCatalogWriter, OneGalaxyIsThePrimaryImageAndThePsfFileIsNamed) {

@@ -10,17 +10,12 @@
 #include <limits>
 #include <string>
 
+#include "LensTestSupport.h"
 #include "TestPaths.h"
 #include "octarc/core/Error.h"
 
 namespace octarc::simulation {
 namespace {
-
-double sum(const ImageD& img) {
-  double s = 0.0;
-  for (double v : img.pixels()) s += v;
-  return s;
-}
 
 // Message of the IoError thrown by f ("" if none).
 template <typename F>
@@ -59,7 +54,7 @@ TEST(RealGalaxyCatalog, ReadsTheAegisSample) {
   // of the flux (astropy).
   const ImageD psf = cat.loadPsf(1);
   EXPECT_EQ(psf.width(), 20);
-  EXPECT_NEAR(sum(psf), 1.0, 1e-12);
+  EXPECT_NEAR(test::pixelSum(psf), 1.0, 1e-12);
   EXPECT_NEAR(psf(10, 10), 0.044122954, 1e-7);
 }
 
@@ -74,7 +69,7 @@ TEST(RealGalaxyCatalog, EveryAegisGalaxyAndPsfLoadsInBothBands) {
       const SourceStamp g = cat.loadGalaxy(i);
       EXPECT_GT(g.fluxPerPixel.width(), 10) << band << " row " << i;
       EXPECT_GT(totalFlux(g), 0.0) << band << " row " << i;
-      EXPECT_NEAR(sum(cat.loadPsf(i)), 1.0, 1e-12) << band << " row " << i;
+      EXPECT_NEAR(test::pixelSum(cat.loadPsf(i)), 1.0, 1e-12) << band << " row " << i;
     }
   }
 }
