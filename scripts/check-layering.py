@@ -31,6 +31,7 @@ import sys
 STAGES = [
     ("core", "octarc_core", None),
     ("io", "octarc_io", None),
+    ("plot", "octarc_plot", None),
     ("background", "octarc_background", None),
     ("detection", "octarc_detection", None),
     ("measure", "octarc_measure", None),
