@@ -41,6 +41,7 @@ STAGES = [
     ("simulation", "octarc_simulation", None),
     ("run", "octarc_run", None),
     ("simulation/engine", "octarc_simulation_engine", None),
+    ("calibration", "octarc_calibration", None),
     ("app", "octarc_app", None),
 ]
 CHECKED_FOLDERS = ["include/octarc", "src", "sextractor_compat"]

@@ -27,6 +27,9 @@ void printUsage() {
                "      a survey-like field with injected lenses, weight map and truth list\n"
                "  simulate database IMAGE -o CATALOG.fits [options]\n"
                "      cut a source-galaxy database (RealGalaxyCatalog format) out of a deep image\n"
+               "  calibrate SIM.fits [...] [-c file] [-KEY value ...]\n"
+               "      lensing fractions, distributions, noise-only threshold and the occupation\n"
+               "      grid of simulated arcs, with check-plots\n"
                "  demo [options]\n"
                "      simulate a field with lenses, detect them and report\n"
                "\n"
@@ -56,6 +59,7 @@ int main(int argc, char** argv) {
     if (command == "measure") return octarc::runMeasure(args);
     if (command == "detect") return octarc::runDetect(args);
     if (command == "demo") return octarc::runDemo(args);
+    if (command == "calibrate") return octarc::runCalibrate(args);
     if (command == "simulate") {
       const std::string what = args.empty() ? "" : args[0];
       if (!args.empty()) args.erase(args.begin());

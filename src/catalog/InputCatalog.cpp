@@ -200,4 +200,16 @@ std::vector<std::vector<double>> readCatalogColumns(const std::string& path,
   return columns;
 }
 
+FitsHeader readLdacImageHeader(const std::string& path) {
+  detail::FitsPtr file = detail::openFits(path);
+  fitsfile* f = file.get();
+  int status = 0;
+  fits_movnam_hdu(f, BINARY_TBL, const_cast<char*>("LDAC_IMHEAD"), 0, &status);
+  detail::throwIfFitsError(status, path, "no LDAC_IMHEAD table");
+  detail::requireSoundHdu(f, path);
+  int hdu = 0;
+  fits_get_hdu_num(f, &hdu);
+  return readImhead(f, hdu - 1, path);
+}
+
 }  // namespace octarc

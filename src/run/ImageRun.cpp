@@ -144,4 +144,13 @@ std::vector<Segment> detectSegments(const ImageF& detectionImage, const Detectio
   return segments;
 }
 
+std::vector<std::int64_t> countObjects(const ImageF& detectionImage,
+                                       const DetectionRequest& request) {
+  DetectionSettings detection = detectionSettings(request);
+  detection.footprintRuns = true;
+  return detectMultiThreshold(detectionImage, detection, [](std::vector<Segment>& objects) {
+    objects.clear();
+  });
+}
+
 }  // namespace octarc

@@ -16,18 +16,23 @@ int runMeasure(const std::vector<std::string>& args);
 int runDetect(const std::vector<std::string>& args);
 
 // `octarc simulate lenses ...`: simulated galaxy-galaxy lenses pushed through the detector and
-// the measurements at the survey thresholds (src/pipeline/SimulateLenses.cpp).
+// the measurements at the survey thresholds (src/app/SimulateLensesCommand.cpp).
 int runSimulateLenses(const std::vector<std::string>& args);
 
 // `octarc simulate field ...`: a survey-like image with injected lenses, its weight map and a
-// truth list (src/pipeline/SimulateField.cpp).
+// truth list (src/app/SimulateFieldCommand.cpp).
 int runSimulateField(const std::vector<std::string>& args);
 
 // `octarc simulate database ...`: a source-galaxy database in RealGalaxyCatalog format cut out
-// of a deep image (src/pipeline/BuildDatabase.cpp).
+// of a deep image (src/app/SimulateDatabaseCommand.cpp).
 int runBuildDatabase(const std::vector<std::string>& args);
 
-// `octarc demo`: simulate a field with lenses, detect, measure, and report (src/pipeline/Demo.cpp).
+// `octarc calibrate SIM.fits ...`: the studies of simulated lenses and the occupation grid of
+// their arcs (src/app/CalibrateCommand.cpp).
+int runCalibrate(const std::vector<std::string>& args);
+
+// `octarc demo`: simulate a field with lenses, detect, measure, and report
+// (src/app/DemoCommand.cpp).
 int runDemo(const std::vector<std::string>& args);
 
 }  // namespace octarc

@@ -33,4 +33,8 @@ std::vector<std::vector<double>> readCatalogColumns(const std::string& path,
                                                     const std::string& extname,
                                                     const std::vector<std::string>& names);
 
+// The cards of the first LDAC_IMHEAD cell of a FITS_LDAC file (up to END), checked as
+// readInputCatalog checks them; IoError naming the file otherwise.
+FitsHeader readLdacImageHeader(const std::string& path);
+
 }  // namespace octarc

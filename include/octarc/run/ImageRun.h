@@ -80,4 +80,9 @@ ImageRunResult detectAndMeasure(PreparedImage& image, const MeasurementPlan& pla
 // (for code that cuts the objects out rather than measuring them).
 std::vector<Segment> detectSegments(const ImageF& detectionImage, const DetectionRequest& request);
 
+// Detection alone, counting: the objects of every level (DETECT_MINAREA pixels or more), lowest
+// level first, without keeping any (noise-only studies run it thousands of times).
+std::vector<std::int64_t> countObjects(const ImageF& detectionImage,
+                                       const DetectionRequest& request);
+
 }  // namespace octarc

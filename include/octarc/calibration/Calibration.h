@@ -1,0 +1,90 @@
+// `octarc calibrate` as a library: the studies of METHOD.md section 3 on simulate-lenses output
+// (and, for the data side, a survey catalog of octarc detect), and the occupation-probability
+// grid of section 4 made from the simulated arcs.
+//
+//   SimulationOutput (+ survey rows) --> lensing fractions, distributions, noise-only threshold
+//                                    --> occupation grid (finest connected binning, contour P)
+//   --> calibrationTables() (FITS tables), calibrationPlots() (check-plots), the grid file
+//
+// Not yet here (METHOD.md section 3): the S/N floor (arcs rescaled to arcness 0.10 and
+// remeasured over noise realisations) and the fraction of arcs against the number of
+// thresholds, which need the simulations rerun.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "octarc/calibration/LensingFraction.h"
+#include "octarc/calibration/NoiseThreshold.h"
+#include "octarc/calibration/SimulationOutput.h"
+#include "octarc/core/Table.h"
+#include "octarc/io/FitsTable.h"
+#include "octarc/plot/CheckPlot.h"
+#include "octarc/selection/BinningSearch.h"
+#include "octarc/selection/GridFile.h"
+
+namespace octarc {
+
+struct CalibrationSettings {
+  FractionCuts fractionCuts;
+  // The occupation grid: axes (expressions on the systems' columns), the search space its arcs
+  // are restricted to (empty: every simulated arc), contour level, the bins per axis searched,
+  // and the tails left out of each axis range (quantileRange).
+  std::vector<std::string> gridAxes;  // empty: defaultAxisExpressions()
+  std::string searchSpaceName, searchSpaceExpression;
+  double gridLevel = 0.99;
+  int minBinsPerAxis = 2, maxBinsPerAxis = 30;
+  double axisTailFraction = 0.001;
+  int histogramBins = 40;
+  std::optional<NoiseThresholdSettings> noise;  // the noise-only study, when wanted
+};
+
+// A histogram normalised to the fraction of its values per bin.
+struct Histogram {
+  std::vector<double> edges;     // bins + 1, increasing
+  std::vector<double> fraction;  // per bin, sums to the fraction of values inside [lo, hi)
+  std::int64_t values = 0;       // finite values given
+};
+// `bins` equal bins on [lo, hi); NaN values are not counted.
+Histogram normalisedHistogram(const std::vector<double>& values, double lo, double hi, int bins);
+
+// One distribution of METHOD.md section 3: a column of the simulated arcs (and of the survey
+// objects when a survey catalog is given), with the rows it is taken over.
+struct Distribution {
+  std::string name;       // table and plot name, e.g. "ARCNESS"
+  std::string column;     // the column
+  std::string selection;  // in words, e.g. "E_IMAGE > 0.6 and SNR_ISO > 40"
+  Histogram simulated;
+  std::optional<Histogram> survey;
+  std::vector<CutLine> cuts;
+};
+
+struct CalibrationResult {
+  std::int64_t simulatedSystems = 0;
+  LensingFractions fractions;
+  std::vector<Distribution> distributions;
+  std::optional<NoiseThresholdResult> noise;
+  BinningSearchResult binning;
+  std::int64_t gridSamples = 0;   // arcs in the search space the grid was filled with
+  std::optional<SavedGrid> grid;  // always set by calibrate()
+};
+
+// Runs every study. `survey`: rows of an octarc detect catalog (may be null). ConfigError for
+// an empty search space, an axis or cut that does not parse or names an unknown column, or a
+// contour with no connected binning.
+CalibrationResult calibrate(const SimulationOutput& simulation, const Table* survey,
+                            const CalibrationSettings& settings);
+
+// The tables of the calibration file: LENSING_FRACTION, one DIST_<name> per distribution,
+// NOISE_THRESHOLD (when run) and GRID_BINNING (every binning tried).
+std::vector<FitsTable> calibrationTables(const CalibrationResult& result);
+
+// The check-plots, by CHECKPLOT_TYPE: ARCNESS, ANTIARCNESS, SKEW_MAJOR, SKEW_MINOR, E_IMAGE,
+// SNR_ISO (the distributions), LENSING_FRACTION, NOISE_THRESHOLD, GRID_BINNING.
+std::vector<std::string> calibrationPlotTypes();
+// The plot of one type; ConfigError for an unknown type, or NOISE_THRESHOLD without the study.
+Plot calibrationPlot(const CalibrationResult& result, const std::string& type);
+
+}  // namespace octarc

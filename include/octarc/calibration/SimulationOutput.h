@@ -1,0 +1,37 @@
+// The output of `octarc simulate lenses` as `octarc calibrate` reads it: the systems table
+// (LDAC_OBJECTS: truth, ARC_FOUND and the chosen arc's measurements), the arc table (ARCS: every
+// arc row at every qualifying level) and the survey setup of its OCT* header cards.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "octarc/core/Table.h"
+#include "octarc/selection/SurveySetup.h"
+
+namespace octarc {
+
+struct FitsTable;
+
+struct SimulationOutput {
+  std::string path;  // or the paths joined by "," for combined outputs
+  Table systems;     // one row per simulated system
+  Table arcs;        // one row per arc row
+  SurveySetup setup;
+};
+
+// Reads a simulate-lenses output. IoError naming the file when it is not one (no LDAC_OBJECTS
+// with SYSTEM and ARC_FOUND, no ARCS table, no OCTNSYS card) or holds no system.
+SimulationOutput readSimulationOutput(const std::string& path);
+
+// Several outputs as one: rows appended in order. ConfigError when their survey setups differ
+// (selection/SurveySetup.h, compareSetups) or their columns do; the seed of the first is kept
+// and the systems added up.
+SimulationOutput combineSimulationOutputs(std::vector<SimulationOutput> outputs);
+
+// A FITS table's scalar numeric columns as a Table (values as double; vector and string columns
+// are left out).
+Table tableFromFits(const FitsTable& table);
+
+}  // namespace octarc

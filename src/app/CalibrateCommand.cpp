@@ -1,0 +1,149 @@
+// `octarc calibrate`: the studies of simulated lenses (METHOD.md section 3) and the occupation
+// grid of their arcs (section 4).
+//
+//   simulate-lenses output(s) [+ survey catalog] --> calibration/Calibration.h
+//   --> CALIBRATION_NAME (tables), GRID_NAME (the grid), CHECKPLOT_NAME (check-plots)
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+#include "octarc/app/CommandLine.h"
+#include "octarc/app/Commands.h"
+#include "octarc/calibration/Calibration.h"
+#include "octarc/calibration/CalibrationKeys.h"
+#include "octarc/core/AtomicFile.h"
+#include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
+#include "octarc/io/FitsTable.h"
+#include "octarc/plot/CheckPlot.h"
+
+namespace octarc {
+
+namespace {
+
+void printUsage() {
+  std::cout
+      << "Usage: octarc calibrate SIM.fits [SIM2.fits ...] [-c calibrate.conf] [-KEY value ...]\n"
+         "\n"
+         "Reads the output of octarc simulate lenses (several outputs of the same survey setup\n"
+         "are taken together) and writes\n"
+         "  CALIBRATION_NAME  the lensing-fraction table (arcness 0.05-0.10, 0.10-0.15, > 0.15,\n"
+         "                    each also with E_IMAGE > ELLIP_MIN and SNR_ISO > SNR_MIN, of the\n"
+         "                    systems with an arc, binomial errors), the distributions of "
+         "arcness,\n"
+         "                    anti-arcness, skewness, e and S/N (with SURVEY_CATALOG: also of the\n"
+         "                    survey's objects), the noise-only threshold (NOISE_STUDY) and the\n"
+         "                    binning search of the grid;\n"
+         "  GRID_NAME         the occupation-probability grid of the simulated arcs (in the\n"
+         "                    search space SEARCH_CUT), at the finest binning whose contour at\n"
+         "                    GRID_LEVEL stays connected;\n"
+         "  CHECKPLOT_NAME    one check-plot per CHECKPLOT_TYPE on CHECKPLOT_DEV.\n"
+         "\n"
+         "Options:\n"
+         "  -c FILE      configuration file (SExtractor syntax; -dd lists every key)\n"
+         "  -KEY value   override a configuration key (e.g. -CHECKPLOT_DEV PDF)\n"
+         "  -d, -dd      print the default configuration\n"
+         "  -h           this help;  -v  version\n";
+}
+
+void printSummary(const CalibrationRun& run, const CalibrationResult& r) {
+  std::printf("%lld simulated systems, %lld with an arc >= 1\" from the lens\n",
+              static_cast<long long>(r.simulatedSystems),
+              static_cast<long long>(r.fractions.arcSystems));
+  std::printf(
+      "Lensing fraction (of the systems with an arc):\n  ARCNESS      all       "
+      "            e > %g, S/N > %g\n",
+      run.settings.fractionCuts.ellipticityMin, run.settings.fractionCuts.snrMin);
+  for (std::size_t i = 0; i + 1 < r.fractions.rows.size(); i += 2) {
+    const FractionRow& a = r.fractions.rows[i];
+    const FractionRow& d = r.fractions.rows[i + 1];
+    const std::string range = std::isfinite(a.arcnessHi) ? formatNumber(a.arcnessLo, "%.2f") + "-" +
+                                                               formatNumber(a.arcnessHi, "%.2f")
+                                                         : "> " + formatNumber(a.arcnessLo, "%.2f");
+    std::printf("  %-10s  %.4f +- %.4f      %.4f +- %.4f\n", range.c_str(), a.fraction,
+                a.fractionSigma, d.fraction, d.fractionSigma);
+  }
+  if (r.noise) {
+    std::printf(
+        "Noise-only threshold: %s%s sigma (%d realisations of %d^2 pixels, "
+        "DETECT_MINAREA %d)\n",
+        r.noise->atLowestRung ? "<= " : "",
+        formatNumber(r.noise->noiseOnlyThresholdSigma, "%.2f", true).c_str(),
+        run.settings.noise->realisations, run.settings.noise->sizePix,
+        run.settings.noise->minAreaPix);
+  }
+  std::printf(
+      "Occupation grid: %lld arcs, %d bins per axis (finest connected at P = %g), "
+      "%lld of %lld occupied bins selected\n",
+      static_cast<long long>(r.gridSamples), r.binning.finestConnected, r.binning.options.level,
+      static_cast<long long>(r.grid->contour.selectedBins),
+      static_cast<long long>(r.grid->grid.occupiedBins()));
+}
+
+}  // namespace
+
+int runCalibrate(const std::vector<std::string>& args) {
+  const std::vector<sexcompat::KeySpec> schema = calibrationKeys();
+  const sexcompat::CommandLine cl = sexcompat::parseCommandLine(args, schema);
+  if (cl.help) {
+    printUsage();
+    return 0;
+  }
+  if (cl.version) {
+    std::cout << "octarc calibrate version " << octarcVersion() << "\n";
+    return 0;
+  }
+  std::vector<std::string> warnings;
+  if (cl.dumpConfig || cl.dumpConfigFull || cl.dumpParams) {
+    std::cout << sexcompat::Config::load(schema, "", {}, &warnings).dump(schema, cl.dumpConfigFull);
+    return 0;
+  }
+  if (cl.positional.empty()) {
+    throw ConfigError("give the octarc simulate lenses output(s) to calibrate (see -h)");
+  }
+  const sexcompat::Config config =
+      sexcompat::Config::load(schema, cl.configFile, cl.overrides, &warnings);
+  std::vector<SimulationOutput> outputs;
+  for (const std::string& path : cl.positional) outputs.push_back(readSimulationOutput(path));
+  const SimulationOutput simulation = combineSimulationOutputs(std::move(outputs));
+  const CalibrationRun run = calibrationRunFromConfig(config, simulation);
+  if (!run.quiet) {
+    for (const std::string& w : warnings) std::cerr << "WARNING: " << w << "\n";
+  }
+
+  // The outputs, checked before anything is computed; they appear together at the end.
+  OutputFiles files;
+  files.add(run.calibrationPath);
+  files.add(run.gridPath);
+  for (const CheckPlotRequest& p : run.plots) files.add(p.path);
+  std::vector<std::string> inputs = cl.positional;
+  if (!run.surveyCatalogPath.empty()) inputs.push_back(run.surveyCatalogPath);
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    for (const std::string& in : inputs) {
+      refuseOutputOverInput(files[i].finalPath(), "output", in, "input");
+    }
+  }
+
+  std::optional<Table> survey;
+  if (!run.surveyCatalogPath.empty()) {
+    survey = tableFromFits(readFitsTable(run.surveyCatalogPath, "LDAC_OBJECTS"));
+  }
+  if (!run.quiet) std::cerr << "> Calibrating " << simulation.systems.rows() << " systems\n";
+  const CalibrationResult result = calibrate(simulation, survey ? &*survey : nullptr, run.settings);
+
+  files.write(0,
+              [&](const std::string& path) { writeFitsTables(path, calibrationTables(result)); });
+  files.write(1, [&](const std::string& path) { saveGrid(path, *result.grid); });
+  for (std::size_t i = 0; i < run.plots.size(); ++i) {
+    Plot plot = calibrationPlot(result, run.plots[i].type);
+    plot.widthPix = run.plotWidthPix;
+    plot.heightPix = run.plotHeightPix;
+    files.write(2 + i, [&](const std::string& path) { writePlot(path, run.plotDevice, plot); });
+  }
+  files.commit();
+  if (!run.quiet) printSummary(run, result);
+  return 0;
+}
+
+}  // namespace octarc

@@ -1,0 +1,385 @@
+#include "octarc/calibration/Calibration.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
+#include "octarc/selection/ColumnExpression.h"
+#include "octarc/selection/GridBinning.h"
+#include "octarc/selection/OccupationGrid.h"
+#include "octarc/selection/SearchSpace.h"
+
+namespace octarc {
+
+namespace {
+
+// A distribution: what is histogrammed, over which rows, on which range.
+struct DistributionSpec {
+  std::string name;
+  std::string value;         // expression
+  std::string simulatedCut;  // expression on the systems table
+  std::string surveyCut;     // the same cut on survey rows
+  std::string selection;     // in words
+  double lo, hi;             // NaN: from the simulated values' quantiles
+  std::vector<CutLine> cuts;
+};
+
+std::vector<DistributionSpec> distributionSpecs(const FractionCuts& c) {
+  const double nan = std::nan("");
+  const std::string e = formatNumber(c.ellipticityMin), snr = formatNumber(c.snrMin);
+  static std::vector<std::string> texts;  // keeps the composed cut texts alive
+  texts = {"ARC_FOUND == 1 && E_IMAGE > " + e + " && SNR_ISO > " + snr,
+           "E_IMAGE > " + e + " && SNR_ISO > " + snr, "E_IMAGE > " + e + " and SNR_ISO > " + snr};
+  const char* bright = texts[0].c_str();
+  const char* brightSurvey = texts[1].c_str();
+  const char* brightWords = texts[2].c_str();
+  const char* arcCut = "ARC_FOUND == 1 && ARCNESS > 0.1";
+  const char* arcWords = "ARCNESS > 0.10";
+  return {
+      {"ARCNESS",
+       "ARCNESS",
+       bright,
+       brightSurvey,
+       brightWords,
+       0.0,
+       0.3,
+       {{0.05, "a = 0.05"}, {0.10, "a = 0.10"}, {0.15, "a = 0.15"}}},
+      {"ANTIARCNESS", "ANTIARCNESS", arcCut, "ARCNESS > 0.1", arcWords, nan, nan, {}},
+      {"SKEW_MAJOR", "SKEW_MAJOR", arcCut, "ARCNESS > 0.1", arcWords, nan, nan, {}},
+      {"SKEW_MINOR", "SKEW_MINOR", arcCut, "ARCNESS > 0.1", arcWords, nan, nan, {}},
+      {"E_IMAGE",
+       "E_IMAGE",
+       arcCut,
+       "ARCNESS > 0.1",
+       arcWords,
+       0.0,
+       1.0,
+       {{c.ellipticityMin, "e = " + e}}},
+      {"SNR_ISO",
+       "log10(SNR_ISO)",
+       arcCut,
+       "ARCNESS > 0.1",
+       arcWords,
+       nan,
+       nan,
+       {{std::log10(c.snrMin), "S/N = " + snr}}},
+  };
+}
+
+// The values of `value` on the rows of `table` that pass `cut` (finite and non-zero).
+std::vector<double> selectedValues(const Table& table, const std::string& value,
+                                   const std::string& cut, const std::string& context) {
+  const std::vector<double> v = ColumnExpression(value, context).evaluate(table);
+  const std::vector<double> pass = ColumnExpression(cut, context).evaluate(table);
+  std::vector<double> out;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (std::isfinite(pass[i]) && pass[i] != 0.0 && std::isfinite(v[i])) out.push_back(v[i]);
+  }
+  return out;
+}
+
+Distribution makeDistribution(const DistributionSpec& spec, const Table& systems,
+                              const Table* survey, int bins) {
+  Distribution d;
+  d.name = spec.name;
+  d.column = spec.value;
+  d.selection = spec.selection;
+  d.cuts = spec.cuts;
+  const std::vector<double> sim =
+      selectedValues(systems, spec.value, spec.simulatedCut, "distribution " + d.name);
+  double lo = spec.lo, hi = spec.hi;
+  if (std::isnan(lo)) {
+    if (sim.size() >= 2 &&
+        std::adjacent_find(sim.begin(), sim.end(), std::not_equal_to<>()) != sim.end()) {
+      std::tie(lo, hi) = quantileRange(sim, 0.01, "distribution " + d.name);
+    } else {
+      lo = sim.empty() ? 0.0 : sim.front() - 0.5;
+      hi = sim.empty() ? 1.0 : sim.front() + 0.5;
+    }
+  }
+  d.simulated = normalisedHistogram(sim, lo, hi, bins);
+  if (survey) {
+    d.survey = normalisedHistogram(
+        selectedValues(*survey, spec.value, spec.surveyCut, "survey distribution " + d.name), lo,
+        hi, bins);
+  }
+  return d;
+}
+
+// The occupation grid of the simulated arcs in the search space, at the finest binning whose
+// contour stays connected.
+void makeGrid(const SimulationOutput& sim, const CalibrationSettings& s, CalibrationResult& out) {
+  const Table& systems = sim.systems;
+  std::vector<bool> rows(std::size_t(systems.rows()), true);
+  const int found = systems.findColumn("ARC_FOUND");
+  for (std::int64_t r = 0; r < systems.rows(); ++r) {
+    rows[std::size_t(r)] = systems.value(r, found) == 1.0;
+  }
+  if (!s.searchSpaceExpression.empty()) {
+    const std::vector<bool> in =
+        SearchSpace(s.searchSpaceName, s.searchSpaceExpression).simulatedMask(systems);
+    for (std::size_t i = 0; i < rows.size(); ++i) rows[i] = rows[i] && in[i];
+  }
+  const std::vector<std::string> axes = s.gridAxes.empty() ? defaultAxisExpressions() : s.gridAxes;
+  AxisSamples samples;
+  std::vector<GridAxis> gridAxes;
+  for (const std::string& axis : axes) {
+    const std::vector<double> all = ColumnExpression(axis, "grid axis " + axis).evaluate(systems);
+    std::vector<double> values;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      if (rows[i]) values.push_back(all[i]);
+    }
+    GridAxis a;
+    a.expression = axis;
+    std::tie(a.lo, a.hi) = quantileRange(values, s.axisTailFraction, "grid axis " + axis);
+    gridAxes.push_back(a);
+    samples.push_back(std::move(values));
+  }
+  out.gridSamples = std::int64_t(samples.front().size());
+  BinningSearchOptions options;
+  options.level = s.gridLevel;
+  options.minBins = s.minBinsPerAxis;
+  options.maxBins = s.maxBinsPerAxis;
+  out.binning = findFinestConnectedBinning(gridAxes, samples, options);
+  const int n = out.binning.requireFinest();
+  OccupationGrid grid = OccupationGrid::fill(GridBinning(gridAxes).withBins(n), samples);
+  const Contour contour = grid.contour(s.gridLevel);
+  out.grid.emplace(
+      SavedGrid{std::move(grid), contour,
+                GridProvenance{s.searchSpaceName, s.searchSpaceExpression, sim.setup}});
+}
+
+FitsColumn doubles(std::string name, std::vector<double> v, std::string comment,
+                   std::string unit = "") {
+  FitsColumn c;
+  c.name = std::move(name);
+  c.comment = std::move(comment);
+  c.unit = std::move(unit);
+  c.values = std::move(v);
+  return c;
+}
+
+FitsColumn integers(std::string name, std::vector<std::int64_t> v, std::string comment) {
+  FitsColumn c;
+  c.name = std::move(name);
+  c.comment = std::move(comment);
+  c.values = std::move(v);
+  return c;
+}
+
+FitsTable fractionTable(const LensingFractions& f) {
+  FitsTable t;
+  t.name = "LENSING_FRACTION";
+  std::vector<double> lo, hi, frac, err;
+  std::vector<std::int64_t> distorted, n;
+  for (const FractionRow& r : f.rows) {
+    lo.push_back(r.arcnessLo);
+    hi.push_back(std::isfinite(r.arcnessHi) ? r.arcnessHi : std::nan(""));
+    distorted.push_back(r.distortedAndBright ? 1 : 0);
+    n.push_back(r.systems);
+    frac.push_back(r.fraction);
+    err.push_back(r.fractionSigma);
+  }
+  t.columns = {doubles("ARCNESS_LO", lo, "lowest arcness of the bin"),
+               doubles("ARCNESS_HI", hi, "arcness bound of the bin (NaN: none)"),
+               integers("DISTORTED", distorted, "1: also E_IMAGE and SNR_ISO above the cuts"),
+               integers("N_SYSTEMS", n, "systems whose chosen arc is in the bin"),
+               doubles("FRACTION", frac, "N_SYSTEMS / systems with an arc"),
+               doubles("FRACTION_ERR", err, "binomial sigma of FRACTION")};
+  t.keywords = {FitsKeyword::integer("NSYSTEMS", f.simulatedSystems, "simulated systems"),
+                FitsKeyword::integer("NARCSYS", f.arcSystems,
+                                     "systems with an arc >= 1\" from the lens (normalisation)")};
+  return t;
+}
+
+FitsTable distributionTable(const Distribution& d) {
+  FitsTable t;
+  t.name = "DIST_" + d.name;
+  std::vector<double> lo(d.simulated.edges.begin(), d.simulated.edges.end() - 1);
+  std::vector<double> hi(d.simulated.edges.begin() + 1, d.simulated.edges.end());
+  t.columns = {doubles("BIN_LO", lo, "bin lower edge"), doubles("BIN_HI", hi, "bin upper edge"),
+               doubles("SIM_FRACTION", d.simulated.fraction, "fraction of simulated arcs")};
+  t.keywords = {FitsKeyword::text("VALUE", d.column, "what is histogrammed"),
+                FitsKeyword::text("SELECT", d.selection, "the rows taken"),
+                FitsKeyword::integer("NSIM", d.simulated.values, "simulated arcs")};
+  if (d.survey) {
+    t.columns.push_back(
+        doubles("SURVEY_FRACTION", d.survey->fraction, "fraction of survey objects"));
+    t.keywords.push_back(FitsKeyword::integer("NSURVEY", d.survey->values, "survey objects"));
+  }
+  return t;
+}
+
+FitsTable noiseTable(const NoiseThresholdResult& n) {
+  FitsTable t;
+  t.name = "NOISE_THRESHOLD";
+  t.columns = {doubles("THRESHOLD", n.thresholdsSigma, "detection threshold", "sigma"),
+               integers("N_WITH_OBJECTS", n.realisationsWithObjects, "realisations with an object"),
+               doubles("MEAN_OBJECTS", n.meanObjects, "objects per noise image")};
+  t.keywords = {FitsKeyword::real("NOISETHR", n.noiseOnlyThresholdSigma,
+                                  "lowest threshold with no object in any realisation"),
+                FitsKeyword::logical("NOISELOW", n.atLowestRung,
+                                     "T: no object even at the lowest threshold tried")};
+  return t;
+}
+
+FitsTable binningTable(const BinningSearchResult& b, std::int64_t samples) {
+  FitsTable t;
+  t.name = "GRID_BINNING";
+  std::vector<std::int64_t> bins, occupied, selected, connected, isolated, components;
+  std::vector<double> probability;
+  for (const BinningTrial& trial : b.trials) {
+    bins.push_back(trial.binsPerAxis);
+    occupied.push_back(trial.occupiedBins);
+    selected.push_back(trial.selectedBins);
+    probability.push_back(trial.selectedProbability);
+    connected.push_back(trial.connectivity.connected ? 1 : 0);
+    isolated.push_back(trial.connectivity.isolatedBins);
+    components.push_back(trial.connectivity.components);
+  }
+  t.columns = {integers("BINS_PER_AXIS", bins, "bins on every axis"),
+               integers("OCCUPIED", occupied, "occupied bins"),
+               integers("SELECTED", selected, "bins of the contour"),
+               doubles("SELECTED_PROB", probability, "probability the contour holds"),
+               integers("CONNECTED", connected, "1: every selected bin has a selected neighbour"),
+               integers("ISOLATED", isolated, "selected bins without a selected neighbour"),
+               integers("COMPONENTS", components, "face-connected components")};
+  t.keywords = {FitsKeyword::integer("FINEST", b.finestConnected, "finest connected binning"),
+                FitsKeyword::real("PLEVEL", b.options.level, "contour level P"),
+                FitsKeyword::integer("NSAMPLES", samples, "simulated arcs in the grid")};
+  return t;
+}
+
+PlotSeries steps(const std::string& label, const Histogram& h) {
+  PlotSeries s;
+  s.label = label;
+  s.steps = true;
+  s.x = h.edges;
+  s.y = h.fraction;
+  return s;
+}
+
+}  // namespace
+
+Histogram normalisedHistogram(const std::vector<double>& values, double lo, double hi, int bins) {
+  if (!(hi > lo) || bins < 1) throw ConfigError("histogram: empty range or no bin");
+  Histogram h;
+  for (int k = 0; k <= bins; ++k) h.edges.push_back(lo + (hi - lo) * k / bins);
+  h.fraction.assign(std::size_t(bins), 0.0);
+  std::vector<std::int64_t> counts(std::size_t(bins), 0);
+  for (double v : values) {
+    if (!std::isfinite(v)) continue;
+    ++h.values;
+    if (v < lo || v >= hi) continue;
+    const int k = std::min(bins - 1, int(std::floor((v - lo) / (hi - lo) * bins)));
+    ++counts[std::size_t(k)];
+  }
+  for (int k = 0; k < bins; ++k) {
+    h.fraction[std::size_t(k)] = h.values > 0 ? double(counts[std::size_t(k)]) / h.values : 0.0;
+  }
+  return h;
+}
+
+CalibrationResult calibrate(const SimulationOutput& simulation, const Table* survey,
+                            const CalibrationSettings& s) {
+  CalibrationResult out;
+  out.simulatedSystems = simulation.systems.rows();
+  out.fractions = lensingFractions(simulation.systems, s.fractionCuts);
+  for (const DistributionSpec& spec : distributionSpecs(s.fractionCuts)) {
+    out.distributions.push_back(
+        makeDistribution(spec, simulation.systems, survey, s.histogramBins));
+  }
+  makeGrid(simulation, s, out);
+  if (s.noise) out.noise = noiseOnlyThreshold(*s.noise);
+  return out;
+}
+
+std::vector<FitsTable> calibrationTables(const CalibrationResult& r) {
+  std::vector<FitsTable> tables = {fractionTable(r.fractions)};
+  for (const Distribution& d : r.distributions) tables.push_back(distributionTable(d));
+  if (r.noise) tables.push_back(noiseTable(*r.noise));
+  tables.push_back(binningTable(r.binning, r.gridSamples));
+  return tables;
+}
+
+std::vector<std::string> calibrationPlotTypes() {
+  return {"ARCNESS", "ANTIARCNESS",      "SKEW_MAJOR",      "SKEW_MINOR",  "E_IMAGE",
+          "SNR_ISO", "LENSING_FRACTION", "NOISE_THRESHOLD", "GRID_BINNING"};
+}
+
+Plot calibrationPlot(const CalibrationResult& r, const std::string& type) {
+  Plot p;
+  for (const Distribution& d : r.distributions) {
+    if (d.name != type) continue;
+    p.title = d.name + " (" + d.selection + ")";
+    p.xLabel = d.name == "SNR_ISO" ? "log#d10#u S/N (ISO)" : d.name;
+    p.yLabel = "fraction per bin";
+    p.series.push_back(
+        steps("simulated arcs (" + std::to_string(d.simulated.values) + ")", d.simulated));
+    if (d.survey) {
+      p.series.push_back(
+          steps("survey objects (" + std::to_string(d.survey->values) + ")", *d.survey));
+    }
+    p.cuts = d.cuts;
+    return p;
+  }
+  if (type == "LENSING_FRACTION") {
+    p.title =
+        "Lensing fraction (" + std::to_string(r.fractions.arcSystems) + " systems with an arc)";
+    p.xLabel = "ARCNESS of the chosen arc";
+    p.yLabel = "fraction of systems with an arc";
+    for (const bool distorted : {false, true}) {
+      PlotSeries s;
+      s.label = distorted ? "also e > " + formatNumber(r.fractions.cuts.ellipticityMin) +
+                                ", S/N > " + formatNumber(r.fractions.cuts.snrMin)
+                          : "all";
+      s.steps = true;
+      for (const FractionRow& row : r.fractions.rows) {
+        if (row.distortedAndBright != distorted) continue;
+        if (s.x.empty()) s.x.push_back(row.arcnessLo);
+        s.x.push_back(std::isfinite(row.arcnessHi) ? row.arcnessHi : row.arcnessLo + 0.05);
+        s.y.push_back(row.fraction);
+        s.yLow.push_back(row.fraction - row.fractionSigma);
+        s.yHigh.push_back(row.fraction + row.fractionSigma);
+      }
+      p.series.push_back(s);
+    }
+    return p;
+  }
+  if (type == "NOISE_THRESHOLD") {
+    if (!r.noise) throw ConfigError("CHECKPLOT_TYPE NOISE_THRESHOLD: the noise study is off");
+    p.title = "Noise alone: realisations with an object";
+    p.xLabel = "detection threshold [sigma]";
+    p.yLabel = "realisations with an object";
+    PlotSeries s;
+    s.label = "pure noise";
+    s.x = r.noise->thresholdsSigma;
+    for (std::int64_t n : r.noise->realisationsWithObjects) s.y.push_back(double(n));
+    p.series.push_back(s);
+    if (std::isfinite(r.noise->noiseOnlyThresholdSigma)) {
+      p.cuts.push_back({r.noise->noiseOnlyThresholdSigma,
+                        "none from " + formatNumber(r.noise->noiseOnlyThresholdSigma, "%.2f")});
+    }
+    return p;
+  }
+  if (type == "GRID_BINNING") {
+    p.title = "Occupation grid: binning search at P = " + formatNumber(r.binning.options.level);
+    p.xLabel = "bins per axis";
+    p.yLabel = "selected bins without a selected neighbour";
+    PlotSeries s;
+    s.label = "isolated selected bins";
+    for (const BinningTrial& t : r.binning.trials) {
+      s.x.push_back(t.binsPerAxis);
+      s.y.push_back(double(t.connectivity.isolatedBins));
+    }
+    p.series.push_back(s);
+    p.cuts.push_back({double(r.binning.finestConnected),
+                      "finest connected: " + std::to_string(r.binning.finestConnected)});
+    return p;
+  }
+  throw ConfigError("CHECKPLOT_TYPE " + quoteForMessage(type) + " is not a calibration plot");
+}
+
+}  // namespace octarc

@@ -1,0 +1,173 @@
+#include "octarc/calibration/CalibrationKeys.h"
+
+#include <algorithm>
+#include <cctype>
+
+#include "octarc/core/Error.h"
+#include "octarc/run/PreparedImage.h"
+#include "octarc/selection/ColumnExpression.h"
+#include "octarc/selection/GridBinning.h"
+#include "octarc/selection/SearchSpace.h"
+#include "octarc/sexcompat/ConvFile.h"
+
+namespace octarc {
+
+namespace {
+
+using sexcompat::KeySpec;
+using Kind = KeySpec::Kind;
+
+KeySpec key(const char* name, Kind kind, std::vector<std::string> defaults, const char* comment,
+            int minCount = 1, int maxCount = 1) {
+  KeySpec k;
+  k.name = name;
+  k.kind = kind;
+  k.defaults = std::move(defaults);
+  k.comment = comment;
+  k.minCount = minCount;
+  k.maxCount = maxCount;
+  return k;
+}
+
+KeySpec ranged(KeySpec k, double lo, double hi) {
+  k.minValue = lo;
+  k.maxValue = hi;
+  return k;
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+}  // namespace
+
+std::vector<KeySpec> calibrationKeys() {
+  std::vector<std::string> types = calibrationPlotTypes();
+  std::vector<std::string> names;
+  for (const std::string& t : types) names.push_back(lower(t));
+  KeySpec plotType = key("CHECKPLOT_TYPE", Kind::Keyword, types,
+                         "ARCNESS, ANTIARCNESS, SKEW_MAJOR, SKEW_MINOR, E_IMAGE,\nSNR_ISO, "
+                         "LENSING_FRACTION, NOISE_THRESHOLD, GRID_BINNING\nor NONE",
+                         1, 16);
+  plotType.keywords = types;
+  plotType.keywords.push_back("NONE");
+  KeySpec device = key("CHECKPLOT_DEV", Kind::Keyword, {"PNG"}, "PNG, PDF, SVG, PSC or EPSC");
+  device.keywords = {"PNG", "PDF", "SVG", "PSC", "EPSC"};
+  KeySpec verbose = key("VERBOSE_TYPE", Kind::Keyword, {"NORMAL"}, "QUIET or NORMAL");
+  verbose.keywords = {"QUIET", "NORMAL"};
+  return {
+      key("CALIBRATION_NAME", Kind::String, {"calibration.fits"}, "the calibration tables (FITS)"),
+      key("GRID_NAME", Kind::String, {"arcs.grid.fits"}, "the occupation-probability grid (FITS)"),
+      key("SEARCH_NAME", Kind::String, {}, "name of the search space of the grid", 0, 1),
+      key("SEARCH_CUT", Kind::String, {},
+          "its cut on the simulated arcs' columns (no commas),\ne.g. ARCNESS > 0.15 && E_IMAGE "
+          "> 0.6; empty: every arc",
+          0, 256),
+      key("GRID_AXES", Kind::String, defaultAxisExpressions(),
+          "the grid's axes: expressions on the columns", 1, 8),
+      ranged(key("GRID_LEVEL", Kind::Float, {"0.99"}, "contour level P of the grid"), 1e-6, 1),
+      ranged(key("GRID_NBINS", Kind::Int, {"2", "30"},
+                 "fewest and most bins per axis tried by the binning\nsearch", 2, 2),
+             2, 1000),
+      ranged(key("GRID_TAIL", Kind::Float, {"0.001"},
+                 "fraction left out at each end of an axis range"),
+             0, 0.499),
+      ranged(key("HISTOGRAM_NBINS", Kind::Int, {"40"}, "bins of the distributions"), 1, 10000),
+      ranged(key("ELLIP_MIN", Kind::Float, {"0.6"}, "e cut of the distorted arcs (E_IMAGE >)"), 0,
+             1),
+      ranged(key("SNR_MIN", Kind::Float, {"40"}, "S/N cut of reliable arcness (SNR_ISO >)"), 0,
+             1e30),
+      key("SURVEY_CATALOG", Kind::String, {},
+          "octarc detect catalog (FITS_LDAC) for the data side\nof the distributions", 0, 1),
+      key("NOISE_STUDY", Kind::Bool, {"Y"}, "find the noise-only threshold"),
+      ranged(key("NOISE_REALISATIONS", Kind::Int, {"100"}, "noise images"), 1, 100000),
+      ranged(key("NOISE_SIZE", Kind::Int, {"512"}, "side of each noise image, pixels"), 16, 16384),
+      ranged(key("NOISE_THRESH", Kind::Float, {"0.5", "8", "0.02"},
+                 "lowest and highest threshold tried and the step\n(sigma)", 3, 3),
+             0, 1000),
+      key("FILTER", Kind::Bool, {"Y"}, "filter the noise images as the survey's detection"),
+      key("FILTER_NAME", Kind::String, {"default.conv"}, "the survey's detection filter"),
+      ranged(key("DETECT_MINAREA", Kind::Int, {"0"},
+                 "DETECT_MINAREA of the noise study (0: the\nsimulation's)"),
+             0, 1000000),
+      plotType,
+      key("CHECKPLOT_NAME", Kind::String, names,
+          "check-plot file names (the device adds the suffix)", 1, 16),
+      device,
+      ranged(key("CHECKPLOT_RES", Kind::Int, {"800", "600"}, "check-plot size, pixels", 2, 2), 64,
+             10000),
+      verbose,
+      ranged(key("NTHREADS", Kind::Int, {"0"}, "number of threads (0 = all cores)"), 0, 1024),
+  };
+}
+
+CalibrationRun calibrationRunFromConfig(const sexcompat::Config& c,
+                                        const SimulationOutput& simulation) {
+  CalibrationRun run;
+  CalibrationSettings& s = run.settings;
+  run.calibrationPath = c.getString("CALIBRATION_NAME");
+  run.gridPath = c.getString("GRID_NAME");
+  if (c.count("SEARCH_CUT") > 0) {
+    // The configuration splits values at blanks and commas: the words make the expression.
+    for (const std::string& word : c.getStrings("SEARCH_CUT")) {
+      s.searchSpaceExpression += (s.searchSpaceExpression.empty() ? "" : " ") + word;
+    }
+    s.searchSpaceName = c.count("SEARCH_NAME") > 0 ? c.getString("SEARCH_NAME") : "search";
+  }
+  s.gridAxes = c.getStrings("GRID_AXES");
+  // Expressions are checked on the simulation before any work: a typo, an unknown column or an
+  // empty search space fails at once.
+  if (!s.searchSpaceExpression.empty()) {
+    (void)SearchSpace(s.searchSpaceName, s.searchSpaceExpression).simulatedMask(simulation.systems);
+  }
+  for (const std::string& axis : s.gridAxes) {
+    (void)ColumnExpression(axis, "GRID_AXES " + axis).evaluate(simulation.systems);
+  }
+  s.gridLevel = c.getDouble("GRID_LEVEL");
+  s.minBinsPerAxis = c.getInt("GRID_NBINS", 0);
+  s.maxBinsPerAxis = c.getInt("GRID_NBINS", 1);
+  if (s.maxBinsPerAxis < s.minBinsPerAxis) {
+    throw ConfigError("GRID_NBINS: the fewest bins must not exceed the most");
+  }
+  s.axisTailFraction = c.getDouble("GRID_TAIL");
+  s.histogramBins = c.getInt("HISTOGRAM_NBINS");
+  s.fractionCuts.ellipticityMin = c.getDouble("ELLIP_MIN");
+  s.fractionCuts.snrMin = c.getDouble("SNR_MIN");
+  if (c.count("SURVEY_CATALOG") > 0) run.surveyCatalogPath = c.getString("SURVEY_CATALOG");
+  if (c.getBool("NOISE_STUDY")) {
+    NoiseThresholdSettings n;
+    n.realisations = c.getInt("NOISE_REALISATIONS");
+    n.sizePix = c.getInt("NOISE_SIZE");
+    n.loSigma = c.getDouble("NOISE_THRESH", 0);
+    n.hiSigma = c.getDouble("NOISE_THRESH", 1);
+    n.stepSigma = c.getDouble("NOISE_THRESH", 2);
+    n.minAreaPix =
+        c.getInt("DETECT_MINAREA") > 0 ? c.getInt("DETECT_MINAREA") : simulation.setup.minAreaPix;
+    if (c.getBool("FILTER")) {
+      n.filter = sexcompat::readConvFile(resolveFilterFile(c.getString("FILTER_NAME")));
+    }
+    n.threads = c.getInt("NTHREADS");
+    s.noise = n;
+  }
+  run.plotDevice = parsePlotDevice(c.getString("CHECKPLOT_DEV"));
+  const std::vector<std::string> types = c.getStrings("CHECKPLOT_TYPE");
+  const std::vector<std::string> names = c.getStrings("CHECKPLOT_NAME");
+  const bool none = std::find(types.begin(), types.end(), "NONE") != types.end();
+  if (!none) {
+    if (names.size() < types.size()) {
+      throw ConfigError("CHECKPLOT_NAME: " + std::to_string(names.size()) + " names for " +
+                        std::to_string(types.size()) + " CHECKPLOT_TYPE values");
+    }
+    for (std::size_t i = 0; i < types.size(); ++i) {
+      if (types[i] == "NOISE_THRESHOLD" && !s.noise) continue;
+      run.plots.push_back({types[i], names[i] + plotFileSuffix(run.plotDevice)});
+    }
+  }
+  run.plotWidthPix = c.getInt("CHECKPLOT_RES", 0);
+  run.plotHeightPix = c.getInt("CHECKPLOT_RES", 1);
+  run.quiet = c.getString("VERBOSE_TYPE") == "QUIET";
+  return run;
+}
+
+}  // namespace octarc

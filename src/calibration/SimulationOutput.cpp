@@ -1,0 +1,134 @@
+#include "octarc/calibration/SimulationOutput.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "octarc/catalog/InputCatalog.h"
+#include "octarc/core/Error.h"
+#include "octarc/io/FitsHeader.h"
+#include "octarc/io/FitsTable.h"
+
+namespace octarc {
+
+namespace {
+
+ColumnType columnType(FitsColumnType t) {
+  switch (t) {
+    case FitsColumnType::Int16:
+      return ColumnType::Int16;
+    case FitsColumnType::Int32:
+      return ColumnType::Int32;
+    case FitsColumnType::Int64:
+      return ColumnType::Int64;
+    case FitsColumnType::Float32:
+      return ColumnType::Float32;
+    default:
+      return ColumnType::Float64;
+  }
+}
+
+bool numeric(FitsColumnType t) {
+  return t != FitsColumnType::Unsupported && t != FitsColumnType::String;
+}
+
+double card(const FitsHeader& h, const char* key) {
+  return h.number(key).value_or(std::nan(""));
+}
+
+}  // namespace
+
+Table tableFromFits(const FitsTable& fits) {
+  std::vector<ColumnSpec> specs;
+  std::vector<const FitsColumn*> used;
+  for (const FitsColumn& c : fits.columns) {
+    if (!numeric(c.type()) || c.repeat != 1) continue;
+    ColumnSpec spec;
+    spec.name = c.name;
+    spec.unit = c.unit;
+    spec.description = c.comment;
+    spec.type = columnType(c.type());
+    specs.push_back(spec);
+    used.push_back(&c);
+  }
+  Table out(specs);
+  std::vector<std::vector<double>> values;
+  for (const FitsColumn* c : used) values.push_back(fits.doubles(c->name));
+  const std::int64_t rows = fits.rows();
+  for (std::int64_t r = 0; r < rows; ++r) {
+    double* row = out.appendRow();
+    for (std::size_t c = 0; c < values.size(); ++c) row[c] = values[c][std::size_t(r)];
+  }
+  return out;
+}
+
+SimulationOutput readSimulationOutput(const std::string& path) {
+  const std::vector<std::string> tables = listFitsTables(path);
+  auto has = [&](const char* name) {
+    return std::find(tables.begin(), tables.end(), name) != tables.end();
+  };
+  if (!has("LDAC_OBJECTS") || !has("ARCS") || !has("LDAC_IMHEAD")) {
+    throw IoError(path +
+                  ": not an octarc simulate lenses output (it needs LDAC_IMHEAD, "
+                  "LDAC_OBJECTS and ARCS tables)");
+  }
+  const FitsTable systems = readFitsTable(path, "LDAC_OBJECTS");
+  if (!systems.findColumn("SYSTEM") || !systems.findColumn("ARC_FOUND")) {
+    throw IoError(path +
+                  ": not an octarc simulate lenses output (LDAC_OBJECTS has no SYSTEM "
+                  "and ARC_FOUND columns)");
+  }
+  const FitsHeader h = readLdacImageHeader(path);
+  if (!h.number("OCTNSYS")) {
+    throw IoError(path + ": not an octarc simulate lenses output (no OCTNSYS card)");
+  }
+  SimulationOutput out;
+  out.path = path;
+  out.systems = tableFromFits(systems);
+  out.arcs = tableFromFits(readFitsTable(path, "ARCS"));
+  if (out.systems.rows() == 0) throw IoError(path + ": the simulation holds no system");
+  SurveySetup& s = out.setup;
+  s.pixelScaleArcsec = card(h, "OCTPIXSC");
+  s.seeingFwhmArcsec = card(h, "OCTSEEIN");
+  s.gainElectronsPerAdu = card(h, "OCTGAIN");
+  s.skySigmaAdu = card(h, "OCTSKYSG");
+  s.minAreaPix = int(card(h, "OCTMINAR"));
+  s.seed = std::uint64_t(card(h, "OCTSEED"));
+  s.systems = std::int64_t(card(h, "OCTNSYS"));
+  s.populationFile = h.value("OCTSRCDB").value_or("");
+  // The levels are recorded by their count and ends; simulate lenses spaces them
+  // logarithmically (DETECT_NLEVELS), as octarc detect does.
+  const int levels = int(card(h, "OCTNLEV"));
+  const double lo = card(h, "OCTTHLO") / s.skySigmaAdu, hi = card(h, "OCTTHHI") / s.skySigmaAdu;
+  for (int k = 0; k < levels; ++k) {
+    s.thresholdsSigma.push_back(levels == 1 ? lo
+                                            : lo * std::pow(hi / lo, double(k) / (levels - 1)));
+  }
+  return out;
+}
+
+SimulationOutput combineSimulationOutputs(std::vector<SimulationOutput> outputs) {
+  if (outputs.empty()) throw ConfigError("no simulation output given");
+  SimulationOutput out = std::move(outputs.front());
+  for (std::size_t i = 1; i < outputs.size(); ++i) {
+    SimulationOutput& o = outputs[i];
+    const std::vector<std::string> differences = compareSetups(out.setup, o.setup);
+    if (!differences.empty()) {
+      throw ConfigError(o.path + ": simulated for another survey setup than " + out.path + " (" +
+                        differences.front() + ")");
+    }
+    for (Table* t : {&o.systems, &o.arcs}) {
+      Table& into = t == &o.systems ? out.systems : out.arcs;
+      if (t->rowWidth() != into.rowWidth()) {
+        throw ConfigError(o.path + ": its tables have other columns than " + out.path);
+      }
+      for (std::int64_t r = 0; r < t->rows(); ++r) {
+        std::copy_n(t->row(r), t->rowWidth(), into.appendRowUnset());
+      }
+    }
+    out.setup.systems += o.setup.systems;
+    out.path += "," + o.path;
+  }
+  return out;
+}
+
+}  // namespace octarc

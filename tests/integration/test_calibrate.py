@@ -1,0 +1,136 @@
+"""`octarc calibrate` on a `simulate lenses` output: its tables against the same quantities
+computed with numpy from the simulation's systems table, the grid file, the check-plots, and
+bad input (one-line errors, no output)."""
+import os
+import unittest
+
+import numpy as np
+from astropy.io import fits
+
+from octarc_testlib import SOURCE_DIR, WorkDirTest, run_octarc
+
+# A few thousand systems give some tens of arcs: enough for a 2-D grid.
+SYSTEMS = "3000"
+GRID = ["-GRID_AXES", "ARCNESS,E_IMAGE", "-GRID_LEVEL", "0.9"]
+QUICK_NOISE = ["-NOISE_REALISATIONS", "10", "-NOISE_SIZE", "128"]
+
+
+class Calibrate(WorkDirTest):
+
+    @classmethod
+    def setUpClass(cls):
+        cls.sim_dir = os.path.join(os.environ.get("TMPDIR", "/tmp"),
+                                   "octarc-calibrate-%d" % os.getpid())
+        os.makedirs(cls.sim_dir, exist_ok=True)
+        cls.sim = os.path.join(cls.sim_dir, "sim.fits")
+        run_octarc("simulate", "lenses", "-n", SYSTEMS, "--seed", "5", "-o", cls.sim, "--quiet")
+
+    @classmethod
+    def tearDownClass(cls):
+        for name in os.listdir(cls.sim_dir):
+            os.remove(os.path.join(cls.sim_dir, name))
+        os.rmdir(cls.sim_dir)
+
+    def calibrate(self, *args, check=True):
+        return run_octarc("calibrate", self.sim, "-CALIBRATION_NAME", self.path("cal.fits"),
+                          "-GRID_NAME", self.path("grid.fits"), *GRID, *QUICK_NOISE, *args,
+                          check=check, cwd=self.work)
+
+    def test_lensing_fractions_match_the_systems_table(self):
+        self.calibrate("-CHECKPLOT_TYPE", "NONE")
+        systems = fits.getdata(self.sim, "LDAC_OBJECTS")
+        arc = systems["ARC_FOUND"] == 1
+        n = arc.sum()
+        a, e, snr = systems["ARCNESS"][arc], systems["E_IMAGE"][arc], systems["SNR_ISO"][arc]
+        table = fits.getdata(self.path("cal.fits"), "LENSING_FRACTION")
+        self.assertEqual(fits.getheader(self.path("cal.fits"), "LENSING_FRACTION")["NARCSYS"], n)
+        self.assertEqual(len(table), 6)
+        for row in table:
+            hi = row["ARCNESS_HI"] if np.isfinite(row["ARCNESS_HI"]) else np.inf
+            inside = (a >= row["ARCNESS_LO"]) & (a < hi)
+            if row["DISTORTED"]:
+                inside &= (e > 0.6) & (snr > 40)
+            self.assertEqual(row["N_SYSTEMS"], inside.sum())
+            f = inside.sum() / n
+            self.assertAlmostEqual(row["FRACTION"], f, places=12)
+            self.assertAlmostEqual(row["FRACTION_ERR"], np.sqrt(f * (1 - f) / n), places=12)
+
+    def test_grid_holds_every_arc_and_its_binning_search(self):
+        self.calibrate("-CHECKPLOT_TYPE", "NONE")
+        systems = fits.getdata(self.sim, "LDAC_OBJECTS")
+        arcs = (systems["ARC_FOUND"] == 1).sum()
+        binning = fits.getheader(self.path("cal.fits"), "GRID_BINNING")
+        self.assertEqual(binning["NSAMPLES"], arcs)
+        grid = fits.open(self.path("grid.fits"))["OCC_GRID"]
+        self.assertEqual(grid.header["AXEXPR1"], "ARCNESS")
+        self.assertEqual(grid.header["AXBINS1"], binning["FINEST"])
+        # Every arc is in a bin, outside the axis ranges (their tails) or undefined.
+        h = grid.header
+        self.assertEqual(h["NBINNED"] + h["NOUTSIDE"] + h["NUNDEF"], arcs)
+        self.assertEqual(grid.data["COUNT"].sum(), h["NBINNED"])
+        self.assertGreaterEqual(h["PSELECT"], 0.9)
+        # The survey setup of the simulation is carried into the grid.
+        cell = fits.getdata(self.sim, "LDAC_IMHEAD")[0][0]
+        cards = fits.Header.fromstring("".join(c.ljust(80) for c in cell), sep="")
+        self.assertAlmostEqual(h["PIXSCALE"], cards["OCTPIXSC"], places=9)
+        self.assertAlmostEqual(h["SKYSIGMA"], cards["OCTSKYSG"], places=9)
+        self.assertEqual(h["MINAREA"], cards["OCTMINAR"])
+
+    def test_distributions_are_normalised_histograms_of_the_arcs(self):
+        self.calibrate("-CHECKPLOT_TYPE", "NONE", "-HISTOGRAM_NBINS", "20")
+        systems = fits.getdata(self.sim, "LDAC_OBJECTS")
+        sel = (systems["ARC_FOUND"] == 1) & (systems["E_IMAGE"] > 0.6) & (systems["SNR_ISO"] > 40)
+        dist = fits.getdata(self.path("cal.fits"), "DIST_ARCNESS")
+        counts, _ = np.histogram(systems["ARCNESS"][sel], bins=20, range=(0.0, 0.3))
+        np.testing.assert_allclose(dist["SIM_FRACTION"], counts / sel.sum(), rtol=0, atol=1e-12)
+
+    def test_noise_only_threshold_table(self):
+        self.calibrate("-CHECKPLOT_TYPE", "NONE")
+        noise = fits.open(self.path("cal.fits"))["NOISE_THRESHOLD"]
+        t = noise.header["NOISETHR"]
+        rows = noise.data
+        self.assertTrue(np.all(rows["N_WITH_OBJECTS"][rows["THRESHOLD"] >= t - 1e-9] == 0))
+        self.assertGreater(rows["N_WITH_OBJECTS"][rows["THRESHOLD"] < t - 1e-9][-1], 0)
+
+    def test_check_plots(self):
+        self.calibrate("-CHECKPLOT_TYPE", "ARCNESS,LENSING_FRACTION,NOISE_THRESHOLD",
+                       "-CHECKPLOT_NAME", "a,lf,noise", "-CHECKPLOT_RES", "640,480")
+        for name in ("a.png", "lf.png", "noise.png"):
+            with open(self.path(name), "rb") as f:
+                head = f.read(24)
+            self.assertEqual(head[:8], b"\x89PNG\r\n\x1a\n", name)
+            self.assertEqual(int.from_bytes(head[16:20], "big"), 640)
+            self.assertEqual(int.from_bytes(head[20:24], "big"), 480)
+        self.calibrate("-CHECKPLOT_TYPE", "GRID_BINNING", "-CHECKPLOT_NAME", "g",
+                       "-CHECKPLOT_DEV", "PDF")
+        with open(self.path("g.pdf"), "rb") as f:
+            self.assertEqual(f.read(5), b"%PDF-")
+
+    def assert_fails(self, proc, *fragments):
+        self.assertEqual(proc.returncode, 1, proc.stderr)
+        # Progress lines ("> ...") may come first; then the error, one line.
+        lines = [l for l in proc.stderr.splitlines() if l.strip() and not l.startswith("> ")]
+        self.assertEqual(len(lines), 1, proc.stderr)
+        for fragment in fragments:
+            self.assertIn(fragment, lines[0])
+        self.assertEqual(sorted(os.listdir(self.work)), [])
+
+    def test_bad_input(self):
+        not_sim = os.path.join(SOURCE_DIR, "testdata", "example.cat1.ldac")
+        self.assert_fails(run_octarc("calibrate", not_sim, check=False, cwd=self.work),
+                          not_sim, "not an octarc simulate lenses output")
+        self.assert_fails(self.calibrate("-SEARCH_CUT", "ARCNESS >", check=False),
+                          "search space")
+        self.assert_fails(self.calibrate("-SEARCH_CUT", "NO_SUCH_COLUMN > 1", check=False),
+                          "NO_SUCH_COLUMN")
+        self.assert_fails(self.calibrate("-SEARCH_CUT", "ARCNESS > 5", check=False),
+                          "no simulated row passes")
+        self.assert_fails(self.calibrate("-GRID_AXES", "ARCNESS,E_IMAGE,SKEW_MAJOR,SKEW_MINOR",
+                                         "-GRID_LEVEL", "0.999", "-GRID_NBINS", "20,30",
+                                         check=False),
+                          "connected")
+        self.assert_fails(self.calibrate("-CHECKPLOT_DEV", "XWIN", check=False), "CHECKPLOT_DEV")
+
+
+if __name__ == "__main__":
+    unittest.main()
