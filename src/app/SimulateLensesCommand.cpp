@@ -110,7 +110,7 @@ SourceDatabase sourceDatabase(const po::variables_map& vm) {
   galaxy.stampHalfLightRadii = vm["source-extent"].as<double>();
   if (!(galaxy.stampHalfLightRadii > 0)) throw ConfigError("--source-extent must be positive");
   // A database of its own seed stream, so that the same sources serve every master seed.
-  return SourceDatabase::synthetic(vm["sources"].as<int>(), 0x5EEDDA7AULL, galaxy);
+  return SourceDatabase::synthetic(vm["sources"].as<int>(), kSyntheticSourceSeed, galaxy);
 }
 
 }  // namespace

@@ -225,6 +225,30 @@ FitsTable noiseTable(const NoiseThresholdResult& n) {
   return t;
 }
 
+FitsTable thresholdCountTable(const ThresholdCountCurve& c) {
+  FitsTable t;
+  t.name = "THRESHOLD_COUNT";
+  std::vector<std::int64_t> levels, systems, arcs, with;
+  std::vector<double> fraction, sigma;
+  for (const ThresholdCountRow& r : c.rows) {
+    levels.push_back(r.levels);
+    systems.push_back(r.systems);
+    arcs.push_back(r.arcSystems);
+    with.push_back(r.withArcness);
+    fraction.push_back(r.fraction);
+    sigma.push_back(r.fractionSigma);
+  }
+  t.columns = {integers("NLEVELS", levels, "detection thresholds"),
+               integers("N_SYSTEMS", systems, "simulated systems"),
+               integers("N_ARC", arcs, "systems with an arc"),
+               integers("N_ARCNESS", with, "systems with an arc row above the arcness cut"),
+               doubles("FRACTION", fraction, "N_ARCNESS / N_SYSTEMS"),
+               doubles("FRACTION_ERR", sigma, "binomial sigma of FRACTION")};
+  t.keywords = {FitsKeyword::integer("FLATNLEV", c.flattensAtLevels,
+                                     "fewest levels within 1 sigma of the most tried")};
+  return t;
+}
+
 FitsTable binningTable(const BinningSearchResult& b, std::int64_t samples) {
   FitsTable t;
   t.name = "GRID_BINNING";
@@ -293,6 +317,9 @@ CalibrationResult calibrate(const SimulationOutput& simulation, const Table* sur
   }
   makeGrid(simulation, s, out);
   if (s.noise) out.noise = noiseOnlyThreshold(*s.noise);
+  if (s.thresholdCount) {
+    out.thresholdCount = thresholdCountCurve(resimulationOptions(simulation), *s.thresholdCount);
+  }
   return out;
 }
 
@@ -300,13 +327,14 @@ std::vector<FitsTable> calibrationTables(const CalibrationResult& r) {
   std::vector<FitsTable> tables = {fractionTable(r.fractions)};
   for (const Distribution& d : r.distributions) tables.push_back(distributionTable(d));
   if (r.noise) tables.push_back(noiseTable(*r.noise));
+  if (r.thresholdCount) tables.push_back(thresholdCountTable(*r.thresholdCount));
   tables.push_back(binningTable(r.binning, r.gridSamples));
   return tables;
 }
 
 std::vector<std::string> calibrationPlotTypes() {
-  return {"ARCNESS", "ANTIARCNESS",      "SKEW_MAJOR",      "SKEW_MINOR",  "E_IMAGE",
-          "SNR_ISO", "LENSING_FRACTION", "NOISE_THRESHOLD", "GRID_BINNING"};
+  return {"ARCNESS", "ANTIARCNESS",      "SKEW_MAJOR",      "SKEW_MINOR",      "E_IMAGE",
+          "SNR_ISO", "LENSING_FRACTION", "NOISE_THRESHOLD", "THRESHOLD_COUNT", "GRID_BINNING"};
 }
 
 Plot calibrationPlot(const CalibrationResult& r, const std::string& type) {
@@ -362,6 +390,24 @@ Plot calibrationPlot(const CalibrationResult& r, const std::string& type) {
       p.cuts.push_back({r.noise->noiseOnlyThresholdSigma,
                         "none from " + formatNumber(r.noise->noiseOnlyThresholdSigma, "%.2f")});
     }
+    return p;
+  }
+  if (type == "THRESHOLD_COUNT") {
+    if (!r.thresholdCount) throw ConfigError("CHECKPLOT_TYPE THRESHOLD_COUNT: the study is off");
+    p.title = "Arcs with ARCNESS > 0.10 against the number of thresholds";
+    p.xLabel = "number of detection thresholds";
+    p.yLabel = "fraction of simulated systems";
+    PlotSeries s;
+    s.label = "same systems, same lowest and highest threshold";
+    for (const ThresholdCountRow& row : r.thresholdCount->rows) {
+      s.x.push_back(row.levels);
+      s.y.push_back(row.fraction);
+      s.yLow.push_back(row.fraction - row.fractionSigma);
+      s.yHigh.push_back(row.fraction + row.fractionSigma);
+    }
+    p.series.push_back(s);
+    p.cuts.push_back({double(r.thresholdCount->flattensAtLevels),
+                      "flat from " + std::to_string(r.thresholdCount->flattensAtLevels)});
     return p;
   }
   if (type == "GRID_BINNING") {

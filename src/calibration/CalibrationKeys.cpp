@@ -48,7 +48,8 @@ std::vector<KeySpec> calibrationKeys() {
   for (const std::string& t : types) names.push_back(lower(t));
   KeySpec plotType = key("CHECKPLOT_TYPE", Kind::Keyword, types,
                          "ARCNESS, ANTIARCNESS, SKEW_MAJOR, SKEW_MINOR, E_IMAGE,\nSNR_ISO, "
-                         "LENSING_FRACTION, NOISE_THRESHOLD, GRID_BINNING\nor NONE",
+                         "LENSING_FRACTION, NOISE_THRESHOLD, THRESHOLD_COUNT,\nGRID_BINNING or "
+                         "NONE",
                          1, 16);
   plotType.keywords = types;
   plotType.keywords.push_back("NONE");
@@ -87,6 +88,14 @@ std::vector<KeySpec> calibrationKeys() {
                  "lowest and highest threshold tried and the step\n(sigma)", 3, 3),
              0, 1000),
       key("FILTER", Kind::Bool, {"Y"}, "filter the noise images as the survey's detection"),
+      key("THRESHOLD_STUDY", Kind::Bool, {"N"},
+          "simulate again for the threshold-count curve\n(THRESHOLD_SYSTEMS per count)"),
+      ranged(key("THRESHOLD_SYSTEMS", Kind::Int, {"3000"}, "systems per number of thresholds"), 1,
+             10000000),
+      ranged(key("THRESHOLD_NLEVELS", Kind::Int,
+                 {"1", "2", "3", "4", "5", "7", "10", "15", "20", "30"},
+                 "numbers of thresholds tried", 1, 64),
+             1, 255),
       key("FILTER_NAME", Kind::String, {"default.conv"}, "the survey's detection filter"),
       ranged(key("DETECT_MINAREA", Kind::Int, {"0"},
                  "DETECT_MINAREA of the noise study (0: the\nsimulation's)"),
@@ -150,6 +159,18 @@ CalibrationRun calibrationRunFromConfig(const sexcompat::Config& c,
     n.threads = c.getInt("NTHREADS");
     s.noise = n;
   }
+  if (c.getBool("THRESHOLD_STUDY")) {
+    ThresholdCountSettings t;
+    t.levelCounts = c.getInts("THRESHOLD_NLEVELS");
+    t.systems = c.getInt("THRESHOLD_SYSTEMS");
+    t.seed = simulation.setup.seed;
+    t.arcnessMin = 0.10;
+    t.threads = c.getInt("NTHREADS");
+    // The simulation's own sources when they came from a catalog that is still there.
+    const std::string& db = simulation.sourceDatabase;
+    if (!db.empty() && db.rfind("synthetic", 0) != 0) t.sourceDatabase = db;
+    s.thresholdCount = t;
+  }
   run.plotDevice = parsePlotDevice(c.getString("CHECKPLOT_DEV"));
   const std::vector<std::string> types = c.getStrings("CHECKPLOT_TYPE");
   const std::vector<std::string> names = c.getStrings("CHECKPLOT_NAME");
@@ -161,6 +182,7 @@ CalibrationRun calibrationRunFromConfig(const sexcompat::Config& c,
     }
     for (std::size_t i = 0; i < types.size(); ++i) {
       if (types[i] == "NOISE_THRESHOLD" && !s.noise) continue;
+      if (types[i] == "THRESHOLD_COUNT" && !s.thresholdCount) continue;
       run.plots.push_back({types[i], names[i] + plotFileSuffix(run.plotDevice)});
     }
   }

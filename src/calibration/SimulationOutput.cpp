@@ -95,15 +95,36 @@ SimulationOutput readSimulationOutput(const std::string& path) {
   s.seed = std::uint64_t(card(h, "OCTSEED"));
   s.systems = std::int64_t(card(h, "OCTNSYS"));
   s.populationFile = h.value("OCTSRCDB").value_or("");
+  out.sourceDatabase = s.populationFile;
+  out.magZeropoint = card(h, "OCTMAGZP");
   // The levels are recorded by their count and ends; simulate lenses spaces them
   // logarithmically (DETECT_NLEVELS), as octarc detect does.
   const int levels = int(card(h, "OCTNLEV"));
-  const double lo = card(h, "OCTTHLO") / s.skySigmaAdu, hi = card(h, "OCTTHHI") / s.skySigmaAdu;
+  // In sigma as configured (OCTSGLO/OCTSGHI); older outputs give them in ADU only.
+  const double lo = h.number("OCTSGLO").value_or(card(h, "OCTTHLO") / s.skySigmaAdu);
+  const double hi = h.number("OCTSGHI").value_or(card(h, "OCTTHHI") / s.skySigmaAdu);
   for (int k = 0; k < levels; ++k) {
     s.thresholdsSigma.push_back(levels == 1 ? lo
                                             : lo * std::pow(hi / lo, double(k) / (levels - 1)));
   }
   return out;
+}
+
+LensSetupOptions resimulationOptions(const SimulationOutput& sim) {
+  LensSetupOptions o;
+  const SurveySetup& s = sim.setup;
+  o.pixelScaleArcsec = s.pixelScaleArcsec;
+  o.seeingFwhmArcsec = s.seeingFwhmArcsec;
+  o.gainElectronPerAdu = s.gainElectronsPerAdu;
+  o.magZeropoint = sim.magZeropoint;
+  o.skySigmaAdu = s.skySigmaAdu;
+  if (!s.thresholdsSigma.empty()) {
+    o.detectThreshold = s.thresholdsSigma.front();
+    o.detectThresholdMax = s.thresholdsSigma.back();
+    o.detectLevelCount = int(s.thresholdsSigma.size());
+  }
+  if (s.minAreaPix > 0) o.minAreaPix = s.minAreaPix;
+  return o;
 }
 
 SimulationOutput combineSimulationOutputs(std::vector<SimulationOutput> outputs) {

@@ -45,7 +45,10 @@ std::string valueField(const CardValue& value) {
     return buffer;
   }
   if (const RealValue* r = std::get_if<RealValue>(&value)) {
-    std::snprintf(buffer, sizeof buffer, r->format == RealFormat::Fixed ? "%20.8f" : "%20.12E",
+    std::snprintf(buffer, sizeof buffer,
+                  r->format == RealFormat::Fixed       ? "%20.8f"
+                  : r->format == RealFormat::RoundTrip ? "%20.17G"
+                                                       : "%20.12E",
                   r->value);
     return buffer;
   }

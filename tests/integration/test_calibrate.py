@@ -92,6 +92,24 @@ class Calibrate(WorkDirTest):
         self.assertTrue(np.all(rows["N_WITH_OBJECTS"][rows["THRESHOLD"] >= t - 1e-9] == 0))
         self.assertGreater(rows["N_WITH_OBJECTS"][rows["THRESHOLD"] < t - 1e-9][-1], 0)
 
+    def test_threshold_count_study_remakes_the_simulation(self):
+        # At the simulation's own number of levels, with its seed and number of systems, the
+        # study simulates the same systems again: its counts are those of the input.
+        self.calibrate("-CHECKPLOT_TYPE", "THRESHOLD_COUNT", "-CHECKPLOT_NAME", "tc",
+                       "-NOISE_STUDY", "N", "-THRESHOLD_STUDY", "Y", "-THRESHOLD_SYSTEMS",
+                       SYSTEMS, "-THRESHOLD_NLEVELS", "3,15")
+        systems = fits.getdata(self.sim, "LDAC_OBJECTS")
+        arcs = fits.getdata(self.sim, "ARCS")
+        with_arcness = len(np.unique(arcs["SYSTEM"][arcs["ARCNESS"] > 0.10]))
+        curve = fits.getdata(self.path("cal.fits"), "THRESHOLD_COUNT")
+        self.assertEqual(list(curve["NLEVELS"]), [3, 15])
+        row = curve[1]
+        self.assertEqual(row["N_SYSTEMS"], len(systems))
+        self.assertEqual(row["N_ARC"], (systems["ARC_FOUND"] == 1).sum())
+        self.assertEqual(row["N_ARCNESS"], with_arcness)
+        self.assertAlmostEqual(row["FRACTION"], with_arcness / len(systems), places=12)
+        self.assertTrue(os.path.exists(self.path("tc.png")))
+
     def test_check_plots(self):
         self.calibrate("-CHECKPLOT_TYPE", "ARCNESS,LENSING_FRACTION,NOISE_THRESHOLD",
                        "-CHECKPLOT_NAME", "a,lf,noise", "-CHECKPLOT_RES", "640,480")

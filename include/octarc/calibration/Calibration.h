@@ -7,8 +7,7 @@
 //   --> calibrationTables() (FITS tables), calibrationPlots() (check-plots), the grid file
 //
 // Not yet here (METHOD.md section 3): the S/N floor (arcs rescaled to arcness 0.10 and
-// remeasured over noise realisations) and the fraction of arcs against the number of
-// thresholds, which need the simulations rerun.
+// remeasured over noise realisations).
 #pragma once
 
 #include <cstdint>
@@ -19,6 +18,7 @@
 #include "octarc/calibration/LensingFraction.h"
 #include "octarc/calibration/NoiseThreshold.h"
 #include "octarc/calibration/SimulationOutput.h"
+#include "octarc/calibration/ThresholdCount.h"
 #include "octarc/core/Table.h"
 #include "octarc/io/FitsTable.h"
 #include "octarc/plot/CheckPlot.h"
@@ -39,6 +39,8 @@ struct CalibrationSettings {
   double axisTailFraction = 0.001;
   int histogramBins = 40;
   std::optional<NoiseThresholdSettings> noise;  // the noise-only study, when wanted
+  // The threshold-count curve (simulates again), when wanted.
+  std::optional<ThresholdCountSettings> thresholdCount;
 };
 
 // A histogram normalised to the fraction of its values per bin.
@@ -66,6 +68,7 @@ struct CalibrationResult {
   LensingFractions fractions;
   std::vector<Distribution> distributions;
   std::optional<NoiseThresholdResult> noise;
+  std::optional<ThresholdCountCurve> thresholdCount;
   BinningSearchResult binning;
   std::int64_t gridSamples = 0;   // arcs in the search space the grid was filled with
   std::optional<SavedGrid> grid;  // always set by calibrate()
@@ -78,11 +81,12 @@ CalibrationResult calibrate(const SimulationOutput& simulation, const Table* sur
                             const CalibrationSettings& settings);
 
 // The tables of the calibration file: LENSING_FRACTION, one DIST_<name> per distribution,
-// NOISE_THRESHOLD (when run) and GRID_BINNING (every binning tried).
+// NOISE_THRESHOLD and THRESHOLD_COUNT (when run) and GRID_BINNING (every binning tried).
 std::vector<FitsTable> calibrationTables(const CalibrationResult& result);
 
 // The check-plots, by CHECKPLOT_TYPE: ARCNESS, ANTIARCNESS, SKEW_MAJOR, SKEW_MINOR, E_IMAGE,
-// SNR_ISO (the distributions), LENSING_FRACTION, NOISE_THRESHOLD, GRID_BINNING.
+// SNR_ISO (the distributions), LENSING_FRACTION, NOISE_THRESHOLD, THRESHOLD_COUNT,
+// GRID_BINNING.
 std::vector<std::string> calibrationPlotTypes();
 // The plot of one type; ConfigError for an unknown type, or NOISE_THRESHOLD without the study.
 Plot calibrationPlot(const CalibrationResult& result, const std::string& type);

@@ -9,6 +9,7 @@
 
 #include "octarc/core/Table.h"
 #include "octarc/selection/SurveySetup.h"
+#include "octarc/simulation/engine/LensSetup.h"
 
 namespace octarc {
 
@@ -19,6 +20,8 @@ struct SimulationOutput {
   Table systems;     // one row per simulated system
   Table arcs;        // one row per arc row
   SurveySetup setup;
+  double magZeropoint = 0.0;   // OCTMAGZP
+  std::string sourceDatabase;  // OCTSRCDB: "synthetic (N galaxies)" or a catalog path
 };
 
 // Reads a simulate-lenses output. IoError naming the file when it is not one (no LDAC_OBJECTS
@@ -29,6 +32,11 @@ SimulationOutput readSimulationOutput(const std::string& path);
 // (selection/SurveySetup.h, compareSetups) or their columns do; the seed of the first is kept
 // and the systems added up.
 SimulationOutput combineSimulationOutputs(std::vector<SimulationOutput> outputs);
+
+// The lens-simulation options that remake the survey of `simulation` (pixel scale, seeing, gain,
+// zero point, sky noise, the lowest and highest level, DETECT_MINAREA) with the shipped
+// population: what studies that rerun the simulations start from.
+LensSetupOptions resimulationOptions(const SimulationOutput& simulation);
 
 // A FITS table's scalar numeric columns as a Table (values as double; vector and string columns
 // are left out).

@@ -12,6 +12,7 @@ namespace octarc {
 enum class RealFormat {
   Exponential,  // "%20.12E", e.g. "  1.000000000000E+00" (SEXBKGND, SEXGAIN...)
   Fixed,        // "%20.8f",  e.g. "          2.50000000" (SEXELAPS, SEXMGZPT...)
+  RoundTrip,    // "%20.17G": the double itself reads back (values a later run reuses)
 };
 
 struct RealValue {

@@ -168,6 +168,13 @@ LensRun runLensSimulation(const SimulationSetup& setup, const SourceDatabase& so
 std::vector<std::string> lensRunCards(const LensRun& run, const SimulationSetup& setup,
                                       const SourceDatabase& sources, std::uint64_t seed) {
   const simulation::ObservingSetup& obs = setup.observing;
+  // A setup made by hand may give its levels in ADU only.
+  const double loSigma = setup.thresholdsSigma.empty()
+                             ? setup.thresholdsAdu.front() / obs.skySigmaAdu
+                             : setup.thresholdsSigma.front();
+  const double hiSigma = setup.thresholdsSigma.empty()
+                             ? setup.thresholdsAdu.back() / obs.skySigmaAdu
+                             : setup.thresholdsSigma.back();
   return {
       formatCard("OCTSEED", std::int64_t(seed), "Master seed of the simulation"),
       formatCard("OCTNSYS", run.systems.rows(), "Simulated systems"),
@@ -176,12 +183,17 @@ std::vector<std::string> lensRunCards(const LensRun& run, const SimulationSetup&
                  "Pixel scale (arcsec)"),
       formatCard("OCTSEEIN", RealValue(obs.seeingFwhmArcsec, RealFormat::Fixed),
                  "PSF FWHM (arcsec)"),
-      formatCard("OCTSKYSG", RealValue(obs.skySigmaAdu), "Sky noise sigma (ADU)"),
+      formatCard("OCTSKYSG", RealValue(obs.skySigmaAdu, RealFormat::RoundTrip),
+                 "Sky noise sigma (ADU)"),
       formatCard("OCTGAIN", RealValue(obs.gainElectronsPerAdu), "Gain (e-/ADU)"),
       formatCard("OCTMAGZP", RealValue(obs.magZeroPoint, RealFormat::Fixed), "Zero point"),
       formatCard("OCTNLEV", std::int64_t(setup.thresholdsAdu.size()), "Detection levels"),
-      formatCard("OCTTHLO", RealValue(setup.thresholdsAdu.front()), "Lowest level (ADU)"),
-      formatCard("OCTTHHI", RealValue(setup.thresholdsAdu.back()), "Highest level (ADU)"),
+      formatCard("OCTTHLO", RealValue(setup.thresholdsAdu.front(), RealFormat::RoundTrip),
+                 "Lowest level (ADU)"),
+      formatCard("OCTTHHI", RealValue(setup.thresholdsAdu.back(), RealFormat::RoundTrip),
+                 "Highest level (ADU)"),
+      formatCard("OCTSGLO", RealValue(loSigma, RealFormat::RoundTrip), "Lowest level (sky sigma)"),
+      formatCard("OCTSGHI", RealValue(hiSigma, RealFormat::RoundTrip), "Highest level (sky sigma)"),
       formatCard("OCTMINAR", std::int64_t(setup.minAreaPix), "DETECT_MINAREA"),
       formatCard("OCTSRCDB", sources.description().substr(0, 60), "Source database"),
       formatCard("OCTREDRW", run.redraws, "Lens-source pairs redrawn (no source redshift)"),

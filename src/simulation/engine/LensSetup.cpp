@@ -88,6 +88,7 @@ void setLevels(const LensSetupOptions& o, SimulationSetup& setup) {
     const double adu = relative ? l * setup.observing.skySigmaAdu : l;
     if (!(adu > 0)) throw ConfigError("detection thresholds must be positive");
     setup.thresholdsAdu.push_back(adu);
+    setup.thresholdsSigma.push_back(relative ? l : l / setup.observing.skySigmaAdu);
   }
   setup.minAreaPix = minArea;
 }

@@ -50,6 +50,9 @@ struct SimulationSetup {
   // Detection levels in ADU, strictly increasing (the survey's thresholds times sky sigma:
   // a stamp has no background to estimate, its noise sigma is known exactly).
   std::vector<double> thresholdsAdu;
+  // The same levels as the configuration gives them, in units of the sky sigma (recorded in
+  // the output, so that a later run can remake the levels exactly).
+  std::vector<double> thresholdsSigma;
   int minAreaPix = 5;                // DETECT_MINAREA
   std::optional<ConvKernel> filter;  // FILTER Y: the .conv kernel; empty for FILTER N
   double saturationAdu = 50000.0;    // SATUR_LEVEL (FLAGS bit 4)
@@ -99,6 +102,10 @@ struct LensSystemDraw {
 
 // Lens-source pairs one system may redraw before the population is declared unusable.
 constexpr int kMaxSystemRedraws = 1000;
+
+// The seed stream of the synthetic source database of `simulate lenses`: its own, so that the
+// same sources serve every master seed.
+constexpr std::uint64_t kSyntheticSourceSeed = 0x5EEDDA7AULL;
 
 // CPU seconds spent per stage (summed over systems and threads).
 struct StageTimings {
