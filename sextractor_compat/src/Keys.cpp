@@ -3,58 +3,22 @@
 #include <algorithm>
 #include <string>
 
+#include "octarc/sexcompat/KeyRow.h"
+
 namespace octarc::sexcompat {
 namespace {
 
 using Kind = KeySpec::Kind;
 
-constexpr double kBig = 1e30;            // SExtractor's "BIG"
+constexpr double kBig = KeyRow::kBig;    // SExtractor's "BIG"
 constexpr int kMaxList = 2048;           // longest list SExtractor accepts
 constexpr int kMaxApertures = 32;        // MAG_APER / FLUX_RADIUS list length
 constexpr int kMaxCheckImages = 17;      // CHECKIMAGE_TYPE / CHECKIMAGE_NAME
 constexpr int kMaxFlagImages = 4;        // FLAG_IMAGE / FLAG_TYPE
 constexpr int kMaxImages = 2;            // detection + measurement image
 constexpr double kMaxPicSize = 1048576;  // largest image side
-constexpr const char* kIgnored = " (ignored by octarc)";
 
-// Builder for the table rows below.
-struct Row {
-  KeySpec spec;
-  Row(const char* name, Kind kind, std::vector<std::string> defaults, std::string comment) {
-    spec.name = name;
-    spec.kind = kind;
-    spec.defaults = std::move(defaults);
-    spec.comment = std::move(comment);
-    if (kind == Kind::Int || kind == Kind::Float) {
-      spec.minValue = -kBig;
-      spec.maxValue = kBig;
-    }
-  }
-  Row& range(double lo, double hi) {
-    spec.minValue = lo;
-    spec.maxValue = hi;
-    return *this;
-  }
-  Row& list(int lo, int hi) {
-    spec.minCount = lo;
-    spec.maxCount = hi;
-    return *this;
-  }
-  Row& keywords(std::vector<std::string> k) {
-    spec.keywords = std::move(k);
-    return *this;
-  }
-  Row& expert() {
-    spec.expertOnly = true;
-    return *this;
-  }
-  Row& ignored() {
-    const auto eol = spec.comment.find('\n');
-    spec.comment.insert(eol == std::string::npos ? spec.comment.size() : eol, kIgnored);
-    return *this;
-  }
-  operator KeySpec() const { return spec; }  // NOLINT: table syntax
-};
+using Row = KeyRow;
 
 std::vector<KeySpec> buildSextractorKeys() {
   // clang-format off

@@ -9,6 +9,7 @@
 #include "octarc/selection/GridBinning.h"
 #include "octarc/selection/SearchSpace.h"
 #include "octarc/sexcompat/ConvFile.h"
+#include "octarc/sexcompat/KeyRow.h"
 
 namespace octarc {
 
@@ -17,23 +18,7 @@ namespace {
 using sexcompat::KeySpec;
 using Kind = KeySpec::Kind;
 
-KeySpec key(const char* name, Kind kind, std::vector<std::string> defaults, const char* comment,
-            int minCount = 1, int maxCount = 1) {
-  KeySpec k;
-  k.name = name;
-  k.kind = kind;
-  k.defaults = std::move(defaults);
-  k.comment = comment;
-  k.minCount = minCount;
-  k.maxCount = maxCount;
-  return k;
-}
-
-KeySpec ranged(KeySpec k, double lo, double hi) {
-  k.minValue = lo;
-  k.maxValue = hi;
-  return k;
-}
+using Row = sexcompat::KeyRow;
 
 std::string lower(std::string s) {
   for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -46,68 +31,71 @@ std::vector<KeySpec> calibrationKeys() {
   std::vector<std::string> types = calibrationPlotTypes();
   std::vector<std::string> names;
   for (const std::string& t : types) names.push_back(lower(t));
-  KeySpec plotType = key("CHECKPLOT_TYPE", Kind::Keyword, types,
+  KeySpec plotType = Row("CHECKPLOT_TYPE", Kind::Keyword, types,
                          "ARCNESS, ANTIARCNESS, SKEW_MAJOR, SKEW_MINOR, E_IMAGE,\nSNR_ISO, "
                          "LENSING_FRACTION, NOISE_THRESHOLD, THRESHOLD_COUNT,\nGRID_BINNING or "
-                         "NONE",
-                         1, 16);
+                         "NONE")
+                         .list(1, 16);
   plotType.keywords = types;
   plotType.keywords.push_back("NONE");
-  KeySpec device = key("CHECKPLOT_DEV", Kind::Keyword, {"PNG"}, "PNG, PDF, SVG, PSC or EPSC");
+  KeySpec device = Row("CHECKPLOT_DEV", Kind::Keyword, {"PNG"}, "PNG, PDF, SVG, PSC or EPSC");
   device.keywords = {"PNG", "PDF", "SVG", "PSC", "EPSC"};
-  KeySpec verbose = key("VERBOSE_TYPE", Kind::Keyword, {"NORMAL"}, "QUIET or NORMAL");
+  KeySpec verbose = Row("VERBOSE_TYPE", Kind::Keyword, {"NORMAL"}, "QUIET or NORMAL");
   verbose.keywords = {"QUIET", "NORMAL"};
   return {
-      key("CALIBRATION_NAME", Kind::String, {"calibration.fits"}, "the calibration tables (FITS)"),
-      key("GRID_NAME", Kind::String, {"arcs.grid.fits"}, "the occupation-probability grid (FITS)"),
-      key("SEARCH_NAME", Kind::String, {}, "name of the search space of the grid", 0, 1),
-      key("SEARCH_CUT", Kind::String, {},
+      Row("CALIBRATION_NAME", Kind::String, {"calibration.fits"}, "the calibration tables (FITS)"),
+      Row("GRID_NAME", Kind::String, {"arcs.grid.fits"}, "the occupation-probability grid (FITS)"),
+      Row("SEARCH_NAME", Kind::String, {}, "name of the search space of the grid").list(0, 1),
+      Row("SEARCH_CUT", Kind::String, {},
           "its cut on the simulated arcs' columns (no commas),\ne.g. ARCNESS > 0.15 && E_IMAGE "
-          "> 0.6; empty: every arc",
-          0, 256),
-      key("GRID_AXES", Kind::String, defaultAxisExpressions(),
-          "the grid's axes: expressions on the columns", 1, 8),
-      ranged(key("GRID_LEVEL", Kind::Float, {"0.99"}, "contour level P of the grid"), 1e-6, 1),
-      ranged(key("GRID_NBINS", Kind::Int, {"2", "30"},
-                 "fewest and most bins per axis tried by the binning\nsearch", 2, 2),
-             2, 1000),
-      ranged(key("GRID_TAIL", Kind::Float, {"0.001"},
-                 "fraction left out at each end of an axis range"),
-             0, 0.499),
-      ranged(key("HISTOGRAM_NBINS", Kind::Int, {"40"}, "bins of the distributions"), 1, 10000),
-      ranged(key("ELLIP_MIN", Kind::Float, {"0.6"}, "e cut of the distorted arcs (E_IMAGE >)"), 0,
-             1),
-      ranged(key("SNR_MIN", Kind::Float, {"40"}, "S/N cut of reliable arcness (SNR_ISO >)"), 0,
-             1e30),
-      key("SURVEY_CATALOG", Kind::String, {},
-          "octarc detect catalog (FITS_LDAC) for the data side\nof the distributions", 0, 1),
-      key("NOISE_STUDY", Kind::Bool, {"Y"}, "find the noise-only threshold"),
-      ranged(key("NOISE_REALISATIONS", Kind::Int, {"100"}, "noise images"), 1, 100000),
-      ranged(key("NOISE_SIZE", Kind::Int, {"512"}, "side of each noise image, pixels"), 16, 16384),
-      ranged(key("NOISE_THRESH", Kind::Float, {"0.5", "8", "0.02"},
-                 "lowest and highest threshold tried and the step\n(sigma)", 3, 3),
-             0, 1000),
-      key("FILTER", Kind::Bool, {"Y"}, "filter the noise images as the survey's detection"),
-      key("THRESHOLD_STUDY", Kind::Bool, {"N"},
+          "> 0.6; empty: every arc")
+          .list(0, 256),
+      Row("GRID_AXES", Kind::String, defaultAxisExpressions(),
+          "the grid's axes: expressions on the columns")
+          .list(1, 8),
+      Row("GRID_LEVEL", Kind::Float, {"0.99"}, "contour level P of the grid").range(1e-6, 1),
+      Row("GRID_NBINS", Kind::Int, {"2", "30"},
+          "fewest and most bins per axis tried by the binning\nsearch")
+          .list(2, 2)
+          .range(2, 1000),
+      Row("GRID_TAIL", Kind::Float, {"0.001"}, "fraction left out at each end of an axis range")
+          .range(0, 0.499),
+      Row("HISTOGRAM_NBINS", Kind::Int, {"40"}, "bins of the distributions").range(1, 10000),
+      Row("ELLIP_MIN", Kind::Float, {"0.6"}, "e cut of the distorted arcs (E_IMAGE >)").range(0, 1),
+      Row("SNR_MIN", Kind::Float, {"40"}, "S/N cut of reliable arcness (SNR_ISO >)").range(0, 1e30),
+      Row("SURVEY_CATALOG", Kind::String, {},
+          "octarc detect catalog (FITS_LDAC) for the data side\nof the distributions")
+          .list(0, 1),
+      Row("NOISE_STUDY", Kind::Bool, {"Y"}, "find the noise-only threshold"),
+      Row("NOISE_REALISATIONS", Kind::Int, {"100"}, "noise images").range(1, 100000),
+      Row("NOISE_SIZE", Kind::Int, {"512"}, "side of each noise image, pixels").range(16, 16384),
+      Row("NOISE_THRESH", Kind::Float, {"0.5", "8", "0.02"},
+          "lowest and highest threshold tried and the step\n(sigma)")
+          .list(3, 3)
+          .range(0, 1000),
+      Row("FILTER", Kind::Bool, {"Y"}, "filter the noise images as the survey's detection"),
+      Row("THRESHOLD_STUDY", Kind::Bool, {"N"},
           "simulate again for the threshold-count curve\n(THRESHOLD_SYSTEMS per count)"),
-      ranged(key("THRESHOLD_SYSTEMS", Kind::Int, {"3000"}, "systems per number of thresholds"), 1,
-             10000000),
-      ranged(key("THRESHOLD_NLEVELS", Kind::Int,
-                 {"1", "2", "3", "4", "5", "7", "10", "15", "20", "30"},
-                 "numbers of thresholds tried", 1, 64),
-             1, 255),
-      key("FILTER_NAME", Kind::String, {"default.conv"}, "the survey's detection filter"),
-      ranged(key("DETECT_MINAREA", Kind::Int, {"0"},
-                 "DETECT_MINAREA of the noise study (0: the\nsimulation's)"),
-             0, 1000000),
+      Row("THRESHOLD_SYSTEMS", Kind::Int, {"3000"}, "systems per number of thresholds")
+          .range(1, 10000000),
+      Row("THRESHOLD_NLEVELS", Kind::Int, {"1", "2", "3", "4", "5", "7", "10", "15", "20", "30"},
+          "numbers of thresholds tried")
+          .list(1, 64)
+          .range(1, 255),
+      Row("FILTER_NAME", Kind::String, {"default.conv"}, "the survey's detection filter"),
+      Row("DETECT_MINAREA", Kind::Int, {"0"},
+          "DETECT_MINAREA of the noise study (0: the\nsimulation's)")
+          .range(0, 1000000),
       plotType,
-      key("CHECKPLOT_NAME", Kind::String, names,
-          "check-plot file names (the device adds the suffix)", 1, 16),
+      Row("CHECKPLOT_NAME", Kind::String, names,
+          "check-plot file names (the device adds the suffix)")
+          .list(1, 16),
       device,
-      ranged(key("CHECKPLOT_RES", Kind::Int, {"800", "600"}, "check-plot size, pixels", 2, 2), 64,
-             10000),
+      Row("CHECKPLOT_RES", Kind::Int, {"800", "600"}, "check-plot size, pixels")
+          .list(2, 2)
+          .range(64, 10000),
       verbose,
-      ranged(key("NTHREADS", Kind::Int, {"0"}, "number of threads (0 = all cores)"), 0, 1024),
+      Row("NTHREADS", Kind::Int, {"0"}, "number of threads (0 = all cores)").range(0, 1024),
   };
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <string>
 
+#include "octarc/sexcompat/KeyRow.h"
 #include "octarc/sexcompat/Keys.h"
 
 namespace octarc {
@@ -13,33 +14,9 @@ namespace {
 
 using Kind = KeySpec::Kind;
 
-constexpr double kBig = 1e30;  // SExtractor's "BIG"
+constexpr double kBig = sexcompat::KeyRow::kBig;
 
-// Builder for the table rows below.
-struct Row {
-  KeySpec spec;
-  Row(const char* name, Kind kind, std::vector<std::string> defaults, std::string comment) {
-    spec.name = name;
-    spec.kind = kind;
-    spec.defaults = std::move(defaults);
-    spec.comment = std::move(comment);
-    if (kind == Kind::Int || kind == Kind::Float) {
-      spec.minValue = -kBig;
-      spec.maxValue = kBig;
-    }
-  }
-  Row& range(double lo, double hi) {
-    spec.minValue = lo;
-    spec.maxValue = hi;
-    return *this;
-  }
-  Row& list(int lo, int hi) {
-    spec.minCount = lo;
-    spec.maxCount = hi;
-    return *this;
-  }
-  operator KeySpec() const { return spec; }  // NOLINT: table syntax
-};
+using Row = sexcompat::KeyRow;
 
 KeySpec* findIn(std::vector<KeySpec>& keys, const std::string& name) {
   auto it =
