@@ -73,6 +73,15 @@ void printSummary(const CalibrationRun& run, const CalibrationResult& r) {
         run.settings.noise->realisations, run.settings.noise->sizePix,
         run.settings.noise->minAreaPix);
   }
+  if (r.thresholdCount) {
+    std::printf("Arcs with ARCNESS > 0.10 against the number of thresholds (%lld systems each):\n",
+                static_cast<long long>(run.settings.thresholdCount->systems));
+    for (const ThresholdCountRow& row : r.thresholdCount->rows) {
+      std::printf("  %3d levels  %.4f +- %.4f\n", row.levels, row.fraction, row.fractionSigma);
+    }
+    std::printf("  flat (within 1 sigma of the most levels) from %d levels\n",
+                r.thresholdCount->flattensAtLevels);
+  }
   std::printf(
       "Occupation grid: %lld arcs, %d bins per axis (finest connected at P = %g), "
       "%lld of %lld occupied bins selected\n",
