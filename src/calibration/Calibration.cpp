@@ -203,11 +203,14 @@ FitsTable distributionTable(const Distribution& d) {
                doubles("SIM_FRACTION", d.simulated.fraction, "fraction of simulated arcs")};
   t.keywords = {FitsKeyword::text("VALUE", d.column, "what is histogrammed"),
                 FitsKeyword::text("SELECT", d.selection, "the rows taken"),
-                FitsKeyword::integer("NSIM", d.simulated.values, "simulated arcs")};
+                FitsKeyword::integer("NSIM", d.simulated.values, "simulated arcs"),
+                FitsKeyword::integer("NSIMOUT", d.simulated.outside, "of them outside the bins")};
   if (d.survey) {
     t.columns.push_back(
         doubles("SURVEY_FRACTION", d.survey->fraction, "fraction of survey objects"));
     t.keywords.push_back(FitsKeyword::integer("NSURVEY", d.survey->values, "survey objects"));
+    t.keywords.push_back(
+        FitsKeyword::integer("NSURVOUT", d.survey->outside, "of them outside the bins"));
   }
   return t;
 }
@@ -293,15 +296,21 @@ Histogram normalisedHistogram(const std::vector<double>& values, double lo, doub
   for (int k = 0; k <= bins; ++k) h.edges.push_back(lo + (hi - lo) * k / bins);
   h.fraction.assign(std::size_t(bins), 0.0);
   std::vector<std::int64_t> counts(std::size_t(bins), 0);
+  std::int64_t inside = 0;
   for (double v : values) {
     if (!std::isfinite(v)) continue;
     ++h.values;
     if (v < lo || v >= hi) continue;
-    const int k = std::min(bins - 1, int(std::floor((v - lo) / (hi - lo) * bins)));
+    // The bin whose printed edges hold v: floor() first, then the edges decide.
+    int k = std::clamp(int(std::floor((v - lo) / (hi - lo) * bins)), 0, bins - 1);
+    if (v < h.edges[std::size_t(k)] && k > 0) --k;
+    if (v >= h.edges[std::size_t(k) + 1] && k + 1 < bins) ++k;
     ++counts[std::size_t(k)];
+    ++inside;
   }
+  h.outside = h.values - inside;
   for (int k = 0; k < bins; ++k) {
-    h.fraction[std::size_t(k)] = h.values > 0 ? double(counts[std::size_t(k)]) / h.values : 0.0;
+    h.fraction[std::size_t(k)] = inside > 0 ? double(counts[std::size_t(k)]) / inside : 0.0;
   }
   return h;
 }

@@ -73,7 +73,9 @@ std::vector<KeySpec> calibrationKeys() {
           "lowest and highest threshold tried and the step\n(sigma)")
           .list(3, 3)
           .range(0, 1000),
-      Row("FILTER", Kind::Bool, {"Y"}, "filter the noise images as the survey's detection"),
+      Row("FILTER", Kind::Bool, {"N"},
+          "filter the noise images as the survey's detection\n(octarc.sex and simulate lenses: N)"),
+      Row("NOISE_SEED", Kind::Int, {"1"}, "seed of the noise images").range(0, 2147483647),
       Row("THRESHOLD_STUDY", Kind::Bool, {"N"},
           "simulate again for the threshold-count curve\n(THRESHOLD_SYSTEMS per count)"),
       Row("THRESHOLD_SYSTEMS", Kind::Int, {"3000"}, "systems per number of thresholds")
@@ -145,6 +147,8 @@ CalibrationRun calibrationRunFromConfig(const sexcompat::Config& c,
       n.filter = sexcompat::readConvFile(resolveFilterFile(c.getString("FILTER_NAME")));
     }
     n.threads = c.getInt("NTHREADS");
+    n.seed = std::uint64_t(c.getInt("NOISE_SEED"));
+    checkNoiseThresholdSettings(n);  // before any work
     s.noise = n;
   }
   if (c.getBool("THRESHOLD_STUDY")) {
@@ -161,10 +165,16 @@ CalibrationRun calibrationRunFromConfig(const sexcompat::Config& c,
   }
   run.plotDevice = parsePlotDevice(c.getString("CHECKPLOT_DEV"));
   const std::vector<std::string> types = c.getStrings("CHECKPLOT_TYPE");
-  const std::vector<std::string> names = c.getStrings("CHECKPLOT_NAME");
+  // Names pair with types by position when given; otherwise each plot is named after its type.
+  std::vector<std::string> names;
+  if (c.isExplicit("CHECKPLOT_NAME")) {
+    names = c.getStrings("CHECKPLOT_NAME");
+  } else {
+    for (const std::string& t : types) names.push_back(lower(t));
+  }
   const bool none = std::find(types.begin(), types.end(), "NONE") != types.end();
   if (!none) {
-    if (names.size() < types.size()) {
+    if (names.size() != types.size()) {
       throw ConfigError("CHECKPLOT_NAME: " + std::to_string(names.size()) + " names for " +
                         std::to_string(types.size()) + " CHECKPLOT_TYPE values");
     }

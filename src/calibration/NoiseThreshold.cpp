@@ -18,13 +18,17 @@ constexpr std::size_t kMaxLevelsPerPass = 255;
 
 }  // namespace
 
-NoiseThresholdResult noiseOnlyThreshold(const NoiseThresholdSettings& s) {
+void checkNoiseThresholdSettings(const NoiseThresholdSettings& s) {
   if (s.sizePix < 16) throw ConfigError("NOISE_SIZE: must be at least 16 pixels");
   if (s.realisations < 1) throw ConfigError("NOISE_REALISATIONS: must be at least 1");
   if (s.minAreaPix < 1) throw ConfigError("DETECT_MINAREA: must be at least 1");
   if (!(s.stepSigma > 0) || !(s.hiSigma > s.loSigma) || !(s.loSigma > 0)) {
     throw ConfigError("NOISE_THRESH: give 0 < lowest < highest and a positive step");
   }
+}
+
+NoiseThresholdResult noiseOnlyThreshold(const NoiseThresholdSettings& s) {
+  checkNoiseThresholdSettings(s);
   NoiseThresholdResult out;
   for (int k = 0;; ++k) {
     const double t = s.loSigma + k * s.stepSigma;

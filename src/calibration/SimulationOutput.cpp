@@ -78,8 +78,12 @@ SimulationOutput readSimulationOutput(const std::string& path) {
                   "and ARC_FOUND columns)");
   }
   const FitsHeader h = readLdacImageHeader(path);
-  if (!h.number("OCTNSYS")) {
-    throw IoError(path + ": not an octarc simulate lenses output (no OCTNSYS card)");
+  for (const char* key : {"OCTNSYS", "OCTSEED", "OCTPIXSC", "OCTSEEIN", "OCTGAIN", "OCTSKYSG",
+                          "OCTMAGZP", "OCTNLEV", "OCTTHLO", "OCTTHHI", "OCTMINAR"}) {
+    if (!h.number(key)) {
+      throw IoError(path + ": not an octarc simulate lenses output (no numeric " + key +
+                    " card in its LDAC_IMHEAD)");
+    }
   }
   SimulationOutput out;
   out.path = path;
@@ -94,8 +98,8 @@ SimulationOutput readSimulationOutput(const std::string& path) {
   s.minAreaPix = int(card(h, "OCTMINAR"));
   s.seed = std::uint64_t(card(h, "OCTSEED"));
   s.systems = std::int64_t(card(h, "OCTNSYS"));
-  s.populationFile = h.value("OCTSRCDB").value_or("");
-  out.sourceDatabase = s.populationFile;
+  // The population file is not recorded (the grid's POPFILE stays empty); the sources are.
+  out.sourceDatabase = h.value("OCTSRCDB").value_or("");
   out.magZeropoint = card(h, "OCTMAGZP");
   // The levels are recorded by their count and ends; simulate lenses spaces them
   // logarithmically (DETECT_NLEVELS), as octarc detect does.
@@ -130,8 +134,15 @@ LensSetupOptions resimulationOptions(const SimulationOutput& sim) {
 SimulationOutput combineSimulationOutputs(std::vector<SimulationOutput> outputs) {
   if (outputs.empty()) throw ConfigError("no simulation output given");
   SimulationOutput out = std::move(outputs.front());
+  std::vector<std::uint64_t> seeds = {out.setup.seed};
   for (std::size_t i = 1; i < outputs.size(); ++i) {
     SimulationOutput& o = outputs[i];
+    // The same systems twice would be counted twice.
+    if (std::find(seeds.begin(), seeds.end(), o.setup.seed) != seeds.end()) {
+      throw ConfigError(o.path + ": simulated with seed " + std::to_string(o.setup.seed) +
+                        " as an output given before: the same systems would count twice");
+    }
+    seeds.push_back(o.setup.seed);
     const std::vector<std::string> differences = compareSetups(out.setup, o.setup);
     if (!differences.empty()) {
       throw ConfigError(o.path + ": simulated for another survey setup than " + out.path + " (" +
@@ -139,7 +150,11 @@ SimulationOutput combineSimulationOutputs(std::vector<SimulationOutput> outputs)
     }
     for (Table* t : {&o.systems, &o.arcs}) {
       Table& into = t == &o.systems ? out.systems : out.arcs;
-      if (t->rowWidth() != into.rowWidth()) {
+      bool sameColumns = t->columns().size() == into.columns().size();
+      for (std::size_t c = 0; sameColumns && c < into.columns().size(); ++c) {
+        sameColumns = t->columns()[c].name == into.columns()[c].name;
+      }
+      if (!sameColumns || t->rowWidth() != into.rowWidth()) {
         throw ConfigError(o.path + ": its tables have other columns than " + out.path);
       }
       for (std::int64_t r = 0; r < t->rows(); ++r) {

@@ -1,5 +1,6 @@
 #include "octarc/calibration/ThresholdCount.h"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -20,7 +21,12 @@ ThresholdCountCurve thresholdCountCurve(const LensSetupOptions& survey,
           ? SourceDatabase::synthetic(s.syntheticSources, kSyntheticSourceSeed, galaxy)
           : SourceDatabase::fromRealGalaxyCatalog(s.sourceDatabase);
   ThresholdCountCurve curve;
-  for (const int n : s.levelCounts) {
+  std::vector<int> counts = s.levelCounts;
+  std::sort(counts.begin(), counts.end());
+  counts.erase(std::unique(counts.begin(), counts.end()), counts.end());
+  std::vector<std::set<std::int64_t>> found(counts.size());  // per count: systems with an arc
+  for (std::size_t i = 0; i < counts.size(); ++i) {
+    const int n = counts[i];
     if (n < 1 || n > 255) throw ConfigError("THRESHOLD_NLEVELS: every count must be in 1..255");
     LensSetupOptions o = survey;
     o.detectLevelCount = n;
@@ -33,23 +39,29 @@ ThresholdCountCurve thresholdCountCurve(const LensSetupOptions& survey,
     row.arcSystems = run.systemsWithArc;
     const int system = run.arcs.findColumn("SYSTEM");
     const int arcness = run.arcs.findColumn("ARCNESS");
-    std::set<std::int64_t> found;
     for (std::int64_t r = 0; r < run.arcs.rows(); ++r) {
       if (run.arcs.value(r, arcness) > s.arcnessMin) {
-        found.insert(std::int64_t(run.arcs.value(r, system)));
+        found[i].insert(std::int64_t(run.arcs.value(r, system)));
       }
     }
-    row.withArcness = std::int64_t(found.size());
+    row.withArcness = std::int64_t(found[i].size());
     row.fraction = double(row.withArcness) / double(row.systems);
     row.fractionSigma = std::sqrt(row.fraction * (1.0 - row.fraction) / double(row.systems));
     curve.rows.push_back(row);
   }
+  // Flat from the fewest levels whose fraction is within one sigma of the most levels' fraction,
+  // the sigma of a paired difference (the same systems): sqrt(n01 + n10) / N, n01 and n10 the
+  // systems found with one number of levels and not the other.
   if (!curve.rows.empty()) {
-    const ThresholdCountRow& last = curve.rows.back();
-    for (const ThresholdCountRow& r : curve.rows) {
-      const double sigma = std::hypot(r.fractionSigma, last.fractionSigma);
-      if (last.fraction - r.fraction <= sigma) {
-        curve.flattensAtLevels = r.levels;
+    const std::set<std::int64_t>& most = found.back();
+    for (std::size_t i = 0; i < curve.rows.size(); ++i) {
+      std::int64_t onlyMost = 0, onlyThis = 0;
+      for (std::int64_t id : most) onlyMost += found[i].count(id) ? 0 : 1;
+      for (std::int64_t id : found[i]) onlyThis += most.count(id) ? 0 : 1;
+      const double n = double(curve.rows[i].systems);
+      const double difference = double(onlyMost - onlyThis) / n;
+      if (difference <= std::sqrt(double(onlyMost + onlyThis)) / n) {
+        curve.flattensAtLevels = curve.rows[i].levels;
         break;
       }
     }

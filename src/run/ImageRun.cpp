@@ -5,6 +5,7 @@
 #include <limits>
 #include <utility>
 
+#include "octarc/core/Error.h"
 #include "octarc/core/Parallel.h"
 #include "octarc/detection/Filter.h"
 #include "octarc/run/MeasurementQueue.h"
@@ -92,6 +93,7 @@ ImageRunResult detectAndMeasure(PreparedImage& image, const MeasurementPlan& pla
   auto restoreVariance = [&]() {
     if (scaleIsVariance) return;
     if (image.varianceFiltered) {
+      if (!settings) throw Error("detectAndMeasure: a filtered variance needs the run's settings");
       image.reloadVariance(*settings);
     } else {
       rmsToVariance(image.variance);
@@ -148,9 +150,8 @@ std::vector<std::int64_t> countObjects(const ImageF& detectionImage,
                                        const DetectionRequest& request) {
   DetectionSettings detection = detectionSettings(request);
   detection.footprintRuns = true;
-  return detectMultiThreshold(detectionImage, detection, [](std::vector<Segment>& objects) {
-    objects.clear();
-  });
+  return detectMultiThreshold(detectionImage, detection,
+                              [](std::vector<Segment>& objects) { objects.clear(); });
 }
 
 }  // namespace octarc

@@ -198,6 +198,7 @@ std::vector<CatalogPart> MeasurementRunResult::parts() const {
 
 std::vector<AppendedColumns> MeasurementRunResult::appendedColumns(
     std::size_t level, const ColumnPlan& columns, const InputCatalogs& catalogs) const {
+  if (!append) throw Error("appendedColumns: the run did not append to its input catalogs");
   std::vector<AppendedColumns> out;
   for (std::size_t e = 0; e < extensions.size(); ++e) {
     const MeasuredExtension& x = extensions[e];

@@ -82,7 +82,10 @@ class Calibrate(WorkDirTest):
         sel = (systems["ARC_FOUND"] == 1) & (systems["E_IMAGE"] > 0.6) & (systems["SNR_ISO"] > 40)
         dist = fits.getdata(self.path("cal.fits"), "DIST_ARCNESS")
         counts, _ = np.histogram(systems["ARCNESS"][sel], bins=20, range=(0.0, 0.3))
-        np.testing.assert_allclose(dist["SIM_FRACTION"], counts / sel.sum(), rtol=0, atol=1e-12)
+        np.testing.assert_allclose(dist["SIM_FRACTION"], counts / counts.sum(), rtol=0, atol=1e-12)
+        header = fits.getheader(self.path("cal.fits"), "DIST_ARCNESS")
+        self.assertEqual(header["NSIM"], sel.sum())
+        self.assertEqual(header["NSIMOUT"], sel.sum() - counts.sum())
 
     def test_noise_only_threshold_table(self):
         self.calibrate("-CHECKPLOT_TYPE", "NONE")
@@ -133,6 +136,11 @@ class Calibrate(WorkDirTest):
             self.assertIn(fragment, lines[0])
         self.assertEqual(sorted(os.listdir(self.work)), [])
 
+    def test_check_plot_names_follow_their_types(self):
+        self.calibrate("-CHECKPLOT_TYPE", "LENSING_FRACTION", "-NOISE_STUDY", "N")
+        self.assertTrue(os.path.exists(self.path("lensing_fraction.png")))
+        self.assertFalse(os.path.exists(self.path("arcness.png")))
+
     def test_bad_input(self):
         not_sim = os.path.join(SOURCE_DIR, "testdata", "example.cat1.ldac")
         self.assert_fails(run_octarc("calibrate", not_sim, check=False, cwd=self.work),
@@ -148,6 +156,12 @@ class Calibrate(WorkDirTest):
                                          check=False),
                           "connected")
         self.assert_fails(self.calibrate("-CHECKPLOT_DEV", "XWIN", check=False), "CHECKPLOT_DEV")
+        self.assert_fails(self.calibrate("-CHECKPLOT_TYPE", "ARCNESS,E_IMAGE", "-CHECKPLOT_NAME",
+                                         "one", check=False), "CHECKPLOT_NAME")
+        self.assert_fails(self.calibrate("-NOISE_THRESH", "3,2,0.1", check=False), "NOISE_THRESH")
+        # The same simulation twice would count its systems twice.
+        self.assert_fails(run_octarc("calibrate", self.sim, self.sim, check=False, cwd=self.work),
+                          "seed", "twice")
 
 
 if __name__ == "__main__":

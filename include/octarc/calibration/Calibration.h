@@ -43,13 +43,16 @@ struct CalibrationSettings {
   std::optional<ThresholdCountSettings> thresholdCount;
 };
 
-// A histogram normalised to the fraction of its values per bin.
+// A histogram normalised over the values inside its range: the fractions sum to 1 (when any
+// value is inside); the values outside are counted apart.
 struct Histogram {
   std::vector<double> edges;     // bins + 1, increasing
-  std::vector<double> fraction;  // per bin, sums to the fraction of values inside [lo, hi)
+  std::vector<double> fraction;  // per bin
   std::int64_t values = 0;       // finite values given
+  std::int64_t outside = 0;      // of them, outside [lo, hi)
 };
-// `bins` equal bins on [lo, hi); NaN values are not counted.
+// `bins` equal bins on [lo, hi); NaN values are not counted. A value exactly on a printed edge
+// is in the bin that edge opens.
 Histogram normalisedHistogram(const std::vector<double>& values, double lo, double hi, int bins);
 
 // One distribution of METHOD.md section 3: a column of the simulated arcs (and of the survey

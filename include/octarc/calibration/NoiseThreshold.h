@@ -41,5 +41,7 @@ struct NoiseThresholdResult {
 // ConfigError for settings out of range (size < 16, realisations < 1, MINAREA < 1, an empty
 // ladder or one of more than 100000 rungs).
 NoiseThresholdResult noiseOnlyThreshold(const NoiseThresholdSettings& settings);
+// The same checks alone.
+void checkNoiseThresholdSettings(const NoiseThresholdSettings& settings);
 
 }  // namespace octarc

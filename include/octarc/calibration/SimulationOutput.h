@@ -29,8 +29,8 @@ struct SimulationOutput {
 SimulationOutput readSimulationOutput(const std::string& path);
 
 // Several outputs as one: rows appended in order. ConfigError when their survey setups differ
-// (selection/SurveySetup.h, compareSetups) or their columns do; the seed of the first is kept
-// and the systems added up.
+// (selection/SurveySetup.h, compareSetups), their columns do, or two have the same seed (the
+// same systems); the seed of the first is kept and the systems added up.
 SimulationOutput combineSimulationOutputs(std::vector<SimulationOutput> outputs);
 
 // The lens-simulation options that remake the survey of `simulation` (pixel scale, seeing, gain,

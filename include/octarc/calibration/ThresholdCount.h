@@ -3,8 +3,14 @@
 // (METHOD.md section 3): the systems are simulated again, with the same seed, for each number of
 // levels, so the curve compares the same systems.
 //
-// Where it flattens: the smallest number of levels whose fraction is within one binomial sigma
-// (of the difference) of the fraction at the largest number tried.
+// Where it flattens: the smallest number of levels whose fraction is within one sigma of the
+// fraction at the largest number tried, the sigma of the paired difference (the same systems):
+// sqrt(n01 + n10) / N, n01 and n10 the systems found with one count and not the other. The
+// counts are tried in increasing order, each once.
+//
+// The systems are those of the simulation only when it used the survey its header records and
+// simulate lenses' defaults otherwise (population file, source database, magnitude and sigma_v
+// ranges, lens light, stamp and ray tracing): the header does not record those.
 #pragma once
 
 #include <cstdint>

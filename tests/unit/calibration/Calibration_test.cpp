@@ -76,9 +76,15 @@ TEST(NormalisedHistogram, FractionsOfTheFiniteValues) {
   ASSERT_EQ(h.edges.size(), 4u);
   EXPECT_DOUBLE_EQ(h.edges[3], 0.3);
   EXPECT_EQ(h.values, 5);  // the NaN is not a value; 1.5 is, outside the range
-  EXPECT_DOUBLE_EQ(h.fraction[0], 0.2);
-  EXPECT_DOUBLE_EQ(h.fraction[1], 0.4);
-  EXPECT_DOUBLE_EQ(h.fraction[2], 0.2);
+  EXPECT_EQ(h.outside, 1);
+  EXPECT_DOUBLE_EQ(h.fraction[0], 0.25);
+  EXPECT_DOUBLE_EQ(h.fraction[1], 0.5);
+  EXPECT_DOUBLE_EQ(h.fraction[2], 0.25);
+  // A value on a printed edge is in the bin the edge opens, whatever the rounding of floor().
+  const Histogram e = normalisedHistogram({0.1, 0.2}, 0.0, 0.3, 3);
+  EXPECT_DOUBLE_EQ(e.fraction[0], 0.0);
+  EXPECT_DOUBLE_EQ(e.fraction[1], 0.5);
+  EXPECT_DOUBLE_EQ(e.fraction[2], 0.5);
 }
 
 // Without a filter and with DETECT_MINAREA 1, the noise-only threshold is the first rung at or
