@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
   // The population file of the source tree (this program is not installed).
   const PopulationModel population =
       readPopulationModel(OCTARC_SOURCE_DIR "/params/simulation/population.txt");
-  const std::vector<double> psf = gaussianPsfKernel1d(0.9, 0.257);
+  const std::vector<double> psf = gaussianPsfKernel1d(0.9, 0.257, PsfSampling::PointSampled);
 
   // A database of 30 synthetic sources, made once (like reading a catalog).
   std::vector<SourceStamp> database;
