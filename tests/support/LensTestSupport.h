@@ -63,4 +63,29 @@ inline simulation::Vec2 solveLensEquation(const simulation::EllipticalPotentialL
   return theta;
 }
 
+// The number of images of a point source at beta for a coreless lens, found independently of
+// any caustic: along each direction u the deflection alpha(u) does not depend on the radius, so
+// theta = r u is an image when beta + alpha(u) = r u with r > 0, i.e. at the zeros of
+// u x (beta + alpha(u)) where u . (beta + alpha(u)) > 0. Sign changes on `steps` directions.
+inline int countImagesCoreless(const simulation::EllipticalPotentialLens& lens,
+                               const simulation::Vec2& beta, int steps = 20000) {
+  auto cross = [&](double phi, double* along) {
+    const simulation::Vec2 u{std::cos(phi), std::sin(phi)};
+    const simulation::Vec2 a = lens.deflectionArcsec(u);
+    *along = u[0] * (beta[0] + a[0]) + u[1] * (beta[1] + a[1]);
+    return u[0] * (beta[1] + a[1]) - u[1] * (beta[0] + a[0]);
+  };
+  int images = 0;
+  double along = 0.0;
+  double previous = cross(0.0, &along);
+  for (int k = 1; k <= steps; ++k) {
+    double alongHere = 0.0;
+    const double here = cross(2.0 * 3.14159265358979323846 * k / steps, &alongHere);
+    if ((previous < 0.0) != (here < 0.0) && along + alongHere > 0.0) ++images;
+    previous = here;
+    along = alongHere;
+  }
+  return images;
+}
+
 }  // namespace octarc::test

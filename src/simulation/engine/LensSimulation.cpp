@@ -12,6 +12,7 @@
 #include "octarc/run/ImageRun.h"
 #include "octarc/run/Levels.h"
 #include "octarc/simulation/LensModel.h"
+#include "octarc/simulation/MultipleImageRegion.h"
 #include "octarc/simulation/RealGalaxyCatalog.h"
 #include "octarc/simulation/Seeds.h"
 
@@ -151,7 +152,10 @@ LensSystemDraw drawLensSystem(const SimulationSetup& setup, const SourceDatabase
   sys.light.axisRatio = 1.0 - d.lensEllipticity;
   sys.light.positionAngleRad = paRad;
   sys.lensMag = d.lens.mag;
-  sys.source.betaArcsec = sim::drawUniformInDisc(d.einsteinRadiusArcsec, rng);
+  // Uniform over the whole multiply-imaged region (bounded by the cut, which reaches beyond
+  // theta_E along the minor axis, not by the Einstein circle), so every system is strongly
+  // lensed.
+  sys.source.betaArcsec = sim::MultipleImageRegion(sys.mass).drawUniform(rng);
   sys.source.rotationRad = 2.0 * std::numbers::pi * unit(rng);
   // Resizing by pixel scale: the stamp keeps its pixels, each now covers more or less sky.
   sys.source.pixelScaleArcsec =

@@ -7,9 +7,11 @@
 #include <iterator>
 #include <set>
 
+#include "LensTestSupport.h"
 #include "TestPaths.h"
-#include "octarc/core/Error.h"
 #include "octarc/app/Commands.h"
+#include "octarc/core/Error.h"
+#include "octarc/simulation/MultipleImageRegion.h"
 #include "octarc/simulation/Seeds.h"
 
 namespace octarc {
@@ -157,14 +159,29 @@ TEST(SimulateSystem, EachIndexIsReproducibleOnItsOwn) {
   EXPECT_EQ(d.lens.sigmaKmPerS, a.draw.lens.sigmaKmPerS);
   EXPECT_EQ(d.source.redshift, a.draw.source.redshift);
   EXPECT_EQ(d.system.source.betaArcsec, a.draw.system.source.betaArcsec);
-  // The source lies inside the Einstein radius, behind the lens, within the sigma cuts.
-  EXPECT_LE(std::hypot(d.system.source.betaArcsec[0], d.system.source.betaArcsec[1]),
-            d.einsteinRadiusArcsec);
+  // The source lies inside the multiple-image region, behind the lens, within the sigma cuts.
+  EXPECT_TRUE(sim::MultipleImageRegion(d.system.mass).contains(d.system.source.betaArcsec));
   EXPECT_GT(d.source.redshift, d.lens.redshift);
   EXPECT_GT(d.lens.sigmaKmPerS, 250.0);
   EXPECT_LT(d.lens.sigmaKmPerS, 400.0);
   // Another index, another system.
   EXPECT_NE(drawLensSystem(setup, sources, std::uint64_t(99), 6).lens.mag, d.lens.mag);
+}
+
+// Every drawn system is strongly lensed: its source has at least two images (counted from the
+// lens equation), and the region beyond theta_E inside the cut is drawn too.
+TEST(DrawLensSystem, EverySourceHasAtLeastTwoImages) {
+  const SimulationSetup setup = testSetup();
+  const SourceDatabase sources = testSources();
+  int beyondEinsteinRadius = 0;
+  for (std::int64_t i = 0; i < 1000; ++i) {
+    const LensSystemDraw d = drawLensSystem(setup, sources, std::uint64_t(21), i);
+    const sim::Vec2 beta = d.system.source.betaArcsec;
+    ASSERT_GE(test::countImagesCoreless(sim::EllipticalPotentialLens(d.system.mass), beta), 2)
+        << "system " << i;
+    if (std::hypot(beta[0], beta[1]) > d.einsteinRadiusArcsec) ++beyondEinsteinRadius;
+  }
+  EXPECT_GT(beyondEinsteinRadius, 0);
 }
 
 TEST(DrawLensSystem, PairsWithoutASourceRedshiftAreRedrawnReproducibly) {

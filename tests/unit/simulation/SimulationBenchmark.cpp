@@ -16,6 +16,7 @@
 #include "octarc/simulation/LensLight.h"
 #include "octarc/simulation/LensModel.h"
 #include "octarc/simulation/LensSystem.h"
+#include "octarc/simulation/MultipleImageRegion.h"
 #include "octarc/simulation/Noise.h"
 #include "octarc/simulation/Population.h"
 #include "octarc/simulation/Psf.h"
@@ -80,7 +81,7 @@ int main(int argc, char** argv) {
     sys.mass = {b, potentialEllipticityFromLight(lightE), 0.0, pa};
     sys.light = {4.0, 0.5 + unit(rng), 1.0 - lightE, pa, 0.0};
     sys.lensMag = lensDraw.mag;
-    sys.source.betaArcsec = drawUniformInDisc(b, rng);
+    sys.source.betaArcsec = MultipleImageRegion(sys.mass).drawUniform(rng);
     sys.source.rotationRad = 2.0 * std::numbers::pi * unit(rng);
     sys.source.pixelScaleArcsec = src.pixelScaleArcsec * srcDraw.halfLightArcsec / databaseRh[pick];
     sys.sourceMag = srcDraw.mag;

@@ -112,8 +112,8 @@ struct StageTimings {
 // The population draw of system `index`: lens (magnitude, redshift, sigma_v by Faber-Jackson
 // within the sigma cuts), lens light shape, source (database pick, magnitude, size, redshift
 // behind the lens; a pair with no possible source redshift is redrawn, counted in `redraws`,
-// ConfigError after kMaxSystemRedraws), Einstein radius, source position uniform inside it,
-// random rotation.
+// ConfigError after kMaxSystemRedraws), Einstein radius, source position uniform inside the
+// multiply-imaged region of the lens (simulation/MultipleImageRegion.h), random rotation.
 // Reads the first values of `rng`, which must be systemRng(masterSeed, index).
 LensSystemDraw drawLensSystem(const SimulationSetup& setup, const SourceDatabase& sources,
                               std::int64_t index, std::mt19937_64& rng);
