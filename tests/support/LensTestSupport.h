@@ -2,8 +2,10 @@
 // numerically (the reference the analytic and ray-traced images are checked against).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
+#include <vector>
 
 #include "octarc/core/Image.h"
 #include "octarc/simulation/LensModel.h"
@@ -86,6 +88,28 @@ inline int countImagesCoreless(const simulation::EllipticalPotentialLens& lens,
     along = alongHere;
   }
   return images;
+}
+
+// Kolmogorov-Smirnov distance between a sample and a CDF.
+template <typename Cdf>
+double ksDistance(std::vector<double> sample, Cdf cdf) {
+  std::sort(sample.begin(), sample.end());
+  double d = 0.0;
+  const double n = double(sample.size());
+  for (std::size_t i = 0; i < sample.size(); ++i) {
+    const double f = cdf(sample[i]);
+    d = std::max({d, std::abs(f - double(i) / n), std::abs(double(i + 1) / n - f)});
+  }
+  return d;
+}
+
+// Integral of f on [a, b] by Simpson's rule on n (even) intervals.
+template <typename F>
+double simpson(F f, double a, double b, int n = 2000) {
+  const double h = (b - a) / n;
+  double s = f(a) + f(b);
+  for (int i = 1; i < n; ++i) s += (i % 2 ? 4.0 : 2.0) * f(a + i * h);
+  return s * h / 3.0;
 }
 
 }  // namespace octarc::test

@@ -114,24 +114,32 @@ LensSystemDraw drawLensSystem(const SimulationSetup& setup, const SourceDatabase
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   LensSystemDraw d;
   d.index = index;
-  // A lens and source the relations cannot combine (no source redshift behind this lens at the
-  // drawn magnitude) are drawn again, from the same stream, so the run stays reproducible.
-  for (;;) {
-    d.lens = setup.population.drawLens(setup.cosmology, rng);
+  // Rejection sampling from one stream, so the run stays reproducible whatever the threads.
+  const sim::PopulationModel& pop = setup.population;
+  for (std::int64_t attempt = 0;; ++attempt) {
+    if (attempt >= pop.maxLensAttempts) {
+      throw ConfigError(pop.sourcePath + ": lens.max_attempts: no lens-source pair kept in " +
+                        std::to_string(pop.maxLensAttempts) + " draws of system " +
+                        std::to_string(index) +
+                        " (lens magnitude window, sigma range and source redshifts)");
+    }
+    const std::optional<sim::LensDraw> lens = pop.drawLens(setup.cosmology, rng);
+    if (!lens) {
+      ++d.rejections;
+      continue;
+    }
+    d.lens = *lens;
     d.sourceIndex = std::uniform_int_distribution<std::size_t>(0, sources.size() - 1)(rng);
     const std::optional<sim::SourceDraw> source =
-        setup.population.drawSource(sources.stamp(d.sourceIndex).type, d.lens.redshift, rng);
-    if (source) {
-      d.source = *source;
-      break;
+        pop.drawSource(sources.stamp(d.sourceIndex).type, rng);
+    if (!source) {
+      ++d.redraws;
+      continue;
     }
-    if (++d.redraws >= kMaxSystemRedraws) {
-      throw ConfigError(setup.population.sourcePath +
-                        ": source.z: the magnitude-redshift "
-                        "relations give no source redshift behind the lens in " +
-                        std::to_string(kMaxSystemRedraws) + " draws of system " +
-                        std::to_string(index));
-    }
+    d.source = *source;
+    const double weight = pop.lensingWeight(d.lens.redshift, d.source.redshift, setup.cosmology);
+    if (unit(rng) < weight) break;
+    ++d.rejections;
   }
   const sim::SourceStamp& stamp = sources.stamp(d.sourceIndex);
   d.einsteinRadiusArcsec = sim::sisEinsteinRadiusArcsec(d.lens.sigmaKmPerS, d.lens.redshift,
@@ -161,6 +169,7 @@ LensSystemDraw drawLensSystem(const SimulationSetup& setup, const SourceDatabase
   sys.source.pixelScaleArcsec =
       stamp.pixelScaleArcsec * d.source.halfLightArcsec / sources.halfLightArcsec(d.sourceIndex);
   sys.sourceMag = d.source.mag;
+  d.skipped = d.einsteinRadiusArcsec < pop.skipEinsteinRadiusBelowArcsec;
   return d;
 }
 
@@ -278,6 +287,13 @@ SimulatedSystem simulateSystem(const SimulationSetup& setup, const SourceDatabas
   SimulatedSystem out;
   out.draw = drawLensSystem(setup, sources, index, rng);
   if (timings) timings->drawSec += threadCpuSec() - t0;
+  if (out.draw.skipped) {
+    // Cannot give an arc beyond the separation limit: counted, not rendered.
+    out.objects = Table(measuredColumns());
+    out.magnification = std::nan("");
+    if (keepImage) out.image = ImageF(setup.observing.grid.width, setup.observing.grid.height);
+    return out;
+  }
 
   sim::RenderTimings render;
   const sim::RenderedLensSystem rendered =

@@ -66,11 +66,15 @@ int main(int argc, char** argv) {
     const double t0 = threadCpuMs();
     auto rng = systemRng(master, i);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
-    const LensDraw lensDraw = population.drawLens(cosmo, rng);
+    const std::optional<LensDraw> lensDrawn = population.drawLens(cosmo, rng);
+    if (!lensDrawn) continue;  // outside the lens magnitude window: the engine draws again
+    const LensDraw& lensDraw = *lensDrawn;
     const std::size_t pick = std::uniform_int_distribution<std::size_t>(0, 29)(rng);
     const SourceStamp& src = database[pick];
-    const std::optional<SourceDraw> drawn = population.drawSource(src.type, lensDraw.redshift, rng);
-    if (!drawn) continue;  // no source redshift behind this lens: the engine redraws the pair
+    const std::optional<SourceDraw> drawn = population.drawSource(src.type, rng);
+    // No source redshift, or a source not behind the lens: the engine draws the pair again.
+    if (!drawn || population.lensingWeight(lensDraw.redshift, drawn->redshift, cosmo) <= 0.0)
+      continue;
     const SourceDraw& srcDraw = *drawn;
     const double b =
         sisEinsteinRadiusArcsec(lensDraw.sigmaKmPerS, lensDraw.redshift, srcDraw.redshift, cosmo);
