@@ -17,6 +17,7 @@ namespace octarc::simulation {
 namespace {
 
 constexpr int kMaxRedshiftDraws = 1000;
+constexpr double kMaxRedshift = 20.0;
 
 std::string trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t\r");
@@ -212,6 +213,10 @@ void checkPopulationModel(const PopulationModel& m, double maxAttempts) {
       fail(std::string("source.z.") + galaxyTypeName(type) + ".scatter", "must be >= 0");
   if (!(m.lensZMin > 0.0 && m.lensZMin < m.lensZMax))
     fail("lens.z_min", "must be > 0 and less than lens.z_max");
+  // The distances are integrated up to these redshifts for every draw: keep them where the
+  // cosmology is accurate (and the integration short).
+  if (!(m.sourceZMax <= kMaxRedshift)) fail("source.z_max", "must be at most 20");
+  if (!(m.lensZMax <= kMaxRedshift)) fail("lens.z_max", "must be at most 20");
   if (!(m.fjSigmaStarKmPerS > 0.0)) fail("lens.fj.sigma_star_km_s", "must be positive");
   if (m.fjScatterMag < 0.0) fail("lens.fj.scatter_mag", "must be >= 0");
   if (!(m.sigmaMinKmPerS > 0.0 && m.sigmaMinKmPerS < m.sigmaMaxKmPerS))

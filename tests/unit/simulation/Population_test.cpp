@@ -183,6 +183,8 @@ TEST(PopulationModel, BadFilesGiveOneLineErrorsNamingFileAndKey) {
   EXPECT_EQ(msg.find('\n'), std::string::npos);
   msg = readError(editedDefault("lens.sigma_max_km_s", "lens.sigma_max_km_s = 90"));
   EXPECT_NE(msg.find("key lens.sigma_min_km_s"), std::string::npos) << msg;
+  msg = readError(editedDefault("lens.z_max", "lens.z_max = 1e300"));
+  EXPECT_NE(msg.find("key lens.z_max: must be at most 20"), std::string::npos) << msg;
   msg = readError(editedDefault("lens.vdf.beta", "lens.vdf.beta = 0"));
   EXPECT_NE(msg.find("key lens.vdf.beta: must be positive"), std::string::npos) << msg;
   msg = readError(editedDefault("lens.z_min", "lens.zmin = 0.1"));
