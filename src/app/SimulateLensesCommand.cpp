@@ -67,8 +67,11 @@ po::options_description lensOptions(LensSetupOptions& o) {
     ("sources", po::value<int>()->default_value(90), "number of synthetic source galaxies")
     ("source-extent", po::value<double>()->default_value(4.0),
      "synthetic source stamp radius in half-light radii")
-    ("population", po::value(&o.populationPath), "population relations file "
-     "(default: simulation/population.txt of octarc's data directory, share/octarc)")
+    ("preset", po::value(&o.populationPreset)->value_name("NAME"), "lens population preset: "
+     "physical (the default: a measured velocity dispersion function, cross-section weighted) "
+     "or dls (the paper's Deep Lens Survey ranges)")
+    ("population", po::value(&o.populationPath), "population relations file, instead of a "
+     "preset (share/octarc/simulation/population*.txt)")
     ("threads", po::value<int>()->default_value(0), "worker threads (0 = all cores)")
     ("stamps", po::value<std::string>(), "also write the stamps of the first systems (FITS cube)")
     ("stamp-count", po::value<int>()->default_value(10), "systems in the stamps file")
@@ -85,12 +88,12 @@ po::options_description lensOptions(LensSetupOptions& o) {
     ("thresh-max", optionalValue(o.detectThresholdMax), "highest level, sigma (default 20)")
     ("nlevels", optionalValue(o.detectLevelCount), "number of levels (default 15)")
     ("minarea", optionalValue(o.minAreaPix), "DETECT_MINAREA, pixels (default 5)")
-    ("lens-mag-min", optionalValue(o.lensMagMin), "lens magnitude range (population file: 21)")
-    ("lens-mag-max", optionalValue(o.lensMagMax), "(population file: 23)")
-    ("source-mag-min", optionalValue(o.sourceMagMin), "source magnitude range (population file: 22)")
-    ("source-mag-max", optionalValue(o.sourceMagMax), "(population file: 25)")
-    ("sigma-min", optionalValue(o.sigmaMinKmPerS), "velocity dispersion cut, km/s (population file: 250)")
-    ("sigma-max", optionalValue(o.sigmaMaxKmPerS), "(population file: 400)")
+    ("lens-mag-min", optionalValue(o.lensMagMin), "lens magnitude window (default: the population file's)")
+    ("lens-mag-max", optionalValue(o.lensMagMax), "")
+    ("source-mag-min", optionalValue(o.sourceMagMin), "source magnitude range (default: the population file's)")
+    ("source-mag-max", optionalValue(o.sourceMagMax), "")
+    ("sigma-min", optionalValue(o.sigmaMinKmPerS), "velocity dispersion window, km/s (default: the population file's)")
+    ("sigma-max", optionalValue(o.sigmaMaxKmPerS), "")
     ("lens-e-max", po::value(&o.lensEllipticityMax)->default_value(0.5), "largest lens light ellipticity")
     ("lens-rhalf-min", po::value(&o.lensHalfLightMinArcsec)->default_value(0.5), "lens half-light radius range, arcsec")
     ("lens-rhalf-max", po::value(&o.lensHalfLightMaxArcsec)->default_value(1.5), "")

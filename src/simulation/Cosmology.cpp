@@ -75,4 +75,9 @@ double FlatLambdaCdm::distanceModulusMag(double z) const {
   return 5.0 * std::log10(luminosityDistanceMpc(z) * 1e5);
 }
 
+double FlatLambdaCdm::comovingVolumePerRedshiftMpc3PerSr(double z) const {
+  const double dc = comovingDistanceMpc(z);
+  return hubbleDistanceMpc() * dc * dc / hubbleRatio(z);
+}
+
 }  // namespace octarc::simulation

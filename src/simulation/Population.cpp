@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <set>
@@ -16,6 +17,7 @@ namespace octarc::simulation {
 namespace {
 
 constexpr int kMaxRedshiftDraws = 1000;
+constexpr double kMaxRedshift = 20.0;
 
 std::string trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t\r");
@@ -64,8 +66,84 @@ double LinearTable::operator()(double xValue) const {
   return y[i - 1] + t * (y[i] - y[i - 1]);
 }
 
-std::optional<SourceDraw> PopulationModel::drawSource(GalaxyType type, double zLens,
-                                                      std::mt19937_64& rng) const {
+double VelocityDispersionFunction::density(double sigmaKmPerS) const {
+  if (!(sigmaKmPerS > 0.0)) return 0.0;
+  const double x = sigmaKmPerS / sigmaStarKmPerS;
+  return phiStarH3PerMpc3 * std::pow(x, alpha) * std::exp(-std::pow(x, beta)) * beta /
+         std::tgamma(alpha / beta) / sigmaKmPerS;
+}
+
+std::optional<double> VelocityDispersionFunction::sampleWeighted(double power, double lo, double hi,
+                                                                 int maxDraws,
+                                                                 std::mt19937_64& rng) const {
+  // phi(sigma) sigma^p dsigma is proportional to x^((alpha + p)/beta - 1) e^-x dx for
+  // x = (sigma/sigma*)^beta.
+  std::gamma_distribution<double> gamma((alpha + power) / beta, 1.0);
+  for (int i = 0; i < maxDraws; ++i) {
+    const double sigma = sigmaStarKmPerS * std::pow(gamma(rng), 1.0 / beta);
+    if (sigma > lo && sigma < hi) return sigma;
+  }
+  return std::nullopt;
+}
+
+ComovingVolumeRedshifts::ComovingVolumeRedshifts(const FlatLambdaCdm& cosmology, double zMin,
+                                                 double zMax, int nodes)
+    : cosmology_(cosmology.params()) {
+  z_.resize(std::size_t(nodes));
+  cdf_.assign(std::size_t(nodes), 0.0);
+  double previous = 0.0;
+  for (int i = 0; i < nodes; ++i) {
+    z_[std::size_t(i)] = zMin + (zMax - zMin) * i / (nodes - 1);
+    const double v = cosmology.comovingVolumePerRedshiftMpc3PerSr(z_[std::size_t(i)]);
+    if (i > 0)  // trapezoids
+      cdf_[std::size_t(i)] = cdf_[std::size_t(i - 1)] +
+                             0.5 * (v + previous) * (z_[std::size_t(i)] - z_[std::size_t(i - 1)]);
+    previous = v;
+  }
+  for (double& c : cdf_) c /= cdf_.back();
+}
+
+double ComovingVolumeRedshifts::sample(std::mt19937_64& rng) const {
+  const double u = std::uniform_real_distribution<double>(0.0, 1.0)(rng);
+  const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);
+  if (it == cdf_.begin()) return z_.front();
+  if (it == cdf_.end()) return z_.back();
+  const auto i = std::size_t(it - cdf_.begin());
+  const double t = (u - cdf_[i - 1]) / (cdf_[i] - cdf_[i - 1]);
+  return z_[i - 1] + t * (z_[i] - z_[i - 1]);
+}
+
+void PopulationModel::tabulate(const FlatLambdaCdm& cosmology) {
+  lensRedshifts = ComovingVolumeRedshifts(cosmology, lensZMin, lensZMax);
+}
+
+std::optional<LensDraw> PopulationModel::drawLens(const FlatLambdaCdm& cosmology,
+                                                  std::mt19937_64& rng) const {
+  const std::optional<double> sigma =
+      lensVdf.sampleWeighted(4.0, sigmaMinKmPerS, sigmaMaxKmPerS, maxLensAttempts, rng);
+  if (!sigma)
+    throw ConfigError(sourcePath + ": lens.sigma_min_km_s/lens.sigma_max_km_s: no lens with " +
+                      formatNumber(sigmaMinKmPerS) + " < sigma_v < " +
+                      formatNumber(sigmaMaxKmPerS) +
+                      " km/s from the velocity dispersion function in " +
+                      std::to_string(maxLensAttempts) + " draws");
+  LensDraw d;
+  d.sigmaKmPerS = *sigma;
+  const CosmologyParams& p = cosmology.params();
+  const CosmologyParams& t = lensRedshifts.cosmology();
+  const bool tabulated = !lensRedshifts.empty() && p.h0KmPerSPerMpc == t.h0KmPerSPerMpc &&
+                         p.omegaMatter == t.omegaMatter && p.omegaLambda == t.omegaLambda;
+  d.redshift = tabulated ? lensRedshifts.sample(rng)
+                         : ComovingVolumeRedshifts(cosmology, lensZMin, lensZMax).sample(rng);
+  const double scatter =
+      fjScatterMag > 0.0 ? std::normal_distribution<double>(0.0, fjScatterMag)(rng) : 0.0;
+  d.absoluteMag = fjAbsMagStar - 10.0 * std::log10(d.sigmaKmPerS / fjSigmaStarKmPerS) + scatter;
+  d.mag = d.absoluteMag + cosmology.distanceModulusMag(d.redshift) + lensKCorrectionMag(d.redshift);
+  if (!(d.mag >= lensMagMin && d.mag <= lensMagMax)) return std::nullopt;
+  return d;
+}
+
+std::optional<SourceDraw> PopulationModel::drawSource(GalaxyType type, std::mt19937_64& rng) const {
   SourceDraw d;
   d.mag = sourceMagnitude.sample(rng);
   d.halfLightArcsec = sourceSize.sample(d.mag, rng);
@@ -73,36 +151,33 @@ std::optional<SourceDraw> PopulationModel::drawSource(GalaxyType type, double zL
   if (it == sourceRedshift.end())
     throw ConfigError(sourcePath + ": no magnitude-redshift relation for type " +
                       galaxyTypeName(type));
-  const std::optional<double> z =
-      it->second.sample(d.mag, zLens + sourceMinDzBehindLens, sourceZMin, sourceZMax, rng);
+  const std::optional<double> z = it->second.sample(d.mag, sourceZMin, sourceZMin, sourceZMax, rng);
   if (!z) return std::nullopt;
   d.redshift = *z;
   return d;
 }
 
-LensDraw PopulationModel::drawLens(const FlatLambdaCdm& cosmology, std::mt19937_64& rng) const {
-  std::normal_distribution<double> fjScatter(0.0, fjScatterMag > 0.0 ? fjScatterMag : 1.0);
-  for (int attempt = 0; attempt < maxLensAttempts; ++attempt) {
-    LensDraw d;
-    d.mag = lensMagnitude.sample(rng);
-    const std::optional<double> z = lensRedshift.sample(d.mag, lensZMin, lensZMin, lensZMax, rng);
-    if (!z) continue;
-    d.redshift = *z;
-    d.absoluteMag =
-        d.mag - cosmology.distanceModulusMag(d.redshift) - lensKCorrectionMag(d.redshift);
-    const double scatter = fjScatterMag > 0.0 ? fjScatter(rng) : 0.0;
-    d.sigmaKmPerS =
-        fjSigmaStarKmPerS * std::pow(10.0, -0.1 * (d.absoluteMag + scatter - fjAbsMagStar));
-    if (d.sigmaKmPerS > sigmaMinKmPerS && d.sigmaKmPerS < sigmaMaxKmPerS) return d;
-  }
-  throw ConfigError(sourcePath + ": lens.sigma_min_km_s/lens.sigma_max_km_s: no lens with " +
-                    formatNumber(sigmaMinKmPerS) + " < sigma_v < " + formatNumber(sigmaMaxKmPerS) +
-                    " km/s (and a redshift from lens.z) in " + std::to_string(maxLensAttempts) +
-                    " draws");
+double PopulationModel::lensingWeight(double zLens, double zSource,
+                                      const FlatLambdaCdm& cosmology) const {
+  if (!(zSource >= zLens + sourceMinDzBehindLens) || !(zSource > zLens)) return 0.0;
+  const double ratio = cosmology.angularDiameterDistanceMpc(zLens, zSource) /
+                       cosmology.angularDiameterDistanceMpc(zSource);
+  return ratio * ratio;
 }
 
 std::string defaultPopulationModelPath() {
   return dataFile("simulation/population.txt");
+}
+
+std::vector<std::string> populationPresetNames() {
+  return {"physical", "dls"};
+}
+
+std::string populationPresetPath(const std::string& preset) {
+  if (preset == "physical") return defaultPopulationModelPath();
+  if (preset == "dls") return dataFile("simulation/population-dls.txt");
+  throw ConfigError("population preset " + quoteForMessage(preset) +
+                    " is not one of physical, dls");
 }
 
 namespace {
@@ -118,7 +193,15 @@ void checkPopulationModel(const PopulationModel& m, double maxAttempts) {
                                     formatNumber(p.magMin) + " >= " + formatNumber(p.magMax) + ")");
   };
   checkRange("source", m.sourceMagnitude);
-  checkRange("lens", m.lensMagnitude);
+  if (!(m.lensMagMin < m.lensMagMax))
+    fail("lens.mag_min", "must be less than lens.mag_max (" + formatNumber(m.lensMagMin) +
+                             " >= " + formatNumber(m.lensMagMax) + ")");
+  const VelocityDispersionFunction& vdf = m.lensVdf;
+  if (!(vdf.sigmaStarKmPerS > 0.0)) fail("lens.vdf.sigma_star_km_s", "must be positive");
+  if (!(vdf.beta > 0.0)) fail("lens.vdf.beta", "must be positive");
+  if (!(vdf.alpha > 0.0)) fail("lens.vdf.alpha", "must be positive");
+  if (!(vdf.phiStarH3PerMpc3 > 0.0)) fail("lens.vdf.phi_star_h3_per_mpc3", "must be positive");
+  if (m.skipEinsteinRadiusBelowArcsec < 0.0) fail("lens.skip_theta_e_below_arcsec", "must be >= 0");
   if (!(m.sourceSize.halfLightArcsecAtRef > 0.0))
     fail("source.size.r_half_arcsec_at_ref", "must be positive");
   if (m.sourceSize.scatterDex < 0.0) fail("source.size.scatter_dex", "must be >= 0");
@@ -128,9 +211,12 @@ void checkPopulationModel(const PopulationModel& m, double maxAttempts) {
   for (const auto& [type, rel] : m.sourceRedshift)
     if (rel.scatter < 0.0)
       fail(std::string("source.z.") + galaxyTypeName(type) + ".scatter", "must be >= 0");
-  if (m.lensRedshift.scatter < 0.0) fail("lens.z.scatter", "must be >= 0");
   if (!(m.lensZMin > 0.0 && m.lensZMin < m.lensZMax))
     fail("lens.z_min", "must be > 0 and less than lens.z_max");
+  // The distances are integrated up to these redshifts for every draw: keep them where the
+  // cosmology is accurate (and the integration short).
+  if (!(m.sourceZMax <= kMaxRedshift)) fail("source.z_max", "must be at most 20");
+  if (!(m.lensZMax <= kMaxRedshift)) fail("lens.z_max", "must be at most 20");
   if (!(m.fjSigmaStarKmPerS > 0.0)) fail("lens.fj.sigma_star_km_s", "must be positive");
   if (m.fjScatterMag < 0.0) fail("lens.fj.scatter_mag", "must be >= 0");
   if (!(m.sigmaMinKmPerS > 0.0 && m.sigmaMinKmPerS < m.sigmaMaxKmPerS))
@@ -180,13 +266,13 @@ PopulationModel readPopulationModel(const std::string& path) {
     scalar(p + "slope_per_mag", &rel.slopePerMag);
     scalar(p + "scatter", &rel.scatter);
   }
-  scalar("lens.mag_min", &m.lensMagnitude.magMin);
-  scalar("lens.mag_max", &m.lensMagnitude.magMax);
-  scalar("lens.mag_slope", &m.lensMagnitude.slopePerMag);
-  scalar("lens.z.mag_ref", &m.lensRedshift.magRef);
-  scalar("lens.z.z_at_ref", &m.lensRedshift.zAtRef);
-  scalar("lens.z.slope_per_mag", &m.lensRedshift.slopePerMag);
-  scalar("lens.z.scatter", &m.lensRedshift.scatter);
+  scalar("lens.vdf.phi_star_h3_per_mpc3", &m.lensVdf.phiStarH3PerMpc3);
+  scalar("lens.vdf.sigma_star_km_s", &m.lensVdf.sigmaStarKmPerS);
+  scalar("lens.vdf.alpha", &m.lensVdf.alpha);
+  scalar("lens.vdf.beta", &m.lensVdf.beta);
+  scalar("lens.mag_min", &m.lensMagMin);
+  scalar("lens.mag_max", &m.lensMagMax);
+  scalar("lens.skip_theta_e_below_arcsec", &m.skipEinsteinRadiusBelowArcsec);
   scalar("lens.z_min", &m.lensZMin);
   scalar("lens.z_max", &m.lensZMax);
   scalar("lens.fj.abs_mag_star", &m.fjAbsMagStar);
@@ -241,6 +327,8 @@ PopulationModel readPopulationModel(const std::string& path) {
 
   checkPopulationModel(m, maxAttempts);
   m.maxLensAttempts = static_cast<int>(maxAttempts);
+  m.name = std::filesystem::path(path).stem().string();
+  m.tabulate(FlatLambdaCdm());
   return m;
 }
 

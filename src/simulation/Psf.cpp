@@ -7,7 +7,8 @@
 
 namespace octarc::simulation {
 
-std::vector<double> gaussianPsfKernel1d(double fwhmArcsec, double pixelScaleArcsec) {
+std::vector<double> gaussianPsfKernel1d(double fwhmArcsec, double pixelScaleArcsec,
+                                        PsfSampling sampling) {
   if (!(fwhmArcsec > 0.0) || !(pixelScaleArcsec > 0.0))
     throw ConfigError("PSF: FWHM and pixel scale must be positive, got FWHM " +
                       std::to_string(fwhmArcsec) + "\", scale " + std::to_string(pixelScaleArcsec) +
@@ -15,11 +16,14 @@ std::vector<double> gaussianPsfKernel1d(double fwhmArcsec, double pixelScaleArcs
   const double sigmaPix = fwhmArcsec / pixelScaleArcsec / (2.0 * std::sqrt(2.0 * std::log(2.0)));
   const int radius = static_cast<int>(std::ceil(5.0 * sigmaPix));
   std::vector<double> kernel(2 * radius + 1);
-  // Integral of the unit Gaussian over pixel [i - 1/2, i + 1/2].
   const double scale = 1.0 / (std::sqrt(2.0) * sigmaPix);
   double sum = 0.0;
   for (int i = -radius; i <= radius; ++i) {
-    const double v = 0.5 * (std::erf((i + 0.5) * scale) - std::erf((i - 0.5) * scale));
+    // Integral of the unit Gaussian over pixel [i - 1/2, i + 1/2], or its value at i (the
+    // normalisation below takes care of the constant factor).
+    const double v = sampling == PsfSampling::PixelIntegrated
+                         ? 0.5 * (std::erf((i + 0.5) * scale) - std::erf((i - 0.5) * scale))
+                         : std::exp(-(i * scale) * (i * scale));
     kernel[i + radius] = v;
     sum += v;
   }
@@ -27,8 +31,8 @@ std::vector<double> gaussianPsfKernel1d(double fwhmArcsec, double pixelScaleArcs
   return kernel;
 }
 
-ImageD gaussianPsfImage(double fwhmArcsec, double pixelScaleArcsec) {
-  const std::vector<double> k = gaussianPsfKernel1d(fwhmArcsec, pixelScaleArcsec);
+ImageD gaussianPsfImage(double fwhmArcsec, double pixelScaleArcsec, PsfSampling sampling) {
+  const std::vector<double> k = gaussianPsfKernel1d(fwhmArcsec, pixelScaleArcsec, sampling);
   const auto n = static_cast<std::int64_t>(k.size());
   ImageD psf(n, n);
   for (std::int64_t y = 0; y < n; ++y)

@@ -10,6 +10,7 @@
 #include "octarc/core/Format.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/FitsTable.h"
+#include "octarc/simulation/Morphology.h"
 #include "octarc/simulation/Psf.h"
 
 namespace octarc::simulation {
@@ -23,6 +24,7 @@ constexpr std::size_t kPathChars = 200;
 const std::vector<std::string> kRequiredColumns = {"IDENT",       "MAG",          "BAND",
                                                    "PIXEL_SCALE", "GAL_FILENAME", "GAL_HDU"};
 const std::vector<std::string> kPsfColumns = {"PSF_FILENAME", "PSF_HDU"};
+const char* const kTypeColumn = "MORPH_TYPE";
 
 std::string resolve(const std::filesystem::path& dir, const std::string& name) {
   const std::filesystem::path p(name);
@@ -38,6 +40,7 @@ RealGalaxyCatalog RealGalaxyCatalog::load(const std::string& catalogPath, bool c
     throw IoError(catalogPath + ": not a RealGalaxyCatalog (no binary table in HDU 1)");
   std::vector<std::string> columns = kRequiredColumns;
   columns.insert(columns.end(), kPsfColumns.begin(), kPsfColumns.end());
+  columns.push_back(kTypeColumn);
   const FitsTable table = readFitsTableAt(catalogPath, 1, {}, columns);
   for (const std::string& name : kRequiredColumns) {
     if (table.findColumn(name) == nullptr)
@@ -56,6 +59,8 @@ RealGalaxyCatalog RealGalaxyCatalog::load(const std::string& catalogPath, bool c
     psfFile = table.strings("PSF_FILENAME");
     psfHdu = table.integers("PSF_HDU");
   }
+  std::vector<std::string> morphType;
+  if (table.findColumn(kTypeColumn) != nullptr) morphType = table.strings(kTypeColumn);
 
   RealGalaxyCatalog catalog;
   catalog.path_ = catalogPath;
@@ -83,6 +88,13 @@ RealGalaxyCatalog RealGalaxyCatalog::load(const std::string& catalogPath, bool c
     const auto badHdu = [](std::int64_t hdu) { return hdu < 0 || hdu > INT_MAX; };
     if (badHdu(galHdu[r]) || (!psfHdu.empty() && badHdu(psfHdu[r])))
       throw IoError(where + ": HDU number out of range");
+    if (!morphType.empty()) {
+      GalaxyType type = GalaxyType::Spiral;
+      if (!parseGalaxyType(morphType[r], &type))
+        throw IoError(where + ": " + kTypeColumn + " " + quoteForMessage(morphType[r]) +
+                      " is not elliptical, spiral or irregular");
+      e.type = type;
+    }
     if (checkGalaxyFiles && checked.insert(e.galaxyPath).second &&
         !std::filesystem::exists(e.galaxyPath))
       throw IoError(where + ": galaxy image file " + quoteForMessage(e.galaxyPath, kPathChars) +
@@ -105,7 +117,8 @@ SourceStamp RealGalaxyCatalog::loadGalaxy(std::size_t i) const {
     stamp.fluxPerPixel[k] = std::isfinite(v) ? v : 0.0;  // blank pixels carry no flux
   }
   stamp.pixelScaleArcsec = e.pixelScaleArcsec;
-  stamp.type = GalaxyType::Spiral;
+  // GalSim's format carries no morphology: measure it when the catalog does not say.
+  stamp.type = e.type ? *e.type : classifyMorphology(measureMorphology(stamp));
   stamp.name =
       std::filesystem::path(path_).filename().string() + " IDENT " + std::to_string(e.ident);
   return stamp;

@@ -110,8 +110,11 @@ class XdfDatabase(WorkDirTest):
             self.assertTrue(np.all((systems["SOURCE_INDEX"] >= 0) &
                                    (systems["SOURCE_INDEX"] < 401)))
             self.assertGreater(len(set(systems["SOURCE_INDEX"])), 10)
-            self.assertTrue(np.all(systems["MAGNIFICATION"] > 1.0))
-            self.assertTrue(np.all(systems["N_OBJECTS"] >= 1))
+            # Systems below the skip limit on theta_E are counted but not rendered.
+            rendered = systems["SKIPPED"] == 0
+            self.assertGreater(int(np.sum(rendered)), 0)
+            self.assertTrue(np.all(systems["MAGNIFICATION"][rendered] > 1.0))
+            self.assertTrue(np.all(systems["N_OBJECTS"][rendered] >= 1))
 
 
 class BadInput(WorkDirTest):

@@ -21,7 +21,8 @@ CPACK = os.environ.get("OCTARC_CPACK", "cpack")
 # Every installed file and, for the data, its source in the tree.
 DATA = {"octarc.sex": "params/octarc.sex", "octarc.param": "params/octarc.param",
         "default.conv": "params/default.conv",
-        "simulation/population.txt": "params/simulation/population.txt"}
+        "simulation/population.txt": "params/simulation/population.txt",
+        "simulation/population-dls.txt": "params/simulation/population-dls.txt"}
 INSTALLED = sorted(["bin/octarc", "share/doc/octarc/README.md", "share/doc/octarc/LICENSE"] +
                    ["share/octarc/" + name for name in DATA])
 
@@ -91,7 +92,8 @@ class InstalledTree(WorkDirTest):
         self.assertIn("Detection: octarc detect -c %s/octarc.sex (15 levels" % shipped,
                       proc.stdout)
         self.assertIn("Injected arcs detected:", proc.stdout)
-        for name in ("octarc.sex", "octarc.param", "simulation/population.txt"):
+        # The field's lenses follow the Deep Lens Survey preset.
+        for name in ("octarc.sex", "octarc.param", "simulation/population-dls.txt"):
             self.assertIn(os.path.join(shipped, name), opened)
         rows = fits.getdata(os.path.join(work, "demo", "field.ldac"), "LDAC_OBJECTS")
         self.assertEqual(sorted(set(rows["THRESH_LEVEL"])), list(range(1, 16)))

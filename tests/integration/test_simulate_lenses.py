@@ -33,9 +33,11 @@ class SimulatedCatalog(WorkDirTest):
         cls.dir = tempfile.mkdtemp(prefix="octarc-sim-")
         cls.out = os.path.join(cls.dir, "lenses.fits")
         cls.stamps = os.path.join(cls.dir, "stamps.fits")
+        # The Deep Lens Survey preset (the paper's windows).
+        dls = os.path.join(SOURCE_DIR, "params", "simulation", "population-dls.txt")
         cls.proc = run_octarc("simulate", "lenses", "-n", "80", "--seed", "5", "-o", cls.out,
-                              "--sigma-min", "320", "--stamps", cls.stamps, "--stamp-count", "4",
-                              "--threads", "2")
+                              "--population", dls, "--sigma-min", "320", "--stamps", cls.stamps,
+                              "--stamp-count", "4", "--threads", "2")
 
     @classmethod
     def tearDownClass(cls):
@@ -72,10 +74,17 @@ class SimulatedCatalog(WorkDirTest):
         self.assertTrue(np.all(s["Z_SOURCE"] > s["Z_LENS"]))
         self.assertTrue(np.all((s["SOURCE_MAG"] > 22) & (s["SOURCE_MAG"] < 25)))
         self.assertTrue(np.all((s["LENS_MAG"] > 21) & (s["LENS_MAG"] < 23)))
+        # Sources lie inside the cut, which reaches b sqrt(1 + eps) on the minor axis.
         beta = np.hypot(s["SOURCE_X"], s["SOURCE_Y"])
-        self.assertTrue(np.all(beta <= s["EINSTEIN_RADIUS"] * (1 + 1e-6)))
-        # A source inside the Einstein radius is strongly lensed: magnified.
-        self.assertTrue(np.all(s["MAGNIFICATION"] > 1.0))
+        self.assertTrue(np.all(beta <= s["EINSTEIN_RADIUS"] * np.sqrt(1 + s["LENS_EPSILON"]) *
+                               (1 + 1e-6)))
+        # A multiply imaged source is magnified; systems below the skip limit are not rendered.
+        rendered = s["SKIPPED"] == 0
+        skip = ldac_imhead(self.out)["OCTSKIPT"]
+        np.testing.assert_array_equal(rendered, s["EINSTEIN_RADIUS"] >= skip)
+        self.assertTrue(np.all(s["MAGNIFICATION"][rendered] > 1.0))
+        self.assertTrue(np.all(np.isnan(s["MAGNIFICATION"][~rendered])))
+        self.assertEqual(ldac_imhead(self.out)["OCTNSKIP"], int(np.sum(~rendered)))
 
     def test_found_arcs_obey_the_rules_and_have_plausible_arcness(self):
         s = fits.getdata(self.out, 2)

@@ -2,8 +2,10 @@
 // numerically (the reference the analytic and ray-traced images are checked against).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
+#include <vector>
 
 #include "octarc/core/Image.h"
 #include "octarc/simulation/LensModel.h"
@@ -61,6 +63,53 @@ inline simulation::Vec2 solveLensEquation(const simulation::EllipticalPotentialL
     theta[1] -= (-c * fx + a * fy) / det;
   }
   return theta;
+}
+
+// The number of images of a point source at beta for a coreless lens, found independently of
+// any caustic: along each direction u the deflection alpha(u) does not depend on the radius, so
+// theta = r u is an image when beta + alpha(u) = r u with r > 0, i.e. at the zeros of
+// u x (beta + alpha(u)) where u . (beta + alpha(u)) > 0. Sign changes on `steps` directions.
+inline int countImagesCoreless(const simulation::EllipticalPotentialLens& lens,
+                               const simulation::Vec2& beta, int steps = 20000) {
+  auto cross = [&](double phi, double* along) {
+    const simulation::Vec2 u{std::cos(phi), std::sin(phi)};
+    const simulation::Vec2 a = lens.deflectionArcsec(u);
+    *along = u[0] * (beta[0] + a[0]) + u[1] * (beta[1] + a[1]);
+    return u[0] * (beta[1] + a[1]) - u[1] * (beta[0] + a[0]);
+  };
+  int images = 0;
+  double along = 0.0;
+  double previous = cross(0.0, &along);
+  for (int k = 1; k <= steps; ++k) {
+    double alongHere = 0.0;
+    const double here = cross(2.0 * 3.14159265358979323846 * k / steps, &alongHere);
+    if ((previous < 0.0) != (here < 0.0) && along + alongHere > 0.0) ++images;
+    previous = here;
+    along = alongHere;
+  }
+  return images;
+}
+
+// Kolmogorov-Smirnov distance between a sample and a CDF.
+template <typename Cdf>
+double ksDistance(std::vector<double> sample, Cdf cdf) {
+  std::sort(sample.begin(), sample.end());
+  double d = 0.0;
+  const double n = double(sample.size());
+  for (std::size_t i = 0; i < sample.size(); ++i) {
+    const double f = cdf(sample[i]);
+    d = std::max({d, std::abs(f - double(i) / n), std::abs(double(i + 1) / n - f)});
+  }
+  return d;
+}
+
+// Integral of f on [a, b] by Simpson's rule on n (even) intervals.
+template <typename F>
+double simpson(F f, double a, double b, int n = 2000) {
+  const double h = (b - a) / n;
+  double s = f(a) + f(b);
+  for (int i = 1; i < n; ++i) s += (i % 2 ? 4.0 : 2.0) * f(a + i * h);
+  return s * h / 3.0;
 }
 
 }  // namespace octarc::test

@@ -38,6 +38,9 @@ class FlatLambdaCdm {
   double luminosityDistanceMpc(double z) const;
   // 5 log10(D_L / 10 pc).
   double distanceModulusMag(double z) const;
+  // Comoving volume per unit redshift and solid angle, dV_C / dz / dOmega = D_H D_C^2 / E(z)
+  // (flat universe), in Mpc^3 per steradian.
+  double comovingVolumePerRedshiftMpc3PerSr(double z) const;
 
  private:
   CosmologyParams params_;

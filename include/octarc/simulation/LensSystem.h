@@ -30,7 +30,7 @@ struct LensSystem {
   EllipticalPotentialParams mass;  // lens potential (b, eps, core, position angle)
   SersicLightParams light;         // lens light; totalFlux is set from lensMag
   double lensMag = 21.0;
-  SourcePlacement source;   // position (inside the Einstein radius), rotation, size
+  SourcePlacement source;   // position (multiply imaged), rotation, size
   double sourceMag = 23.0;  // magnitude of the unlensed source
 };
 

@@ -7,14 +7,25 @@
 
 namespace octarc::simulation {
 
+// How a kernel tap is taken from the continuous PSF. An image whose pixels already hold the
+// flux falling on each pixel (ray-traced stamps, sub-sampled renderings) has had the pixel box
+// applied once; convolving it with a pixel-integrated kernel would apply it twice (0.918" for
+// 0.9" at 0.257"/px), so such images need the PSF point-sampled at pixel centres.
+enum class PsfSampling {
+  PixelIntegrated,  // each tap the PSF integrated over its pixel (variance sigma^2 + 1/12 px^2)
+  PointSampled,     // each tap the PSF at the pixel centre (variance sigma^2)
+};
+
 // Circular Gaussian PSF, separable: the 1-D kernel k has odd length 2r+1 (r = ceil(5 sigma) in
-// pixels, sigma = FWHM / (2 sqrt(2 ln 2))), each tap the Gaussian integrated over its pixel,
-// then normalised so that sum k = 1; the 2-D PSF is k_x k_y (sum 1 to rounding).
+// pixels, sigma = FWHM / (2 sqrt(2 ln 2))), each tap taken as `sampling` says, then normalised
+// so that sum k = 1; the 2-D PSF is k_x k_y (sum 1 to rounding).
 // Throws ConfigError unless fwhmArcsec > 0 and pixelScaleArcsec > 0.
-std::vector<double> gaussianPsfKernel1d(double fwhmArcsec, double pixelScaleArcsec);
+std::vector<double> gaussianPsfKernel1d(double fwhmArcsec, double pixelScaleArcsec,
+                                        PsfSampling sampling = PsfSampling::PixelIntegrated);
 
 // The 2-D image of the same PSF (outer product of the 1-D kernel).
-ImageD gaussianPsfImage(double fwhmArcsec, double pixelScaleArcsec);
+ImageD gaussianPsfImage(double fwhmArcsec, double pixelScaleArcsec,
+                        PsfSampling sampling = PsfSampling::PixelIntegrated);
 
 // A user PSF image, normalised to unit sum. Its centre is pixel (width/2, height/2) (integer
 // division, 0-based), i.e. the middle pixel of an odd-sized image. Throws ConfigError naming

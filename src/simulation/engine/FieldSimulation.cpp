@@ -98,7 +98,8 @@ std::vector<FieldLens> renderLenses(const FieldSimulationSettings& s,
   std::vector<FieldLens> lenses(lensPositions.size());
   if (lenses.empty()) return lenses;
   SimulationSetup setup;
-  setup.population = readPopulationModel(s.populationPath.empty() ? defaultPopulationModelPath()
+  // A survey field: the lenses of the Deep Lens Survey preset unless told otherwise.
+  setup.population = readPopulationModel(s.populationPath.empty() ? populationPresetPath("dls")
                                                                   : s.populationPath);
   SyntheticGalaxyOptions sourceOptions;
   const SourceDatabase sources =

@@ -46,7 +46,7 @@ std::vector<ColumnSpec> lensSystemColumns() {
       column("SYSTEM", T::Int32, "%9d", "", "Index of the simulated system (seed stream)"),
       column("Z_LENS", T::Float32, "%8.4f", "", "Lens redshift"),
       column("Z_SOURCE", T::Float32, "%8.4f", "", "Source redshift"),
-      column("SIGMA_V", T::Float32, "%8.2f", "km/s", "Lens velocity dispersion (Faber-Jackson)"),
+      column("SIGMA_V", T::Float32, "%8.2f", "km/s", "Lens velocity dispersion"),
       column("LENS_MAG", T::Float32, "%8.4f", "mag", "Lens apparent magnitude"),
       column("LENS_ABSMAG", T::Float32, "%8.4f", "mag", "Lens absolute magnitude"),
       column("LENS_ELLIPTICITY", T::Float32, "%8.4f", "", "Lens light ellipticity 1 - b/a"),
@@ -64,6 +64,7 @@ std::vector<ColumnSpec> lensSystemColumns() {
       column("MAGNIFICATION", T::Float32, "%10.4f", "", "Traced source flux / unlensed flux"),
       column("N_OBJECTS", T::Int32, "%6d", "", "Objects detected over all levels"),
       column("N_ARC_ROWS", T::Int32, "%4d", "", "Arc rows over all qualifying levels"),
+      column("SKIPPED", T::Int16, "%2d", "", "1 if not rendered (theta_E below the skip limit)"),
       column("ARC_FOUND", T::Int16, "%2d", "", "1 if an arc passed the arc rules"),
       column("LENS_DISTANCE", T::Float32, "%8.4f", "arcsec",
              "Distance of the chosen arc to the lens centre"),
@@ -115,6 +116,8 @@ LensRun runLensSimulation(const SimulationSetup& setup, const SourceDatabase& so
   out.arcs = Table(lensArcColumns());
   for (const SystemResult& r : results) {
     out.redraws += r.draw.redraws;
+    out.rejections += r.draw.rejections;
+    if (r.draw.skipped) ++out.skipped;
     out.timings.add(r.timings);
     const LensSystemDraw& d = r.draw;
     double* row = out.systems.appendRow();
@@ -140,6 +143,7 @@ LensRun runLensSimulation(const SimulationSetup& setup, const SourceDatabase& so
                             r.magnification,
                             double(r.objectCount),
                             double(r.arcDistanceArcsec.size()),
+                            d.skipped ? 1.0 : 0.0,
                             r.chosenArc >= 0 ? 1.0 : 0.0,
                             r.chosenArc >= 0 ? r.arcDistanceArcsec[std::size_t(r.chosenArc)] : nan};
     const int truthCount = int(sizeof truth / sizeof truth[0]);
@@ -197,6 +201,11 @@ std::vector<std::string> lensRunCards(const LensRun& run, const SimulationSetup&
       formatCard("OCTMINAR", std::int64_t(setup.minAreaPix), "DETECT_MINAREA"),
       formatCard("OCTSRCDB", sources.description().substr(0, 60), "Source database"),
       formatCard("OCTREDRW", run.redraws, "Lens-source pairs redrawn (no source redshift)"),
+      formatCard("OCTREJCT", run.rejections, "Draws rejected (lens mag window, cross-section)"),
+      formatCard("OCTNSKIP", run.skipped, "Systems not rendered (theta_E below OCTSKIPT)"),
+      formatCard("OCTSKIPT", RealValue(setup.population.skipEinsteinRadiusBelowArcsec),
+                 "Skip limit on theta_E (arcsec)"),
+      formatCard("OCTPOPUL", setup.population.name.substr(0, 60), "Population file"),
   };
 }
 

@@ -95,17 +95,22 @@ void setLevels(const LensSetupOptions& o, SimulationSetup& setup) {
 
 // Population: the relations file, then the range options; the lens light.
 void setPopulation(const LensSetupOptions& o, SimulationSetup& setup) {
+  if (!o.populationPath.empty() && !o.populationPreset.empty())
+    throw ConfigError("--population and --preset both name a population file: give one");
   setup.population = sim::readPopulationModel(
-      o.populationPath.empty() ? sim::defaultPopulationModelPath() : o.populationPath);
+      !o.populationPath.empty()
+          ? o.populationPath
+          : sim::populationPresetPath(o.populationPreset.empty() ? "physical"
+                                                                 : o.populationPreset));
   sim::PopulationModel& pop = setup.population;
-  pop.lensMagnitude.magMin = o.lensMagMin.value_or(pop.lensMagnitude.magMin);
-  pop.lensMagnitude.magMax = o.lensMagMax.value_or(pop.lensMagnitude.magMax);
+  pop.tabulate(setup.cosmology);
+  pop.lensMagMin = o.lensMagMin.value_or(pop.lensMagMin);
+  pop.lensMagMax = o.lensMagMax.value_or(pop.lensMagMax);
   pop.sourceMagnitude.magMin = o.sourceMagMin.value_or(pop.sourceMagnitude.magMin);
   pop.sourceMagnitude.magMax = o.sourceMagMax.value_or(pop.sourceMagnitude.magMax);
   pop.sigmaMinKmPerS = o.sigmaMinKmPerS.value_or(pop.sigmaMinKmPerS);
   pop.sigmaMaxKmPerS = o.sigmaMaxKmPerS.value_or(pop.sigmaMaxKmPerS);
-  requireRange(pop.lensMagnitude.magMin, pop.lensMagnitude.magMax, "--lens-mag-min",
-               "--lens-mag-max");
+  requireRange(pop.lensMagMin, pop.lensMagMax, "--lens-mag-min", "--lens-mag-max");
   requireRange(pop.sourceMagnitude.magMin, pop.sourceMagnitude.magMax, "--source-mag-min",
                "--source-mag-max");
   requireRange(pop.sigmaMinKmPerS, pop.sigmaMaxKmPerS, "--sigma-min", "--sigma-max");

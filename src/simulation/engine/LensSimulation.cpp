@@ -12,6 +12,7 @@
 #include "octarc/run/ImageRun.h"
 #include "octarc/run/Levels.h"
 #include "octarc/simulation/LensModel.h"
+#include "octarc/simulation/MultipleImageRegion.h"
 #include "octarc/simulation/RealGalaxyCatalog.h"
 #include "octarc/simulation/Seeds.h"
 
@@ -113,24 +114,32 @@ LensSystemDraw drawLensSystem(const SimulationSetup& setup, const SourceDatabase
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   LensSystemDraw d;
   d.index = index;
-  // A lens and source the relations cannot combine (no source redshift behind this lens at the
-  // drawn magnitude) are drawn again, from the same stream, so the run stays reproducible.
-  for (;;) {
-    d.lens = setup.population.drawLens(setup.cosmology, rng);
+  // Rejection sampling from one stream, so the run stays reproducible whatever the threads.
+  const sim::PopulationModel& pop = setup.population;
+  for (std::int64_t attempt = 0;; ++attempt) {
+    if (attempt >= pop.maxLensAttempts) {
+      throw ConfigError(pop.sourcePath + ": lens.max_attempts: no lens-source pair kept in " +
+                        std::to_string(pop.maxLensAttempts) + " draws of system " +
+                        std::to_string(index) +
+                        " (lens magnitude window, sigma range and source redshifts)");
+    }
+    const std::optional<sim::LensDraw> lens = pop.drawLens(setup.cosmology, rng);
+    if (!lens) {
+      ++d.rejections;
+      continue;
+    }
+    d.lens = *lens;
     d.sourceIndex = std::uniform_int_distribution<std::size_t>(0, sources.size() - 1)(rng);
     const std::optional<sim::SourceDraw> source =
-        setup.population.drawSource(sources.stamp(d.sourceIndex).type, d.lens.redshift, rng);
-    if (source) {
-      d.source = *source;
-      break;
+        pop.drawSource(sources.stamp(d.sourceIndex).type, rng);
+    if (!source) {
+      ++d.redraws;
+      continue;
     }
-    if (++d.redraws >= kMaxSystemRedraws) {
-      throw ConfigError(setup.population.sourcePath +
-                        ": source.z: the magnitude-redshift "
-                        "relations give no source redshift behind the lens in " +
-                        std::to_string(kMaxSystemRedraws) + " draws of system " +
-                        std::to_string(index));
-    }
+    d.source = *source;
+    const double weight = pop.lensingWeight(d.lens.redshift, d.source.redshift, setup.cosmology);
+    if (unit(rng) < weight) break;
+    ++d.rejections;
   }
   const sim::SourceStamp& stamp = sources.stamp(d.sourceIndex);
   d.einsteinRadiusArcsec = sim::sisEinsteinRadiusArcsec(d.lens.sigmaKmPerS, d.lens.redshift,
@@ -151,12 +160,16 @@ LensSystemDraw drawLensSystem(const SimulationSetup& setup, const SourceDatabase
   sys.light.axisRatio = 1.0 - d.lensEllipticity;
   sys.light.positionAngleRad = paRad;
   sys.lensMag = d.lens.mag;
-  sys.source.betaArcsec = sim::drawUniformInDisc(d.einsteinRadiusArcsec, rng);
+  // Uniform over the whole multiply-imaged region (bounded by the cut, which reaches beyond
+  // theta_E along the minor axis, not by the Einstein circle), so every system is strongly
+  // lensed.
+  sys.source.betaArcsec = sim::MultipleImageRegion(sys.mass).drawUniform(rng);
   sys.source.rotationRad = 2.0 * std::numbers::pi * unit(rng);
   // Resizing by pixel scale: the stamp keeps its pixels, each now covers more or less sky.
   sys.source.pixelScaleArcsec =
       stamp.pixelScaleArcsec * d.source.halfLightArcsec / sources.halfLightArcsec(d.sourceIndex);
   sys.sourceMag = d.source.mag;
+  d.skipped = d.einsteinRadiusArcsec < pop.skipEinsteinRadiusBelowArcsec;
   return d;
 }
 
@@ -274,6 +287,13 @@ SimulatedSystem simulateSystem(const SimulationSetup& setup, const SourceDatabas
   SimulatedSystem out;
   out.draw = drawLensSystem(setup, sources, index, rng);
   if (timings) timings->drawSec += threadCpuSec() - t0;
+  if (out.draw.skipped) {
+    // Cannot give an arc beyond the separation limit: counted, not rendered.
+    out.objects = Table(measuredColumns());
+    out.magnification = std::nan("");
+    if (keepImage) out.image = ImageF(setup.observing.grid.width, setup.observing.grid.height);
+    return out;
+  }
 
   sim::RenderTimings render;
   const sim::RenderedLensSystem rendered =

@@ -95,5 +95,16 @@ TEST(FlatLambdaCdm, RejectsBadParameters) {
   }
 }
 
+TEST(FlatLambdaCdm, VolumeElementIsTheDerivativeOfTheComovingVolume) {
+  // V_C(z) per steradian = D_C^3 / 3 in a flat universe.
+  const FlatLambdaCdm c;
+  for (double z : {0.1, 0.5, 1.2, 2.5}) {
+    const double h = 1e-5;
+    const double vp = std::pow(c.comovingDistanceMpc(z + h), 3) / 3.0;
+    const double vm = std::pow(c.comovingDistanceMpc(z - h), 3) / 3.0;
+    EXPECT_NEAR(c.comovingVolumePerRedshiftMpc3PerSr(z) / ((vp - vm) / (2 * h)), 1.0, 1e-7) << z;
+  }
+}
+
 }  // namespace
 }  // namespace octarc::simulation

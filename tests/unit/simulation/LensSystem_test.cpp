@@ -44,10 +44,38 @@ TEST(LensSystem, NoiseFreeStampHoldsLensedSourceAndLensLight) {
   EXPECT_LT(total, r.lensedSourceFlux + lightMax + 1e-6 * light);
 }
 
+// The ray-traced image already holds the flux falling on each survey pixel, so the stamp of a
+// point source is the PSF itself: its FWHM (from the second moments, 2 sqrt(2 ln 2) sigma) must
+// be the requested seeing, not the seeing widened by a second pixel box.
+TEST(LensSystem, PointSourceStampHasTheRequestedFwhm) {
+  for (double fwhmArcsec : {0.9, 0.6, 1.2}) {
+    ObservingSetup setup;
+    setup.addNoise = false;
+    setup.seeingFwhmArcsec = fwhmArcsec;
+    // A negligible lens (b = 1e-6") and no lens light: the source as it is, at the stamp centre.
+    LensSystem sys = sisSystem(1e-6, {0.0, 0.0});
+    sys.lensMag = 99.0;
+    const SourceStamp src = test::gaussianSource(0.003, 0.001, 20);
+    std::mt19937_64 rng(3);
+    const ImageD img = renderLensSystem(sys, src, setup, rng).image;
+    double s = 0.0, sx = 0.0, sxx = 0.0;
+    for (int y = 0; y < img.height(); ++y)
+      for (int x = 0; x < img.width(); ++x) {
+        s += img(x, y);
+        sx += img(x, y) * x;
+        sxx += img(x, y) * x * x;
+      }
+    const double varPix2 = sxx / s - (sx / s) * (sx / s);
+    const double measuredFwhmArcsec =
+        2.0 * std::sqrt(2.0 * std::log(2.0)) * std::sqrt(varPix2) * setup.grid.pixelScaleArcsec;
+    EXPECT_NEAR(measuredFwhmArcsec / fwhmArcsec, 1.0, 0.005) << "FWHM " << fwhmArcsec;
+  }
+}
+
 TEST(LensSystem, UserPsfImageGivesTheSameStampAsTheSeeing) {
   ObservingSetup gaussian;
   gaussian.addNoise = false;
-  const ImageD psf = gaussianPsfImage(0.9, 0.257);
+  const ImageD psf = gaussianPsfImage(0.9, 0.257, PsfSampling::PointSampled);
   ObservingSetup user = gaussian;
   user.userPsf = &psf;
   const SourceStamp src = test::gaussianSource(0.2, 0.03, 30, 7.0);

@@ -31,6 +31,22 @@ TEST(GaussianPsf, NormalisedToOneAndHasTheRequestedWidth) {
   EXPECT_THROW(gaussianPsfKernel1d(0.0, 0.257), ConfigError);
 }
 
+TEST(GaussianPsf, PointSampledKernelHasTheGaussianVariance) {
+  for (double fwhm : {0.5, 0.9, 1.7}) {
+    const auto k = gaussianPsfKernel1d(fwhm, 0.257, PsfSampling::PointSampled);
+    double s = 0.0, m2 = 0.0;
+    const int r = static_cast<int>(k.size() / 2);
+    for (int i = -r; i <= r; ++i) {
+      s += k[i + r];
+      m2 += k[i + r] * i * i;
+    }
+    EXPECT_NEAR(s, 1.0, 1e-12);
+    // No pixel box: the sampled Gaussian keeps its variance (sigma >= 1.3 px here).
+    const double sigmaPix = fwhm / 0.257 / (2.0 * std::sqrt(2.0 * std::log(2.0)));
+    EXPECT_NEAR(m2, sigmaPix * sigmaPix, 1e-4 * m2);
+  }
+}
+
 TEST(PsfConvolution, SeparableEqualsDirectAndConservesFlux) {
   ImageD img(41, 39);
   img(20, 19) = 5.0;

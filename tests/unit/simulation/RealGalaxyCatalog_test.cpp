@@ -8,11 +8,14 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <map>
 #include <string>
 
 #include "LensTestSupport.h"
 #include "TestPaths.h"
 #include "octarc/core/Error.h"
+#include "octarc/simulation/LensLight.h"
+#include "octarc/simulation/Morphology.h"
 
 namespace octarc::simulation {
 namespace {
@@ -188,6 +191,107 @@ TEST(RealGalaxyCatalog, ImpossibleRowValuesAreRefused) {
   });
   EXPECT_NE(msg.find("hdu.fits: row 1 (IDENT 7): HDU number out of range"), std::string::npos)
       << msg;
+}
+
+// Three galaxies whose types their light shows: a de Vaucouleurs spheroid, an exponential disc
+// and a disc with one bright clump on a side; HDUs 0, 1, 2 of gals.fits.
+void writeTypedStamps(const std::filesystem::path& path) {
+  std::filesystem::remove(path);
+  int status = 0;
+  fitsfile* f = nullptr;
+  fits_create_file(&f, path.c_str(), &status);
+  for (int k = 0; k < 3; ++k) {
+    SurveyGrid grid;
+    grid.width = grid.height = 201;
+    grid.pixelScaleArcsec = 0.03;
+    grid.lensXPix = grid.lensYPix = 100.0;
+    ImageD img(grid.width, grid.height);
+    addSersicLight(img, grid, {k == 0 ? 4.0 : 1.0, 0.35, 0.7, 0.5, 1.0});
+    if (k == 2) {
+      grid.lensXPix = 128.0;
+      addSersicLight(img, grid, {1.0, 0.12, 1.0, 0.0, 1.5});
+    }
+    std::vector<float> pixels(img.pixels().begin(), img.pixels().end());
+    long naxes[2] = {grid.width, grid.height};
+    fits_create_img(f, FLOAT_IMG, 2, naxes, &status);
+    fits_write_img(f, TFLOAT, 1, LONGLONG(pixels.size()), pixels.data(), &status);
+  }
+  fits_close_file(f, &status);
+  ASSERT_EQ(status, 0);
+}
+
+// A three-row catalog of those stamps, with a MORPH_TYPE column when `types` is given.
+std::string writeTypedCatalog(const std::filesystem::path& path, const char* const* types) {
+  std::filesystem::remove(path);
+  int status = 0;
+  fitsfile* f = nullptr;
+  fits_create_file(&f, path.c_str(), &status);
+  const char* names[] = {"IDENT",        "MAG",     "BAND",      "PIXEL_SCALE",
+                         "GAL_FILENAME", "GAL_HDU", "MORPH_TYPE"};
+  const char* forms[] = {"J", "D", "5A", "D", "20A", "K", "12A"};
+  fits_create_tbl(f, BINARY_TBL, 0, types ? 7 : 6, const_cast<char**>(names),
+                  const_cast<char**>(forms), nullptr, nullptr, &status);
+  for (int k = 0; k < 3; ++k) {
+    int ident = 10 + k;
+    double mag = 23.0, scale = 0.03;
+    long long hdu = k;
+    const char* band[] = {"F606W"};
+    const char* file[] = {"gals.fits"};
+    fits_write_col(f, TINT, 1, k + 1, 1, 1, &ident, &status);
+    fits_write_col(f, TDOUBLE, 2, k + 1, 1, 1, &mag, &status);
+    fits_write_col(f, TSTRING, 3, k + 1, 1, 1, const_cast<char**>(band), &status);
+    fits_write_col(f, TDOUBLE, 4, k + 1, 1, 1, &scale, &status);
+    fits_write_col(f, TSTRING, 5, k + 1, 1, 1, const_cast<char**>(file), &status);
+    fits_write_col(f, TLONGLONG, 6, k + 1, 1, 1, &hdu, &status);
+    if (types) {
+      const char* type[] = {types[k]};
+      fits_write_col(f, TSTRING, 7, k + 1, 1, 1, const_cast<char**>(type), &status);
+    }
+  }
+  fits_close_file(f, &status);
+  EXPECT_EQ(status, 0);
+  return path.string();
+}
+
+TEST(RealGalaxyCatalog, TypesComeFromTheLightOrFromMorphType) {
+  const auto dir = test::scratchDir();
+  writeTypedStamps(dir / "gals.fits");
+  const auto measured = RealGalaxyCatalog::load(writeTypedCatalog(dir / "cat.fits", nullptr));
+  EXPECT_EQ(measured.loadGalaxy(0).type, GalaxyType::Elliptical);
+  EXPECT_EQ(measured.loadGalaxy(1).type, GalaxyType::Spiral);
+  EXPECT_EQ(measured.loadGalaxy(2).type, GalaxyType::Irregular);
+  // A MORPH_TYPE column wins over the light.
+  const char* const given[] = {"spiral", "Irregular", "ELLIPTICAL"};
+  const auto typed = RealGalaxyCatalog::load(writeTypedCatalog(dir / "typed.fits", given));
+  EXPECT_EQ(typed.loadGalaxy(0).type, GalaxyType::Spiral);
+  EXPECT_EQ(typed.loadGalaxy(1).type, GalaxyType::Irregular);
+  EXPECT_EQ(typed.loadGalaxy(2).type, GalaxyType::Elliptical);
+  const char* const bad[] = {"spiral", "S0", "spiral"};
+  const std::string msg =
+      ioErrorOf([&] { RealGalaxyCatalog::load(writeTypedCatalog(dir / "bad.fits", bad)); });
+  EXPECT_NE(msg.find("bad.fits: row 2 (IDENT 11): MORPH_TYPE 'S0' is not elliptical, spiral or "
+                     "irregular"),
+            std::string::npos)
+      << msg;
+}
+
+// The real HST samples hold more than one type (they used to be all spirals).
+TEST(RealGalaxyCatalog, RealHstGalaxiesAreTypedByTheirLight) {
+  OCTARC_REQUIRE_SHARED_DATA(shared);
+  std::map<GalaxyType, int> counts;
+  for (const char* file : {"aegis/AEGIS_F606w_catalog.fits", "aegis/AEGIS_F814w_catalog.fits",
+                           "cosmos/real_galaxy_catalog_23.5.fits"}) {
+    const auto cat = RealGalaxyCatalog::load((shared / "hst-galaxies" / file).string());
+    for (std::size_t i = 0; i < cat.size(); ++i) {
+      const SourceStamp g = cat.loadGalaxy(i);
+      const MorphologyMeasures m = measureMorphology(g);
+      EXPECT_EQ(g.type, classifyMorphology(m)) << file << " row " << i;
+      EXPECT_GT(m.concentration, 1.5) << file << " row " << i;
+      EXPECT_LT(m.concentration, 6.5) << file << " row " << i;
+      ++counts[g.type];
+    }
+  }
+  EXPECT_GE(counts.size(), 2u);
 }
 
 TEST(RealGalaxyCatalog, RowCountTheFileCannotHoldIsRefusedBeforeAllocation) {

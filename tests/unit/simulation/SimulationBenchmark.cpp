@@ -16,6 +16,7 @@
 #include "octarc/simulation/LensLight.h"
 #include "octarc/simulation/LensModel.h"
 #include "octarc/simulation/LensSystem.h"
+#include "octarc/simulation/MultipleImageRegion.h"
 #include "octarc/simulation/Noise.h"
 #include "octarc/simulation/Population.h"
 #include "octarc/simulation/Psf.h"
@@ -46,7 +47,7 @@ int main(int argc, char** argv) {
   // The population file of the source tree (this program is not installed).
   const PopulationModel population =
       readPopulationModel(OCTARC_SOURCE_DIR "/params/simulation/population.txt");
-  const std::vector<double> psf = gaussianPsfKernel1d(0.9, 0.257);
+  const std::vector<double> psf = gaussianPsfKernel1d(0.9, 0.257, PsfSampling::PointSampled);
 
   // A database of 30 synthetic sources, made once (like reading a catalog).
   std::vector<SourceStamp> database;
@@ -65,11 +66,15 @@ int main(int argc, char** argv) {
     const double t0 = threadCpuMs();
     auto rng = systemRng(master, i);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
-    const LensDraw lensDraw = population.drawLens(cosmo, rng);
+    const std::optional<LensDraw> lensDrawn = population.drawLens(cosmo, rng);
+    if (!lensDrawn) continue;  // outside the lens magnitude window: the engine draws again
+    const LensDraw& lensDraw = *lensDrawn;
     const std::size_t pick = std::uniform_int_distribution<std::size_t>(0, 29)(rng);
     const SourceStamp& src = database[pick];
-    const std::optional<SourceDraw> drawn = population.drawSource(src.type, lensDraw.redshift, rng);
-    if (!drawn) continue;  // no source redshift behind this lens: the engine redraws the pair
+    const std::optional<SourceDraw> drawn = population.drawSource(src.type, rng);
+    // No source redshift, or a source not behind the lens: the engine draws the pair again.
+    if (!drawn || population.lensingWeight(lensDraw.redshift, drawn->redshift, cosmo) <= 0.0)
+      continue;
     const SourceDraw& srcDraw = *drawn;
     const double b =
         sisEinsteinRadiusArcsec(lensDraw.sigmaKmPerS, lensDraw.redshift, srcDraw.redshift, cosmo);
@@ -80,7 +85,7 @@ int main(int argc, char** argv) {
     sys.mass = {b, potentialEllipticityFromLight(lightE), 0.0, pa};
     sys.light = {4.0, 0.5 + unit(rng), 1.0 - lightE, pa, 0.0};
     sys.lensMag = lensDraw.mag;
-    sys.source.betaArcsec = drawUniformInDisc(b, rng);
+    sys.source.betaArcsec = MultipleImageRegion(sys.mass).drawUniform(rng);
     sys.source.rotationRad = 2.0 * std::numbers::pi * unit(rng);
     sys.source.pixelScaleArcsec = src.pixelScaleArcsec * srcDraw.halfLightArcsec / databaseRh[pick];
     sys.sourceMag = srcDraw.mag;

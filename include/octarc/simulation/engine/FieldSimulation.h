@@ -36,7 +36,7 @@ struct FieldSimulationSettings {
   double raDeg = 150.0;  // CRVAL1 / CRVAL2 at the field centre
   double decDeg = 2.0;
   std::string databasePath;    // RealGalaxyCatalog of lensed sources; "" = synthetic sources
-  std::string populationPath;  // lens population file; "" = params/simulation/population.txt
+  std::string populationPath;  // lens population file; "" = the dls preset (population-dls.txt)
   int threads = 0;             // 0 = all cores; the result does not depend on it
   simulation::FieldPopulationParams population;
 

@@ -28,9 +28,11 @@ struct LensRun {
   Table systems;  // lensSystemColumns(), one row per system, in index order
   Table arcs;     // lensArcColumns()
   std::int64_t systemsWithArc = 0;
-  std::int64_t redraws = 0;    // lens-source pairs redrawn (LensSystemDraw::redraws)
-  StageTimings timings;        // summed over systems
-  std::vector<ImageF> stamps;  // the first `stampCount` systems' stamps
+  std::int64_t redraws = 0;     // lens-source pairs redrawn (LensSystemDraw::redraws)
+  std::int64_t rejections = 0;  // draws the sampler turned down (LensSystemDraw::rejections)
+  std::int64_t skipped = 0;     // systems drawn but not rendered (LensSystemDraw::skipped)
+  StageTimings timings;         // summed over systems
+  std::vector<ImageF> stamps;   // the first `stampCount` systems' stamps
 };
 
 // Simulates systems 0..count-1 of `seed` on `threads` threads; `progress` gets the number done.

@@ -25,7 +25,8 @@ struct LensSetupOptions {
   std::optional<double> detectThresholdMax;              // --thresh-max (20 sigma)
   std::optional<int> detectLevelCount;                   // --nlevels (15)
   std::optional<int> minAreaPix;                         // --minarea (5)
-  std::string populationPath;                            // --population ("" = the shipped file)
+  std::string populationPath;                            // --population ("" = the preset's file)
+  std::string populationPreset;                          // --preset: physical (default), dls
   std::optional<double> lensMagMin, lensMagMax;          // --lens-mag-min/max
   std::optional<double> sourceMagMin, sourceMagMax;      // --source-mag-min/max
   std::optional<double> sigmaMinKmPerS, sigmaMaxKmPerS;  // --sigma-min/max

@@ -97,11 +97,12 @@ struct LensSystemDraw {
   double lensEllipticity = 0.0;   // light, 1 - b/a
   double einsteinRadiusArcsec = 0.0;
   simulation::LensSystem system;  // ready for simulation::renderLensSystem
-  int redraws = 0;                // lens-source pairs drawn again (no source redshift possible)
+  int redraws = 0;                // pairs drawn again: no source redshift in the range
+  // Draws the sampling itself turned down: a lens outside the magnitude window, or a pair not
+  // kept by the cross-section weight (D_ls/D_s)^2.
+  std::int64_t rejections = 0;
+  bool skipped = false;  // theta_E below the population's skip limit: drawn, not rendered
 };
-
-// Lens-source pairs one system may redraw before the population is declared unusable.
-constexpr int kMaxSystemRedraws = 1000;
 
 // The seed stream of the synthetic source database of `simulate lenses`: its own, so that the
 // same sources serve every master seed.
@@ -116,11 +117,16 @@ struct StageTimings {
   double totalSec() const;
 };
 
-// The population draw of system `index`: lens (magnitude, redshift, sigma_v by Faber-Jackson
-// within the sigma cuts), lens light shape, source (database pick, magnitude, size, redshift
-// behind the lens; a pair with no possible source redshift is redrawn, counted in `redraws`,
-// ConfigError after kMaxSystemRedraws), Einstein radius, source position uniform inside it,
-// random rotation.
+// The population draw of system `index`, as a rejection sampler of the joint distribution
+// VDF x dV/dz x source counts x cross-section (simulation/Population.h): a lens (sigma_v from the
+// VDF times sigma^4, z from the volume, magnitude from Faber-Jackson, kept inside the magnitude
+// window), a source (database pick, magnitude, size, redshift for its type), the pair kept with
+// probability (D_ls/D_s)^2; anything turned down is drawn again from the same stream (counted in
+// `redraws` when the source relation gave no redshift, in `rejections` otherwise), ConfigError
+// after the population's max_attempts. Then the lens light shape, Einstein radius, source
+// position uniform inside the multiply-imaged region of the lens
+// (simulation/MultipleImageRegion.h), random rotation; `skipped` when theta_E is below the
+// population's skip limit.
 // Reads the first values of `rng`, which must be systemRng(masterSeed, index).
 LensSystemDraw drawLensSystem(const SimulationSetup& setup, const SourceDatabase& sources,
                               std::int64_t index, std::mt19937_64& rng);
@@ -157,7 +163,8 @@ struct SimulatedSystem {
 
 // Draws, renders, detects at setup.thresholdsAdu (the stamp is background-free with known
 // sigma: no background is estimated), measures every object with measuredPlan() and applies
-// the arc rules. Adds the time of each stage to *timings when given.
+// the arc rules. A skipped draw is not rendered: no objects, NaN magnification, a blank stamp.
+// Adds the time of each stage to *timings when given.
 SimulatedSystem simulateSystem(const SimulationSetup& setup, const SourceDatabase& sources,
                                std::uint64_t masterSeed, std::int64_t index, bool keepImage,
                                StageTimings* timings = nullptr);
