@@ -141,9 +141,41 @@ struct Wcs::Impl {
   bool hasEquinox() const { return !undefined(wcs.equinox); }
 };
 
+namespace {
+
+// True for a keyword card whose value is a string that never closes ('' is an embedded quote),
+// or a card holding a byte outside printable ASCII: wcslib 7.12's header parser (wcspih)
+// overflows a buffer on the first ("CTYPE2  = 'DEC-CD1_1   =" aborts the process) and has no
+// use for the second.
+bool unsafeForWcslib(const std::string& card) {
+  for (const char c : card) {
+    if (c < 0x20 || c > 0x7E) return true;
+  }
+  if (card.size() < 10 || card.compare(8, 2, "= ") != 0) return false;
+  const std::size_t open = card.find_first_not_of(' ', 10);
+  if (open == std::string::npos || card[open] != '\'') return false;
+  for (std::size_t i = open + 1; i < card.size(); ++i) {
+    if (card[i] != '\'') continue;
+    if (i + 1 < card.size() && card[i + 1] == '\'') {
+      ++i;  // an embedded quote
+      continue;
+    }
+    return false;  // closed
+  }
+  return true;
+}
+
+}  // namespace
+
 std::optional<Wcs> Wcs::fromHeader(const FitsHeader& header, const std::string& fileForErrors) {
   enableWcsErrors();
-  std::string text = header.joined();
+  // Cards wcslib cannot parse safely are left out, as if absent (the WCS they would describe is
+  // then incomplete or missing, which every caller handles).
+  std::string text;
+  text.reserve(header.cards.size() * 80);
+  for (const std::string& card : header.cards) {
+    text += unsafeForWcslib(card) ? std::string(80, ' ') : card;
+  }
   const int nCards = static_cast<int>(header.cards.size());
   if (nCards == 0) return std::nullopt;
   int nReject = 0;

@@ -124,6 +124,13 @@ class HostileImages(HostileInput):
         self.assert_fails(self.detect(path), path + "[1]: cannot read pixels",
                           "error uncompressing image")
 
+    def test_unterminated_string_in_a_wcs_card(self):
+        # Found by scripts/fuzz.sh (fuzz_fits_image): CTYPE2 = 'DEC-CD1_1   = (no closing
+        # quote) made wcslib's header parser overflow a buffer and abort the process. The card
+        # is left out, and the WCS without it is refused with a message.
+        path = os.path.join(TESTDATA, "hostile", "wcs-unterminated-string.fits")
+        self.assert_fails(self.detect(path), path + "[1]: invalid WCS")
+
     def test_zero_axis(self):
         path = raw_fits(self.path("zero.fits"), -32, (0, 10))
         self.assert_fails(self.detect(path), path + ": HDU 0: image is 0 x 10 pixels")
