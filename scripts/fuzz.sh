@@ -30,7 +30,7 @@ cmake --build build/fuzz -j "$(nproc)" --target octarc_fuzz
 /usr/bin/python3 scripts/make-fuzz-corpus.py build/fuzz/seeds
 mkdir -p build/fuzz/logs
 
-export ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1
+export ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1:fast_unwind_on_malloc=0
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp:print_suppressions=0
 
