@@ -15,6 +15,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (octarc::fuzz::expandsTooMuch(data, size)) return 0;
+  if (octarc::fuzz::holdsTileCompressedImage(data, size)) return 0;
   const std::string path = octarc::fuzz::writeInput(data, size, "image.fits");
   try {
     for (const std::string& hdu : octarc::listImageHdus(path)) {

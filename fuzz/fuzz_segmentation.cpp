@@ -13,6 +13,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (octarc::fuzz::expandsTooMuch(data, size)) return 0;
+  if (octarc::fuzz::holdsTileCompressedImage(data, size)) return 0;
   const std::string path = octarc::fuzz::writeInput(data, size, "seg.fits");
   try {
     const octarc::ImageHdu header = octarc::readImageHeader(path);
