@@ -1,10 +1,57 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages of scripts/debian-packages.txt that are missing (with sudo when
-# not root). Recommended packages are not installed: whatever a test needs is listed explicitly.
+# Installs the Debian 12 packages octarc needs to build and test, those of `packages` below that
+# are missing (with sudo when not root). Recommended packages are not installed: whatever a test
+# needs is listed here. Every Python module a test or a script imports must come from a package
+# listed here (tests/check_test_imports.py reads this list and checks it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-mapfile -t packages < <(sed -e 's/#.*//' -e 's/[[:space:]]//g' scripts/debian-packages.txt | grep -v '^$')
+# One package per line, grouped by what needs it.
+packages=(
+  # Build
+  build-essential
+  cmake
+  ninja-build
+  pkg-config
+  libcfitsio-dev
+  wcslib-dev
+  libeigen3-dev
+  libboost-program-options-dev
+  libmuparser-dev
+  # Check-plots (as SCAMP and PSFEx make them): PLplot with its cairo (PNG, PDF, SVG) driver
+  libplplot-dev
+  plplot-driver-cairo
+  libgtest-dev
+  googletest
+
+  # Packaging: dpkg-shlibdeps finds the Debian package's runtime dependencies (cpack -G DEB)
+  dpkg-dev
+  # cpack -G DEB runs file(1) on what it packages
+  file
+  # Fuzzing (scripts/fuzz.sh): libFuzzer with Debian's clang
+  clang-14
+  libfuzzer-14-dev
+  libclang-rt-14-dev
+  zlib1g-dev
+
+  # Real peers and clients the tests run
+  source-extractor
+  fitsverify
+  libcfitsio-bin
+  stilts
+  psfex
+  scamp
+  # The installation test records every file octarc opens
+  strace
+
+  # Python for the end-to-end tests (Debian's /usr/bin/python3)
+  python3
+  python3-astropy
+  python3-numpy
+  python3-scipy
+  python3-sep
+  python3-photutils
+)
 
 missing=()
 for p in "${packages[@]}"; do

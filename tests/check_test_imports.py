@@ -5,7 +5,7 @@ file, not only at the top), and the Python that the C++ tests run inline (`impor
 string literals), and checks each one that is neither in Python's standard library nor
 one of the project's own files: it must be importable by this interpreter (Debian's
 /usr/bin/python3), its files must belong to a Debian package (dpkg -S), and that package must be
-listed in scripts/debian-packages.txt. A module that pip, a recommended package or a hand install
+listed in scripts/install-deps.sh (its `packages` array). A module that pip, a recommended package or a hand install
 provided on a developer machine would pass there and fail on a fresh one: this check fails first.
 
 Usage: /usr/bin/python3 tests/check_test_imports.py [SOURCE_DIR]
@@ -20,16 +20,22 @@ import sys
 
 SOURCE_DIR = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else
                              os.path.join(os.path.dirname(__file__), ".."))
-PACKAGE_LIST = os.path.join(SOURCE_DIR, "scripts", "debian-packages.txt")
+PACKAGE_LIST = os.path.join(SOURCE_DIR, "scripts", "install-deps.sh")
 
 
 def listed_packages():
+    """The packages of the `packages=( ... )` array of scripts/install-deps.sh."""
     packages = set()
+    inside = False
     with open(PACKAGE_LIST) as f:
         for line in f:
-            name = line.split("#", 1)[0].strip()
-            if name:
-                packages.add(name)
+            text = line.split("#", 1)[0].strip()
+            if not inside:
+                inside = text == "packages=("
+                continue
+            if text == ")":
+                break
+            packages.update(text.split())
     return packages
 
 
@@ -112,7 +118,7 @@ def main():
         spec = importlib.util.find_spec(module)
         if spec is None:
             problems.append("%s (imported by %s) is not installed: add the Debian package that "
-                            "provides it to scripts/debian-packages.txt" % (module, where))
+                            "provides it to scripts/install-deps.sh" % (module, where))
             continue
         location = spec.origin if spec.origin not in (None, "namespace") else \
             next(iter(spec.submodule_search_locations or []), None)
@@ -122,7 +128,7 @@ def main():
                             "provides" % (module, where, location))
         elif package not in listed:
             problems.append("%s (imported by %s) comes from the Debian package %s, which "
-                            "scripts/debian-packages.txt does not list" % (module, where, package))
+                            "scripts/install-deps.sh does not list" % (module, where, package))
     for p in problems:
         print("check_test_imports: " + p)
     if not problems:
