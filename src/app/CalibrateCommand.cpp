@@ -93,28 +93,16 @@ void printSummary(const CalibrationRun& run, const CalibrationResult& r) {
 }  // namespace
 
 int runCalibrate(const std::vector<std::string>& args) {
-  const std::vector<sexcompat::KeySpec> schema = calibrationKeys();
-  const sexcompat::CommandLine cl = sexcompat::parseCommandLine(args, schema);
-  if (cl.help) {
-    printUsage();
-    return 0;
-  }
-  if (cl.version) {
-    std::cout << "octarc calibrate version " << octarcVersion() << "\n";
-    return 0;
-  }
-  std::vector<std::string> warnings;
-  if (cl.dumpConfig || cl.dumpConfigFull || cl.dumpParams) {
-    std::cout << sexcompat::Config::load(schema, "", {}, &warnings).dump(schema, cl.dumpConfigFull);
-    return 0;
-  }
-  if (cl.positional.empty()) {
+  std::optional<LoadedConfig> loaded = loadConfig(args, "calibrate", calibrationKeys(), printUsage,
+                                                  nullptr, false, "simulation file name");
+  if (!loaded) return 0;
+  if (loaded->positional.empty()) {
     throw ConfigError("give the octarc simulate lenses output(s) to calibrate (see -h)");
   }
-  const sexcompat::Config config =
-      sexcompat::Config::load(schema, cl.configFile, cl.overrides, &warnings);
+  const sexcompat::Config& config = loaded->config;
+  const std::vector<std::string>& warnings = loaded->warnings;
   std::vector<SimulationOutput> outputs;
-  for (const std::string& path : cl.positional) outputs.push_back(readSimulationOutput(path));
+  for (const std::string& path : loaded->positional) outputs.push_back(readSimulationOutput(path));
   const SimulationOutput simulation = combineSimulationOutputs(std::move(outputs));
   const CalibrationRun run = calibrationRunFromConfig(config, simulation);
   if (!run.quiet) {
@@ -126,7 +114,7 @@ int runCalibrate(const std::vector<std::string>& args) {
   files.add(run.calibrationPath);
   files.add(run.gridPath);
   for (const CheckPlotRequest& p : run.plots) files.add(p.path);
-  std::vector<std::string> inputs = cl.positional;
+  std::vector<std::string> inputs = loaded->positional;
   if (!run.surveyCatalogPath.empty()) inputs.push_back(run.surveyCatalogPath);
   for (std::size_t i = 0; i < files.size(); ++i) {
     for (const std::string& in : inputs) {

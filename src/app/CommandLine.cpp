@@ -85,9 +85,12 @@ const char* octarcVersion() {
   return kVersion;
 }
 
-std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std::string& command,
-                                 const std::function<void()>& printUsage) {
-  const std::vector<sexcompat::KeySpec> schema = octarcKeys();
+std::optional<LoadedConfig> loadConfig(const std::vector<std::string>& args,
+                                       const std::string& command,
+                                       const std::vector<sexcompat::KeySpec>& schema,
+                                       const std::function<void()>& printUsage,
+                                       const std::function<void()>& printColumnList,
+                                       bool readDefaultSex, const std::string& argumentName) {
   const sexcompat::CommandLine cl = sexcompat::parseCommandLine(args, schema);
   if (cl.help) {
     printUsage();
@@ -97,42 +100,51 @@ std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std
     std::cout << "octarc " << command << " version " << octarcVersion() << "\n";
     return std::nullopt;
   }
-  if (cl.dumpParams) {
-    printColumns();
+  if (cl.dumpParams && printColumnList) {
+    printColumnList();
     return std::nullopt;
   }
-  std::vector<std::string> warnings;
-  if (cl.dumpConfig || cl.dumpConfigFull) {
-    const sexcompat::Config defaults = sexcompat::Config::load(schema, "", {}, &warnings);
+  LoadedConfig out;
+  if (cl.dumpConfig || cl.dumpConfigFull || cl.dumpParams) {
+    const sexcompat::Config defaults = sexcompat::Config::load(schema, "", {}, &out.warnings);
     std::cout << defaults.dump(schema, cl.dumpConfigFull);
     return std::nullopt;
   }
   // As SExtractor: without -c, ./default.sex is read when it exists, with its warning when not.
-  std::string configFile = cl.configFile;
-  if (configFile.empty()) {
+  out.configFile = cl.configFile;
+  if (out.configFile.empty() && readDefaultSex) {
     if (std::filesystem::exists("default.sex")) {
-      configFile = "default.sex";
+      out.configFile = "default.sex";
     } else {
-      warnings.push_back("default.sex not found, using internal defaults");
+      out.warnings.push_back("default.sex not found, using internal defaults");
     }
   }
-  sexcompat::Config config = sexcompat::Config::load(schema, configFile, cl.overrides, &warnings);
-  RunSettings settings = settingsFromConfig(config);
-  for (const std::string& image : cl.positional) {
+  out.config = sexcompat::Config::load(schema, out.configFile, cl.overrides, &out.warnings);
+  for (const std::string& name : cl.positional) {
     // As for every configuration value: a control character is never part of a real name.
-    if (hasControlCharacter(image)) {
-      throw ConfigError("command line: image name " + quoteForMessage(image) +
+    if (hasControlCharacter(name)) {
+      throw ConfigError("command line: " + argumentName + " " + quoteForMessage(name) +
                         " holds a control character");
     }
   }
-  settings.imagePaths = cl.positional;
-  settings.configPath = configFile;
-  settings.parametersPath = resolveParametersFile(settings.parametersPath,
-                                                  config.isExplicit("PARAMETERS_NAME"), warnings);
+  out.positional = cl.positional;
+  return out;
+}
+
+std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std::string& command,
+                                 const std::function<void()>& printUsage) {
+  std::optional<LoadedConfig> loaded =
+      loadConfig(args, command, octarcKeys(), printUsage, printColumns, true, "image name");
+  if (!loaded) return std::nullopt;
+  RunSettings settings = settingsFromConfig(loaded->config);
+  settings.imagePaths = loaded->positional;
+  settings.configPath = loaded->configFile;
+  settings.parametersPath = resolveParametersFile(
+      settings.parametersPath, loaded->config.isExplicit("PARAMETERS_NAME"), loaded->warnings);
   if (!settings.quiet) {
-    for (const std::string& w : warnings) std::cerr << "WARNING: " << w << "\n";
+    for (const std::string& w : loaded->warnings) std::cerr << "WARNING: " << w << "\n";
   }
-  return LoadedRun{std::move(config), std::move(settings)};
+  return LoadedRun{std::move(loaded->config), std::move(settings)};
 }
 
 }  // namespace octarc

@@ -12,6 +12,7 @@
 #include "octarc/catalog/Catalog.h"
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
+#include "octarc/core/Progress.h"
 #include "octarc/run/CatalogAssembly.h"
 #include "octarc/run/DetectionRun.h"
 #include "octarc/run/Levels.h"
@@ -105,22 +106,15 @@ int runDetect(const std::vector<std::string>& args) {
   DetectionRunResult result = runDetection(s, columns, assocSettings, log);
 
   // VERBOSE_TYPE FULL reports where the time goes.
-  auto lap = [&, last = std::chrono::steady_clock::now()](const char* stage) mutable {
-    const auto now = std::chrono::steady_clock::now();
-    if (s.verboseFull) {
-      std::cerr << "> Time: " << stage << " " << std::chrono::duration<double>(now - last).count()
-                << " s\n";
-    }
-    last = now;
-  };
+  StageClock clock(s.verboseFull, log);
   std::vector<CatalogPart> parts = result.parts();
-  lap("assembling the catalog");
+  clock.lap("assembling the catalog");
   if (catalogType != CatalogType::None) {
     outputs.write(0, [&](const std::string& path) {
       writeCatalog(path, catalogType, parts, result.fits10Cards);
     });
   }
-  lap("writing the catalog");
+  clock.lap("writing the catalog");
   if (!s.quiet && catalogType != CatalogType::None) {
     std::cerr << "> Wrote " << s.catalogNames[0] << " in "
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()

@@ -7,7 +7,6 @@
 #include "octarc/run/PreparedImage.h"
 #include "octarc/selection/ColumnExpression.h"
 #include "octarc/selection/GridBinning.h"
-#include "octarc/selection/SearchSpace.h"
 #include "octarc/sexcompat/ConvFile.h"
 #include "octarc/sexcompat/KeyRow.h"
 
@@ -69,7 +68,7 @@ std::vector<KeySpec> calibrationKeys() {
       Row("NOISE_STUDY", Kind::Bool, {"Y"}, "find the noise-only threshold"),
       Row("NOISE_REALISATIONS", Kind::Int, {"100"}, "noise images").range(1, 100000),
       Row("NOISE_SIZE", Kind::Int, {"512"}, "side of each noise image, pixels").range(16, 16384),
-      Row("NOISE_THRESH", Kind::Float, {"0.5", "8", "0.02"},
+      Row("NOISE_THRESH", Kind::Float, {"0.5", "8", "0.03"},
           "lowest and highest threshold tried and the step\n(sigma)")
           .list(3, 3)
           .range(0, 1000),
@@ -115,13 +114,19 @@ CalibrationRun calibrationRunFromConfig(const sexcompat::Config& c,
     s.searchSpaceName = c.count("SEARCH_NAME") > 0 ? c.getString("SEARCH_NAME") : "search";
   }
   s.gridAxes = c.getStrings("GRID_AXES");
-  // Expressions are checked on the simulation before any work: a typo, an unknown column or an
-  // empty search space fails at once.
+  // Expressions are checked before any work: they must parse and name columns the systems table
+  // has (whether a search space keeps any arc is known once the grid is filled).
+  auto requireColumns = [&](const ColumnExpression& e) {
+    for (const std::string& name : e.variables()) {
+      simulation.systems.requireColumn(name, e.context());
+    }
+  };
   if (!s.searchSpaceExpression.empty()) {
-    (void)SearchSpace(s.searchSpaceName, s.searchSpaceExpression).simulatedMask(simulation.systems);
+    requireColumns(
+        ColumnExpression(s.searchSpaceExpression, "search space '" + s.searchSpaceName + "'"));
   }
   for (const std::string& axis : s.gridAxes) {
-    (void)ColumnExpression(axis, "GRID_AXES " + axis).evaluate(simulation.systems);
+    requireColumns(ColumnExpression(axis, "GRID_AXES " + axis));
   }
   s.gridLevel = c.getDouble("GRID_LEVEL");
   s.minBinsPerAxis = c.getInt("GRID_NBINS", 0);

@@ -7,23 +7,17 @@
 
 namespace octarc {
 
-namespace {
-
-int requireColumn(const Table& t, const char* name) {
-  const int c = t.findColumn(name);
-  if (c < 0) {
-    throw ConfigError(std::string("lensing fraction: the systems table has no column ") + name);
-  }
-  return c;
+double binomialSigma(std::int64_t k, std::int64_t n) {
+  if (n <= 0) return 0.0;
+  const double f = double(k) / double(n);
+  return std::sqrt(f * (1.0 - f) / double(n));
 }
 
-}  // namespace
-
 LensingFractions lensingFractions(const Table& systems, const FractionCuts& cuts) {
-  const int found = requireColumn(systems, "ARC_FOUND");
-  const int arcness = requireColumn(systems, "ARCNESS");
-  const int e = requireColumn(systems, "E_IMAGE");
-  const int snr = requireColumn(systems, "SNR_ISO");
+  const int found = systems.requireColumn("ARC_FOUND", "lensing fraction");
+  const int arcness = systems.requireColumn("ARCNESS", "lensing fraction");
+  const int e = systems.requireColumn("E_IMAGE", "lensing fraction");
+  const int snr = systems.requireColumn("SNR_ISO", "lensing fraction");
   LensingFractions out;
   out.cuts = cuts;
   out.simulatedSystems = systems.rows();
@@ -50,7 +44,7 @@ LensingFractions lensingFractions(const Table& systems, const FractionCuts& cuts
       row.distortedAndBright = d;
       row.systems = d ? distorted[k] : all[k];
       row.fraction = n > 0 ? double(row.systems) / n : 0.0;
-      row.fractionSigma = n > 0 ? std::sqrt(row.fraction * (1.0 - row.fraction) / n) : 0.0;
+      row.fractionSigma = binomialSigma(row.systems, out.arcSystems);
       out.rows.push_back(row);
     }
   }

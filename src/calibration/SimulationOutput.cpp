@@ -12,54 +12,11 @@ namespace octarc {
 
 namespace {
 
-ColumnType columnType(FitsColumnType t) {
-  switch (t) {
-    case FitsColumnType::Int16:
-      return ColumnType::Int16;
-    case FitsColumnType::Int32:
-      return ColumnType::Int32;
-    case FitsColumnType::Int64:
-      return ColumnType::Int64;
-    case FitsColumnType::Float32:
-      return ColumnType::Float32;
-    default:
-      return ColumnType::Float64;
-  }
-}
-
-bool numeric(FitsColumnType t) {
-  return t != FitsColumnType::Unsupported && t != FitsColumnType::String;
-}
-
 double card(const FitsHeader& h, const char* key) {
   return h.number(key).value_or(std::nan(""));
 }
 
 }  // namespace
-
-Table tableFromFits(const FitsTable& fits) {
-  std::vector<ColumnSpec> specs;
-  std::vector<const FitsColumn*> used;
-  for (const FitsColumn& c : fits.columns) {
-    if (!numeric(c.type()) || c.repeat != 1) continue;
-    ColumnSpec spec;
-    spec.name = c.name;
-    spec.unit = c.unit;
-    spec.description = c.comment;
-    spec.type = columnType(c.type());
-    specs.push_back(spec);
-    used.push_back(&c);
-  }
-  Table out(specs);
-  std::vector<std::vector<double>> values;
-  for (const FitsColumn* c : used) values.push_back(fits.doubles(c->name));
-  const std::int64_t rows = fits.rows();
-  for (std::int64_t r = 0; r < rows; ++r) {
-    double* row = out.appendRow();
-    for (std::size_t c = 0; c < values.size(); ++c) row[c] = values[c][std::size_t(r)];
-  }
-  return out;
-}
 
 SimulationOutput readSimulationOutput(const std::string& path) {
   const std::vector<std::string> tables = listFitsTables(path);

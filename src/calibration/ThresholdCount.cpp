@@ -4,6 +4,7 @@
 #include <cmath>
 #include <set>
 
+#include "octarc/calibration/LensingFraction.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Parallel.h"
 #include "octarc/simulation/engine/LensCatalog.h"
@@ -37,8 +38,8 @@ ThresholdCountCurve thresholdCountCurve(const LensSetupOptions& survey,
     row.levels = n;
     row.systems = run.systems.rows();
     row.arcSystems = run.systemsWithArc;
-    const int system = run.arcs.findColumn("SYSTEM");
-    const int arcness = run.arcs.findColumn("ARCNESS");
+    const int system = run.arcs.requireColumn("SYSTEM", "threshold count");
+    const int arcness = run.arcs.requireColumn("ARCNESS", "threshold count");
     for (std::int64_t r = 0; r < run.arcs.rows(); ++r) {
       if (run.arcs.value(r, arcness) > s.arcnessMin) {
         found[i].insert(std::int64_t(run.arcs.value(r, system)));
@@ -46,7 +47,7 @@ ThresholdCountCurve thresholdCountCurve(const LensSetupOptions& survey,
     }
     row.withArcness = std::int64_t(found[i].size());
     row.fraction = double(row.withArcness) / double(row.systems);
-    row.fractionSigma = std::sqrt(row.fraction * (1.0 - row.fraction) / double(row.systems));
+    row.fractionSigma = binomialSigma(row.withArcness, row.systems);
     curve.rows.push_back(row);
   }
   // Flat from the fewest levels whose fraction is within one sigma of the most levels' fraction,

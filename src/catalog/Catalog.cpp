@@ -85,8 +85,8 @@ class AsciiFormat {
     double stored = value;
     if (integerColumn) {
       stored = double(detail::integerValue(type_, value));
-    } else if (type_ == ColumnType::Float32) {
-      stored = double(float(value));  // print what the FITS column holds
+    } else {
+      stored = storedFloatValue(type_, value);  // print what the FITS column holds
     }
     char buffer[128];
     if (!integerColumn && std::isnan(stored)) {

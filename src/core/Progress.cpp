@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <sstream>
+#include <utility>
 
 namespace octarc {
 
@@ -29,6 +31,20 @@ ProgressFn terminalProgress(const std::string& label, const std::string& unit, b
     if (done >= total) std::fprintf(stderr, "\n");
     std::fflush(stderr);
   };
+}
+
+StageClock::StageClock(bool on, std::function<void(const std::string&)> log)
+    : on_(on && log), log_(std::move(log)), last_(std::chrono::steady_clock::now()) {}
+
+void StageClock::lap(const char* stage) {
+  const auto now = std::chrono::steady_clock::now();
+  if (on_) {
+    std::ostringstream line;
+    line << "> Time: " << stage << " " << std::chrono::duration<double>(now - last_).count()
+         << " s";
+    log_(line.str());
+  }
+  last_ = now;
 }
 
 }  // namespace octarc

@@ -1,6 +1,9 @@
 #include "octarc/core/Table.h"
 
 #include <algorithm>
+#include <string>
+
+#include "octarc/core/Error.h"
 
 namespace octarc {
 
@@ -26,6 +29,14 @@ int Table::findColumn(std::string_view name) const {
     if (columns_[i].name == name) return i;
   }
   return -1;
+}
+
+int Table::requireColumn(std::string_view name, std::string_view context) const {
+  const int c = findColumn(name);
+  if (c < 0) {
+    throw ConfigError(std::string(context) + ": the table has no column " + std::string(name));
+  }
+  return c;
 }
 
 double* Table::appendRow() {

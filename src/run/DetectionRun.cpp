@@ -27,27 +27,6 @@ double secondsSince(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
 
-// VERBOSE_TYPE FULL: the time of each stage since the previous one.
-class StageClock {
- public:
-  StageClock(bool on, const RunLog& log) : on_(on && log), log_(log) {}
-  void lap(const char* stage) {
-    const auto now = std::chrono::steady_clock::now();
-    if (on_) {
-      std::ostringstream line;
-      line << "> Time: " << stage << " " << std::chrono::duration<double>(now - last_).count()
-           << " s";
-      log_(line.str());
-    }
-    last_ = now;
-  }
-
- private:
-  bool on_;
-  const RunLog& log_;
-  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
-};
-
 // Human-readable size of a file, for progress lines ("6.0 GB").
 std::string sizeText(const std::string& path) {
   std::error_code ec;

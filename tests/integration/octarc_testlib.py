@@ -71,11 +71,9 @@ class WorkDirTest(unittest.TestCase):
         return os.path.join(self.work, name)
 
 
-def run_octarc(*args, check=True, cwd=None, env=None):
-    """Runs octarc; `env`: variables to set on top of this process's environment."""
-    full_env = dict(os.environ, **env) if env else None
+def run_octarc(*args, check=True, cwd=None):
     proc = subprocess.run([OCTARC] + [str(a) for a in args], capture_output=True, text=True,
-                          cwd=cwd, env=full_env)
+                          cwd=cwd)
     if check and proc.returncode != 0:
         raise AssertionError("octarc %s failed (%d):\n%s" % (" ".join(map(str, args)),
                                                             proc.returncode, proc.stderr))

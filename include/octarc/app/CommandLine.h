@@ -15,6 +15,27 @@ namespace octarc {
 // The octarc version string, e.g. "0.1.0".
 const char* octarcVersion();
 
+// A command's configuration: the defaults of its key table, then the -c file (or ./default.sex),
+// then the -KEY value overrides; its positional arguments; warnings not yet printed.
+struct LoadedConfig {
+  sexcompat::Config config;
+  std::vector<std::string> positional;
+  std::string configFile;
+  std::vector<std::string> warnings;
+};
+
+// Parses `octarc <command>` arguments against `schema`: nullopt when they only asked for help, a
+// version, a dump of the keys (-d, -dd) or of the columns (-dp, with printColumnList; without it
+// -dp dumps the keys), all printed on stdout. `readDefaultSex`: without -c, ./default.sex is read
+// when it exists, as SExtractor does. `argumentName` names a positional argument in messages.
+std::optional<LoadedConfig> loadConfig(const std::vector<std::string>& args,
+                                       const std::string& command,
+                                       const std::vector<sexcompat::KeySpec>& schema,
+                                       const std::function<void()>& printUsage,
+                                       const std::function<void()>& printColumnList,
+                                       bool readDefaultSex,
+                                       const std::string& argumentName = "image name");
+
 struct LoadedRun {
   sexcompat::Config config;
   RunSettings settings;

@@ -36,6 +36,9 @@ struct LensingFractions {
   std::vector<FractionRow> rows;  // per arcness bin: all, then distorted and bright
 };
 
+// sqrt(f (1 - f) / n) for f = k / n; 0 for n <= 0.
+double binomialSigma(std::int64_t k, std::int64_t n);
+
 // From a simulate-lenses systems table (columns ARC_FOUND, ARCNESS, E_IMAGE, SNR_ISO).
 // ConfigError naming the column when one is missing.
 LensingFractions lensingFractions(const Table& systems, const FractionCuts& cuts = {});

@@ -23,7 +23,7 @@ struct NoiseThresholdSettings {
   int realisations = 100;
   int minAreaPix = 5;                // DETECT_MINAREA
   std::optional<ConvKernel> filter;  // the survey's detection filter (FILTER Y)
-  double loSigma = 0.5, hiSigma = 8.0, stepSigma = 0.02;  // the threshold ladder
+  double loSigma = 0.5, hiSigma = 8.0, stepSigma = 0.03;  // 251 rungs: one detection pass
   std::uint64_t seed = 1;
   int threads = 0;  // 0 = all cores
 };

@@ -13,8 +13,6 @@
 
 namespace octarc {
 
-struct FitsTable;
-
 struct SimulationOutput {
   std::string path;  // or the paths joined by "," for combined outputs
   Table systems;     // one row per simulated system
@@ -37,9 +35,5 @@ SimulationOutput combineSimulationOutputs(std::vector<SimulationOutput> outputs)
 // zero point, sky noise, the lowest and highest level, DETECT_MINAREA) with the shipped
 // population: what studies that rerun the simulations start from.
 LensSetupOptions resimulationOptions(const SimulationOutput& simulation);
-
-// A FITS table's scalar numeric columns as a Table (values as double; vector and string columns
-// are left out).
-Table tableFromFits(const FitsTable& table);
 
 }  // namespace octarc

@@ -25,4 +25,10 @@ struct ColumnSpec {
   int repeat = 1;            // vector size (VECTOR_ASSOC(n)); 1 for scalars
 };
 
+// A value of a floating-point column as the catalog stores it: rounded to float in a Float32
+// column (what a reader of the file gets back), unchanged otherwise.
+inline double storedFloatValue(ColumnType type, double value) {
+  return type == ColumnType::Float32 ? double(float(value)) : value;
+}
+
 }  // namespace octarc

@@ -31,6 +31,8 @@ class Table {
   int offset(int column) const { return offsets_[column]; }
   // Index of the column with this name (exact match), or -1.
   int findColumn(std::string_view name) const;
+  // The same, ConfigError("<context>: the table has no column <name>") when there is none.
+  int requireColumn(std::string_view name, std::string_view context) const;
 
   std::int64_t rows() const { return rows_; }
   // Appends a row filled with zeros and returns a pointer to it.

@@ -25,6 +25,8 @@
 #include <variant>
 #include <vector>
 
+#include "octarc/core/Table.h"
+
 namespace octarc {
 
 enum class FitsColumnType { Unsupported, Int16, Int32, Int64, Float32, Float64, String };
@@ -139,5 +141,9 @@ bool hasFitsTableAt(const std::string& path, int hduIndex);
 FitsTable readFitsTableAt(const std::string& path, int hduIndex,
                           const std::vector<std::string>& onlyColumns = {},
                           const std::vector<std::string>& optionalColumns = {});
+
+// A table's scalar numeric columns as a core Table (values as double, types and units kept);
+// vector and string columns are left out.
+Table tableFromFits(const FitsTable& table);
 
 }  // namespace octarc

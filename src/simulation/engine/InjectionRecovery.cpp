@@ -13,13 +13,12 @@ namespace octarc {
 
 RecoveryRows recoveryRows(const Table& table, const std::vector<std::int64_t>& order) {
   auto column = [&](const char* name) {
-    const int c = table.findColumn(name);
-    if (c < 0) throw Error(std::string("injection recovery: the catalog has no column ") + name);
-    const bool single = table.columns()[std::size_t(c)].type == ColumnType::Float32;
+    const int c = table.requireColumn(name, "injection recovery");
+    const ColumnType type = table.columns()[std::size_t(c)].type;
     std::vector<double> values;
     for (std::int64_t i = 0; i < table.rows(); ++i) {
-      const double v = table.value(order.empty() ? i : order[std::size_t(i)], c);
-      values.push_back(single ? double(float(v)) : v);
+      values.push_back(
+          storedFloatValue(type, table.value(order.empty() ? i : order[std::size_t(i)], c)));
     }
     return values;
   };

@@ -37,12 +37,6 @@ const char* const kMeasuredNames[] = {
     "ELLIPTICITY", "SIZE_IMAGE",    "E_IMAGE",       "ARCNESS",     "ANTIARCNESS",
     "SKEW_MAJOR",  "SKEW_MINOR",    "ARC_SIDE",      "FLAGS",       "OCT_FLAGS"};
 
-int requireColumn(const Table& table, const char* name) {
-  const int c = table.findColumn(name);
-  if (c < 0) throw Error(std::string("arc rules: the object table has no column ") + name);
-  return c;
-}
-
 }  // namespace
 
 void StageTimings::add(const StageTimings& o) {
@@ -228,11 +222,11 @@ PreparedImage prepareStamp(ImageF pixels, const SimulationSetup& setup) {
 
 ArcSelection selectArcs(const Table& objects, double lensXPix, double lensYPix,
                         double pixelScaleArcsec, const ArcRules& rules, std::mt19937_64& rng) {
-  const int cx = requireColumn(objects, "X_IMAGE");
-  const int cy = requireColumn(objects, "Y_IMAGE");
-  const int cs = requireColumn(objects, "SIZE_IMAGE");
-  const int cl = requireColumn(objects, "THRESH_LEVEL");
-  const int cf = requireColumn(objects, "FLUX_ISO");
+  const int cx = objects.requireColumn("X_IMAGE", "arc rules");
+  const int cy = objects.requireColumn("Y_IMAGE", "arc rules");
+  const int cs = objects.requireColumn("SIZE_IMAGE", "arc rules");
+  const int cl = objects.requireColumn("THRESH_LEVEL", "arc rules");
+  const int cf = objects.requireColumn("FLUX_ISO", "arc rules");
   ArcSelection out;
   const std::int64_t n = objects.rows();
   std::vector<bool> isArc(std::size_t(n), false);

@@ -386,5 +386,35 @@ TEST(FitsTable, ReadsByHduIndexWithOptionalColumns) {
   expectIoError([&] { hasFitsTableAt((dir / "none.fits").string(), 1); }, {"none.fits"});
 }
 
+TEST(FitsTable, TableFromFitsKeepsTheScalarNumericColumns) {
+  FitsTable t;
+  t.name = "OBJECTS";
+  FitsColumn n;
+  n.name = "NUMBER";
+  n.values = std::vector<std::int32_t>{1, 2, 3};
+  FitsColumn f;
+  f.name = "FLUX";
+  f.unit = "count";
+  f.values = std::vector<float>{1.5f, std::nanf(""), -2.25f};
+  FitsColumn v;
+  v.name = "VEC";
+  v.repeat = 2;
+  v.values = std::vector<double>{1, 2, 3, 4, 5, 6};
+  FitsColumn name;
+  name.name = "NAME";
+  name.values = std::vector<std::string>{"a", "b", "c"};
+  t.columns = {n, f, v, name};
+  const Table table = tableFromFits(t);
+  ASSERT_EQ(table.columns().size(), 2u);  // the vector and the string columns are left out
+  EXPECT_EQ(table.columns()[0].type, ColumnType::Int32);
+  EXPECT_EQ(table.columns()[1].type, ColumnType::Float32);
+  EXPECT_EQ(table.columns()[1].unit, "count");
+  ASSERT_EQ(table.rows(), 3);
+  EXPECT_EQ(table.value(2, 0), 3.0);
+  EXPECT_EQ(table.value(0, 1), 1.5);
+  EXPECT_TRUE(std::isnan(table.value(1, 1)));
+  EXPECT_EQ(table.value(2, 1), -2.25);
+}
+
 }  // namespace
 }  // namespace octarc

@@ -106,10 +106,9 @@ TEST(ImageRun, InMemoryRowsEqualTheCatalogsAndFindTheObjectsWherePut) {
   for (std::size_t c = 0; c < kColumns.size(); ++c) {
     const int column = rows.findColumn(kColumns[c]);
     ASSERT_GE(column, 0) << kColumns[c];
-    const bool single = rows.columns()[std::size_t(column)].type == ColumnType::Float32;
+    const ColumnType type = rows.columns()[std::size_t(column)].type;
     for (std::int64_t r = 0; r < rows.rows(); ++r) {
-      const double v = rows.value(r, column);
-      EXPECT_EQ(single ? double(float(v)) : v, catalog[c][std::size_t(r)])
+      EXPECT_EQ(storedFloatValue(type, rows.value(r, column)), catalog[c][std::size_t(r)])
           << kColumns[c] << " row " << r;
     }
   }

@@ -3,22 +3,30 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "octarc/core/Error.h"
 
 namespace octarc::simulation {
 namespace {
 
+// Sum and second moment (pixels^2) of a centred 1-D kernel of odd length.
+std::pair<double, double> sumAndSecondMoment(const std::vector<double>& k) {
+  double s = 0.0, m2 = 0.0;
+  const int r = static_cast<int>(k.size() / 2);
+  for (int i = -r; i <= r; ++i) {
+    s += k[i + r];
+    m2 += k[i + r] * i * i;
+  }
+  return {s, m2};
+}
+
 TEST(GaussianPsf, NormalisedToOneAndHasTheRequestedWidth) {
   for (double fwhm : {0.5, 0.9, 1.7}) {
     const auto k = gaussianPsfKernel1d(fwhm, 0.257);
     ASSERT_EQ(k.size() % 2, 1u);
-    double s = 0.0, m2 = 0.0;
-    const int r = static_cast<int>(k.size() / 2);
-    for (int i = -r; i <= r; ++i) {
-      s += k[i + r];
-      m2 += k[i + r] * i * i;
-    }
+    const auto [s, m2] = sumAndSecondMoment(k);
     EXPECT_NEAR(s, 1.0, 1e-12);
     // Pixel-integrated Gaussian: variance sigma^2 + 1/12 px^2.
     const double sigmaPix = fwhm / 0.257 / (2.0 * std::sqrt(2.0 * std::log(2.0)));
@@ -34,12 +42,7 @@ TEST(GaussianPsf, NormalisedToOneAndHasTheRequestedWidth) {
 TEST(GaussianPsf, PointSampledKernelHasTheGaussianVariance) {
   for (double fwhm : {0.5, 0.9, 1.7}) {
     const auto k = gaussianPsfKernel1d(fwhm, 0.257, PsfSampling::PointSampled);
-    double s = 0.0, m2 = 0.0;
-    const int r = static_cast<int>(k.size() / 2);
-    for (int i = -r; i <= r; ++i) {
-      s += k[i + r];
-      m2 += k[i + r] * i * i;
-    }
+    const auto [s, m2] = sumAndSecondMoment(k);
     EXPECT_NEAR(s, 1.0, 1e-12);
     // No pixel box: the sampled Gaussian keeps its variance (sigma >= 1.3 px here).
     const double sigmaPix = fwhm / 0.257 / (2.0 * std::sqrt(2.0 * std::log(2.0)));
