@@ -21,6 +21,8 @@ packages=(
   # Check-plots (as SCAMP and PSFEx make them): PLplot with its cairo (PNG, PDF, SVG) driver
   libplplot-dev
   plplot-driver-cairo
+  # Least-squares fits (the Gaussian FWHM of the skewness distributions): Ceres Solver
+  libceres-dev
   libgtest-dev
   googletest
 

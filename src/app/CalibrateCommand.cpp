@@ -33,8 +33,9 @@ void printUsage() {
          "                    systems with an arc, binomial errors), the distributions of "
          "arcness,\n"
          "                    anti-arcness, skewness, e and S/N (with SURVEY_CATALOG: also of the\n"
-         "                    survey's objects), the noise-only threshold (NOISE_STUDY) and the\n"
-         "                    binning search of the grid;\n"
+         "                    survey's objects), the noise-only threshold (NOISE_STUDY), the\n"
+         "                    threshold-count curve (THRESHOLD_STUDY), the S/N floor (SNR_STUDY)\n"
+         "                    and the binning search of the grid;\n"
          "  GRID_NAME         the occupation-probability grid of the simulated arcs (in the\n"
          "                    search space SEARCH_CUT), at the finest binning whose contour at\n"
          "                    GRID_LEVEL stays connected;\n"
@@ -64,6 +65,13 @@ void printSummary(const CalibrationRun& run, const CalibrationResult& r) {
     std::printf("  %-10s  %.4f +- %.4f      %.4f +- %.4f\n", range.c_str(), a.fraction,
                 a.fractionSigma, d.fraction, d.fractionSigma);
   }
+  for (const Distribution& d : r.distributions) {
+    if (!d.gaussian) continue;
+    std::printf("%s of the arcs with %s: Gaussian fit FWHM %s (mean %s)%s\n", d.name.c_str(),
+                d.selection.c_str(), formatNumber(d.gaussian->fwhm, "%.3f", true).c_str(),
+                formatNumber(d.gaussian->mean, "%.3f", true).c_str(),
+                d.gaussian->converged ? "" : ", not converged");
+  }
   if (r.noise) {
     std::printf(
         "Noise-only threshold: %s%s sigma (%d realisations of %d^2 pixels, "
@@ -81,6 +89,20 @@ void printSummary(const CalibrationRun& run, const CalibrationResult& r) {
     }
     std::printf("  flat (within 1 sigma of the most levels) from %d levels\n",
                 r.thresholdCount->flattensAtLevels);
+  }
+  if (r.snrFloor) {
+    std::printf("S/N floor (%zu arcs scaled to ARCNESS 0.10, %d noise realisations per level):\n",
+                r.snrFloor->systems.size(), run.settings.snrFloor->realisations);
+    std::printf("      S/N        n    median   20%%     80%%\n");
+    for (const SnrFloorBin& b : r.snrFloor->bins) {
+      if (b.measurements == 0) continue;
+      std::printf("  %6.1f-%-6.1f %6lld  %.4f  %.4f  %.4f%s\n", b.snrLo, b.snrHi,
+                  static_cast<long long>(b.measurements), b.median, b.q20, b.q80,
+                  b.reliable ? "" : "  unreliable");
+    }
+    std::printf("  arcness unreliable below S/N %s (median within %g of 0.10, 20-80%% within %g)\n",
+                formatNumber(r.snrFloor->floorSnr, "%.1f", true).c_str(),
+                run.settings.snrFloor->medianTolerance, run.settings.snrFloor->spreadMax);
   }
   std::printf(
       "Occupation grid: %lld arcs, %d bins per axis (finest connected at P = %g), "

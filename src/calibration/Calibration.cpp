@@ -24,6 +24,7 @@ struct DistributionSpec {
   std::string selection;     // in words
   double lo, hi;             // NaN: from the simulated values' quantiles
   std::vector<CutLine> cuts;
+  bool fitGaussian = false;  // the widths of s_a and s_b
 };
 
 std::vector<DistributionSpec> distributionSpecs(const FractionCuts& c) {
@@ -47,8 +48,8 @@ std::vector<DistributionSpec> distributionSpecs(const FractionCuts& c) {
        0.3,
        {{0.05, "a = 0.05"}, {0.10, "a = 0.10"}, {0.15, "a = 0.15"}}},
       {"ANTIARCNESS", "ANTIARCNESS", arcCut, "ARCNESS > 0.1", arcWords, nan, nan, {}},
-      {"SKEW_MAJOR", "SKEW_MAJOR", arcCut, "ARCNESS > 0.1", arcWords, nan, nan, {}},
-      {"SKEW_MINOR", "SKEW_MINOR", arcCut, "ARCNESS > 0.1", arcWords, nan, nan, {}},
+      {"SKEW_MAJOR", "SKEW_MAJOR", arcCut, "ARCNESS > 0.1", arcWords, nan, nan, {}, true},
+      {"SKEW_MINOR", "SKEW_MINOR", arcCut, "ARCNESS > 0.1", arcWords, nan, nan, {}, true},
       {"E_IMAGE",
        "E_IMAGE",
        arcCut,
@@ -100,6 +101,7 @@ Distribution makeDistribution(const DistributionSpec& spec, const Table& systems
     }
   }
   d.simulated = normalisedHistogram(sim, lo, hi, bins);
+  if (spec.fitGaussian) d.gaussian = fitGaussian(d.simulated.edges, d.simulated.fraction);
   if (survey) {
     d.survey = normalisedHistogram(
         selectedValues(*survey, spec.value, spec.surveyCut, "survey distribution " + d.name), lo,
@@ -205,6 +207,16 @@ FitsTable distributionTable(const Distribution& d) {
                 FitsKeyword::text("SELECT", d.selection, "the rows taken"),
                 FitsKeyword::integer("NSIM", d.simulated.values, "simulated arcs"),
                 FitsKeyword::integer("NSIMOUT", d.simulated.outside, "of them outside the bins")};
+  if (d.gaussian) {
+    t.keywords.push_back(
+        FitsKeyword::real("GAUSMEAN", d.gaussian->mean, "mean of the Gaussian fit"));
+    t.keywords.push_back(
+        FitsKeyword::real("GAUSSIG", d.gaussian->sigma, "sigma of the Gaussian fit"));
+    t.keywords.push_back(
+        FitsKeyword::real("GAUSFWHM", d.gaussian->fwhm, "FWHM of the Gaussian fit"));
+    t.keywords.push_back(
+        FitsKeyword::logical("GAUSCONV", d.gaussian->converged, "T: the fit converged"));
+  }
   if (d.survey) {
     t.columns.push_back(
         doubles("SURVEY_FRACTION", d.survey->fraction, "fraction of survey objects"));
@@ -249,6 +261,39 @@ FitsTable thresholdCountTable(const ThresholdCountCurve& c) {
                doubles("FRACTION_ERR", sigma, "binomial sigma of FRACTION")};
   t.keywords = {FitsKeyword::integer("FLATNLEV", c.flattensAtLevels,
                                      "fewest levels within 1 sigma of the most tried")};
+  return t;
+}
+
+FitsTable snrFloorTable(const SnrFloorResult& f) {
+  FitsTable t;
+  t.name = "SNR_FLOOR";
+  std::vector<double> lo, hi, median, q20, q80;
+  std::vector<std::int64_t> n, reliable;
+  for (const SnrFloorBin& b : f.bins) {
+    lo.push_back(b.snrLo);
+    hi.push_back(b.snrHi);
+    n.push_back(b.measurements);
+    median.push_back(b.median);
+    q20.push_back(b.q20);
+    q80.push_back(b.q80);
+    reliable.push_back(b.reliable ? 1 : 0);
+  }
+  t.columns = {doubles("SNR_LO", lo, "bin lower edge (SNR_ISO)"),
+               doubles("SNR_HI", hi, "bin upper edge"),
+               integers("N_MEASURED", n, "arc measurements in the bin"),
+               doubles("ARCNESS_MEDIAN", median, "median of the scaled arcness"),
+               doubles("ARCNESS_Q20", q20, "20% quantile of the scaled arcness"),
+               doubles("ARCNESS_Q80", q80, "80% quantile of the scaled arcness"),
+               integers("RELIABLE", reliable, "1: median and spread within the criterion")};
+  double found = 0;
+  for (std::int64_t k : f.foundPerFactor) found += double(k);
+  t.keywords = {
+      FitsKeyword::real("SNRFLOOR", f.floorSnr, "S/N below which arcness is unreliable"),
+      FitsKeyword::integer("NARCS", std::int64_t(f.systems.size()), "arcs remeasured"),
+      FitsKeyword::integer("NMEASURE", f.measurements, "measurements (arc found)"),
+      FitsKeyword::real(
+          "FOUNDFRC", found / double(f.realisationsPerFactor * std::int64_t(f.noiseFactors.size())),
+          "fraction of realisations in which the arc was found")};
   return t;
 }
 
@@ -318,6 +363,13 @@ Histogram normalisedHistogram(const std::vector<double>& values, double lo, doub
 CalibrationResult calibrate(const SimulationOutput& simulation, const Table* survey,
                             const CalibrationSettings& s) {
   CalibrationResult out;
+  // The studies that simulate again first check that the simulation can be remade (cheap),
+  // before any other work.
+  std::optional<LensSetupOptions> remake;
+  if (s.thresholdCount || s.snrFloor) {
+    remake = resimulationOptions(simulation);
+    if (s.thresholdCount) checkRemade(simulation, *remake, s.thresholdCount->sources.make());
+  }
   out.simulatedSystems = simulation.systems.rows();
   out.fractions = lensingFractions(simulation.systems, s.fractionCuts);
   for (const DistributionSpec& spec : distributionSpecs(s.fractionCuts)) {
@@ -326,8 +378,9 @@ CalibrationResult calibrate(const SimulationOutput& simulation, const Table* sur
   }
   makeGrid(simulation, s, out);
   if (s.noise) out.noise = noiseOnlyThreshold(*s.noise);
-  if (s.thresholdCount) {
-    out.thresholdCount = thresholdCountCurve(resimulationOptions(simulation), *s.thresholdCount);
+  if (s.thresholdCount) out.thresholdCount = thresholdCountCurve(*remake, *s.thresholdCount);
+  if (s.snrFloor) {
+    out.snrFloor = snrFloorStudy(simulation, *remake, resimulationSources(simulation), *s.snrFloor);
   }
   return out;
 }
@@ -337,13 +390,15 @@ std::vector<FitsTable> calibrationTables(const CalibrationResult& r) {
   for (const Distribution& d : r.distributions) tables.push_back(distributionTable(d));
   if (r.noise) tables.push_back(noiseTable(*r.noise));
   if (r.thresholdCount) tables.push_back(thresholdCountTable(*r.thresholdCount));
+  if (r.snrFloor) tables.push_back(snrFloorTable(*r.snrFloor));
   tables.push_back(binningTable(r.binning, r.gridSamples));
   return tables;
 }
 
 std::vector<std::string> calibrationPlotTypes() {
-  return {"ARCNESS", "ANTIARCNESS",      "SKEW_MAJOR",      "SKEW_MINOR",      "E_IMAGE",
-          "SNR_ISO", "LENSING_FRACTION", "NOISE_THRESHOLD", "THRESHOLD_COUNT", "GRID_BINNING"};
+  return {"ARCNESS",         "ANTIARCNESS", "SKEW_MAJOR",       "SKEW_MINOR",
+          "E_IMAGE",         "SNR_ISO",     "LENSING_FRACTION", "NOISE_THRESHOLD",
+          "THRESHOLD_COUNT", "SNR_FLOOR",   "GRID_BINNING"};
 }
 
 Plot calibrationPlot(const CalibrationResult& r, const std::string& type) {
@@ -358,6 +413,18 @@ Plot calibrationPlot(const CalibrationResult& r, const std::string& type) {
     if (d.survey) {
       p.series.push_back(
           steps("survey objects (" + std::to_string(d.survey->values) + ")", *d.survey));
+    }
+    if (d.gaussian && std::isfinite(d.gaussian->fwhm)) {
+      const GaussianFit& g = *d.gaussian;
+      PlotSeries curve;
+      curve.label = "Gaussian fit, FWHM " + formatNumber(g.fwhm, "%.3f");
+      const double lo = d.simulated.edges.front(), hi = d.simulated.edges.back();
+      for (int k = 0; k <= 200; ++k) {
+        const double x = lo + (hi - lo) * k / 200.0, u = (x - g.mean) / g.sigma;
+        curve.x.push_back(x);
+        curve.y.push_back(g.amplitude * std::exp(-0.5 * u * u));
+      }
+      p.series.push_back(curve);
     }
     p.cuts = d.cuts;
     return p;
@@ -417,6 +484,29 @@ Plot calibrationPlot(const CalibrationResult& r, const std::string& type) {
     p.series.push_back(s);
     p.cuts.push_back({double(r.thresholdCount->flattensAtLevels),
                       "flat from " + std::to_string(r.thresholdCount->flattensAtLevels)});
+    return p;
+  }
+  if (type == "SNR_FLOOR") {
+    if (!r.snrFloor) throw ConfigError("CHECKPLOT_TYPE SNR_FLOOR: the study is off");
+    p.title = "Arcs scaled to ARCNESS 0.10 at their highest S/N, " +
+              std::to_string(r.snrFloor->systems.size()) + " arcs";
+    p.xLabel = "S/N (ISO)";
+    p.yLabel = "ARCNESS (scaled)";
+    p.logX = true;
+    PlotSeries median;
+    median.label = "median, 20% and 80% quantiles";
+    for (const SnrFloorBin& b : r.snrFloor->bins) {
+      if (b.measurements == 0) continue;
+      median.x.push_back(std::sqrt(b.snrLo * b.snrHi));
+      median.y.push_back(b.median);
+      median.yLow.push_back(b.q20);
+      median.yHigh.push_back(b.q80);
+    }
+    p.series.push_back(median);
+    if (std::isfinite(r.snrFloor->floorSnr)) {
+      p.cuts.push_back(
+          {r.snrFloor->floorSnr, "S/N floor " + formatNumber(r.snrFloor->floorSnr, "%.0f")});
+    }
     return p;
   }
   if (type == "GRID_BINNING") {

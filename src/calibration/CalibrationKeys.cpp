@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 
 #include "octarc/core/Error.h"
 #include "octarc/run/PreparedImage.h"
@@ -32,8 +33,8 @@ std::vector<KeySpec> calibrationKeys() {
   for (const std::string& t : types) names.push_back(lower(t));
   KeySpec plotType = Row("CHECKPLOT_TYPE", Kind::Keyword, types,
                          "ARCNESS, ANTIARCNESS, SKEW_MAJOR, SKEW_MINOR, E_IMAGE,\nSNR_ISO, "
-                         "LENSING_FRACTION, NOISE_THRESHOLD, THRESHOLD_COUNT,\nGRID_BINNING or "
-                         "NONE")
+                         "LENSING_FRACTION, NOISE_THRESHOLD, THRESHOLD_COUNT,\nSNR_FLOOR, "
+                         "GRID_BINNING or NONE")
                          .list(1, 16);
   plotType.keywords = types;
   plotType.keywords.push_back("NONE");
@@ -74,7 +75,8 @@ std::vector<KeySpec> calibrationKeys() {
           .range(0, 1000),
       Row("FILTER", Kind::Bool, {"N"},
           "filter the noise images as the survey's detection\n(octarc.sex and simulate lenses: N)"),
-      Row("NOISE_SEED", Kind::Int, {"1"}, "seed of the noise images").range(0, 2147483647),
+      Row("NOISE_SEED", Kind::Int, {"1"}, "seed of the noise images (noise and S/N studies)")
+          .range(0, 2147483647),
       Row("THRESHOLD_STUDY", Kind::Bool, {"N"},
           "simulate again for the threshold-count curve\n(THRESHOLD_SYSTEMS per count)"),
       Row("THRESHOLD_SYSTEMS", Kind::Int, {"3000"}, "systems per number of thresholds")
@@ -83,6 +85,27 @@ std::vector<KeySpec> calibrationKeys() {
           "numbers of thresholds tried")
           .list(1, 64)
           .range(1, 255),
+      Row("SNR_STUDY", Kind::Bool, {"N"},
+          "simulate again for the S/N floor (arcs scaled to\narcness 0.10, remeasured in noise)"),
+      Row("SNR_ARCS", Kind::Int, {"40"}, "arcs remeasured (the first by SYSTEM)").range(1, 100000),
+      Row("SNR_ARCNESS", Kind::Float, {"0.05", "0.20"}, "arcness range of the arcs taken")
+          .list(2, 2)
+          .range(0, 10),
+      Row("SNR_NOISE", Kind::Float, {"0.25", "8", "11"},
+          "lowest and highest factor of the sky sigma, and\nthe number of factors (log-spaced)")
+          .list(3, 3)
+          .range(1e-6, 1e6),
+      Row("SNR_REALISATIONS", Kind::Int, {"100"}, "noise realisations per factor").range(1, 100000),
+      Row("SNR_BINS", Kind::Float, {"5", "1280", "16"},
+          "lowest and highest S/N and the number of\n(log-spaced) bins")
+          .list(3, 3)
+          .range(1e-6, 1e12),
+      Row("SNR_RELIABLE", Kind::Float, {"0.01", "0.05"},
+          "a reliable bin: |median - 0.10| and 80%-20%\nspread at most these")
+          .list(2, 2)
+          .range(0, 10),
+      Row("SNR_MINPERBIN", Kind::Int, {"20"}, "fewest measurements for a bin to count")
+          .range(1, 100000000),
       Row("FILTER_NAME", Kind::String, {"default.conv"}, "the survey's detection filter"),
       Row("DETECT_MINAREA", Kind::Int, {"0"},
           "DETECT_MINAREA of the noise study (0: the\nsimulation's)")
@@ -163,10 +186,28 @@ CalibrationRun calibrationRunFromConfig(const sexcompat::Config& c,
     t.seed = simulation.setup.seed;
     t.arcnessMin = 0.10;
     t.threads = c.getInt("NTHREADS");
-    // The simulation's own sources when they came from a catalog that is still there.
-    const std::string& db = simulation.sourceDatabase;
-    if (!db.empty() && db.rfind("synthetic", 0) != 0) t.sourceDatabase = db;
+    t.sources = resimulationSources(simulation);
     s.thresholdCount = t;
+  }
+  if (c.getBool("SNR_STUDY")) {
+    SnrFloorSettings f;
+    f.arcs = c.getInt("SNR_ARCS");
+    f.arcnessMin = c.getDouble("SNR_ARCNESS", 0);
+    f.arcnessMax = c.getDouble("SNR_ARCNESS", 1);
+    f.noiseFactorLo = c.getDouble("SNR_NOISE", 0);
+    f.noiseFactorHi = c.getDouble("SNR_NOISE", 1);
+    f.noiseFactorCount = int(std::lround(c.getDouble("SNR_NOISE", 2)));
+    f.realisations = c.getInt("SNR_REALISATIONS");
+    f.snrLo = c.getDouble("SNR_BINS", 0);
+    f.snrHi = c.getDouble("SNR_BINS", 1);
+    f.snrBinCount = int(std::lround(c.getDouble("SNR_BINS", 2)));
+    f.medianTolerance = c.getDouble("SNR_RELIABLE", 0);
+    f.spreadMax = c.getDouble("SNR_RELIABLE", 1);
+    f.minPerBin = c.getInt("SNR_MINPERBIN");
+    f.seed = std::uint64_t(c.getInt("NOISE_SEED"));
+    f.threads = c.getInt("NTHREADS");
+    checkSnrFloorSettings(f);  // before any work
+    s.snrFloor = f;
   }
   run.plotDevice = parsePlotDevice(c.getString("CHECKPLOT_DEV"));
   const std::vector<std::string> types = c.getStrings("CHECKPLOT_TYPE");
@@ -186,6 +227,7 @@ CalibrationRun calibrationRunFromConfig(const sexcompat::Config& c,
     for (std::size_t i = 0; i < types.size(); ++i) {
       if (types[i] == "NOISE_THRESHOLD" && !s.noise) continue;
       if (types[i] == "THRESHOLD_COUNT" && !s.thresholdCount) continue;
+      if (types[i] == "SNR_FLOOR" && !s.snrFloor) continue;
       run.plots.push_back({types[i], names[i] + plotFileSuffix(run.plotDevice)});
     }
   }

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "octarc/catalog/InputCatalog.h"
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/io/FitsHeader.h"
 #include "octarc/io/FitsTable.h"
 
@@ -58,6 +60,7 @@ SimulationOutput readSimulationOutput(const std::string& path) {
   // The population file is not recorded (the grid's POPFILE stays empty); the sources are.
   out.sourceDatabase = h.value("OCTSRCDB").value_or("");
   out.magZeropoint = card(h, "OCTMAGZP");
+  out.populationName = h.value("OCTPOPUL").value_or("");
   // The levels are recorded by their count and ends; simulate lenses spaces them
   // logarithmically (DETECT_NLEVELS), as octarc detect does.
   const int levels = int(card(h, "OCTNLEV"));
@@ -85,7 +88,53 @@ LensSetupOptions resimulationOptions(const SimulationOutput& sim) {
     o.detectLevelCount = int(s.thresholdsSigma.size());
   }
   if (s.minAreaPix > 0) o.minAreaPix = s.minAreaPix;
+  // The shipped presets by their files' names (simulation/Population.h).
+  if (sim.populationName == "population-dls") {
+    o.populationPreset = "dls";
+  } else if (!sim.populationName.empty() && sim.populationName != "population") {
+    throw ConfigError(sim.path + ": simulated with the population file '" + sim.populationName +
+                      "', not a shipped preset: the studies that simulate again cannot remake it");
+  }
   return o;
+}
+
+SourceDatabase SourceChoice::make() const {
+  if (!catalogPath.empty()) return SourceDatabase::fromRealGalaxyCatalog(catalogPath);
+  simulation::SyntheticGalaxyOptions galaxy;
+  galaxy.stampHalfLightRadii = syntheticExtentHalfLightRadii;
+  return SourceDatabase::synthetic(syntheticCount, kSyntheticSourceSeed, galaxy);
+}
+
+SourceChoice resimulationSources(const SimulationOutput& sim) {
+  SourceChoice c;
+  const std::string& db = sim.sourceDatabase;
+  int count = 0;
+  if (std::sscanf(db.c_str(), "synthetic (%d galaxies)", &count) == 1) {
+    c.syntheticCount = count;
+  } else if (!db.empty()) {
+    c.catalogPath = db;
+  }
+  return c;
+}
+
+void checkRemade(const SimulationOutput& sim, const LensSetupOptions& options,
+                 const SourceDatabase& sources, int systems) {
+  const SimulationSetup setup = makeSimulationSetup(options);
+  const int index = sim.systems.requireColumn("SYSTEM", sim.path);
+  const int radius = sim.systems.requireColumn("EINSTEIN_RADIUS", sim.path);
+  for (std::int64_t r = 0; r < std::min<std::int64_t>(systems, sim.systems.rows()); ++r) {
+    const auto system = std::int64_t(sim.systems.value(r, index));
+    const double recorded = sim.systems.value(r, radius);
+    const double remade =
+        drawLensSystem(setup, sources, sim.setup.seed, system).einsteinRadiusArcsec;
+    // EINSTEIN_RADIUS is stored in single precision.
+    if (!(std::abs(remade - recorded) <= 1e-5 * std::max(1.0, std::abs(recorded)))) {
+      throw ConfigError(sim.path + ": system " + std::to_string(system) +
+                        " cannot be remade (Einstein radius " + formatNumber(remade, "%.5f") +
+                        "\" instead of " + formatNumber(recorded, "%.5f") +
+                        "\"): it was simulated with options its header does not record");
+    }
+  }
 }
 
 SimulationOutput combineSimulationOutputs(std::vector<SimulationOutput> outputs) {

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <string>
 
+#include "octarc/core/Conventions.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
 #include "octarc/simulation/LensLight.h"
@@ -188,8 +189,7 @@ Stamp renderStarStamp(double xPix, double yPix, double flux, double seeingFwhmAr
                       double pixelScaleArcsec, double minValueAdu) {
   if (!(seeingFwhmArcsec > 0.0) || !(pixelScaleArcsec > 0.0))
     throw ConfigError("star: seeing and pixel scale must be positive");
-  const double sigmaPix =
-      seeingFwhmArcsec / (2.0 * std::sqrt(2.0 * std::log(2.0))) / pixelScaleArcsec;
+  const double sigmaPix = seeingFwhmArcsec / kGaussianFwhmPerSigma / pixelScaleArcsec;
   const double peak = flux / (2.0 * std::numbers::pi * sigmaPix * sigmaPix);
   double radius = 5.0 * sigmaPix;
   if (minValueAdu > 0.0 && peak > minValueAdu)

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "octarc/core/Conventions.h"
 #include "octarc/core/Error.h"
 
 namespace octarc::simulation {
@@ -13,7 +14,7 @@ std::vector<double> gaussianPsfKernel1d(double fwhmArcsec, double pixelScaleArcs
     throw ConfigError("PSF: FWHM and pixel scale must be positive, got FWHM " +
                       std::to_string(fwhmArcsec) + "\", scale " + std::to_string(pixelScaleArcsec) +
                       "\"/px");
-  const double sigmaPix = fwhmArcsec / pixelScaleArcsec / (2.0 * std::sqrt(2.0 * std::log(2.0)));
+  const double sigmaPix = fwhmArcsec / pixelScaleArcsec / kGaussianFwhmPerSigma;
   const int radius = static_cast<int>(std::ceil(5.0 * sigmaPix));
   std::vector<double> kernel(2 * radius + 1);
   const double scale = 1.0 / (std::sqrt(2.0) * sigmaPix);

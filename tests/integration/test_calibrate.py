@@ -113,6 +113,58 @@ class Calibrate(WorkDirTest):
         self.assertAlmostEqual(row["FRACTION"], with_arcness / len(systems), places=12)
         self.assertTrue(os.path.exists(self.path("tc.png")))
 
+    def test_snr_floor_study(self):
+        proc = self.calibrate("-NOISE_STUDY", "N", "-SNR_STUDY", "Y", "-SNR_ARCS", "3",
+                              "-SNR_REALISATIONS", "10", "-SNR_NOISE", "0.5,4,4",
+                              "-SNR_MINPERBIN", "1", "-CHECKPLOT_TYPE", "SNR_FLOOR",
+                              "-CHECKPLOT_NAME", "snr")
+        self.assertIn("arcness unreliable below S/N", proc.stdout)
+        systems = fits.getdata(self.sim, "LDAC_OBJECTS")
+        taken = (systems["ARC_FOUND"] == 1) & (systems["ARCNESS"] >= 0.05) & \
+            (systems["ARCNESS"] <= 0.20)
+        table = fits.open(self.path("cal.fits"))["SNR_FLOOR"]
+        rows, header = table.data, table.header
+        self.assertEqual(header["NARCS"], min(3, taken.sum()))
+        self.assertLessEqual(rows["N_MEASURED"].sum(), header["NMEASURE"])
+        self.assertLessEqual(header["NMEASURE"], header["NARCS"] * 10 * 4)
+        full = rows[rows["N_MEASURED"] > 0]
+        self.assertTrue(np.all(full["ARCNESS_Q20"] <= full["ARCNESS_MEDIAN"]))
+        self.assertTrue(np.all(full["ARCNESS_MEDIAN"] <= full["ARCNESS_Q80"]))
+        # The default bins: 16 log-spaced from S/N 5 to 1280.
+        np.testing.assert_allclose(rows["SNR_LO"], 5 * 2 ** (np.arange(16) / 2), rtol=1e-12)
+        # The criterion and the floor, recomputed from the table.
+        reliable = (rows["N_MEASURED"] >= 1) & \
+            (np.abs(rows["ARCNESS_MEDIAN"] - 0.10) <= 0.01 + 1e-12) & \
+            (rows["ARCNESS_Q80"] - rows["ARCNESS_Q20"] <= 0.05 + 1e-12)
+        np.testing.assert_array_equal(rows["RELIABLE"] == 1, reliable)
+        floor = np.nan
+        for row, ok in zip(rows[::-1], reliable[::-1]):
+            if row["N_MEASURED"] < 1:
+                continue
+            if not ok:
+                break
+            floor = row["SNR_LO"]
+        if np.isnan(floor):
+            self.assertIsNone(header["SNRFLOOR"])
+        else:
+            self.assertAlmostEqual(header["SNRFLOOR"], floor, places=9)
+        with open(self.path("snr.png"), "rb") as f:
+            self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+
+    def test_skewness_distributions_carry_their_gaussian_fit(self):
+        # The fit itself is tested on known Gaussians (GaussianFit_test); here its keywords: a
+        # histogram with fewer than three non-empty bins gives NaN (an undefined card, which
+        # astropy reads as None), not converged.
+        self.calibrate("-CHECKPLOT_TYPE", "NONE", "-NOISE_STUDY", "N")
+        for name in ("DIST_SKEW_MAJOR", "DIST_SKEW_MINOR"):
+            hdu = fits.open(self.path("cal.fits"))[name]
+            sigma, fwhm = hdu.header["GAUSSIG"], hdu.header["GAUSFWHM"]
+            if (hdu.data["SIM_FRACTION"] > 0).sum() < 3:
+                self.assertFalse(hdu.header["GAUSCONV"])
+                self.assertIsNone(fwhm)
+            else:
+                self.assertAlmostEqual(fwhm, 2 * np.sqrt(2 * np.log(2)) * sigma, places=9)
+
     def test_check_plots(self):
         self.calibrate("-CHECKPLOT_TYPE", "ARCNESS,LENSING_FRACTION,NOISE_THRESHOLD",
                        "-CHECKPLOT_NAME", "a,lf,noise", "-CHECKPLOT_RES", "640,480")
@@ -159,6 +211,18 @@ class Calibrate(WorkDirTest):
         self.assert_fails(self.calibrate("-CHECKPLOT_TYPE", "ARCNESS,E_IMAGE", "-CHECKPLOT_NAME",
                                          "one", check=False), "CHECKPLOT_NAME")
         self.assert_fails(self.calibrate("-NOISE_THRESH", "3,2,0.1", check=False), "NOISE_THRESH")
+        self.assert_fails(self.calibrate("-SNR_STUDY", "Y", "-SNR_NOISE", "4,2,3", check=False),
+                          "SNR_NOISE")
+        self.assert_fails(self.calibrate("-SNR_STUDY", "Y", "-SNR_ARCNESS", "5,6", check=False),
+                          "no chosen arc")
+        # A simulation made with options its header does not record cannot be remade.
+        other = os.path.join(self.sim_dir, "bright.fits")
+        run_octarc("simulate", "lenses", "-n", "20", "--seed", "5", "-o", other, "--quiet",
+                   "--source-mag-min", "20", "--source-mag-max", "21")
+        self.assert_fails(run_octarc("calibrate", other, "-THRESHOLD_STUDY", "Y",
+                                     "-NOISE_STUDY", "N", "-GRID_AXES", "ARCNESS",
+                                     check=False, cwd=self.work),
+                          other, "cannot be remade")
         # The same simulation twice would count its systems twice.
         self.assert_fails(run_octarc("calibrate", self.sim, self.sim, check=False, cwd=self.work),
                           "seed", "twice")

@@ -6,8 +6,8 @@
 //                                    --> occupation grid (finest connected binning, contour P)
 //   --> calibrationTables() (FITS tables), calibrationPlots() (check-plots), the grid file
 //
-// Not yet here (METHOD.md section 3): the S/N floor (arcs rescaled to arcness 0.10 and
-// remeasured over noise realisations).
+// The studies that simulate again (the threshold-count curve, the S/N floor) remake the
+// simulation's own systems (calibration/SimulationOutput.h, checkRemade).
 #pragma once
 
 #include <cstdint>
@@ -15,9 +15,11 @@
 #include <string>
 #include <vector>
 
+#include "octarc/calibration/GaussianFit.h"
 #include "octarc/calibration/LensingFraction.h"
 #include "octarc/calibration/NoiseThreshold.h"
 #include "octarc/calibration/SimulationOutput.h"
+#include "octarc/calibration/SnrFloor.h"
 #include "octarc/calibration/ThresholdCount.h"
 #include "octarc/core/Table.h"
 #include "octarc/io/FitsTable.h"
@@ -41,6 +43,7 @@ struct CalibrationSettings {
   std::optional<NoiseThresholdSettings> noise;  // the noise-only study, when wanted
   // The threshold-count curve (simulates again), when wanted.
   std::optional<ThresholdCountSettings> thresholdCount;
+  std::optional<SnrFloorSettings> snrFloor;  // the S/N floor (simulates again), when wanted
 };
 
 // A histogram normalised over the values inside its range: the fractions sum to 1 (when any
@@ -64,6 +67,8 @@ struct Distribution {
   Histogram simulated;
   std::optional<Histogram> survey;
   std::vector<CutLine> cuts;
+  // The skewnesses: a Gaussian fitted to the simulated histogram (calibration/GaussianFit.h).
+  std::optional<GaussianFit> gaussian;
 };
 
 struct CalibrationResult {
@@ -72,6 +77,7 @@ struct CalibrationResult {
   std::vector<Distribution> distributions;
   std::optional<NoiseThresholdResult> noise;
   std::optional<ThresholdCountCurve> thresholdCount;
+  std::optional<SnrFloorResult> snrFloor;
   BinningSearchResult binning;
   std::int64_t gridSamples = 0;   // arcs in the search space the grid was filled with
   std::optional<SavedGrid> grid;  // always set by calibrate()
@@ -84,11 +90,12 @@ CalibrationResult calibrate(const SimulationOutput& simulation, const Table* sur
                             const CalibrationSettings& settings);
 
 // The tables of the calibration file: LENSING_FRACTION, one DIST_<name> per distribution,
-// NOISE_THRESHOLD and THRESHOLD_COUNT (when run) and GRID_BINNING (every binning tried).
+// NOISE_THRESHOLD, THRESHOLD_COUNT and SNR_FLOOR (when run) and GRID_BINNING (every binning
+// tried).
 std::vector<FitsTable> calibrationTables(const CalibrationResult& result);
 
 // The check-plots, by CHECKPLOT_TYPE: ARCNESS, ANTIARCNESS, SKEW_MAJOR, SKEW_MINOR, E_IMAGE,
-// SNR_ISO (the distributions), LENSING_FRACTION, NOISE_THRESHOLD, THRESHOLD_COUNT,
+// SNR_ISO (the distributions), LENSING_FRACTION, NOISE_THRESHOLD, THRESHOLD_COUNT, SNR_FLOOR,
 // GRID_BINNING.
 std::vector<std::string> calibrationPlotTypes();
 // The plot of one type; ConfigError for an unknown type, or NOISE_THRESHOLD without the study.

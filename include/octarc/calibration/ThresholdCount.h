@@ -1,23 +1,23 @@
 // The fraction of simulated systems with a detected arc of arcness above 0.10 (at some level)
 // against the number of detection thresholds between the same lowest and highest threshold
-// (METHOD.md section 3): the systems are simulated again, with the same seed, for each number of
-// levels, so the curve compares the same systems.
+// (METHOD.md section 3): the systems are simulated again with the same seed, each rendered once
+// (its stamp, noise included, does not depend on the levels) and detected with each number of
+// levels, so the curve compares the same systems at the cost of one rendering each.
 //
 // Where it flattens: the smallest number of levels whose fraction is within one sigma of the
 // fraction at the largest number tried, the sigma of the paired difference (the same systems):
 // sqrt(n01 + n10) / N, n01 and n10 the systems found with one count and not the other. The
 // counts are tried in increasing order, each once.
 //
-// The systems are those of the simulation only when it used the survey its header records and
-// simulate lenses' defaults otherwise (population file, source database, magnitude and sigma_v
-// ranges, lens light, stamp and ray tracing): the header does not record those.
+// The systems are those of the simulation when it is remade with its own options
+// (resimulationOptions, resimulationSources; calibrate checks that with checkRemade).
 #pragma once
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
-#include "octarc/simulation/engine/LensSetup.h"
+#include "octarc/calibration/SimulationOutput.h"
 
 namespace octarc {
 
@@ -26,9 +26,7 @@ struct ThresholdCountSettings {
   std::int64_t systems = 3000;
   std::uint64_t seed = 1;
   double arcnessMin = 0.10;
-  std::string sourceDatabase;  // a RealGalaxyCatalog, or "" for the synthetic sources:
-  int syntheticSources = 90;   // as simulate lenses makes them by default (--sources,
-  double syntheticExtentHalfLightRadii = 4.0;  // --source-extent)
+  SourceChoice sources;
   int threads = 0;
 };
 

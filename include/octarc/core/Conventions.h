@@ -45,6 +45,9 @@ constexpr double fromFitsPixel(double fitsPixel) {
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 constexpr double kRadPerDeg = std::numbers::pi / 180.0;
 
+// FWHM of a Gaussian per unit sigma, 2 sqrt(2 ln 2) (seeing, PSF kernels, fitted widths).
+constexpr double kGaussianFwhmPerSigma = 2.3548200450309493;
+
 // SExtractor's guard for singular second moments (analyse.c, preanalyse): when
 // X2*Y2 - XY^2 < kSingularDeterminant, add kSingularVariance (about 1/12, the variance of a
 // uniform pixel) to X2 and Y2. The literals are SExtractor's, kept bit for bit.

@@ -8,6 +8,7 @@
 
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
+#include "octarc/core/Statistics.h"
 
 namespace octarc {
 
@@ -93,7 +94,7 @@ void printRecovery(std::ostream& o, const InjectionRecovery& r, const RecoveryRo
     << " systems (an object >= " << rules.minDistanceArcsec << "\" from the lens, sqrt(2) size > "
     << rules.minSizeArcsec << "\", within " << matchArcsec
     << "\" of a lensed image, at some level)\n"
-    << "  median best ARCNESS " << formatNumber(median(r.bestArcness), "%.3f", true) << "\n"
+    << "  median best ARCNESS " << formatNumber(sampleMedian(r.bestArcness), "%.3f", true) << "\n"
     << "  system  theta_E[\"]  best ARCNESS  level     S/N\n";
   for (const auto& [id, sys] : r.systems) {
     char line[128];
@@ -109,20 +110,13 @@ void printRecovery(std::ostream& o, const InjectionRecovery& r, const RecoveryRo
   }
   o << "\nArcness (resolved objects, every level):\n"
     << "  injected arcs   " << r.arcArcness.size() << " rows: median "
-    << formatNumber(median(r.arcArcness), "%.3f", true) << ", "
+    << formatNumber(sampleMedian(r.arcArcness), "%.3f", true) << ", "
     << formatNumber(100.0 * fractionAbove(r.arcArcness, arcLikeArcness), "%.0f", true) << "% above "
     << arcLikeArcness << "\n"
     << "  other objects   " << r.otherArcness.size() << " rows: median "
-    << formatNumber(median(r.otherArcness), "%.3f", true) << ", "
+    << formatNumber(sampleMedian(r.otherArcness), "%.3f", true) << ", "
     << formatNumber(100.0 * fractionAbove(r.otherArcness, arcLikeArcness), "%.1f", true)
     << "% above " << arcLikeArcness << "\n";
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  const std::size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
 double fractionAbove(const std::vector<double>& v, double cut) {

@@ -273,26 +273,22 @@ ArcSelection selectArcs(const Table& objects, double lensXPix, double lensYPix,
   return out;
 }
 
-SimulatedSystem simulateSystem(const SimulationSetup& setup, const SourceDatabase& sources,
-                               std::uint64_t masterSeed, std::int64_t index, bool keepImage,
-                               StageTimings* timings) {
-  double t0 = timings ? threadCpuSec() : 0.0;
-  std::mt19937_64 rng = sim::systemRng(masterSeed, std::uint64_t(index));
-  SimulatedSystem out;
-  out.draw = drawLensSystem(setup, sources, index, rng);
+RenderedSystem renderSystem(const SimulationSetup& setup, const SourceDatabase& sources,
+                            std::uint64_t masterSeed, std::int64_t index, StageTimings* timings) {
+  const double t0 = timings ? threadCpuSec() : 0.0;
+  RenderedSystem out;
+  out.rng = sim::systemRng(masterSeed, std::uint64_t(index));
+  out.draw = drawLensSystem(setup, sources, index, out.rng);
   if (timings) timings->drawSec += threadCpuSec() - t0;
   if (out.draw.skipped) {
     // Cannot give an arc beyond the separation limit: counted, not rendered.
-    out.objects = Table(measuredColumns());
     out.magnification = std::nan("");
-    if (keepImage) out.image = ImageF(setup.observing.grid.width, setup.observing.grid.height);
     return out;
   }
-
   sim::RenderTimings render;
   const sim::RenderedLensSystem rendered =
       sim::renderLensSystem(out.draw.system, sources.stamp(out.draw.sourceIndex), setup.observing,
-                            rng, timings ? &render : nullptr);
+                            out.rng, timings ? &render : nullptr);
   out.magnification = rendered.magnification;
   if (timings) {
     timings->rayTraceSec += render.rayTraceSec;
@@ -301,19 +297,43 @@ SimulatedSystem simulateSystem(const SimulationSetup& setup, const SourceDatabas
     timings->noiseSec += render.noiseSec;
   }
   // The detector and the measurements read single precision, like a FITS image of BITPIX -32.
-  ImageF image(rendered.image.width(), rendered.image.height());
-  for (std::int64_t i = 0; i < image.size(); ++i) image[i] = float(rendered.image[i]);
+  out.image = ImageF(rendered.image.width(), rendered.image.height());
+  for (std::int64_t i = 0; i < out.image.size(); ++i) out.image[i] = float(rendered.image[i]);
+  return out;
+}
 
+DetectedSystem detectSystem(ImageF image, const SimulationSetup& setup, std::mt19937_64& rng,
+                            StageTimings* timings) {
+  DetectedSystem out;
   const double tPrepare = timings ? threadCpuSec() : 0.0;
-  PreparedImage prepared = prepareStamp(std::move(image), setup);
+  out.prepared = prepareStamp(std::move(image), setup);
   if (timings) timings->detectionSec += threadCpuSec() - tPrepare;
-  out.objects = detectAndMeasure(prepared, setup, &out.levelCounts, timings);
-  t0 = timings ? threadCpuSec() : 0.0;
+  out.objects = detectAndMeasure(out.prepared, setup, &out.levelCounts, timings);
+  const double t0 = timings ? threadCpuSec() : 0.0;
   const sim::SurveyGrid& grid = setup.observing.grid;
   out.arcs = selectArcs(out.objects, grid.lensXPix, grid.lensYPix, grid.pixelScaleArcsec,
                         setup.arcRules, rng);
   if (timings) timings->arcRulesSec += threadCpuSec() - t0;
-  if (keepImage) out.image = std::move(prepared.hdu.pixels);
+  return out;
+}
+
+SimulatedSystem simulateSystem(const SimulationSetup& setup, const SourceDatabase& sources,
+                               std::uint64_t masterSeed, std::int64_t index, bool keepImage,
+                               StageTimings* timings) {
+  RenderedSystem rendered = renderSystem(setup, sources, masterSeed, index, timings);
+  SimulatedSystem out;
+  out.draw = std::move(rendered.draw);
+  out.magnification = rendered.magnification;
+  if (out.draw.skipped) {
+    out.objects = Table(measuredColumns());
+    if (keepImage) out.image = ImageF(setup.observing.grid.width, setup.observing.grid.height);
+    return out;
+  }
+  DetectedSystem detected = detectSystem(std::move(rendered.image), setup, rendered.rng, timings);
+  out.levelCounts = std::move(detected.levelCounts);
+  out.objects = std::move(detected.objects);
+  out.arcs = std::move(detected.arcs);
+  if (keepImage) out.image = std::move(detected.prepared.hdu.pixels);
   return out;
 }
 

@@ -59,8 +59,6 @@ InjectionRecovery recoverInjectedArcs(const std::vector<TruthRow>& truth, const 
 void printRecovery(std::ostream& out, const InjectionRecovery& recovery, const RecoveryRows& rows,
                    const ArcRules& rules, double matchArcsec, double arcLikeArcness);
 
-// The median of `values` (NaN when empty).
-double median(std::vector<double> values);
 // The fraction of `values` above `cut` (NaN when empty).
 double fractionAbove(const std::vector<double>& values, double cut);
 

@@ -161,6 +161,31 @@ struct SimulatedSystem {
   ImageF image;  // the stamp (kept only when asked)
 };
 
+// The first half of simulateSystem: the draw and the rendered stamp with its noise (blank when
+// the draw is skipped), and the system's random stream where the second half continues it (the
+// choice of the arc level). The stamp does not depend on the detection levels, so studies that
+// vary only those render each system once.
+struct RenderedSystem {
+  LensSystemDraw draw;
+  double magnification = 0.0;
+  ImageF image;  // empty when skipped
+  std::mt19937_64 rng;
+};
+RenderedSystem renderSystem(const SimulationSetup& setup, const SourceDatabase& sources,
+                            std::uint64_t masterSeed, std::int64_t index,
+                            StageTimings* timings = nullptr);
+
+// The second half: detection at setup.thresholdsAdu, measurement and the arc rules (the level
+// drawn from `rng`).
+struct DetectedSystem {
+  PreparedImage prepared;
+  std::vector<std::int64_t> levelCounts;
+  Table objects;
+  ArcSelection arcs;
+};
+DetectedSystem detectSystem(ImageF image, const SimulationSetup& setup, std::mt19937_64& rng,
+                            StageTimings* timings = nullptr);
+
 // Draws, renders, detects at setup.thresholdsAdu (the stamp is background-free with known
 // sigma: no background is estimated), measures every object with measuredPlan() and applies
 // the arc rules. A skipped draw is not rendered: no objects, NaN magnification, a blank stamp.

@@ -1,0 +1,233 @@
+#include "octarc/calibration/SnrFloor.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "octarc/core/Error.h"
+#include "octarc/core/Parallel.h"
+#include "octarc/core/Statistics.h"
+#include "octarc/simulation/Noise.h"
+#include "octarc/simulation/Seeds.h"
+
+namespace octarc {
+
+namespace {
+
+std::vector<double> logSpaced(double lo, double hi, int count) {
+  std::vector<double> v;
+  for (int k = 0; k < count; ++k) {
+    v.push_back(count == 1 ? lo : lo * std::pow(hi / lo, double(k) / (count - 1)));
+  }
+  return v;
+}
+
+// One arc taken: its system, the isophote (ADU) and centroid (0-based pixels) of its chosen row.
+struct ArcTarget {
+  std::int64_t system = 0;
+  double isophoteAdu = 0;
+  double xPix = 0, yPix = 0;
+  ImageD noiseFree;
+};
+
+// The arc's measurement in one noise realisation, detected at the one level of `setup`: ARCNESS
+// and SNR_ISO of the object nearest its centroid, within the match radius or the object's own
+// size (SIZE_IMAGE: at a higher isophote a faint arc shrinks and its centroid moves), and as far
+// from the lens as the arc rules ask; NaN when there is none.
+struct Measured {
+  double arcness = std::nan(""), snr = std::nan("");
+};
+
+Measured measureOnce(const ArcTarget& arc, const SimulationSetup& setup, double matchRadiusPix,
+                     std::mt19937_64& rng) {
+  ImageD noisy = arc.noiseFree;
+  simulation::addPoissonSkyNoise(noisy, setup.observing.skySigmaAdu,
+                                 setup.observing.gainElectronsPerAdu, rng);
+  // Single precision, as simulate lenses hands its stamps to the detector.
+  ImageF pixels(noisy.width(), noisy.height());
+  for (std::int64_t i = 0; i < pixels.size(); ++i) pixels[i] = float(noisy[i]);
+  PreparedImage prepared = prepareStamp(std::move(pixels), setup);
+  const Table objects = detectAndMeasure(prepared, setup, nullptr);
+  const int level = objects.requireColumn("THRESH_LEVEL", "S/N floor");
+  const int x = objects.requireColumn("X_IMAGE", "S/N floor");
+  const int y = objects.requireColumn("Y_IMAGE", "S/N floor");
+  const int arcness = objects.requireColumn("ARCNESS", "S/N floor");
+  const int snr = objects.requireColumn("SNR_ISO", "S/N floor");
+  const int size = objects.requireColumn("SIZE_IMAGE", "S/N floor");
+  const simulation::SurveyGrid& grid = setup.observing.grid;
+  Measured best;
+  double bestDistance = INFINITY;
+  for (std::int64_t r = 0; r < objects.rows(); ++r) {
+    if (int(objects.value(r, level)) != 1) continue;
+    // X_IMAGE/Y_IMAGE are 1-based.
+    const double d =
+        std::hypot(objects.value(r, x) - 1.0 - arc.xPix, objects.value(r, y) - 1.0 - arc.yPix);
+    // Never the lens (a large object whose size would reach the arc): the arc rule's distance.
+    const double fromLensArcsec = setup.observing.grid.pixelScaleArcsec *
+                                  std::hypot(objects.value(r, x) - 1.0 - grid.lensXPix,
+                                             objects.value(r, y) - 1.0 - grid.lensYPix);
+    if (fromLensArcsec < setup.arcRules.minDistanceArcsec) continue;
+    if (d <= std::max(matchRadiusPix, objects.value(r, size)) && d < bestDistance) {
+      bestDistance = d;
+      best = {objects.value(r, arcness), objects.value(r, snr)};
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+void checkSnrFloorSettings(const SnrFloorSettings& s) {
+  if (s.arcs < 1) throw ConfigError("SNR_ARCS: must be at least 1");
+  if (!(s.arcnessMax > s.arcnessMin)) throw ConfigError("SNR_ARCNESS: the range is empty");
+  if (!(s.noiseFactorLo > 0) || !(s.noiseFactorHi > s.noiseFactorLo) || s.noiseFactorCount < 2) {
+    throw ConfigError("SNR_NOISE: need 0 < lowest < highest factor and at least 2 factors");
+  }
+  if (s.realisations < 1) throw ConfigError("SNR_REALISATIONS: must be at least 1");
+  if (!(s.snrLo > 0) || !(s.snrHi > s.snrLo) || s.snrBinCount < 1) {
+    throw ConfigError("SNR_BINS: need 0 < lowest < highest S/N and at least 1 bin");
+  }
+  if (!(s.referenceArcness > 0)) throw ConfigError("S/N floor: the reference arcness must be > 0");
+  if (!(s.matchRadiusPix > 0)) throw ConfigError("S/N floor: the match radius must be > 0");
+}
+
+std::vector<SnrFloorBin> snrFloorBins(const std::vector<double>& snr,
+                                      const std::vector<double>& scaled,
+                                      const SnrFloorSettings& s) {
+  const std::vector<double> edges = logSpaced(s.snrLo, s.snrHi, s.snrBinCount + 1);
+  std::vector<std::vector<double>> values(std::size_t(s.snrBinCount));
+  for (std::size_t i = 0; i < snr.size() && i < scaled.size(); ++i) {
+    if (!std::isfinite(snr[i]) || !std::isfinite(scaled[i])) continue;
+    if (snr[i] < edges.front() || snr[i] >= edges.back()) continue;
+    const auto k =
+        std::size_t(std::upper_bound(edges.begin(), edges.end(), snr[i]) - edges.begin() - 1);
+    values[k].push_back(scaled[i]);
+  }
+  std::vector<SnrFloorBin> bins;
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    SnrFloorBin b;
+    b.snrLo = edges[k];
+    b.snrHi = edges[k + 1];
+    b.measurements = std::int64_t(values[k].size());
+    b.median = sampleQuantile(values[k], 0.5);
+    b.q20 = sampleQuantile(values[k], 0.2);
+    b.q80 = sampleQuantile(values[k], 0.8);
+    b.reliable = b.measurements >= s.minPerBin &&
+                 std::abs(b.median - s.referenceArcness) <= s.medianTolerance &&
+                 b.q80 - b.q20 <= s.spreadMax;
+    bins.push_back(b);
+  }
+  return bins;
+}
+
+double snrFloor(const std::vector<SnrFloorBin>& bins, int minPerBin) {
+  double floor = std::nan("");
+  for (auto b = bins.rbegin(); b != bins.rend(); ++b) {
+    if (b->measurements < minPerBin) continue;  // too few to say: passed over
+    if (!b->reliable) break;
+    floor = b->snrLo;
+  }
+  return floor;
+}
+
+SnrFloorResult snrFloorStudy(const SimulationOutput& sim, const LensSetupOptions& survey,
+                             const SourceChoice& sourceChoice, const SnrFloorSettings& s) {
+  checkSnrFloorSettings(s);
+  const SourceDatabase sources = sourceChoice.make();
+  checkRemade(sim, survey, sources);
+  const Table& systems = sim.systems;
+  const int cSystem = systems.requireColumn("SYSTEM", sim.path);
+  const int cFound = systems.requireColumn("ARC_FOUND", sim.path);
+  const int cArcness = systems.requireColumn("ARCNESS", sim.path);
+  const int cLevel = systems.requireColumn("THRESH_LEVEL", sim.path);
+  const int cX = systems.requireColumn("X_IMAGE", sim.path);
+  const int cY = systems.requireColumn("Y_IMAGE", sim.path);
+  std::vector<std::pair<std::int64_t, std::int64_t>> taken;  // (SYSTEM, row)
+  for (std::int64_t r = 0; r < systems.rows(); ++r) {
+    const double a = systems.value(r, cArcness);
+    if (systems.value(r, cFound) == 1.0 && a >= s.arcnessMin && a <= s.arcnessMax) {
+      taken.emplace_back(std::int64_t(systems.value(r, cSystem)), r);
+    }
+  }
+  if (taken.empty()) {
+    throw ConfigError(sim.path + ": no chosen arc with ARCNESS in [" +
+                      std::to_string(s.arcnessMin) + ", " + std::to_string(s.arcnessMax) +
+                      "] for the S/N floor study");
+  }
+  std::sort(taken.begin(), taken.end());
+  if (taken.size() > std::size_t(s.arcs)) taken.resize(std::size_t(s.arcs));
+
+  const SimulationSetup base = makeSimulationSetup(survey);
+  const int threads = resolveThreads(s.threads);
+
+  // 1. The noise-free stamps.
+  std::vector<ArcTarget> arcs(taken.size());
+  simulation::ObservingSetup noiseFree = base.observing;
+  noiseFree.addNoise = false;
+  parallelForDynamic(std::int64_t(arcs.size()), threads, [&](std::int64_t i) {
+    ArcTarget& arc = arcs[std::size_t(i)];
+    const std::int64_t row = taken[std::size_t(i)].second;
+    arc.system = taken[std::size_t(i)].first;
+    const int level = int(systems.value(row, cLevel));
+    if (level < 1 || std::size_t(level) > base.thresholdsAdu.size()) {
+      throw ConfigError(sim.path + ": system " + std::to_string(arc.system) +
+                        " has its arc at a level the survey setup does not have");
+    }
+    arc.isophoteAdu = base.thresholdsAdu[std::size_t(level) - 1];
+    arc.xPix = systems.value(row, cX) - 1.0;
+    arc.yPix = systems.value(row, cY) - 1.0;
+    std::mt19937_64 rng = simulation::systemRng(sim.setup.seed, std::uint64_t(arc.system));
+    const LensSystemDraw draw = drawLensSystem(base, sources, arc.system, rng);
+    arc.noiseFree =
+        simulation::renderLensSystem(draw.system, sources.stamp(draw.sourceIndex), noiseFree, rng)
+            .image;
+  });
+
+  // 2. Every (arc, factor, realisation), each from its own stream.
+  SnrFloorResult out;
+  out.noiseFactors = logSpaced(s.noiseFactorLo, s.noiseFactorHi, s.noiseFactorCount);
+  const std::size_t factors = out.noiseFactors.size(), runs = std::size_t(s.realisations);
+  std::vector<Measured> measured(arcs.size() * factors * runs);
+  parallelForDynamic(std::int64_t(arcs.size() * factors), threads, [&](std::int64_t task) {
+    const std::size_t a = std::size_t(task) / factors, f = std::size_t(task) % factors;
+    // One level: the arc's own isophote where the survey's lowest level reaches it, the lowest
+    // level (t_min times the noise) otherwise.
+    SimulationSetup setup = base;
+    setup.observing.skySigmaAdu *= out.noiseFactors[f];
+    setup.thresholdsAdu = {
+        std::max(arcs[a].isophoteAdu, base.thresholdsAdu.front() * out.noiseFactors[f])};
+    for (std::size_t r = 0; r < runs; ++r) {
+      const std::size_t k = (a * factors + f) * runs + r;
+      std::mt19937_64 rng = simulation::systemRng(s.seed, std::uint64_t(k));
+      measured[k] = measureOnce(arcs[a], setup, s.matchRadiusPix, rng);
+    }
+  });
+
+  // 3. Scaled to the reference arcness at each arc's highest S/N (the lowest noise factor).
+  out.foundPerFactor.assign(factors, 0);
+  out.realisationsPerFactor = std::int64_t(arcs.size() * runs);
+  std::vector<double> snr, scaled;
+  for (std::size_t a = 0; a < arcs.size(); ++a) {
+    std::vector<double> lowest;
+    for (std::size_t r = 0; r < runs; ++r)
+      lowest.push_back(measured[a * factors * runs + r].arcness);
+    const double a0 = sampleMedian(lowest);
+    out.systems.push_back(arcs[a].system);
+    out.referenceArcness.push_back(a0);
+    for (std::size_t f = 0; f < factors; ++f) {
+      for (std::size_t r = 0; r < runs; ++r) {
+        const Measured& m = measured[(a * factors + f) * runs + r];
+        if (!std::isfinite(m.arcness)) continue;
+        ++out.foundPerFactor[f];
+        if (!(a0 > 0)) continue;  // lost at its highest S/N: nothing to scale to
+        ++out.measurements;
+        snr.push_back(m.snr);
+        scaled.push_back(m.arcness * s.referenceArcness / a0);
+      }
+    }
+  }
+  out.bins = snrFloorBins(snr, scaled, s);
+  out.floorSnr = snrFloor(out.bins, s.minPerBin);
+  return out;
+}
+
+}  // namespace octarc
