@@ -15,6 +15,7 @@
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
+#include "octarc/core/Progress.h"
 #include "octarc/io/FitsTable.h"
 #include "octarc/plot/CheckPlot.h"
 
@@ -126,7 +127,14 @@ int runCalibrate(const std::vector<std::string>& args) {
   std::vector<SimulationOutput> outputs;
   for (const std::string& path : loaded->positional) outputs.push_back(readSimulationOutput(path));
   const SimulationOutput simulation = combineSimulationOutputs(std::move(outputs));
-  const CalibrationRun run = calibrationRunFromConfig(config, simulation);
+  CalibrationRun run = calibrationRunFromConfig(config, simulation);
+  if (run.settings.thresholdCount) {
+    run.settings.thresholdCount->progress =
+        terminalProgress("Threshold study", "systems", run.quiet);
+  }
+  if (run.settings.snrFloor) {
+    run.settings.snrFloor->progress = terminalProgress("S/N floor", "arc noise levels", run.quiet);
+  }
   if (!run.quiet) {
     for (const std::string& w : warnings) std::cerr << "WARNING: " << w << "\n";
   }

@@ -504,14 +504,10 @@ void filterMeshGrid(const ImageF& level, ImageF rms, const std::vector<unsigned 
 
 }  // namespace
 
-MeshBackground MeshBackground::estimate(const ImageF& image, const MeshBackgroundSettings& s,
-                                        std::string_view imageName) {
-  return estimate(image, s, WeightMap{}, imageName);
-}
+namespace {
 
-MeshBackground MeshBackground::estimate(const ImageF& image, const MeshBackgroundSettings& s,
-                                        const WeightMap& weights, std::string_view imageName) {
-  const std::string name(imageName);
+void checkMeshInputs(const ImageF& image, const MeshBackgroundSettings& s, const WeightMap& weights,
+                     const std::string& name) {
   if (s.meshWidth < 1 || s.meshHeight < 1)
     throw ConfigError("BACK_SIZE: mesh size must be at least 1 pixel, got " +
                       std::to_string(s.meshWidth) + "x" + std::to_string(s.meshHeight));
@@ -528,6 +524,19 @@ MeshBackground MeshBackground::estimate(const ImageF& image, const MeshBackgroun
     throw IoError(weights.name + ": weight map is " + std::to_string(weights.pixels->width()) +
                   "x" + std::to_string(weights.pixels->height()) + " but " + name + " is " +
                   std::to_string(image.width()) + "x" + std::to_string(image.height()));
+}
+
+}  // namespace
+
+MeshBackground MeshBackground::estimate(const ImageF& image, const MeshBackgroundSettings& s,
+                                        std::string_view imageName) {
+  return estimate(image, s, WeightMap{}, imageName);
+}
+
+MeshBackground MeshBackground::estimate(const ImageF& image, const MeshBackgroundSettings& s,
+                                        const WeightMap& weights, std::string_view imageName) {
+  const std::string name(imageName);
+  checkMeshInputs(image, s, weights, name);
 
   MeshBackground b;
   b.width_ = image.width();
@@ -580,11 +589,23 @@ MeshBackground MeshBackground::estimate(const ImageF& image, const MeshBackgroun
 
   filterMeshGrid(level, rms, bad, goodCount, s, b.meshLevel_, b.meshRms_);
 
-  // Global level and noise: medians of the grids. A zero median rms falls back on the median of
-  // the positive meshes, and to 1 (with a warning) when no mesh has any noise.
+  // Global level and noise: medians of the grids.
   std::vector<float> all(b.meshLevel_.data(), b.meshLevel_.data() + b.meshLevel_.size());
   b.globalLevelAdu_ = detail::medianInPlace(all);
-  all.assign(b.meshRms_.data(), b.meshRms_.data() + b.meshRms_.size());
+  const float sigma = b.medianMeshSigma(name);
+  b.globalSigmaAdu_ = sigma;
+  if (b.hasWeights_) b.scaleWeights(wlevel, wrms, bad, goodCount, s, weights, sigma);
+
+  b.levelD2y_ = splineAlongY(b.meshLevel_);
+  b.rmsD2y_ = splineAlongY(b.meshRms_);
+  b.buildColumnWalk();
+  return b;
+}
+
+float MeshBackground::medianMeshSigma(const std::string& name) {
+  // A zero median rms falls back on the median of the positive meshes, and to 1 (with a
+  // warning) when no mesh has any noise.
+  std::vector<float> all(meshRms_.data(), meshRms_.data() + meshRms_.size());
   float sigma = detail::medianInPlace(all);  // `all` is sorted now
   if (sigma <= 0.0f) {
     const auto firstPositive = std::upper_bound(all.begin(), all.end(), 0.0f);
@@ -592,54 +613,54 @@ MeshBackground MeshBackground::estimate(const ImageF& image, const MeshBackgroun
       std::vector<float> positive(firstPositive, all.end());
       sigma = detail::medianInPlace(positive);
     } else {
-      b.warnings_.push_back(name +
-                            ": image contains mainly constant data; background noise "
-                            "sigma set to 1");
+      warnings_.push_back(name +
+                          ": image contains mainly constant data; background noise "
+                          "sigma set to 1");
       sigma = 1.0f;
     }
   }
-  b.globalSigmaAdu_ = sigma;
+  return sigma;
+}
 
-  if (b.hasWeights_) {
-    ImageF filteredVarianceRms;
-    filterMeshGrid(wlevel, wrms, bad, goodCount, s, b.meshVariance_, filteredVarianceRms);
-    if (weights.type != WeightMapType::Rms) {
-      // Weight scale: median over meshes of rms / sqrt(variance mode), positive ratios only.
-      std::vector<float> ratios;
-      for (std::size_t k = 0; k < nb; ++k) {
-        const float v = b.meshVariance_[static_cast<std::int64_t>(k)];
-        if (!(v > 0.0f)) continue;
-        const float r = static_cast<float>(b.meshRms_[static_cast<std::int64_t>(k)] /
-                                           std::sqrt(static_cast<double>(v)));
-        if (r > 0.0f) ratios.push_back(r);
-      }
-      float scale = 1.0f;
-      if (ratios.empty())
-        b.warnings_.push_back(weights.name +
-                              ": null or negative global weighting factor; set to 1");
-      else
-        scale = detail::medianInPlace(ratios);
-      if (weights.rescale) {
-        b.weightScale_ = scale;
-      } else {
-        b.globalSigmaAdu_ = static_cast<float>(sigma / scale);
-      }
-    }
+void MeshBackground::scaleWeights(const ImageF& wlevel, const ImageF& wrms,
+                                  const std::vector<unsigned char>& bad, std::size_t goodCount,
+                                  const MeshBackgroundSettings& s, const WeightMap& weights,
+                                  float sigma) {
+  ImageF filteredVarianceRms;
+  filterMeshGrid(wlevel, wrms, bad, goodCount, s, meshVariance_, filteredVarianceRms);
+  if (weights.type == WeightMapType::Rms) return;
+  // Weight scale: median over meshes of rms / sqrt(variance mode), positive ratios only.
+  std::vector<float> ratios;
+  for (std::int64_t k = 0; k < meshVariance_.size(); ++k) {
+    const float v = meshVariance_[k];
+    if (!(v > 0.0f)) continue;
+    const float r = static_cast<float>(meshRms_[k] / std::sqrt(static_cast<double>(v)));
+    if (r > 0.0f) ratios.push_back(r);
   }
+  float scale = 1.0f;
+  if (ratios.empty())
+    warnings_.push_back(weights.name + ": null or negative global weighting factor; set to 1");
+  else
+    scale = detail::medianInPlace(ratios);
+  if (weights.rescale) {
+    weightScale_ = scale;
+  } else {
+    globalSigmaAdu_ = static_cast<float>(sigma / scale);
+  }
+}
 
-  b.levelD2y_ = splineAlongY(b.meshLevel_);
-  b.rmsD2y_ = splineAlongY(b.meshRms_);
-
-  // Interpolation coefficients along x: SExtractor steps dx by 1/meshWidth in float from the
-  // first pixel and resets it at the first pixel past each mesh centre; replaying that walk
-  // once gives the exact per-column values, the same for every row.
-  const std::int64_t w = b.width_;
-  b.xDx_.assign(static_cast<std::size_t>(w), 0.0f);
-  b.xCdx_.assign(static_cast<std::size_t>(w), 0.0f);
-  b.xDx3_.assign(static_cast<std::size_t>(w), 0.0f);
-  b.xCdx3_.assign(static_cast<std::size_t>(w), 0.0f);
-  if (nx > 1 && b.meshWidth_ > 1) {
-    const int bw = b.meshWidth_;
+void MeshBackground::buildColumnWalk() {
+  // SExtractor steps dx by 1/meshWidth in float from the first pixel and resets it at the first
+  // pixel past each mesh centre; replaying that walk once gives the exact per-column values,
+  // the same for every row.
+  const int nx = nx_;
+  const std::int64_t w = width_;
+  xDx_.assign(static_cast<std::size_t>(w), 0.0f);
+  xCdx_.assign(static_cast<std::size_t>(w), 0.0f);
+  xDx3_.assign(static_cast<std::size_t>(w), 0.0f);
+  xCdx3_.assign(static_cast<std::size_t>(w), 0.0f);
+  if (nx > 1 && meshWidth_ > 1) {
+    const int bw = meshWidth_;
     const float step = static_cast<float>(1.0 / bw);
     const int change = bw / 2;
     float dx = (step - 1.0f) / 2.0f;
@@ -651,19 +672,18 @@ MeshBackground MeshBackground::estimate(const ImageF& image, const MeshBackgroun
         dx = dxAfterNode;
       }
       const float cdx = 1.0f - dx;
-      if (b.xRuns_.empty() || b.xRuns_.back().node != node) b.xRuns_.push_back({x, x, node});
-      b.xRuns_.back().end = x + 1;
-      b.xDx_[x] = dx;
-      b.xCdx_[x] = cdx;
-      b.xDx3_[x] = dx * dx - 1.0f;
-      b.xCdx3_[x] = cdx * cdx - 1.0f;
+      if (xRuns_.empty() || xRuns_.back().node != node) xRuns_.push_back({x, x, node});
+      xRuns_.back().end = x + 1;
+      xDx_[x] = dx;
+      xCdx_[x] = cdx;
+      xDx3_[x] = dx * dx - 1.0f;
+      xCdx3_[x] = cdx * cdx - 1.0f;
       if (i == bw) {
         ++segment;
         i = 0;
       }
     }
   }
-  return b;
 }
 
 void MeshBackground::interpolateRow(const ImageF& grid, const std::vector<float>& d2y,

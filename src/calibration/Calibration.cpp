@@ -401,129 +401,151 @@ std::vector<std::string> calibrationPlotTypes() {
           "THRESHOLD_COUNT", "SNR_FLOOR",   "GRID_BINNING"};
 }
 
-Plot calibrationPlot(const CalibrationResult& r, const std::string& type) {
+namespace {
+
+// One check-plot per study (calibrationPlot dispatches on CHECKPLOT_TYPE).
+Plot distributionPlot(const Distribution& d) {
   Plot p;
-  for (const Distribution& d : r.distributions) {
-    if (d.name != type) continue;
-    p.title = d.name + " (" + d.selection + ")";
-    p.xLabel = d.name == "SNR_ISO" ? "log#d10#u S/N (ISO)" : d.name;
-    p.yLabel = "fraction per bin";
+  p.title = d.name + " (" + d.selection + ")";
+  p.xLabel = d.name == "SNR_ISO" ? "log#d10#u S/N (ISO)" : d.name;
+  p.yLabel = "fraction per bin";
+  p.series.push_back(
+      steps("simulated arcs (" + std::to_string(d.simulated.values) + ")", d.simulated));
+  if (d.survey) {
     p.series.push_back(
-        steps("simulated arcs (" + std::to_string(d.simulated.values) + ")", d.simulated));
-    if (d.survey) {
-      p.series.push_back(
-          steps("survey objects (" + std::to_string(d.survey->values) + ")", *d.survey));
-    }
-    if (d.gaussian && std::isfinite(d.gaussian->fwhm)) {
-      const GaussianFit& g = *d.gaussian;
-      PlotSeries curve;
-      curve.label = "Gaussian fit, FWHM " + formatNumber(g.fwhm, "%.3f");
-      const double lo = d.simulated.edges.front(), hi = d.simulated.edges.back();
-      for (int k = 0; k <= 200; ++k) {
-        const double x = lo + (hi - lo) * k / 200.0, u = (x - g.mean) / g.sigma;
-        curve.x.push_back(x);
-        curve.y.push_back(g.amplitude * std::exp(-0.5 * u * u));
-      }
-      p.series.push_back(curve);
-    }
-    p.cuts = d.cuts;
-    return p;
+        steps("survey objects (" + std::to_string(d.survey->values) + ")", *d.survey));
   }
-  if (type == "LENSING_FRACTION") {
-    p.title =
-        "Lensing fraction (" + std::to_string(r.fractions.arcSystems) + " systems with an arc)";
-    p.xLabel = "ARCNESS of the chosen arc";
-    p.yLabel = "fraction of systems with an arc";
-    for (const bool distorted : {false, true}) {
-      PlotSeries s;
-      s.label = distorted ? "also e > " + formatNumber(r.fractions.cuts.ellipticityMin) +
-                                ", S/N > " + formatNumber(r.fractions.cuts.snrMin)
-                          : "all";
-      s.steps = true;
-      for (const FractionRow& row : r.fractions.rows) {
-        if (row.distortedAndBright != distorted) continue;
-        if (s.x.empty()) s.x.push_back(row.arcnessLo);
-        s.x.push_back(std::isfinite(row.arcnessHi) ? row.arcnessHi : row.arcnessLo + 0.05);
-        s.y.push_back(row.fraction);
-        s.yLow.push_back(row.fraction - row.fractionSigma);
-        s.yHigh.push_back(row.fraction + row.fractionSigma);
-      }
-      p.series.push_back(s);
+  if (d.gaussian && std::isfinite(d.gaussian->fwhm)) {
+    const GaussianFit& g = *d.gaussian;
+    PlotSeries curve;
+    curve.label = "Gaussian fit, FWHM " + formatNumber(g.fwhm, "%.3f");
+    const double lo = d.simulated.edges.front(), hi = d.simulated.edges.back();
+    for (int k = 0; k <= 200; ++k) {
+      const double x = lo + (hi - lo) * k / 200.0, u = (x - g.mean) / g.sigma;
+      curve.x.push_back(x);
+      curve.y.push_back(g.amplitude * std::exp(-0.5 * u * u));
     }
-    return p;
+    p.series.push_back(curve);
   }
-  if (type == "NOISE_THRESHOLD") {
-    if (!r.noise) throw ConfigError("CHECKPLOT_TYPE NOISE_THRESHOLD: the noise study is off");
-    p.title = "Noise alone: realisations with an object";
-    p.xLabel = "detection threshold [sigma]";
-    p.yLabel = "realisations with an object";
+  p.cuts = d.cuts;
+  return p;
+}
+
+Plot fractionPlot(const CalibrationResult& r) {
+  Plot p;
+  p.title = "Lensing fraction (" + std::to_string(r.fractions.arcSystems) + " systems with an arc)";
+  p.xLabel = "ARCNESS of the chosen arc";
+  p.yLabel = "fraction of systems with an arc";
+  for (const bool distorted : {false, true}) {
     PlotSeries s;
-    s.label = "pure noise";
-    s.x = r.noise->thresholdsSigma;
-    for (std::int64_t n : r.noise->realisationsWithObjects) s.y.push_back(double(n));
-    p.series.push_back(s);
-    if (std::isfinite(r.noise->noiseOnlyThresholdSigma)) {
-      p.cuts.push_back({r.noise->noiseOnlyThresholdSigma,
-                        "none from " + formatNumber(r.noise->noiseOnlyThresholdSigma, "%.2f")});
-    }
-    return p;
-  }
-  if (type == "THRESHOLD_COUNT") {
-    if (!r.thresholdCount) throw ConfigError("CHECKPLOT_TYPE THRESHOLD_COUNT: the study is off");
-    p.title = "Arcs with ARCNESS > 0.10 against the number of thresholds";
-    p.xLabel = "number of detection thresholds";
-    p.yLabel = "fraction of simulated systems";
-    PlotSeries s;
-    s.label = "same systems, same lowest and highest threshold";
-    for (const ThresholdCountRow& row : r.thresholdCount->rows) {
-      s.x.push_back(row.levels);
+    s.label = distorted ? "also e > " + formatNumber(r.fractions.cuts.ellipticityMin) + ", S/N > " +
+                              formatNumber(r.fractions.cuts.snrMin)
+                        : "all";
+    s.steps = true;
+    for (const FractionRow& row : r.fractions.rows) {
+      if (row.distortedAndBright != distorted) continue;
+      if (s.x.empty()) s.x.push_back(row.arcnessLo);
+      s.x.push_back(std::isfinite(row.arcnessHi) ? row.arcnessHi : row.arcnessLo + 0.05);
       s.y.push_back(row.fraction);
       s.yLow.push_back(row.fraction - row.fractionSigma);
       s.yHigh.push_back(row.fraction + row.fractionSigma);
     }
     p.series.push_back(s);
-    p.cuts.push_back({double(r.thresholdCount->flattensAtLevels),
-                      "flat from " + std::to_string(r.thresholdCount->flattensAtLevels)});
-    return p;
   }
-  if (type == "SNR_FLOOR") {
-    if (!r.snrFloor) throw ConfigError("CHECKPLOT_TYPE SNR_FLOOR: the study is off");
-    p.title = "Arcs scaled to ARCNESS 0.10 at their highest S/N, " +
-              std::to_string(r.snrFloor->systems.size()) + " arcs";
-    p.xLabel = "S/N (ISO)";
-    p.yLabel = "ARCNESS (scaled)";
-    p.logX = true;
-    PlotSeries median;
-    median.label = "median, 20% and 80% quantiles";
-    for (const SnrFloorBin& b : r.snrFloor->bins) {
-      if (b.measurements == 0) continue;
-      median.x.push_back(std::sqrt(b.snrLo * b.snrHi));
-      median.y.push_back(b.median);
-      median.yLow.push_back(b.q20);
-      median.yHigh.push_back(b.q80);
-    }
-    p.series.push_back(median);
-    if (std::isfinite(r.snrFloor->floorSnr)) {
-      p.cuts.push_back(
-          {r.snrFloor->floorSnr, "S/N floor " + formatNumber(r.snrFloor->floorSnr, "%.0f")});
-    }
-    return p;
+  return p;
+}
+
+Plot noisePlot(const CalibrationResult& r) {
+  Plot p;
+  if (!r.noise) throw ConfigError("CHECKPLOT_TYPE NOISE_THRESHOLD: the noise study is off");
+  p.title = "Noise alone: realisations with an object";
+  p.xLabel = "detection threshold [sigma]";
+  p.yLabel = "realisations with an object";
+  PlotSeries s;
+  s.label = "pure noise";
+  s.x = r.noise->thresholdsSigma;
+  for (std::int64_t n : r.noise->realisationsWithObjects) s.y.push_back(double(n));
+  p.series.push_back(s);
+  if (std::isfinite(r.noise->noiseOnlyThresholdSigma)) {
+    p.cuts.push_back({r.noise->noiseOnlyThresholdSigma,
+                      "none from " + formatNumber(r.noise->noiseOnlyThresholdSigma, "%.2f")});
   }
-  if (type == "GRID_BINNING") {
-    p.title = "Occupation grid: binning search at P = " + formatNumber(r.binning.options.level);
-    p.xLabel = "bins per axis";
-    p.yLabel = "selected bins without a selected neighbour";
-    PlotSeries s;
-    s.label = "isolated selected bins";
-    for (const BinningTrial& t : r.binning.trials) {
-      s.x.push_back(t.binsPerAxis);
-      s.y.push_back(double(t.connectivity.isolatedBins));
-    }
-    p.series.push_back(s);
-    p.cuts.push_back({double(r.binning.finestConnected),
-                      "finest connected: " + std::to_string(r.binning.finestConnected)});
-    return p;
+  return p;
+}
+
+Plot thresholdCountPlot(const CalibrationResult& r) {
+  Plot p;
+  if (!r.thresholdCount) throw ConfigError("CHECKPLOT_TYPE THRESHOLD_COUNT: the study is off");
+  p.title = "Arcs with ARCNESS > 0.10 against the number of thresholds";
+  p.xLabel = "number of detection thresholds";
+  p.yLabel = "fraction of simulated systems";
+  PlotSeries s;
+  s.label = "same systems, same lowest and highest threshold";
+  for (const ThresholdCountRow& row : r.thresholdCount->rows) {
+    s.x.push_back(row.levels);
+    s.y.push_back(row.fraction);
+    s.yLow.push_back(row.fraction - row.fractionSigma);
+    s.yHigh.push_back(row.fraction + row.fractionSigma);
   }
+  p.series.push_back(s);
+  p.cuts.push_back({double(r.thresholdCount->flattensAtLevels),
+                    "flat from " + std::to_string(r.thresholdCount->flattensAtLevels)});
+  return p;
+}
+
+Plot snrFloorPlot(const CalibrationResult& r) {
+  Plot p;
+  if (!r.snrFloor) throw ConfigError("CHECKPLOT_TYPE SNR_FLOOR: the study is off");
+  p.title = "Arcs scaled to ARCNESS 0.10 at their highest S/N, " +
+            std::to_string(r.snrFloor->systems.size()) + " arcs";
+  p.xLabel = "S/N (ISO)";
+  p.yLabel = "ARCNESS (scaled)";
+  p.logX = true;
+  PlotSeries median;
+  median.label = "median, 20% and 80% quantiles";
+  for (const SnrFloorBin& b : r.snrFloor->bins) {
+    if (b.measurements == 0) continue;
+    median.x.push_back(std::sqrt(b.snrLo * b.snrHi));
+    median.y.push_back(b.median);
+    median.yLow.push_back(b.q20);
+    median.yHigh.push_back(b.q80);
+  }
+  p.series.push_back(median);
+  if (std::isfinite(r.snrFloor->floorSnr)) {
+    p.cuts.push_back(
+        {r.snrFloor->floorSnr, "S/N floor " + formatNumber(r.snrFloor->floorSnr, "%.0f")});
+  }
+  return p;
+}
+
+Plot binningPlot(const CalibrationResult& r) {
+  Plot p;
+  p.title = "Occupation grid: binning search at P = " + formatNumber(r.binning.options.level);
+  p.xLabel = "bins per axis";
+  p.yLabel = "selected bins without a selected neighbour";
+  PlotSeries s;
+  s.label = "isolated selected bins";
+  for (const BinningTrial& t : r.binning.trials) {
+    s.x.push_back(t.binsPerAxis);
+    s.y.push_back(double(t.connectivity.isolatedBins));
+  }
+  p.series.push_back(s);
+  p.cuts.push_back({double(r.binning.finestConnected),
+                    "finest connected: " + std::to_string(r.binning.finestConnected)});
+  return p;
+}
+
+}  // namespace
+
+Plot calibrationPlot(const CalibrationResult& r, const std::string& type) {
+  for (const Distribution& d : r.distributions) {
+    if (d.name == type) return distributionPlot(d);
+  }
+  if (type == "LENSING_FRACTION") return fractionPlot(r);
+  if (type == "NOISE_THRESHOLD") return noisePlot(r);
+  if (type == "THRESHOLD_COUNT") return thresholdCountPlot(r);
+  if (type == "SNR_FLOOR") return snrFloorPlot(r);
+  if (type == "GRID_BINNING") return binningPlot(r);
   throw ConfigError("CHECKPLOT_TYPE " + quoteForMessage(type) + " is not a calibration plot");
 }
 

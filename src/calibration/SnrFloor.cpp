@@ -187,20 +187,25 @@ SnrFloorResult snrFloorStudy(const SimulationOutput& sim, const LensSetupOptions
   out.noiseFactors = logSpaced(s.noiseFactorLo, s.noiseFactorHi, s.noiseFactorCount);
   const std::size_t factors = out.noiseFactors.size(), runs = std::size_t(s.realisations);
   std::vector<Measured> measured(arcs.size() * factors * runs);
-  parallelForDynamic(std::int64_t(arcs.size() * factors), threads, [&](std::int64_t task) {
-    const std::size_t a = std::size_t(task) / factors, f = std::size_t(task) % factors;
-    // One level: the arc's own isophote where the survey's lowest level reaches it, the lowest
-    // level (t_min times the noise) otherwise.
-    SimulationSetup setup = base;
-    setup.observing.skySigmaAdu *= out.noiseFactors[f];
-    setup.thresholdsAdu = {
-        std::max(arcs[a].isophoteAdu, base.thresholdsAdu.front() * out.noiseFactors[f])};
-    for (std::size_t r = 0; r < runs; ++r) {
-      const std::size_t k = (a * factors + f) * runs + r;
-      std::mt19937_64 rng = simulation::systemRng(s.seed, std::uint64_t(k));
-      measured[k] = measureOnce(arcs[a], setup, s.matchRadiusPix, rng);
-    }
-  });
+  parallelForDynamic(
+      std::int64_t(arcs.size() * factors), threads,
+      [&](std::int64_t task) {
+        const std::size_t a = std::size_t(task) / factors, f = std::size_t(task) % factors;
+        // One level: the arc's own isophote where the survey's lowest level reaches it, the lowest
+        // level (t_min times the noise) otherwise.
+        SimulationSetup setup = base;
+        setup.observing.skySigmaAdu *= out.noiseFactors[f];
+        setup.thresholdsAdu = {
+            std::max(arcs[a].isophoteAdu, base.thresholdsAdu.front() * out.noiseFactors[f])};
+        for (std::size_t r = 0; r < runs; ++r) {
+          const std::size_t k = (a * factors + f) * runs + r;
+          std::mt19937_64 rng = simulation::systemRng(s.seed, std::uint64_t(k));
+          measured[k] = measureOnce(arcs[a], setup, s.matchRadiusPix, rng);
+        }
+      },
+      [&](std::int64_t done) {
+        if (s.progress) s.progress(done, std::int64_t(arcs.size() * factors));
+      });
 
   // 3. Scaled to the reference arcness at each arc's highest S/N (the lowest noise factor).
   out.foundPerFactor.assign(factors, 0);

@@ -29,20 +29,25 @@ ThresholdCountCurve thresholdCountCurve(const LensSetupOptions& survey,
   // every number of levels; flags per (count, system).
   const std::size_t systems = std::size_t(s.systems);
   std::vector<char> arcFound(counts.size() * systems, 0), withArcness(arcFound.size(), 0);
-  parallelForDynamic(s.systems, resolveThreads(s.threads), [&](std::int64_t i) {
-    const RenderedSystem rendered = renderSystem(setups.front(), sources, s.seed, i);
-    if (rendered.draw.skipped) return;
-    for (std::size_t c = 0; c < counts.size(); ++c) {
-      std::mt19937_64 rng = rendered.rng;  // the arc-level choice, as simulate lenses makes it
-      const DetectedSystem d = detectSystem(rendered.image, setups[c], rng);
-      const std::size_t k = c * systems + std::size_t(i);
-      arcFound[k] = d.arcs.chosenRow >= 0;
-      const int arcness = d.objects.requireColumn("ARCNESS", "threshold count");
-      for (std::int64_t row : d.arcs.arcRows) {
-        if (d.objects.value(row, arcness) > s.arcnessMin) withArcness[k] = 1;
-      }
-    }
-  });
+  parallelForDynamic(
+      s.systems, resolveThreads(s.threads),
+      [&](std::int64_t i) {
+        const RenderedSystem rendered = renderSystem(setups.front(), sources, s.seed, i);
+        if (rendered.draw.skipped) return;
+        for (std::size_t c = 0; c < counts.size(); ++c) {
+          std::mt19937_64 rng = rendered.rng;  // the arc-level choice, as simulate lenses makes it
+          const DetectedSystem d = detectSystem(rendered.image, setups[c], rng);
+          const std::size_t k = c * systems + std::size_t(i);
+          arcFound[k] = d.arcs.chosenRow >= 0;
+          const int arcness = d.objects.requireColumn("ARCNESS", "threshold count");
+          for (std::int64_t row : d.arcs.arcRows) {
+            if (d.objects.value(row, arcness) > s.arcnessMin) withArcness[k] = 1;
+          }
+        }
+      },
+      [&](std::int64_t done) {
+        if (s.progress) s.progress(done, s.systems);
+      });
   ThresholdCountCurve curve;
   std::vector<std::set<std::int64_t>> found(counts.size());  // per count: systems with an arc
   for (std::size_t c = 0; c < counts.size(); ++c) {

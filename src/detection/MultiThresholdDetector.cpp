@@ -321,6 +321,105 @@ void validate(const ImageF& image, const DetectionSettings& settings) {
   }
 }
 
+// Step 1: the runs above the lowest level (with their per-pixel levels), scanned by row bands on
+// `threads` threads and concatenated in raster order; bandBegin[b] is the first run of band b.
+struct ScannedRuns {
+  std::vector<Run> runs;
+  std::vector<std::uint8_t> levels;
+  std::vector<std::int64_t> bandBegin;
+};
+
+ScannedRuns scanRuns(const Detector& detector, std::int64_t height, int threads) {
+  std::vector<std::vector<Run>> bandRuns(threads);
+  std::vector<std::vector<std::uint8_t>> bandLevels(threads);
+  parallelFor(threads, threads, [&](std::int64_t band) {
+    const std::int64_t y0 = height * band / threads;
+    const std::int64_t y1 = height * (band + 1) / threads;
+    for (std::int64_t y = y0; y < y1; ++y) detector.scanRow(y, bandRuns[band], bandLevels[band]);
+  });
+  ScannedRuns out;
+  out.bandBegin.assign(threads + 1, 0);
+  for (int band = 0; band < threads; ++band) {
+    out.bandBegin[band + 1] =
+        out.bandBegin[band] + static_cast<std::int64_t>(bandRuns[band].size());
+  }
+  if (out.bandBegin[threads] > std::numeric_limits<std::int32_t>::max()) {
+    throw ConfigError("detection: more than 2^31-1 runs above the lowest threshold");
+  }
+  std::size_t levelTotal = 0;
+  for (const auto& band : bandLevels) levelTotal += band.size();
+  if (levelTotal > static_cast<std::size_t>(kMaxOffset)) {
+    throw ConfigError("detection: more than 2^31-1 pixels above the lowest threshold");
+  }
+  out.runs.reserve(static_cast<std::size_t>(out.bandBegin[threads]));
+  out.levels.reserve(levelTotal);
+  for (int band = 0; band < threads; ++band) {
+    const auto shift = static_cast<std::int32_t>(out.levels.size());
+    for (Run run : bandRuns[band]) {
+      run.offset += shift;
+      out.runs.push_back(run);
+    }
+    out.levels.insert(out.levels.end(), bandLevels[band].begin(), bandLevels[band].end());
+    std::vector<Run>().swap(bandRuns[band]);
+    std::vector<std::uint8_t>().swap(bandLevels[band]);
+  }
+  return out;
+}
+
+// Step 2: the connected components of the runs, bands in parallel, then the band seams. Fills
+// label (one per run) and returns the number of components.
+std::int32_t labelComponents(ScannedRuns& scanned, int threads, std::vector<std::int32_t>& label) {
+  std::vector<Run>& runs = scanned.runs;
+  const std::vector<std::int64_t>& bandBegin = scanned.bandBegin;
+  const auto runCount = static_cast<std::int32_t>(runs.size());
+  std::vector<std::int32_t> parent(runCount);
+  std::iota(parent.begin(), parent.end(), 0);
+  parallelFor(threads, threads, [&](std::int64_t band) {
+    linkRuns(runs.data(), static_cast<std::int32_t>(bandBegin[band]),
+             static_cast<std::int32_t>(bandBegin[band + 1]), parent.data());
+  });
+  for (int band = 1; band < threads; ++band) {
+    // Last row of the previous non-empty band against the first row of this one.
+    const auto begin = static_cast<std::int32_t>(bandBegin[band]);
+    const auto end = static_cast<std::int32_t>(bandBegin[band + 1]);
+    if (begin == end || begin == 0) continue;
+    std::int32_t prevBegin = begin - 1;
+    while (prevBegin > 0 && runs[prevBegin - 1].y == runs[begin - 1].y) --prevBegin;
+    if (runs[begin - 1].y != runs[begin].y - 1) continue;
+    std::int32_t curEnd = begin;
+    while (curEnd < end && runs[curEnd].y == runs[begin].y) ++curEnd;
+    linkRows(runs.data(), prevBegin, begin, begin, curEnd, parent.data());
+  }
+  label.assign(runCount, 0);
+  return labelRuns(runCount, parent.data(), label.data());
+}
+
+// Step 3: the runs grouped by component (stable, so each group stays in raster order): group c
+// is runOrder[groupBegin[c] .. groupBegin[c + 1]); area[c] its pixels.
+struct ComponentGroups {
+  std::vector<std::int64_t> area;
+  std::vector<std::int32_t> groupBegin;
+  std::vector<std::int32_t> runOrder;
+};
+
+ComponentGroups groupByComponent(const std::vector<Run>& runs,
+                                 const std::vector<std::int32_t>& label,
+                                 std::int32_t componentCount) {
+  const auto runCount = static_cast<std::int32_t>(runs.size());
+  ComponentGroups g;
+  g.area.assign(componentCount, 0);
+  g.groupBegin.assign(componentCount + 1, 0);
+  for (std::int32_t r = 0; r < runCount; ++r) {
+    g.area[label[r]] += runs[r].x1 - runs[r].x0 + 1;
+    ++g.groupBegin[label[r] + 1];
+  }
+  for (std::int32_t c = 0; c < componentCount; ++c) g.groupBegin[c + 1] += g.groupBegin[c];
+  g.runOrder.resize(runCount);
+  std::vector<std::int32_t> fill(g.groupBegin.begin(), g.groupBegin.end() - 1);
+  for (std::int32_t r = 0; r < runCount; ++r) g.runOrder[fill[label[r]]++] = r;
+  return g;
+}
+
 }  // namespace
 
 std::vector<std::int64_t> detectMultiThreshold(
@@ -344,80 +443,18 @@ std::vector<std::int64_t> detectMultiThreshold(
       settings.minArea,
       settings.footprintRuns};
 
-  // 1. Runs above the lowest level, by row bands; each band also links its own runs.
-  std::vector<std::vector<Run>> bandRuns(threads);
-  std::vector<std::vector<std::uint8_t>> bandLevels(threads);
-  parallelFor(threads, threads, [&](std::int64_t band) {
-    const std::int64_t y0 = height * band / threads;
-    const std::int64_t y1 = height * (band + 1) / threads;
-    for (std::int64_t y = y0; y < y1; ++y) detector.scanRow(y, bandRuns[band], bandLevels[band]);
-  });
-  std::vector<std::int64_t> bandBegin(threads + 1, 0);
-  for (int band = 0; band < threads; ++band) {
-    bandBegin[band + 1] = bandBegin[band] + static_cast<std::int64_t>(bandRuns[band].size());
-  }
-  if (bandBegin[threads] > std::numeric_limits<std::int32_t>::max()) {
-    throw ConfigError("detection: more than 2^31-1 runs above the lowest threshold");
-  }
-  const auto runCount = static_cast<std::int32_t>(bandBegin[threads]);
-  std::size_t levelTotal = 0;
-  for (const auto& band : bandLevels) levelTotal += band.size();
-  if (levelTotal > static_cast<std::size_t>(kMaxOffset)) {
-    throw ConfigError("detection: more than 2^31-1 pixels above the lowest threshold");
-  }
-  std::vector<Run> runs;
-  std::vector<std::uint8_t> levels;
-  runs.reserve(runCount);
-  levels.reserve(levelTotal);
-  for (int band = 0; band < threads; ++band) {
-    const auto shift = static_cast<std::int32_t>(levels.size());
-    for (Run run : bandRuns[band]) {
-      run.offset += shift;
-      runs.push_back(run);
-    }
-    levels.insert(levels.end(), bandLevels[band].begin(), bandLevels[band].end());
-    std::vector<Run>().swap(bandRuns[band]);
-    std::vector<std::uint8_t>().swap(bandLevels[band]);
-  }
-
-  // 2. Connected components of the runs: bands in parallel, then the band seams.
-  std::vector<std::int32_t> parent(runCount);
-  std::iota(parent.begin(), parent.end(), 0);
-  parallelFor(threads, threads, [&](std::int64_t band) {
-    linkRuns(runs.data(), static_cast<std::int32_t>(bandBegin[band]),
-             static_cast<std::int32_t>(bandBegin[band + 1]), parent.data());
-  });
-  for (int band = 1; band < threads; ++band) {
-    // Last row of the previous non-empty band against the first row of this one.
-    const auto begin = static_cast<std::int32_t>(bandBegin[band]);
-    const auto end = static_cast<std::int32_t>(bandBegin[band + 1]);
-    if (begin == end || begin == 0) continue;
-    std::int32_t prevBegin = begin - 1;
-    while (prevBegin > 0 && runs[prevBegin - 1].y == runs[begin - 1].y) --prevBegin;
-    if (runs[begin - 1].y != runs[begin].y - 1) continue;
-    std::int32_t curEnd = begin;
-    while (curEnd < end && runs[curEnd].y == runs[begin].y) ++curEnd;
-    linkRows(runs.data(), prevBegin, begin, begin, curEnd, parent.data());
-  }
-  std::vector<std::int32_t> label(runCount);
-  const std::int32_t componentCount = labelRuns(runCount, parent.data(), label.data());
-  std::vector<std::int32_t>().swap(parent);
-
-  // 3. Runs grouped by component (stable, so each group stays in raster order); components
-  //    below DETECT_MINAREA at the lowest level have no object at any level.
-  std::vector<std::int64_t> area(componentCount, 0);
-  std::vector<std::int32_t> groupBegin(componentCount + 1, 0);
-  for (std::int32_t r = 0; r < runCount; ++r) {
-    area[label[r]] += runs[r].x1 - runs[r].x0 + 1;
-    ++groupBegin[label[r] + 1];
-  }
-  for (std::int32_t c = 0; c < componentCount; ++c) groupBegin[c + 1] += groupBegin[c];
-  std::vector<std::int32_t> runOrder(runCount);
-  {
-    std::vector<std::int32_t> fill(groupBegin.begin(), groupBegin.end() - 1);
-    for (std::int32_t r = 0; r < runCount; ++r) runOrder[fill[label[r]]++] = r;
-  }
+  // 1-3. Runs above the lowest level, their components, the runs grouped by component;
+  //      components below DETECT_MINAREA at the lowest level have no object at any level.
+  ScannedRuns scanned = scanRuns(detector, height, threads);
+  std::vector<std::int32_t> label;
+  const std::int32_t componentCount = labelComponents(scanned, threads, label);
+  const std::vector<Run>& runs = scanned.runs;
+  const std::vector<std::uint8_t>& levels = scanned.levels;
+  ComponentGroups groups = groupByComponent(runs, label, componentCount);
   std::vector<std::int32_t>().swap(label);
+  std::vector<std::int64_t>& area = groups.area;
+  const std::vector<std::int32_t>& groupBegin = groups.groupBegin;
+  const std::vector<std::int32_t>& runOrder = groups.runOrder;
 
   // 4. Tasks: consecutive kept components, about kTaskPixels pixels each, handled in parallel and
   //    emitted in order.

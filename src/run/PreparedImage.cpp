@@ -179,20 +179,14 @@ void PreparedImage::reloadVariance(const RunSettings& settings) {
   varianceFiltered = false;
 }
 
-PreparedImage prepareImage(const std::string& imagePath, const RunSettings& settings,
-                           const CatalogRunValues& fromCatalog, bool keepCheckMaps,
-                           bool filterVariance) {
-  PreparedImage out;
-  out.hdu = readImage(imagePath);
-  ImageF& pixels = out.hdu.pixels;
-  const bool anyFinite = std::any_of(pixels.pixels().begin(), pixels.pixels().end(),
-                                     [](float v) { return std::isfinite(v); });
-  if (!anyFinite) throw IoError(imagePath + ": image has no finite pixel (all NaN or Inf)");
+namespace {
 
-  // Gain and saturation: the catalog's SEXGAIN is what SExtractor used; otherwise the header
-  // keyword named by GAIN_KEY / SATUR_KEY wins over the configuration, as in SExtractor. A
-  // header value that is not a finite number >= 0 is ignored with a warning (the
-  // configuration's value is used), since it cannot be a gain or a saturation level.
+// Gain and saturation: the catalog's SEXGAIN is what SExtractor used; otherwise the header
+// keyword named by GAIN_KEY / SATUR_KEY wins over the configuration, as in SExtractor. A header
+// value that is not a finite number >= 0 is ignored with a warning (the configuration's value
+// is used), since it cannot be a gain or a saturation level.
+void readGainAndSaturation(PreparedImage& out, const std::string& imagePath,
+                           const RunSettings& settings, const CatalogRunValues& fromCatalog) {
   if (fromCatalog.gain) {
     out.gain = *fromCatalog.gain;
   } else {
@@ -207,27 +201,33 @@ PreparedImage prepareImage(const std::string& imagePath, const RunSettings& sett
                                             " of the configuration",
                                         out.warnings)
                           .value_or(settings.saturationAdu);
-  // SATUR_LEVEL applies to raw values, so saturated pixels are found before the background goes.
-  out.saturatedPixels = findSaturatedPixels(pixels, out.saturationAdu, settings.threads);
+}
 
-  // Background level, in order of precedence: a BACKGROUND check-image, the input catalog's
-  // SEXBKGND, then BACK_TYPE. The noise sigma: the input catalog's SEXBKDEV, a BACKGROUND_RMS
-  // check-image, then the background estimate itself (as SExtractor, the mesh RMS even for a
-  // MANUAL level).
-  // The weight map is read into the buffer that becomes the variance map, so that weights cost
-  // one image-sized buffer.
+// The weight map, read into the buffer that becomes the variance map (so that weights cost one
+// image-sized buffer); no map for WEIGHT_TYPE NONE.
+WeightMap openWeightMap(const RunSettings& settings, const ImageHdu& image, ImageF& buffer) {
   WeightMap weights;
-  ImageF weightPixels;
-  if (settings.weightType != WeightType::None) {
-    weightPixels = readMapLike(settings.weightImagePath, out.hdu, "weight map");
-    weights.pixels = &weightPixels;
-    weights.type = settings.weightType == WeightType::MapWeight ? WeightMapType::Weight
-                   : settings.weightType == WeightType::MapRms  ? WeightMapType::Rms
-                                                                : WeightMapType::Variance;
-    weights.threshold = settings.weightThreshold;
-    weights.rescale = settings.rescaleWeights;
-    weights.name = settings.weightImagePath;
-  }
+  if (settings.weightType == WeightType::None) return weights;
+  buffer = readMapLike(settings.weightImagePath, image, "weight map");
+  weights.pixels = &buffer;
+  weights.type = settings.weightType == WeightType::MapWeight ? WeightMapType::Weight
+                 : settings.weightType == WeightType::MapRms  ? WeightMapType::Rms
+                                                              : WeightMapType::Variance;
+  weights.threshold = settings.weightThreshold;
+  weights.rescale = settings.rescaleWeights;
+  weights.name = settings.weightImagePath;
+  return weights;
+}
+
+// The background level, subtracted, and the noise sigma, in order of precedence. Level: a
+// BACKGROUND check-image, the input catalog's SEXBKGND, then BACK_TYPE. Sigma: the input
+// catalog's SEXBKDEV, a BACKGROUND_RMS check-image, then the background estimate itself (as
+// SExtractor, the mesh RMS even for a MANUAL level). The mesh is estimated once, when first
+// needed, and always with a weight map (RESCALE_WEIGHTS comes from its statistics).
+void subtractBackground(PreparedImage& out, const std::string& imagePath,
+                        const RunSettings& settings, const CatalogRunValues& fromCatalog,
+                        const WeightMap& weights, bool keepCheckMaps) {
+  ImageF& pixels = out.hdu.pixels;
   std::optional<MeshBackground>& mesh = out.mesh;
   auto meshBackground = [&]() -> const MeshBackground& {
     if (!mesh) {
@@ -243,8 +243,6 @@ PreparedImage prepareImage(const std::string& imagePath, const RunSettings& sett
     }
     return *mesh;
   };
-  // The weight scale (RESCALE_WEIGHTS) comes from the mesh statistics of image and weights,
-  // whatever the source of the background level.
   if (weights.pixels) meshBackground();
 
   std::optional<double> sigmaAdu = fromCatalog.sigmaAdu;
@@ -308,14 +306,18 @@ PreparedImage prepareImage(const std::string& imagePath, const RunSettings& sett
     for (const std::string& w : mesh->warnings()) out.warnings.push_back(w);
   }
   out.sigmaAdu = *sigmaAdu;
+}
 
+// The variance map from the weights, and the filtered detection image (FILTER Y).
+void varianceAndFilter(PreparedImage& out, const RunSettings& settings, ImageF& weightPixels,
+                       bool haveWeights, bool filterVariance) {
   std::optional<ConvKernel> kernel;
   if (settings.filter) {
     kernel = sexcompat::readConvFile(resolveFilterFile(settings.filterPath));
   }
-  if (weights.pixels) {
-    weightsToVariance(weightPixels, *mesh, settings);
-    out.weightScale = mesh->weightScale();
+  if (haveWeights) {
+    weightsToVariance(weightPixels, *out.mesh, settings);
+    out.weightScale = out.mesh->weightScale();
     if (kernel && filterVariance) {
       // SExtractor thresholds the filtered image against the variance filtered by the same
       // kernel; its bad pixels carry a variance of 1e30 (not Inf, which 0 * Inf would turn
@@ -329,7 +331,27 @@ PreparedImage prepareImage(const std::string& imagePath, const RunSettings& sett
       out.variance = std::move(weightPixels);
     }
   }
-  if (kernel) out.filtered = applyFilter(pixels, *kernel, settings.threads);
+  if (kernel) out.filtered = applyFilter(out.hdu.pixels, *kernel, settings.threads);
+}
+
+}  // namespace
+
+PreparedImage prepareImage(const std::string& imagePath, const RunSettings& settings,
+                           const CatalogRunValues& fromCatalog, bool keepCheckMaps,
+                           bool filterVariance) {
+  PreparedImage out;
+  out.hdu = readImage(imagePath);
+  ImageF& pixels = out.hdu.pixels;
+  const bool anyFinite = std::any_of(pixels.pixels().begin(), pixels.pixels().end(),
+                                     [](float v) { return std::isfinite(v); });
+  if (!anyFinite) throw IoError(imagePath + ": image has no finite pixel (all NaN or Inf)");
+  readGainAndSaturation(out, imagePath, settings, fromCatalog);
+  // SATUR_LEVEL applies to raw values, so saturated pixels are found before the background goes.
+  out.saturatedPixels = findSaturatedPixels(pixels, out.saturationAdu, settings.threads);
+  ImageF weightPixels;
+  const WeightMap weights = openWeightMap(settings, out.hdu, weightPixels);
+  subtractBackground(out, imagePath, settings, fromCatalog, weights, keepCheckMaps);
+  varianceAndFilter(out, settings, weightPixels, weights.pixels != nullptr, filterVariance);
   out.wcs = Wcs::fromHeader(out.hdu.header, imagePath);
   return out;
 }

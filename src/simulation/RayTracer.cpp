@@ -66,11 +66,10 @@ ImageD rebinFluxConserving(const ImageD& in, double inScaleArcsec, int outWidth,
   return out;
 }
 
-ImageD traceLensedImage(const EllipticalPotentialLens& lens, const SourceStamp& source,
-                        const SourcePlacement& placement, const SurveyGrid& grid,
-                        const RayTraceOptions& options, RayTraceStats* stats) {
-  const double stampScale =
-      placement.pixelScaleArcsec > 0.0 ? placement.pixelScaleArcsec : source.pixelScaleArcsec;
+namespace {
+
+void checkRayTraceInputs(const SourceStamp& source, double stampScale, const SurveyGrid& grid,
+                         const RayTraceOptions& options) {
   if (!(options.fineScaleArcsec > 0.0) || !(grid.pixelScaleArcsec > 0.0) || !(stampScale > 0.0))
     throw ConfigError("ray tracing: pixel scales must be positive");
   if (options.subSamples < 1 || options.blockFinePixels < 1)
@@ -79,6 +78,131 @@ ImageD traceLensedImage(const EllipticalPotentialLens& lens, const SourceStamp& 
     throw ConfigError("ray tracing: the survey stamp must have at least one pixel");
   if (source.fluxPerPixel.empty())
     throw ConfigError("ray tracing: source stamp '" + source.name + "' is empty");
+}
+
+// Lens-frame ray positions to source-stamp pixel coordinates: the deflection of the elliptical
+// potential, then one affine map (lens frame -> sky -> stamp frame -> pixels, shifted by +1 into
+// the padded stamp). In the lens frame a step along the sky x axis is a constant increment.
+struct RayMap {
+  double cPa, sPa;  // lens position angle
+  double core2, qx, qy, bx, by;
+  double m00, m01, m10, m11, u0, v0;  // (u, v) = M (x - alpha_x, y - alpha_y)_lens + (u0, v0)
+
+  RayMap(const EllipticalPotentialParams& mass, const ImageD& stamp,
+         const SourcePlacement& placement, double stampScale) {
+    const double cosR = std::cos(placement.rotationRad);
+    const double sinR = std::sin(placement.rotationRad);
+    const double invScale = 1.0 / stampScale;
+    const Vec2 betaC = placement.betaArcsec;
+    cPa = std::cos(mass.positionAngleRad);
+    sPa = std::sin(mass.positionAngleRad);
+    core2 = mass.coreArcsec * mass.coreArcsec;
+    qx = 1.0 - mass.ellipticity;
+    qy = 1.0 + mass.ellipticity;
+    bx = mass.einsteinRadiusArcsec * qx;
+    by = mass.einsteinRadiusArcsec * qy;
+    // M = S Rot(-rotation) Rot(pa).
+    m00 = invScale * (cosR * cPa + sinR * sPa);
+    m01 = invScale * (-cosR * sPa + sinR * cPa);
+    m10 = invScale * (-sinR * cPa + cosR * sPa);
+    m11 = invScale * (sinR * sPa + cosR * cPa);
+    u0 = 0.5 * (stamp.width() - 1) - invScale * (cosR * betaC[0] + sinR * betaC[1]) + 1.0;
+    v0 = 0.5 * (stamp.height() - 1) - invScale * (-sinR * betaC[0] + cosR * betaC[1]) + 1.0;
+  }
+
+  // Source-plane stamp coordinates of n rays (lens-frame positions xl, yl), written to u, v.
+  // Branch-free so that the compiler can vectorise the square roots and divisions.
+  void map(const double* xl, const double* yl, double* u, double* v, int n) const {
+    for (int k = 0; k < n; ++k) {
+      const double d2 = core2 + qx * xl[k] * xl[k] + qy * yl[k] * yl[k];
+      // d2 == 0 only at the centre of a coreless lens, where the deflection is taken as zero.
+      const double invD = d2 > 0.0 ? 1.0 / std::sqrt(d2) : 0.0;
+      const double px = xl[k] - bx * xl[k] * invD;
+      const double py = yl[k] - by * yl[k] * invD;
+      u[k] = m00 * px + m01 * py + u0;
+      v[k] = m10 * px + m11 * py + v0;
+    }
+  }
+};
+
+// The source stamp with a one-pixel zero border: bilinear interpolation then needs no edge cases.
+class PaddedStamp {
+ public:
+  explicit PaddedStamp(const ImageD& stamp)
+      : width_(stamp.width() + 2),
+        uMax_(double(stamp.width() + 1)),
+        vMax_(double(stamp.height() + 1)),
+        pixels_(static_cast<std::size_t>(width_ * (stamp.height() + 2)), 0.0) {
+    for (std::int64_t y = 0; y < stamp.height(); ++y)
+      std::copy_n(stamp.data() + y * stamp.width(), stamp.width(),
+                  pixels_.data() + (y + 1) * width_ + 1);
+  }
+  double sample(double u, double v) const {
+    if (!(u >= 0.0 && v >= 0.0 && u < uMax_ && v < vMax_)) return 0.0;
+    const double fu = std::floor(u);
+    const double fv = std::floor(v);
+    const double tu = u - fu;
+    const double tv = v - fv;
+    const double* r0 =
+        pixels_.data() + static_cast<std::int64_t>(fv) * width_ + static_cast<std::int64_t>(fu);
+    const double* r1 = r0 + width_;
+    return (1.0 - tv) * ((1.0 - tu) * r0[0] + tu * r0[1]) + tv * ((1.0 - tu) * r1[0] + tu * r1[1]);
+  }
+
+ private:
+  std::int64_t width_;
+  double uMax_, vMax_;
+  std::vector<double> pixels_;
+};
+
+// Each fine pixel overlaps at most a few survey pixels along each axis: its flux goes straight
+// to them with the overlap fractions of rebinFluxConserving, so no fine-grid image is needed.
+class FluxSpreader {
+ public:
+  FluxSpreader(int nfx, int nfy, double fineScale, const SurveyGrid& grid)
+      : sharesX_(shares(nfx, fineScale, grid.width, grid.pixelScaleArcsec, overlapsX_)),
+        sharesY_(shares(nfy, fineScale, grid.height, grid.pixelScaleArcsec, overlapsY_)) {}
+  void add(ImageD& out, int fx, int fy, double flux) const {
+    const AxisShare& ax = sharesX_[static_cast<std::size_t>(fx)];
+    const AxisShare& ay = sharesY_[static_cast<std::size_t>(fy)];
+    for (int j = ay.first; j < ay.first + ay.count; ++j) {
+      const Overlap& oy = overlapsY_[static_cast<std::size_t>(j)];
+      double* row = out.data() + out.index(0, oy.out);
+      for (int i = ax.first; i < ax.first + ax.count; ++i) {
+        const Overlap& ox = overlapsX_[static_cast<std::size_t>(i)];
+        row[ox.out] += ox.fraction * oy.fraction * flux;
+      }
+    }
+  }
+
+ private:
+  struct AxisShare {
+    int first = 0;  // index into the overlap list
+    int count = 0;
+  };
+  static std::vector<AxisShare> shares(int nIn, double inScale, int nOut, double outScale,
+                                       std::vector<Overlap>& overlaps) {
+    overlaps = axisOverlaps(nIn, inScale, nOut, outScale);
+    std::vector<AxisShare> out(static_cast<std::size_t>(nIn));
+    for (int k = 0; k < static_cast<int>(overlaps.size()); ++k) {
+      AxisShare& a = out[static_cast<std::size_t>(overlaps[std::size_t(k)].in)];
+      if (a.count == 0) a.first = k;
+      ++a.count;
+    }
+    return out;
+  }
+  std::vector<Overlap> overlapsX_, overlapsY_;
+  std::vector<AxisShare> sharesX_, sharesY_;
+};
+
+}  // namespace
+
+ImageD traceLensedImage(const EllipticalPotentialLens& lens, const SourceStamp& source,
+                        const SourcePlacement& placement, const SurveyGrid& grid,
+                        const RayTraceOptions& options, RayTraceStats* stats) {
+  const double stampScale =
+      placement.pixelScaleArcsec > 0.0 ? placement.pixelScaleArcsec : source.pixelScaleArcsec;
+  checkRayTraceInputs(source, stampScale, grid, options);
 
   const double sf = options.fineScaleArcsec;
   const int nfx = static_cast<int>(std::ceil(grid.width * grid.pixelScaleArcsec / sf - 1e-9));
@@ -88,10 +212,6 @@ ImageD traceLensedImage(const EllipticalPotentialLens& lens, const SourceStamp& 
   const double y0 = (-0.5 - grid.lensYPix) * grid.pixelScaleArcsec;
 
   const ImageD& stamp = source.fluxPerPixel;
-  const double stampCx = 0.5 * (stamp.width() - 1);
-  const double stampCy = 0.5 * (stamp.height() - 1);
-  const double cosR = std::cos(placement.rotationRad);
-  const double sinR = std::sin(placement.rotationRad);
   const double invScale = 1.0 / stampScale;
   const double surfaceBrightnessPerFlux = invScale * invScale;
   const double supportPix = supportRadiusPixels(stamp);
@@ -126,84 +246,15 @@ ImageD traceLensedImage(const EllipticalPotentialLens& lens, const SourceStamp& 
   const double step = sf / ns;
   const double fineArea = sf * sf;
   const int block = options.blockFinePixels;
-
-  // The inner loop works in the lens frame, where a step along the sky x axis is a constant
-  // increment, and maps the lens-frame source position straight to stamp pixels with one affine
-  // map (lens frame -> sky -> stamp frame -> pixels). Same rays, same arithmetic up to rounding.
-  const EllipticalPotentialParams& mass = lens.params();
-  const double cPa = std::cos(mass.positionAngleRad);
-  const double sPa = std::sin(mass.positionAngleRad);
-  const double core2 = mass.coreArcsec * mass.coreArcsec;
-  const double qx = 1.0 - mass.ellipticity;
-  const double qy = 1.0 + mass.ellipticity;
-  const double bx = mass.einsteinRadiusArcsec * qx;
-  const double by = mass.einsteinRadiusArcsec * qy;
-  // (u, v) = M (x - alpha_x, y - alpha_y)_lens + (u0, v0), M = S Rot(-rotation) Rot(pa).
-  const double m00 = invScale * (cosR * cPa + sinR * sPa);
-  const double m01 = invScale * (-cosR * sPa + sinR * cPa);
-  const double m10 = invScale * (-sinR * cPa + cosR * sPa);
-  const double m11 = invScale * (sinR * sPa + cosR * cPa);
-  const double u0 = stampCx - invScale * (cosR * betaC[0] + sinR * betaC[1]) + 1.0;
-  const double v0 = stampCy - invScale * (-sinR * betaC[0] + cosR * betaC[1]) + 1.0;
-  // The stamp with a one-pixel zero border: bilinear interpolation then needs no edge cases
-  // (coordinates above are shifted by +1 into it).
-  const std::int64_t pw = stamp.width() + 2;
-  const std::int64_t ph = stamp.height() + 2;
-  std::vector<double> padded(static_cast<std::size_t>(pw * ph), 0.0);
-  for (std::int64_t y = 0; y < stamp.height(); ++y)
-    std::copy_n(stamp.data() + y * stamp.width(), stamp.width(), padded.data() + (y + 1) * pw + 1);
-  const double uMax = double(pw - 1);
-  const double vMax = double(ph - 1);
-  // Source-plane stamp coordinates of n rays (lens-frame positions xl, yl), written to u, v.
-  // Branch-free so that the compiler can vectorise the square roots and divisions.
-  auto mapRays = [&](const double* xl, const double* yl, double* u, double* v, int n) {
-    for (int k = 0; k < n; ++k) {
-      const double d2 = core2 + qx * xl[k] * xl[k] + qy * yl[k] * yl[k];
-      // d2 == 0 only at the centre of a coreless lens, where the deflection is taken as zero.
-      const double invD = d2 > 0.0 ? 1.0 / std::sqrt(d2) : 0.0;
-      const double px = xl[k] - bx * xl[k] * invD;
-      const double py = yl[k] - by * yl[k] * invD;
-      u[k] = m00 * px + m01 * py + u0;
-      v[k] = m10 * px + m11 * py + v0;
-    }
-  };
-  auto sample = [&](double u, double v) {
-    if (!(u >= 0.0 && v >= 0.0 && u < uMax && v < vMax)) return 0.0;
-    const double fu = std::floor(u);
-    const double fv = std::floor(v);
-    const double tu = u - fu;
-    const double tv = v - fv;
-    const double* r0 =
-        padded.data() + static_cast<std::int64_t>(fv) * pw + static_cast<std::int64_t>(fu);
-    const double* r1 = r0 + pw;
-    return (1.0 - tv) * ((1.0 - tu) * r0[0] + tu * r0[1]) + tv * ((1.0 - tu) * r1[0] + tu * r1[1]);
-  };
-  const int raysPerFine = options.subSamples * options.subSamples;
+  const RayMap rays(lens.params(), stamp, placement, stampScale);
+  const PaddedStamp padded(stamp);
+  const FluxSpreader spreader(nfx, nfy, sf, grid);
+  const int raysPerFine = ns * ns;
   std::vector<double> rayBuffer(4 * static_cast<std::size_t>(raysPerFine));
   double* rxl = rayBuffer.data();
   double* ryl = rxl + raysPerFine;
   double* ru = ryl + raysPerFine;
   double* rv = ru + raysPerFine;
-
-  // Each fine pixel overlaps at most a few survey pixels along each axis: its flux goes straight
-  // to them with the overlap fractions of rebinFluxConserving, so no fine-grid image is needed.
-  struct AxisShare {
-    int first = 0;  // index into the overlap list
-    int count = 0;
-  };
-  auto axisShares = [&](int nIn, int nOut, std::vector<Overlap>& overlaps) {
-    overlaps = axisOverlaps(nIn, sf, nOut, grid.pixelScaleArcsec);
-    std::vector<AxisShare> shares(static_cast<std::size_t>(nIn));
-    for (int k = 0; k < static_cast<int>(overlaps.size()); ++k) {
-      AxisShare& a = shares[static_cast<std::size_t>(overlaps[std::size_t(k)].in)];
-      if (a.count == 0) a.first = k;
-      ++a.count;
-    }
-    return shares;
-  };
-  std::vector<Overlap> overlapsX, overlapsY;
-  const std::vector<AxisShare> sharesX = axisShares(nfx, grid.width, overlapsX);
-  const std::vector<AxisShare> sharesY = axisShares(nfy, grid.height, overlapsY);
   ImageD out(grid.width, grid.height);
 
   const double fineScaleToFlux = surfaceBrightnessPerFlux * fineArea / (ns * ns);
@@ -229,26 +280,16 @@ ImageD traceLensedImage(const EllipticalPotentialLens& lens, const SourceStamp& 
             const double ty = y0 + fy * sf + (sy + 0.5) * step;
             for (int sx = 0; sx < ns; ++sx) {
               const double tx = x0 + fx * sf + (sx + 0.5) * step;
-              rxl[sy * ns + sx] = cPa * tx + sPa * ty;
-              ryl[sy * ns + sx] = -sPa * tx + cPa * ty;
+              rxl[sy * ns + sx] = rays.cPa * tx + rays.sPa * ty;
+              ryl[sy * ns + sx] = -rays.sPa * tx + rays.cPa * ty;
             }
           }
-          mapRays(rxl, ryl, ru, rv, raysPerFine);
+          rays.map(rxl, ryl, ru, rv, raysPerFine);
           double sum = 0.0;
-          for (int k = 0; k < raysPerFine; ++k) sum += sample(ru[k], rv[k]);
+          for (int k = 0; k < raysPerFine; ++k) sum += padded.sample(ru[k], rv[k]);
           local.raysTraced += static_cast<long long>(ns) * ns;
           if (sum == 0.0) continue;
-          const double flux = sum * fineScaleToFlux;
-          const AxisShare& ax = sharesX[static_cast<std::size_t>(fx)];
-          const AxisShare& ay = sharesY[static_cast<std::size_t>(fy)];
-          for (int j = ay.first; j < ay.first + ay.count; ++j) {
-            const Overlap& oy = overlapsY[static_cast<std::size_t>(j)];
-            double* row = out.data() + out.index(0, oy.out);
-            for (int i = ax.first; i < ax.first + ax.count; ++i) {
-              const Overlap& ox = overlapsX[static_cast<std::size_t>(i)];
-              row[ox.out] += ox.fraction * oy.fraction * flux;
-            }
-          }
+          spreader.add(out, fx, fy, sum * fineScaleToFlux);
         }
       }
     }

@@ -127,6 +127,14 @@ class MeshBackground {
   void interpolateRow(const ImageF& grid, const std::vector<float>& d2y, std::int64_t y, float* out,
                       bool subtract) const;
   void fillImage(ImageF& out, bool isLevel) const;
+  // The global noise from the filtered mesh RMS grid (its median, with SExtractor's fallbacks).
+  float medianMeshSigma(const std::string& imageName);
+  // The weight scale (or the global sigma) from the mesh statistics of the weight map.
+  void scaleWeights(const ImageF& weightLevel, const ImageF& weightRms,
+                    const std::vector<unsigned char>& bad, std::size_t goodCount,
+                    const MeshBackgroundSettings& settings, const WeightMap& weights, float sigma);
+  // The per-column interpolation coefficients along x (xRuns_, xDx_, ...).
+  void buildColumnWalk();
 
   std::int64_t width_ = 0;
   std::int64_t height_ = 0;

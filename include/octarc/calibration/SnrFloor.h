@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "octarc/calibration/SimulationOutput.h"
+#include "octarc/core/Progress.h"
 
 namespace octarc {
 
@@ -52,6 +53,7 @@ struct SnrFloorSettings {
   double matchRadiusPix = 3.0;
   std::uint64_t seed = 1;  // of the noise realisations
   int threads = 0;         // 0 = all cores
+  ProgressFn progress;     // (arcs x factors done, arcs x factors), when given
 };
 
 struct SnrFloorBin {

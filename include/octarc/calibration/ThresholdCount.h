@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "octarc/calibration/SimulationOutput.h"
+#include "octarc/core/Progress.h"
 
 namespace octarc {
 
@@ -27,6 +28,7 @@ struct ThresholdCountSettings {
   std::uint64_t seed = 1;
   double arcnessMin = 0.10;
   SourceChoice sources;
+  ProgressFn progress;  // (systems done, systems), when given
   int threads = 0;
 };
 

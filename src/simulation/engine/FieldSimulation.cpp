@@ -308,7 +308,10 @@ SimulatedField simulateField(const FieldSimulationSettings& s, const ProgressFn&
     report(std::int64_t(count));
   }
 
-  sky = convolveSeparable(sky, gaussianPsfKernel1d(s.seeingFwhmArcsec, s.pixelScaleArcsec));
+  // Every stamp summed so far already holds the flux per pixel (integrated or sub-sampled), so
+  // the PSF is point-sampled: a pixel-integrated kernel would apply the pixel box twice.
+  sky = convolveSeparable(
+      sky, gaussianPsfKernel1d(s.seeingFwhmArcsec, s.pixelScaleArcsec, PsfSampling::PointSampled));
   for (std::size_t i : stars) {
     const FieldObject& o = objects[i];
     addStamp(sky, renderStarStamp(o.xPix, o.yPix, fluxFromMagnitude(o.mag, s.magZeroPoint),
