@@ -2,6 +2,7 @@
 
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
+#include "octarc/io/FitsTable.h"
 #include "octarc/io/detail/Cfitsio.h"
 
 namespace octarc {
@@ -174,29 +175,9 @@ std::vector<InputCatalogPart> readInputCatalog(const std::string& path) {
 std::vector<std::vector<double>> readCatalogColumns(const std::string& path,
                                                     const std::string& extname,
                                                     const std::vector<std::string>& names) {
-  detail::FitsPtr file = detail::openFits(path);
-  fitsfile* f = file.get();
-  int status = 0;
-  fits_movnam_hdu(f, BINARY_TBL, const_cast<char*>(extname.c_str()), 0, &status);
-  detail::throwIfFitsError(status, path, "no table " + extname);
-  detail::requireSoundHdu(f, path);
-  long rows = 0;
-  fits_get_num_rows(f, &rows, &status);
-  detail::throwIfFitsError(status, path, "cannot read table " + extname);
+  const FitsTable table = readFitsTable(path, extname, names);
   std::vector<std::vector<double>> columns;
-  for (const std::string& name : names) {
-    int col = 0;
-    fits_get_colnum(f, CASEINSEN, const_cast<char*>(name.c_str()), &col, &status);
-    detail::throwIfFitsError(status, path, "no column " + name + " in " + extname);
-    std::vector<double> values(std::size_t(rows), 0.0);
-    int anyNull = 0;
-    if (rows > 0) {
-      fits_read_col(f, TDOUBLE, col, 1, 1, LONGLONG(rows), nullptr, values.data(), &anyNull,
-                    &status);
-    }
-    detail::throwIfFitsError(status, path, "cannot read column " + name);
-    columns.push_back(std::move(values));
-  }
+  for (const std::string& name : names) columns.push_back(table.doubles(name));
   return columns;
 }
 
