@@ -92,18 +92,9 @@ void printSummary(const CalibrationRun& run, const CalibrationResult& r) {
                 r.thresholdCount->flattensAtLevels);
   }
   if (r.snrFloor) {
-    std::printf("S/N floor (%zu arcs scaled to ARCNESS 0.10, %d noise realisations per level):\n",
-                r.snrFloor->systems.size(), run.settings.snrFloor->realisations);
-    std::printf("      S/N        n    median   20%%     80%%\n");
-    for (const SnrFloorBin& b : r.snrFloor->bins) {
-      if (b.measurements == 0) continue;
-      std::printf("  %6.1f-%-6.1f %6lld  %.4f  %.4f  %.4f%s\n", b.snrLo, b.snrHi,
-                  static_cast<long long>(b.measurements), b.median, b.q20, b.q80,
-                  b.reliable ? "" : "  unreliable");
-    }
-    std::printf("  arcness unreliable below S/N %s (median within %g of 0.10, 20-80%% within %g)\n",
-                formatNumber(r.snrFloor->floorSnr, "%.1f", true).c_str(),
-                run.settings.snrFloor->medianTolerance, run.settings.snrFloor->spreadMax);
+    std::fflush(stdout);
+    printSnrFloor(std::cout, *r.snrFloor, *run.settings.snrFloor);
+    std::cout.flush();
   }
   std::printf(
       "Occupation grid: %lld arcs, %d bins per axis (finest connected at P = %g), "

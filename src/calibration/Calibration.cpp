@@ -368,7 +368,7 @@ CalibrationResult calibrate(const SimulationOutput& simulation, const Table* sur
   std::optional<LensSetupOptions> remake;
   if (s.thresholdCount || s.snrFloor) {
     remake = resimulationOptions(simulation);
-    if (s.thresholdCount) checkRemade(simulation, *remake, s.thresholdCount->sources.make());
+    checkRemade(simulation, *remake, resimulationSources(simulation).make());
   }
   out.simulatedSystems = simulation.systems.rows();
   out.fractions = lensingFractions(simulation.systems, s.fractionCuts);
@@ -379,9 +379,7 @@ CalibrationResult calibrate(const SimulationOutput& simulation, const Table* sur
   makeGrid(simulation, s, out);
   if (s.noise) out.noise = noiseOnlyThreshold(*s.noise);
   if (s.thresholdCount) out.thresholdCount = thresholdCountCurve(*remake, *s.thresholdCount);
-  if (s.snrFloor) {
-    out.snrFloor = snrFloorStudy(simulation, *remake, resimulationSources(simulation), *s.snrFloor);
-  }
+  if (s.snrFloor) out.snrFloor = snrFloorStudy(simulation, *remake, *s.snrFloor);
   return out;
 }
 
@@ -496,8 +494,8 @@ Plot thresholdCountPlot(const CalibrationResult& r) {
 Plot snrFloorPlot(const CalibrationResult& r) {
   Plot p;
   if (!r.snrFloor) throw ConfigError("CHECKPLOT_TYPE SNR_FLOOR: the study is off");
-  p.title = "Arcs scaled to ARCNESS 0.10 at their highest S/N, " +
-            std::to_string(r.snrFloor->systems.size()) + " arcs";
+  p.title = "Arcs scaled to ARCNESS " + formatNumber(r.snrFloor->scaledToArcness, "%.2f") +
+            " at their highest S/N, " + std::to_string(r.snrFloor->systems.size()) + " arcs";
   p.xLabel = "S/N (ISO)";
   p.yLabel = "ARCNESS (scaled)";
   p.logX = true;

@@ -25,6 +25,15 @@ std::string lower(std::string s) {
   return s;
 }
 
+// The count of a numeric list key (its third value): a whole number from 1 to 1000.
+int wholeCount(double value, const char* key) {
+  if (!(value >= 1 && value <= 1000 && std::floor(value) == value)) {
+    throw ConfigError(std::string(key) +
+                      ": the count (third value) must be a whole number from 1 to 1000");
+  }
+  return int(value);
+}
+
 }  // namespace
 
 std::vector<KeySpec> calibrationKeys() {
@@ -196,16 +205,17 @@ CalibrationRun calibrationRunFromConfig(const sexcompat::Config& c,
     f.arcnessMax = c.getDouble("SNR_ARCNESS", 1);
     f.noiseFactorLo = c.getDouble("SNR_NOISE", 0);
     f.noiseFactorHi = c.getDouble("SNR_NOISE", 1);
-    f.noiseFactorCount = int(std::lround(c.getDouble("SNR_NOISE", 2)));
+    f.noiseFactorCount = wholeCount(c.getDouble("SNR_NOISE", 2), "SNR_NOISE");
     f.realisations = c.getInt("SNR_REALISATIONS");
     f.snrLo = c.getDouble("SNR_BINS", 0);
     f.snrHi = c.getDouble("SNR_BINS", 1);
-    f.snrBinCount = int(std::lround(c.getDouble("SNR_BINS", 2)));
+    f.snrBinCount = wholeCount(c.getDouble("SNR_BINS", 2), "SNR_BINS");
     f.medianTolerance = c.getDouble("SNR_RELIABLE", 0);
     f.spreadMax = c.getDouble("SNR_RELIABLE", 1);
     f.minPerBin = c.getInt("SNR_MINPERBIN");
     f.seed = std::uint64_t(c.getInt("NOISE_SEED"));
     f.threads = c.getInt("NTHREADS");
+    f.sources = resimulationSources(simulation);
     checkSnrFloorSettings(f);  // before any work
     s.snrFloor = f;
   }

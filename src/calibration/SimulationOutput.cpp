@@ -60,7 +60,7 @@ SimulationOutput readSimulationOutput(const std::string& path) {
   // The population file is not recorded (the grid's POPFILE stays empty); the sources are.
   out.sourceDatabase = h.value("OCTSRCDB").value_or("");
   out.magZeropoint = card(h, "OCTMAGZP");
-  out.populationName = h.value("OCTPOPUL").value_or("");
+  out.header = h;
   // The levels are recorded by their count and ends; simulate lenses spaces them
   // logarithmically (DETECT_NLEVELS), as octarc detect does.
   const int levels = int(card(h, "OCTNLEV"));
@@ -73,6 +73,26 @@ SimulationOutput readSimulationOutput(const std::string& path) {
   }
   return out;
 }
+
+namespace {
+
+// The cards a remake reads beside the survey setup: combined outputs must agree on them.
+constexpr const char* kRemakeCards[] = {"OCTPRSET", "OCTLMMIN", "OCTLMMAX", "OCTSMMIN", "OCTSMMAX",
+                                        "OCTSVMIN", "OCTSVMAX", "OCTLEMAX", "OCTLRHLO", "OCTLRHHI",
+                                        "OCTSTAMP", "OCTFINE",  "OCTSUBS",  "OCTSRCEX", "OCTSRCDB",
+                                        "OCTPOPUL", "OCTFILTR"};
+
+double remakeNumber(const SimulationOutput& sim, const char* key) {
+  const std::optional<double> v = sim.header.number(key);
+  if (!v) {
+    throw ConfigError(sim.path + ": no numeric " + key +
+                      " card: made by an older octarc, whose options are not recorded; simulate "
+                      "it again to study it");
+  }
+  return *v;
+}
+
+}  // namespace
 
 LensSetupOptions resimulationOptions(const SimulationOutput& sim) {
   LensSetupOptions o;
@@ -88,13 +108,35 @@ LensSetupOptions resimulationOptions(const SimulationOutput& sim) {
     o.detectLevelCount = int(s.thresholdsSigma.size());
   }
   if (s.minAreaPix > 0) o.minAreaPix = s.minAreaPix;
-  // The shipped presets by their files' names (simulation/Population.h).
-  if (sim.populationName == "population-dls") {
-    o.populationPreset = "dls";
-  } else if (!sim.populationName.empty() && sim.populationName != "population") {
-    throw ConfigError(sim.path + ": simulated with the population file '" + sim.populationName +
-                      "', not a shipped preset: the studies that simulate again cannot remake it");
+  const std::optional<std::string> preset = sim.header.value("OCTPRSET");
+  if (!preset) {
+    throw ConfigError(sim.path +
+                      ": no OCTPRSET card: made by an older octarc, whose options are not "
+                      "recorded; simulate it again to study it");
   }
+  if (preset->empty()) {
+    throw ConfigError(sim.path + ": simulated with a population file of one's own ('" +
+                      sim.header.value("OCTPOPUL").value_or("") +
+                      "'), which the studies that simulate again cannot remake");
+  }
+  o.populationPreset = *preset;
+  if (sim.header.value("OCTFILTR").value_or("F") == "T") {
+    throw ConfigError(sim.path +
+                      ": simulated with FILTER Y, which the studies that simulate again cannot "
+                      "remake yet (its kernel is not recorded)");
+  }
+  o.lensMagMin = remakeNumber(sim, "OCTLMMIN");
+  o.lensMagMax = remakeNumber(sim, "OCTLMMAX");
+  o.sourceMagMin = remakeNumber(sim, "OCTSMMIN");
+  o.sourceMagMax = remakeNumber(sim, "OCTSMMAX");
+  o.sigmaMinKmPerS = remakeNumber(sim, "OCTSVMIN");
+  o.sigmaMaxKmPerS = remakeNumber(sim, "OCTSVMAX");
+  o.lensEllipticityMax = remakeNumber(sim, "OCTLEMAX");
+  o.lensHalfLightMinArcsec = remakeNumber(sim, "OCTLRHLO");
+  o.lensHalfLightMaxArcsec = remakeNumber(sim, "OCTLRHHI");
+  o.stampSizePix = int(remakeNumber(sim, "OCTSTAMP"));
+  o.fineScaleArcsec = remakeNumber(sim, "OCTFINE");
+  o.subSamples = int(remakeNumber(sim, "OCTSUBS"));
   return o;
 }
 
@@ -111,6 +153,7 @@ SourceChoice resimulationSources(const SimulationOutput& sim) {
   int count = 0;
   if (std::sscanf(db.c_str(), "synthetic (%d galaxies)", &count) == 1) {
     c.syntheticCount = count;
+    c.syntheticExtentHalfLightRadii = remakeNumber(sim, "OCTSRCEX");
   } else if (!db.empty()) {
     c.catalogPath = db;
   }
@@ -118,21 +161,32 @@ SourceChoice resimulationSources(const SimulationOutput& sim) {
 }
 
 void checkRemade(const SimulationOutput& sim, const LensSetupOptions& options,
-                 const SourceDatabase& sources, int systems) {
+                 const SourceDatabase& sources, std::vector<std::int64_t> rows) {
   const SimulationSetup setup = makeSimulationSetup(options);
+  if (rows.empty()) {
+    for (std::int64_t r = 0; r < std::min<std::int64_t>(20, sim.systems.rows()); ++r) {
+      rows.push_back(r);
+    }
+  }
   const int index = sim.systems.requireColumn("SYSTEM", sim.path);
   const int radius = sim.systems.requireColumn("EINSTEIN_RADIUS", sim.path);
-  for (std::int64_t r = 0; r < std::min<std::int64_t>(systems, sim.systems.rows()); ++r) {
+  const int rhalf = sim.systems.requireColumn("LENS_RHALF", sim.path);
+  const int betaX = sim.systems.requireColumn("SOURCE_X", sim.path);
+  const int betaY = sim.systems.requireColumn("SOURCE_Y", sim.path);
+  // The columns are stored in single precision.
+  auto same = [](double remade, double recorded) {
+    return std::abs(remade - recorded) <= 1e-5 * std::max(1.0, std::abs(recorded));
+  };
+  for (const std::int64_t r : rows) {
     const auto system = std::int64_t(sim.systems.value(r, index));
-    const double recorded = sim.systems.value(r, radius);
-    const double remade =
-        drawLensSystem(setup, sources, sim.setup.seed, system).einsteinRadiusArcsec;
-    // EINSTEIN_RADIUS is stored in single precision.
-    if (!(std::abs(remade - recorded) <= 1e-5 * std::max(1.0, std::abs(recorded)))) {
+    const LensSystemDraw d = drawLensSystem(setup, sources, sim.setup.seed, system);
+    if (!same(d.einsteinRadiusArcsec, sim.systems.value(r, radius)) ||
+        !same(d.system.light.halfLightRadiusArcsec, sim.systems.value(r, rhalf)) ||
+        !same(d.system.source.betaArcsec[0], sim.systems.value(r, betaX)) ||
+        !same(d.system.source.betaArcsec[1], sim.systems.value(r, betaY))) {
       throw ConfigError(sim.path + ": system " + std::to_string(system) +
-                        " cannot be remade (Einstein radius " + formatNumber(remade, "%.5f") +
-                        "\" instead of " + formatNumber(recorded, "%.5f") +
-                        "\"): it was simulated with options its header does not record");
+                        " cannot be remade (its Einstein radius, lens size or source position "
+                        "differ): it was simulated with options its header does not record");
     }
   }
 }
@@ -149,6 +203,12 @@ SimulationOutput combineSimulationOutputs(std::vector<SimulationOutput> outputs)
                         " as an output given before: the same systems would count twice");
     }
     seeds.push_back(o.setup.seed);
+    for (const char* key : kRemakeCards) {
+      if (out.header.value(key) != o.header.value(key)) {
+        throw ConfigError(o.path + ": simulated with another " + key + " than " + out.path +
+                          " (population or sources)");
+      }
+    }
     const std::vector<std::string> differences = compareSetups(out.setup, o.setup);
     if (!differences.empty()) {
       throw ConfigError(o.path + ": simulated for another survey setup than " + out.path + " (" +
@@ -168,6 +228,7 @@ SimulationOutput combineSimulationOutputs(std::vector<SimulationOutput> outputs)
       }
     }
     out.setup.systems += o.setup.systems;
+    ++out.outputs;
     out.path += "," + o.path;
   }
   return out;

@@ -2,24 +2,20 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <ostream>
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/core/Parallel.h"
 #include "octarc/core/Statistics.h"
+#include "octarc/run/Levels.h"
 #include "octarc/simulation/Noise.h"
 #include "octarc/simulation/Seeds.h"
 
 namespace octarc {
 
 namespace {
-
-std::vector<double> logSpaced(double lo, double hi, int count) {
-  std::vector<double> v;
-  for (int k = 0; k < count; ++k) {
-    v.push_back(count == 1 ? lo : lo * std::pow(hi / lo, double(k) / (count - 1)));
-  }
-  return v;
-}
 
 // One arc taken: its system, the isophote (ADU) and centroid (0-based pixels) of its chosen row.
 struct ArcTarget {
@@ -88,12 +84,17 @@ void checkSnrFloorSettings(const SnrFloorSettings& s) {
   }
   if (!(s.referenceArcness > 0)) throw ConfigError("S/N floor: the reference arcness must be > 0");
   if (!(s.matchRadiusPix > 0)) throw ConfigError("S/N floor: the match radius must be > 0");
+  if (s.noiseFactorCount > 1000) throw ConfigError("SNR_NOISE: at most 1000 noise factors");
+  if (s.snrBinCount > 1000) throw ConfigError("SNR_BINS: at most 1000 bins");
+  if (std::int64_t(s.arcs) * s.noiseFactorCount * s.realisations > 100000000) {
+    throw ConfigError("SNR_ARCS x SNR_NOISE factors x SNR_REALISATIONS: at most 10^8 images");
+  }
 }
 
 std::vector<SnrFloorBin> snrFloorBins(const std::vector<double>& snr,
                                       const std::vector<double>& scaled,
                                       const SnrFloorSettings& s) {
-  const std::vector<double> edges = logSpaced(s.snrLo, s.snrHi, s.snrBinCount + 1);
+  const std::vector<double> edges = logSpacedLevels(s.snrLo, s.snrHi, s.snrBinCount + 1);
   std::vector<std::vector<double>> values(std::size_t(s.snrBinCount));
   for (std::size_t i = 0; i < snr.size() && i < scaled.size(); ++i) {
     if (!std::isfinite(snr[i]) || !std::isfinite(scaled[i])) continue;
@@ -130,10 +131,12 @@ double snrFloor(const std::vector<SnrFloorBin>& bins, int minPerBin) {
 }
 
 SnrFloorResult snrFloorStudy(const SimulationOutput& sim, const LensSetupOptions& survey,
-                             const SourceChoice& sourceChoice, const SnrFloorSettings& s) {
+                             const SnrFloorSettings& s) {
   checkSnrFloorSettings(s);
-  const SourceDatabase sources = sourceChoice.make();
-  checkRemade(sim, survey, sources);
+  if (sim.outputs > 1) {
+    // SYSTEM restarts at 0 in each output, and each has its own seed.
+    throw ConfigError(sim.path + ": SNR_STUDY takes one simulation output, not several");
+  }
   const Table& systems = sim.systems;
   const int cSystem = systems.requireColumn("SYSTEM", sim.path);
   const int cFound = systems.requireColumn("ARC_FOUND", sim.path);
@@ -155,6 +158,11 @@ SnrFloorResult snrFloorStudy(const SimulationOutput& sim, const LensSetupOptions
   }
   std::sort(taken.begin(), taken.end());
   if (taken.size() > std::size_t(s.arcs)) taken.resize(std::size_t(s.arcs));
+  // Every arc taken must be remade as the simulation made it.
+  const SourceDatabase sources = s.sources.make();
+  std::vector<std::int64_t> takenRows;
+  for (const auto& t : taken) takenRows.push_back(t.second);
+  checkRemade(sim, survey, sources, takenRows);
 
   const SimulationSetup base = makeSimulationSetup(survey);
   const int threads = resolveThreads(s.threads);
@@ -184,7 +192,8 @@ SnrFloorResult snrFloorStudy(const SimulationOutput& sim, const LensSetupOptions
 
   // 2. Every (arc, factor, realisation), each from its own stream.
   SnrFloorResult out;
-  out.noiseFactors = logSpaced(s.noiseFactorLo, s.noiseFactorHi, s.noiseFactorCount);
+  out.scaledToArcness = s.referenceArcness;
+  out.noiseFactors = logSpacedLevels(s.noiseFactorLo, s.noiseFactorHi, s.noiseFactorCount);
   const std::size_t factors = out.noiseFactors.size(), runs = std::size_t(s.realisations);
   std::vector<Measured> measured(arcs.size() * factors * runs);
   parallelForDynamic(
@@ -233,6 +242,28 @@ SnrFloorResult snrFloorStudy(const SimulationOutput& sim, const LensSetupOptions
   out.bins = snrFloorBins(snr, scaled, s);
   out.floorSnr = snrFloor(out.bins, s.minPerBin);
   return out;
+}
+
+void printSnrFloor(std::ostream& out, const SnrFloorResult& r, const SnrFloorSettings& s) {
+  char line[160];
+  std::snprintf(line, sizeof line,
+                "S/N floor (%zu arcs scaled to ARCNESS %.2f, %d noise realisations per noise "
+                "factor):\n      S/N        n    median   20%%     80%%\n",
+                r.systems.size(), s.referenceArcness, s.realisations);
+  out << line;
+  for (const SnrFloorBin& b : r.bins) {
+    if (b.measurements == 0) continue;
+    std::snprintf(line, sizeof line, "  %6.1f-%-6.1f %6lld  %.4f  %.4f  %.4f%s\n", b.snrLo, b.snrHi,
+                  static_cast<long long>(b.measurements), b.median, b.q20, b.q80,
+                  b.reliable ? "" : "  unreliable");
+    out << line;
+  }
+  std::snprintf(line, sizeof line,
+                "  arcness unreliable below S/N %s (median within %g of %.2f, 20-80%% within "
+                "%g)\n",
+                formatNumber(r.floorSnr, "%.1f", true).c_str(), s.medianTolerance,
+                s.referenceArcness, s.spreadMax);
+  out << line;
 }
 
 }  // namespace octarc

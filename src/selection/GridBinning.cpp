@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Statistics.h"
 
 namespace octarc {
 
@@ -103,16 +104,8 @@ std::pair<double, double> quantileRange(const std::vector<double>& values, doubl
     throw ConfigError(context + ": " + std::to_string(finite.size()) +
                       " finite values, too few to choose a range");
   }
-  std::sort(finite.begin(), finite.end());
-  auto quantile = [&](double q) {
-    const double position = q * double(finite.size() - 1);
-    const std::size_t below = std::size_t(std::floor(position));
-    const std::size_t above = std::min(below + 1, finite.size() - 1);
-    const double t = position - double(below);
-    return finite[below] + t * (finite[above] - finite[below]);
-  };
-  const double lo = quantile(tailFraction);
-  const double top = quantile(1.0 - tailFraction);
+  const double lo = sampleQuantile(finite, tailFraction);
+  const double top = sampleQuantile(finite, 1.0 - tailFraction);
   if (!(lo < top)) {
     throw ConfigError(context + ": the values between the quantiles are all equal (" +
                       std::to_string(lo) + "), no range to bin");

@@ -159,9 +159,10 @@ class PaddedStamp {
 // to them with the overlap fractions of rebinFluxConserving, so no fine-grid image is needed.
 class FluxSpreader {
  public:
-  FluxSpreader(int nfx, int nfy, double fineScale, const SurveyGrid& grid)
-      : sharesX_(shares(nfx, fineScale, grid.width, grid.pixelScaleArcsec, overlapsX_)),
-        sharesY_(shares(nfy, fineScale, grid.height, grid.pixelScaleArcsec, overlapsY_)) {}
+  FluxSpreader(int nfx, int nfy, double fineScale, const SurveyGrid& grid) {
+    sharesX_ = shares(nfx, fineScale, grid.width, grid.pixelScaleArcsec, overlapsX_);
+    sharesY_ = shares(nfy, fineScale, grid.height, grid.pixelScaleArcsec, overlapsY_);
+  }
   void add(ImageD& out, int fx, int fy, double flux) const {
     const AxisShare& ax = sharesX_[static_cast<std::size_t>(fx)];
     const AxisShare& ay = sharesY_[static_cast<std::size_t>(fy)];

@@ -98,7 +98,8 @@ std::vector<FitsTable> calibrationTables(const CalibrationResult& result);
 // SNR_ISO (the distributions), LENSING_FRACTION, NOISE_THRESHOLD, THRESHOLD_COUNT, SNR_FLOOR,
 // GRID_BINNING.
 std::vector<std::string> calibrationPlotTypes();
-// The plot of one type; ConfigError for an unknown type, or NOISE_THRESHOLD without the study.
+// The plot of one type; ConfigError for an unknown type, or a study's plot (NOISE_THRESHOLD,
+// THRESHOLD_COUNT, SNR_FLOOR) without that study.
 Plot calibrationPlot(const CalibrationResult& result, const std::string& type);
 
 }  // namespace octarc

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "octarc/core/Table.h"
+#include "octarc/io/FitsHeader.h"
 #include "octarc/selection/SurveySetup.h"
 #include "octarc/simulation/engine/LensSetup.h"
 
@@ -20,7 +21,8 @@ struct SimulationOutput {
   SurveySetup setup;
   double magZeropoint = 0.0;   // OCTMAGZP
   std::string sourceDatabase;  // OCTSRCDB: "synthetic (N galaxies)" or a catalog path
-  std::string populationName;  // OCTPOPUL: the population file's name without ".txt"
+  FitsHeader header;           // its LDAC_IMHEAD (the run's OCT* cards)
+  int outputs = 1;             // how many outputs were combined into this one
 };
 
 // The source galaxies of a run to remake: a RealGalaxyCatalog, or the synthetic generator as
@@ -37,24 +39,25 @@ struct SourceChoice {
 SimulationOutput readSimulationOutput(const std::string& path);
 
 // Several outputs as one: rows appended in order. ConfigError when their survey setups differ
-// (selection/SurveySetup.h, compareSetups), their columns do, or two have the same seed (the
-// same systems); the seed of the first is kept and the systems added up.
+// (selection/SurveySetup.h, compareSetups), their population or sources do (the cards that
+// resimulationOptions reads), their columns do, or two have the same seed (the same systems);
+// the seed of the first is kept and the systems added up.
 SimulationOutput combineSimulationOutputs(std::vector<SimulationOutput> outputs);
 
-// The lens-simulation options that remake the survey of `simulation` (pixel scale, seeing, gain,
-// zero point, sky noise, the lowest and highest level, DETECT_MINAREA) and its population preset
-// (OCTPOPUL): what studies that rerun the simulations start from. The magnitude and sigma_v
-// windows, the lens light ranges and the ray tracing are simulate lenses' defaults (the header
-// does not record them; checkRemade() catches a simulation made otherwise). ConfigError when
-// the population was not a shipped preset.
+// The lens-simulation options that remake the systems of `simulation`, from the cards its run
+// recorded: the survey (pixel scale, seeing, gain, zero point, sky noise, the lowest and
+// highest level, DETECT_MINAREA), the population preset and its windows (lens and source
+// magnitudes, sigma_v), the lens light ranges, the stamp size and the ray tracing. What studies
+// that simulate again start from. ConfigError naming the file when the population was a file
+// of one's own (OCTPRSET '') or the output predates these cards.
 LensSetupOptions resimulationOptions(const SimulationOutput& simulation);
-// The sources of `simulation` (OCTSRCDB).
+// The sources of `simulation` (OCTSRCDB, OCTSRCEX).
 SourceChoice resimulationSources(const SimulationOutput& simulation);
 
-// Draws the first `systems` systems of `simulation` again with `options` and `sources` and
-// compares their Einstein radii with the simulation's; ConfigError naming the file when one
-// differs (the simulation was made with options the header does not record).
+// Draws the systems at `rows` of `simulation` (by default its first 20) again with `options`
+// and `sources` and compares their Einstein radius, lens half-light radius and source position
+// with the file's; ConfigError naming the file and the system when one differs.
 void checkRemade(const SimulationOutput& simulation, const LensSetupOptions& options,
-                 const SourceDatabase& sources, int systems = 20);
+                 const SourceDatabase& sources, std::vector<std::int64_t> rows = {});
 
 }  // namespace octarc

@@ -5,8 +5,8 @@
 //
 // How, for each arc taken (a system of the simulation whose chosen arc has arcness in
 // [arcnessMin, arcnessMax], the first `arcs` of them by SYSTEM):
-//   1. the system is remade from its seed stream, without noise (the remade Einstein radius must
-//      match the simulation's, otherwise the simulation cannot be remade and this is an error);
+//   1. the system is remade from its seed stream, without noise (its remade Einstein radius, lens
+//      size and source position must match the simulation's: checkRemade);
 //   2. for each noise factor f (the survey's sky sigma times f), `realisations` noise images
 //      are added (Poisson on the sky, as simulate lenses), detected at one level and measured:
 //      the chosen arc's isophote (its level's threshold, ADU) where the survey's lowest level
@@ -30,6 +30,7 @@
 #pragma once
 
 #include <cstdint>
+#include <iosfwd>
 #include <vector>
 
 #include "octarc/calibration/SimulationOutput.h"
@@ -52,6 +53,7 @@ struct SnrFloorSettings {
   int minPerBin = 20;
   double matchRadiusPix = 3.0;
   std::uint64_t seed = 1;  // of the noise realisations
+  SourceChoice sources;    // the simulation's (resimulationSources)
   int threads = 0;         // 0 = all cores
   ProgressFn progress;     // (arcs x factors done, arcs x factors), when given
 };
@@ -66,6 +68,7 @@ struct SnrFloorBin {
 struct SnrFloorResult {
   std::vector<std::int64_t> systems;         // the arcs taken (SYSTEM)
   std::vector<double> referenceArcness;      // a_0 of each, unscaled
+  double scaledToArcness = 0.10;             // settings.referenceArcness
   std::vector<double> noiseFactors;          // lowest first
   std::vector<std::int64_t> foundPerFactor;  // realisations in which the arc was found
   std::int64_t realisationsPerFactor = 0;    // arcs x realisations
@@ -83,13 +86,18 @@ std::vector<SnrFloorBin> snrFloorBins(const std::vector<double>& snr,
 // measurements is not reliable.
 double snrFloor(const std::vector<SnrFloorBin>& bins, int minPerBin);
 
-// ConfigError for settings out of range (no arc, a factor range that is not increasing, ...).
+// ConfigError for settings out of range (no arc, a factor range that is not increasing, more
+// than 1000 noise factors or S/N bins, ...).
 void checkSnrFloorSettings(const SnrFloorSettings& settings);
 
 // The study on the arcs of `simulation`, remade with `survey` (resimulationOptions) and
-// `sources`. ConfigError when no chosen arc is in the arcness window, or the systems cannot be
-// remade (another population or source database than the header records).
+// settings.sources. ConfigError for combined outputs, when no chosen arc is in the arcness
+// window, or when an arc taken cannot be remade (checkRemade on every arc taken).
 SnrFloorResult snrFloorStudy(const SimulationOutput& simulation, const LensSetupOptions& survey,
-                             const SourceChoice& sources, const SnrFloorSettings& settings);
+                             const SnrFloorSettings& settings);
+
+// The table of bins and the floor, as `octarc calibrate` prints them.
+void printSnrFloor(std::ostream& out, const SnrFloorResult& result,
+                   const SnrFloorSettings& settings);
 
 }  // namespace octarc

@@ -172,6 +172,8 @@ LensRun runLensSimulation(const SimulationSetup& setup, const SourceDatabase& so
 std::vector<std::string> lensRunCards(const LensRun& run, const SimulationSetup& setup,
                                       const SourceDatabase& sources, std::uint64_t seed) {
   const simulation::ObservingSetup& obs = setup.observing;
+  const simulation::PopulationModel& pop = setup.population;
+  auto real = [](double v) { return RealValue(v, RealFormat::RoundTrip); };
   // A setup made by hand may give its levels in ADU only.
   const double loSigma = setup.thresholdsSigma.empty()
                              ? setup.thresholdsAdu.front() / obs.skySigmaAdu
@@ -206,6 +208,23 @@ std::vector<std::string> lensRunCards(const LensRun& run, const SimulationSetup&
       formatCard("OCTSKIPT", RealValue(setup.population.skipEinsteinRadiusBelowArcsec),
                  "Skip limit on theta_E (arcsec)"),
       formatCard("OCTPOPUL", setup.population.name.substr(0, 60), "Population file"),
+      // What a later run needs to remake these systems (calibrate's studies).
+      formatCard("OCTPRSET", setup.populationPreset, "Population preset ('': own file)"),
+      formatCard("OCTLMMIN", real(pop.lensMagMin), "Lens magnitude window"),
+      formatCard("OCTLMMAX", real(pop.lensMagMax), "Lens magnitude window"),
+      formatCard("OCTSMMIN", real(pop.sourceMagnitude.magMin), "Source magnitude window"),
+      formatCard("OCTSMMAX", real(pop.sourceMagnitude.magMax), "Source magnitude window"),
+      formatCard("OCTSVMIN", real(pop.sigmaMinKmPerS), "sigma_v window (km/s)"),
+      formatCard("OCTSVMAX", real(pop.sigmaMaxKmPerS), "sigma_v window (km/s)"),
+      formatCard("OCTLEMAX", real(setup.lensEllipticityMax), "Lens light ellipticity maximum"),
+      formatCard("OCTLRHLO", real(setup.lensHalfLightMinArcsec), "Lens half-light radius min"),
+      formatCard("OCTLRHHI", real(setup.lensHalfLightMaxArcsec), "Lens half-light radius max"),
+      formatCard("OCTSTAMP", std::int64_t(obs.grid.width), "Stamp size (pixels)"),
+      formatCard("OCTFINE", real(obs.rayTrace.fineScaleArcsec), "Ray-tracing step (arcsec)"),
+      formatCard("OCTSUBS", std::int64_t(obs.rayTrace.subSamples), "Rays per fine pixel per axis"),
+      formatCard("OCTSRCEX", real(sources.syntheticExtentHalfLightRadii()),
+                 "Synthetic source extent (r_half; 0: catalog)"),
+      formatCard("OCTFILTR", setup.filter.has_value(), "Detection filtered (FILTER Y)"),
   };
 }
 

@@ -102,6 +102,9 @@ void setPopulation(const LensSetupOptions& o, SimulationSetup& setup) {
           ? o.populationPath
           : sim::populationPresetPath(o.populationPreset.empty() ? "physical"
                                                                  : o.populationPreset));
+  setup.populationPreset = o.populationPath.empty()
+                               ? (o.populationPreset.empty() ? "physical" : o.populationPreset)
+                               : "";
   sim::PopulationModel& pop = setup.population;
   pop.tabulate(setup.cosmology);
   pop.lensMagMin = o.lensMagMin.value_or(pop.lensMagMin);

@@ -71,6 +71,7 @@ SourceDatabase SourceDatabase::synthetic(int count, std::uint64_t seed,
   if (count < 1) throw ConfigError("--sources: the synthetic database needs at least 1 galaxy");
   SourceDatabase db;
   db.description_ = "synthetic (" + std::to_string(count) + " galaxies)";
+  db.syntheticExtent_ = options.stampHalfLightRadii;
   constexpr sim::GalaxyType kTypes[] = {sim::GalaxyType::Elliptical, sim::GalaxyType::Spiral,
                                         sim::GalaxyType::Irregular};
   for (int i = 0; i < count; ++i) {

@@ -41,6 +41,7 @@ struct ArcRules {
 struct SimulationSetup {
   simulation::ObservingSetup observing;  // stamp grid, PSF, sky sigma, gain, zero point
   simulation::PopulationModel population;
+  std::string populationPreset;  // the shipped preset it came from; "" for a file of one's own
   simulation::FlatLambdaCdm cosmology;
   // Lens light (de Vaucouleurs, same position angle as the mass): ellipticity 1 - b/a and
   // half-light radius uniform in these ranges (the population file has no lens-size relation).
@@ -80,12 +81,15 @@ class SourceDatabase {
   // Measured half-light radius of stamp i at its own pixel scale (arcsec).
   double halfLightArcsec(std::size_t i) const { return halfLight_.at(i); }
   const std::string& description() const { return description_; }
+  // The synthetic sources' stamp extent in half-light radii; 0 for a RealGalaxyCatalog.
+  double syntheticExtentHalfLightRadii() const { return syntheticExtent_; }
 
  private:
   void add(simulation::SourceStamp stamp);
   std::vector<simulation::SourceStamp> stamps_;
   std::vector<double> halfLight_;
   std::string description_;
+  double syntheticExtent_ = 0.0;
 };
 
 // One system's drawn parameters (the truth columns of the output).
@@ -161,7 +165,7 @@ struct SimulatedSystem {
   ImageF image;  // the stamp (kept only when asked)
 };
 
-// The first half of simulateSystem: the draw and the rendered stamp with its noise (blank when
+// The first half of simulateSystem: the draw and the rendered stamp with its noise (empty when
 // the draw is skipped), and the system's random stream where the second half continues it (the
 // choice of the arc level). The stamp does not depend on the detection levels, so studies that
 // vary only those render each system once.
