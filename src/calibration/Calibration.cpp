@@ -363,12 +363,14 @@ Histogram normalisedHistogram(const std::vector<double>& values, double lo, doub
 CalibrationResult calibrate(const SimulationOutput& simulation, const Table* survey,
                             const CalibrationSettings& s) {
   CalibrationResult out;
-  // The studies that simulate again first check that the simulation can be remade (cheap),
-  // before any other work.
+  // The studies that simulate again: the simulation's options and sources (read once), and a
+  // check that they remake its systems (cheap), before any other work.
   std::optional<LensSetupOptions> remake;
+  std::optional<SourceDatabase> sources;
   if (s.thresholdCount || s.snrFloor) {
     remake = resimulationOptions(simulation);
-    checkRemade(simulation, *remake, resimulationSources(simulation).make());
+    sources = resimulationSources(simulation).make();
+    checkRemade(simulation, *remake, *sources);
   }
   out.simulatedSystems = simulation.systems.rows();
   out.fractions = lensingFractions(simulation.systems, s.fractionCuts);
@@ -378,8 +380,10 @@ CalibrationResult calibrate(const SimulationOutput& simulation, const Table* sur
   }
   makeGrid(simulation, s, out);
   if (s.noise) out.noise = noiseOnlyThreshold(*s.noise);
-  if (s.thresholdCount) out.thresholdCount = thresholdCountCurve(*remake, *s.thresholdCount);
-  if (s.snrFloor) out.snrFloor = snrFloorStudy(simulation, *remake, *s.snrFloor);
+  if (s.thresholdCount) {
+    out.thresholdCount = thresholdCountCurve(*remake, *sources, *s.thresholdCount);
+  }
+  if (s.snrFloor) out.snrFloor = snrFloorStudy(simulation, *remake, *sources, *s.snrFloor);
   return out;
 }
 
@@ -400,6 +404,13 @@ std::vector<std::string> calibrationPlotTypes() {
 }
 
 namespace {
+
+// A value with its 1-sigma error bar.
+void addWithErrorBar(PlotSeries& s, double y, double sigma) {
+  s.y.push_back(y);
+  s.yLow.push_back(y - sigma);
+  s.yHigh.push_back(y + sigma);
+}
 
 // One check-plot per study (calibrationPlot dispatches on CHECKPLOT_TYPE).
 Plot distributionPlot(const Distribution& d) {
@@ -444,9 +455,7 @@ Plot fractionPlot(const CalibrationResult& r) {
       if (row.distortedAndBright != distorted) continue;
       if (s.x.empty()) s.x.push_back(row.arcnessLo);
       s.x.push_back(std::isfinite(row.arcnessHi) ? row.arcnessHi : row.arcnessLo + 0.05);
-      s.y.push_back(row.fraction);
-      s.yLow.push_back(row.fraction - row.fractionSigma);
-      s.yHigh.push_back(row.fraction + row.fractionSigma);
+      addWithErrorBar(s, row.fraction, row.fractionSigma);
     }
     p.series.push_back(s);
   }
@@ -481,9 +490,7 @@ Plot thresholdCountPlot(const CalibrationResult& r) {
   s.label = "same systems, same lowest and highest threshold";
   for (const ThresholdCountRow& row : r.thresholdCount->rows) {
     s.x.push_back(row.levels);
-    s.y.push_back(row.fraction);
-    s.yLow.push_back(row.fraction - row.fractionSigma);
-    s.yHigh.push_back(row.fraction + row.fractionSigma);
+    addWithErrorBar(s, row.fraction, row.fractionSigma);
   }
   p.series.push_back(s);
   p.cuts.push_back({double(r.thresholdCount->flattensAtLevels),

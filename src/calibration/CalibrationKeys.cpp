@@ -195,7 +195,6 @@ CalibrationRun calibrationRunFromConfig(const sexcompat::Config& c,
     t.seed = simulation.setup.seed;
     t.arcnessMin = 0.10;
     t.threads = c.getInt("NTHREADS");
-    t.sources = resimulationSources(simulation);
     s.thresholdCount = t;
   }
   if (c.getBool("SNR_STUDY")) {
@@ -215,7 +214,6 @@ CalibrationRun calibrationRunFromConfig(const sexcompat::Config& c,
     f.minPerBin = c.getInt("SNR_MINPERBIN");
     f.seed = std::uint64_t(c.getInt("NOISE_SEED"));
     f.threads = c.getInt("NTHREADS");
-    f.sources = resimulationSources(simulation);
     checkSnrFloorSettings(f);  // before any work
     s.snrFloor = f;
   }

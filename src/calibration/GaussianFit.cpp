@@ -29,31 +29,20 @@ GaussianFit fitGaussian(const std::vector<double>& edges, const std::vector<doub
   if (edges.size() != values.size() + 1) return fit;
   // The starting point: the peak, and the mean and standard deviation of the binned values
   // (about the first non-empty bin's centre, a local origin).
-  double sum = 0, peak = 0;
+  double sum = 0, peak = 0, m1 = 0, m2 = 0, origin = std::nan("");
   int nonEmpty = 0;
   std::vector<double> centres;
   for (std::size_t k = 0; k < values.size(); ++k) {
     centres.push_back(0.5 * (edges[k] + edges[k + 1]));
     if (!(values[k] > 0)) continue;
-    sum += values[k];
-    peak = std::max(peak, values[k]);
-    ++nonEmpty;
-  }
-  if (nonEmpty < 3) return fit;
-  double origin = 0;
-  for (std::size_t k = 0; k < values.size(); ++k) {
-    if (values[k] > 0) {
-      origin = centres[k];
-      break;
-    }
-  }
-  double m1 = 0, m2 = 0;
-  for (std::size_t k = 0; k < values.size(); ++k) {
-    if (!(values[k] > 0)) continue;
+    if (nonEmpty++ == 0) origin = centres[k];
     const double dx = centres[k] - origin;
+    sum += values[k];
     m1 += values[k] * dx;
     m2 += values[k] * dx * dx;
+    peak = std::max(peak, values[k]);
   }
+  if (nonEmpty < 3) return fit;
   m1 /= sum;
   double p[3] = {peak, origin + m1, std::sqrt(std::max(m2 / sum - m1 * m1, 1e-300))};
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #include "octarc/catalog/InputCatalog.h"
 #include "octarc/core/Error.h"
@@ -82,13 +83,21 @@ constexpr const char* kRemakeCards[] = {"OCTPRSET", "OCTLMMIN", "OCTLMMAX", "OCT
                                         "OCTSTAMP", "OCTFINE",  "OCTSUBS",  "OCTSRCEX", "OCTSRCDB",
                                         "OCTPOPUL", "OCTFILTR"};
 
-double remakeNumber(const SimulationOutput& sim, const char* key) {
-  const std::optional<double> v = sim.header.number(key);
+// A card of the run; ConfigError for an output made before the cards were recorded.
+std::string remakeCard(const SimulationOutput& sim, const char* key) {
+  const std::optional<std::string> v = sim.header.value(key);
   if (!v) {
-    throw ConfigError(sim.path + ": no numeric " + key +
+    throw ConfigError(sim.path + ": no " + key +
                       " card: made by an older octarc, whose options are not recorded; simulate "
                       "it again to study it");
   }
+  return *v;
+}
+
+double remakeNumber(const SimulationOutput& sim, const char* key) {
+  (void)remakeCard(sim, key);
+  const std::optional<double> v = sim.header.number(key);
+  if (!v) throw ConfigError(sim.path + ": its " + key + " card is not a number");
   return *v;
 }
 
@@ -108,19 +117,14 @@ LensSetupOptions resimulationOptions(const SimulationOutput& sim) {
     o.detectLevelCount = int(s.thresholdsSigma.size());
   }
   if (s.minAreaPix > 0) o.minAreaPix = s.minAreaPix;
-  const std::optional<std::string> preset = sim.header.value("OCTPRSET");
-  if (!preset) {
-    throw ConfigError(sim.path +
-                      ": no OCTPRSET card: made by an older octarc, whose options are not "
-                      "recorded; simulate it again to study it");
-  }
-  if (preset->empty()) {
+  const std::string preset = remakeCard(sim, "OCTPRSET");
+  if (preset.empty()) {
     throw ConfigError(sim.path + ": simulated with a population file of one's own ('" +
                       sim.header.value("OCTPOPUL").value_or("") +
                       "'), which the studies that simulate again cannot remake");
   }
-  o.populationPreset = *preset;
-  if (sim.header.value("OCTFILTR").value_or("F") == "T") {
+  o.populationPreset = preset;
+  if (remakeCard(sim, "OCTFILTR") == "T") {
     throw ConfigError(sim.path +
                       ": simulated with FILTER Y, which the studies that simulate again cannot "
                       "remake yet (its kernel is not recorded)");
@@ -155,9 +159,32 @@ SourceChoice resimulationSources(const SimulationOutput& sim) {
     c.syntheticCount = count;
     c.syntheticExtentHalfLightRadii = remakeNumber(sim, "OCTSRCEX");
   } else if (!db.empty()) {
+    // The card holds at most 60 characters of the path.
+    if (!std::filesystem::exists(db)) {
+      throw ConfigError(sim.path + ": the source catalog its OCTSRCDB card names ('" + db +
+                        "') is not there (a path over 60 characters is cut): the studies that "
+                        "simulate again need it");
+    }
     c.catalogPath = db;
   }
   return c;
+}
+
+void requireRemadeDraw(const SimulationOutput& sim, std::int64_t row, const LensSystemDraw& d) {
+  const Table& t = sim.systems;
+  // The columns are stored in single precision.
+  auto same = [&](double remade, const char* column) {
+    const double recorded = t.value(row, t.requireColumn(column, sim.path));
+    return std::abs(remade - recorded) <= 1e-5 * std::max(1.0, std::abs(recorded));
+  };
+  if (!same(d.einsteinRadiusArcsec, "EINSTEIN_RADIUS") ||
+      !same(d.system.light.halfLightRadiusArcsec, "LENS_RHALF") ||
+      !same(d.system.source.betaArcsec[0], "SOURCE_X") ||
+      !same(d.system.source.betaArcsec[1], "SOURCE_Y")) {
+    throw ConfigError(sim.path + ": system " + std::to_string(d.index) +
+                      " cannot be remade (its Einstein radius, lens size or source position "
+                      "differ): it was simulated with options its header does not record");
+  }
 }
 
 void checkRemade(const SimulationOutput& sim, const LensSetupOptions& options,
@@ -169,25 +196,9 @@ void checkRemade(const SimulationOutput& sim, const LensSetupOptions& options,
     }
   }
   const int index = sim.systems.requireColumn("SYSTEM", sim.path);
-  const int radius = sim.systems.requireColumn("EINSTEIN_RADIUS", sim.path);
-  const int rhalf = sim.systems.requireColumn("LENS_RHALF", sim.path);
-  const int betaX = sim.systems.requireColumn("SOURCE_X", sim.path);
-  const int betaY = sim.systems.requireColumn("SOURCE_Y", sim.path);
-  // The columns are stored in single precision.
-  auto same = [](double remade, double recorded) {
-    return std::abs(remade - recorded) <= 1e-5 * std::max(1.0, std::abs(recorded));
-  };
   for (const std::int64_t r : rows) {
     const auto system = std::int64_t(sim.systems.value(r, index));
-    const LensSystemDraw d = drawLensSystem(setup, sources, sim.setup.seed, system);
-    if (!same(d.einsteinRadiusArcsec, sim.systems.value(r, radius)) ||
-        !same(d.system.light.halfLightRadiusArcsec, sim.systems.value(r, rhalf)) ||
-        !same(d.system.source.betaArcsec[0], sim.systems.value(r, betaX)) ||
-        !same(d.system.source.betaArcsec[1], sim.systems.value(r, betaY))) {
-      throw ConfigError(sim.path + ": system " + std::to_string(system) +
-                        " cannot be remade (its Einstein radius, lens size or source position "
-                        "differ): it was simulated with options its header does not record");
-    }
+    requireRemadeDraw(sim, r, drawLensSystem(setup, sources, sim.setup.seed, system));
   }
 }
 

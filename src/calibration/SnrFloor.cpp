@@ -22,7 +22,7 @@ struct ArcTarget {
   std::int64_t system = 0;
   double isophoteAdu = 0;
   double xPix = 0, yPix = 0;
-  ImageD noiseFree;
+  ImageF noiseFree;  // single precision, as simulate lenses hands its stamps to the detector
 };
 
 // The arc's measurement in one noise realisation, detected at the one level of `setup`: ARCNESS
@@ -35,10 +35,10 @@ struct Measured {
 
 Measured measureOnce(const ArcTarget& arc, const SimulationSetup& setup, double matchRadiusPix,
                      std::mt19937_64& rng) {
-  ImageD noisy = arc.noiseFree;
+  ImageD noisy(arc.noiseFree.width(), arc.noiseFree.height());
+  for (std::int64_t i = 0; i < noisy.size(); ++i) noisy[i] = arc.noiseFree[i];
   simulation::addPoissonSkyNoise(noisy, setup.observing.skySigmaAdu,
                                  setup.observing.gainElectronsPerAdu, rng);
-  // Single precision, as simulate lenses hands its stamps to the detector.
   ImageF pixels(noisy.width(), noisy.height());
   for (std::int64_t i = 0; i < pixels.size(); ++i) pixels[i] = float(noisy[i]);
   PreparedImage prepared = prepareStamp(std::move(pixels), setup);
@@ -58,9 +58,9 @@ Measured measureOnce(const ArcTarget& arc, const SimulationSetup& setup, double 
     const double d =
         std::hypot(objects.value(r, x) - 1.0 - arc.xPix, objects.value(r, y) - 1.0 - arc.yPix);
     // Never the lens (a large object whose size would reach the arc): the arc rule's distance.
-    const double fromLensArcsec = setup.observing.grid.pixelScaleArcsec *
-                                  std::hypot(objects.value(r, x) - 1.0 - grid.lensXPix,
-                                             objects.value(r, y) - 1.0 - grid.lensYPix);
+    const double fromLensArcsec =
+        grid.pixelScaleArcsec * std::hypot(objects.value(r, x) - 1.0 - grid.lensXPix,
+                                           objects.value(r, y) - 1.0 - grid.lensYPix);
     if (fromLensArcsec < setup.arcRules.minDistanceArcsec) continue;
     if (d <= std::max(matchRadiusPix, objects.value(r, size)) && d < bestDistance) {
       bestDistance = d;
@@ -109,9 +109,10 @@ std::vector<SnrFloorBin> snrFloorBins(const std::vector<double>& snr,
     b.snrLo = edges[k];
     b.snrHi = edges[k + 1];
     b.measurements = std::int64_t(values[k].size());
-    b.median = sampleQuantile(values[k], 0.5);
-    b.q20 = sampleQuantile(values[k], 0.2);
-    b.q80 = sampleQuantile(values[k], 0.8);
+    const std::vector<double> q = sampleQuantiles(std::move(values[k]), {0.2, 0.5, 0.8});
+    b.q20 = q[0];
+    b.median = q[1];
+    b.q80 = q[2];
     b.reliable = b.measurements >= s.minPerBin &&
                  std::abs(b.median - s.referenceArcness) <= s.medianTolerance &&
                  b.q80 - b.q20 <= s.spreadMax;
@@ -131,7 +132,7 @@ double snrFloor(const std::vector<SnrFloorBin>& bins, int minPerBin) {
 }
 
 SnrFloorResult snrFloorStudy(const SimulationOutput& sim, const LensSetupOptions& survey,
-                             const SnrFloorSettings& s) {
+                             const SourceDatabase& sources, const SnrFloorSettings& s) {
   checkSnrFloorSettings(s);
   if (sim.outputs > 1) {
     // SYSTEM restarts at 0 in each output, and each has its own seed.
@@ -158,19 +159,13 @@ SnrFloorResult snrFloorStudy(const SimulationOutput& sim, const LensSetupOptions
   }
   std::sort(taken.begin(), taken.end());
   if (taken.size() > std::size_t(s.arcs)) taken.resize(std::size_t(s.arcs));
-  // Every arc taken must be remade as the simulation made it.
-  const SourceDatabase sources = s.sources.make();
-  std::vector<std::int64_t> takenRows;
-  for (const auto& t : taken) takenRows.push_back(t.second);
-  checkRemade(sim, survey, sources, takenRows);
-
   const SimulationSetup base = makeSimulationSetup(survey);
   const int threads = resolveThreads(s.threads);
 
-  // 1. The noise-free stamps.
+  // 1. The noise-free stamps; every arc taken must be remade as the simulation made it.
   std::vector<ArcTarget> arcs(taken.size());
-  simulation::ObservingSetup noiseFree = base.observing;
-  noiseFree.addNoise = false;
+  SimulationSetup noiseFree = base;
+  noiseFree.observing.addNoise = false;
   parallelForDynamic(std::int64_t(arcs.size()), threads, [&](std::int64_t i) {
     ArcTarget& arc = arcs[std::size_t(i)];
     const std::int64_t row = taken[std::size_t(i)].second;
@@ -183,11 +178,9 @@ SnrFloorResult snrFloorStudy(const SimulationOutput& sim, const LensSetupOptions
     arc.isophoteAdu = base.thresholdsAdu[std::size_t(level) - 1];
     arc.xPix = systems.value(row, cX) - 1.0;
     arc.yPix = systems.value(row, cY) - 1.0;
-    std::mt19937_64 rng = simulation::systemRng(sim.setup.seed, std::uint64_t(arc.system));
-    const LensSystemDraw draw = drawLensSystem(base, sources, arc.system, rng);
-    arc.noiseFree =
-        simulation::renderLensSystem(draw.system, sources.stamp(draw.sourceIndex), noiseFree, rng)
-            .image;
+    RenderedSystem rendered = renderSystem(noiseFree, sources, sim.setup.seed, arc.system);
+    requireRemadeDraw(sim, row, rendered.draw);
+    arc.noiseFree = std::move(rendered.image);
   });
 
   // 2. Every (arc, factor, realisation), each from its own stream.

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <set>
 
 #include "octarc/calibration/LensingFraction.h"
 #include "octarc/core/Error.h"
@@ -12,11 +11,13 @@
 namespace octarc {
 
 ThresholdCountCurve thresholdCountCurve(const LensSetupOptions& survey,
+                                        const SourceDatabase& sources,
                                         const ThresholdCountSettings& s) {
   if (s.systems < 1) throw ConfigError("THRESHOLD_SYSTEMS: must be at least 1");
   std::vector<int> counts = s.levelCounts;
   std::sort(counts.begin(), counts.end());
   counts.erase(std::unique(counts.begin(), counts.end()), counts.end());
+  if (counts.empty()) throw ConfigError("THRESHOLD_NLEVELS: give at least one number of levels");
   std::vector<SimulationSetup> setups;
   for (const int n : counts) {
     if (n < 1 || n > 255) throw ConfigError("THRESHOLD_NLEVELS: every count must be in 1..255");
@@ -24,7 +25,6 @@ ThresholdCountCurve thresholdCountCurve(const LensSetupOptions& survey,
     o.detectLevelCount = n;
     setups.push_back(makeSimulationSetup(o));
   }
-  const SourceDatabase sources = s.sources.make();
   // Each system is rendered once (its stamp does not depend on the levels) and detected with
   // every number of levels; flags per (count, system).
   const std::size_t systems = std::size_t(s.systems);
@@ -48,17 +48,17 @@ ThresholdCountCurve thresholdCountCurve(const LensSetupOptions& survey,
       [&](std::int64_t done) {
         if (s.progress) s.progress(done, s.systems);
       });
+  // Flags of count c for system i at c * systems + i.
+  auto flagged = [&](const std::vector<char>& flags, std::size_t c) {
+    return flags.begin() + std::ptrdiff_t(c * systems);
+  };
   ThresholdCountCurve curve;
-  std::vector<std::set<std::int64_t>> found(counts.size());  // per count: systems with an arc
   for (std::size_t c = 0; c < counts.size(); ++c) {
     ThresholdCountRow row;
     row.levels = counts[c];
     row.systems = s.systems;
-    for (std::size_t i = 0; i < systems; ++i) {
-      row.arcSystems += arcFound[c * systems + i];
-      if (withArcness[c * systems + i]) found[c].insert(std::int64_t(i));
-    }
-    row.withArcness = std::int64_t(found[c].size());
+    row.arcSystems = std::count(flagged(arcFound, c), flagged(arcFound, c + 1), 1);
+    row.withArcness = std::count(flagged(withArcness, c), flagged(withArcness, c + 1), 1);
     row.fraction = double(row.withArcness) / double(row.systems);
     row.fractionSigma = binomialSigma(row.withArcness, row.systems);
     curve.rows.push_back(row);
@@ -66,18 +66,18 @@ ThresholdCountCurve thresholdCountCurve(const LensSetupOptions& survey,
   // Flat from the fewest levels whose fraction is within one sigma of the most levels' fraction,
   // the sigma of a paired difference (the same systems): sqrt(n01 + n10) / N, n01 and n10 the
   // systems found with one number of levels and not the other.
-  if (!curve.rows.empty()) {
-    const std::set<std::int64_t>& most = found.back();
-    for (std::size_t i = 0; i < curve.rows.size(); ++i) {
-      std::int64_t onlyMost = 0, onlyThis = 0;
-      for (std::int64_t id : most) onlyMost += found[i].count(id) ? 0 : 1;
-      for (std::int64_t id : found[i]) onlyThis += most.count(id) ? 0 : 1;
-      const double n = double(curve.rows[i].systems);
-      const double difference = double(onlyMost - onlyThis) / n;
-      if (difference <= std::sqrt(double(onlyMost + onlyThis)) / n) {
-        curve.flattensAtLevels = curve.rows[i].levels;
-        break;
-      }
+  const std::size_t most = counts.size() - 1;
+  for (std::size_t c = 0; c < counts.size(); ++c) {
+    std::int64_t onlyMost = 0, onlyThis = 0;
+    for (std::size_t i = 0; i < systems; ++i) {
+      const bool inMost = withArcness[most * systems + i], inThis = withArcness[c * systems + i];
+      onlyMost += inMost && !inThis;
+      onlyThis += inThis && !inMost;
+    }
+    const double n = double(s.systems);
+    if (double(onlyMost - onlyThis) / n <= std::sqrt(double(onlyMost + onlyThis)) / n) {
+      curve.flattensAtLevels = counts[c];
+      break;
     }
   }
   return curve;

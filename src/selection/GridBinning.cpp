@@ -104,8 +104,9 @@ std::pair<double, double> quantileRange(const std::vector<double>& values, doubl
     throw ConfigError(context + ": " + std::to_string(finite.size()) +
                       " finite values, too few to choose a range");
   }
-  const double lo = sampleQuantile(finite, tailFraction);
-  const double top = sampleQuantile(finite, 1.0 - tailFraction);
+  const std::vector<double> q =
+      sampleQuantiles(std::move(finite), {tailFraction, 1.0 - tailFraction});
+  const double lo = q[0], top = q[1];
   if (!(lo < top)) {
     throw ConfigError(context + ": the values between the quantiles are all equal (" +
                       std::to_string(lo) + "), no range to bin");

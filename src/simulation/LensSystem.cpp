@@ -72,13 +72,10 @@ RenderedLensSystem renderLensSystem(const LensSystem& system, const SourceStamp&
   addSersicLight(out.image, setup.grid, light);
   clock.charge(&RenderTimings::lensLightSec);
 
-  // The traced image and the lens light already hold the flux on each pixel (the pixel box is
-  // applied), so the Gaussian PSF is point-sampled, not integrated over the pixel again.
-  out.image = setup.userPsf != nullptr
-                  ? convolve(out.image, *setup.userPsf)
-                  : convolveSeparable(out.image, gaussianPsfKernel1d(setup.seeingFwhmArcsec,
-                                                                     setup.grid.pixelScaleArcsec,
-                                                                     PsfSampling::PointSampled));
+  // The traced image and the lens light already hold the flux on each pixel.
+  out.image = setup.userPsf != nullptr ? convolve(out.image, *setup.userPsf)
+                                       : applyGaussianSeeing(out.image, setup.seeingFwhmArcsec,
+                                                             setup.grid.pixelScaleArcsec);
   clock.charge(&RenderTimings::psfSec);
   if (setup.addNoise)
     addPoissonSkyNoise(out.image, setup.skySigmaAdu, setup.gainElectronsPerAdu, rng);

@@ -41,6 +41,11 @@ ImageD gaussianPsfImage(double fwhmArcsec, double pixelScaleArcsec, PsfSampling 
   return psf;
 }
 
+ImageD applyGaussianSeeing(const ImageD& fluxPerPixel, double fwhmArcsec, double pixelScaleArcsec) {
+  return convolveSeparable(
+      fluxPerPixel, gaussianPsfKernel1d(fwhmArcsec, pixelScaleArcsec, PsfSampling::PointSampled));
+}
+
 ImageD normalisedPsf(const ImageD& psf, const char* what) {
   if (psf.empty()) throw ConfigError(std::string(what) + ": PSF image is empty");
   double sum = 0.0;

@@ -30,7 +30,7 @@ struct SimulationOutput {
 struct SourceChoice {
   std::string catalogPath;                     // "": the synthetic sources
   int syntheticCount = 90;                     // --sources
-  double syntheticExtentHalfLightRadii = 4.0;  // --source-extent (not recorded in the output)
+  double syntheticExtentHalfLightRadii = 4.0;  // --source-extent (OCTSRCEX)
   SourceDatabase make() const;
 };
 
@@ -59,5 +59,9 @@ SourceChoice resimulationSources(const SimulationOutput& simulation);
 // with the file's; ConfigError naming the file and the system when one differs.
 void checkRemade(const SimulationOutput& simulation, const LensSetupOptions& options,
                  const SourceDatabase& sources, std::vector<std::int64_t> rows = {});
+// The comparison of one system: ConfigError unless `remade` (drawn again) has the Einstein
+// radius, lens half-light radius and source position of row `row` of the simulation.
+void requireRemadeDraw(const SimulationOutput& simulation, std::int64_t row,
+                       const LensSystemDraw& remade);
 
 }  // namespace octarc

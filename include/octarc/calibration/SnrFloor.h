@@ -6,7 +6,7 @@
 // How, for each arc taken (a system of the simulation whose chosen arc has arcness in
 // [arcnessMin, arcnessMax], the first `arcs` of them by SYSTEM):
 //   1. the system is remade from its seed stream, without noise (its remade Einstein radius, lens
-//      size and source position must match the simulation's: checkRemade);
+//      size and source position must match the simulation's: requireRemadeDraw);
 //   2. for each noise factor f (the survey's sky sigma times f), `realisations` noise images
 //      are added (Poisson on the sky, as simulate lenses), detected at one level and measured:
 //      the chosen arc's isophote (its level's threshold, ADU) where the survey's lowest level
@@ -53,7 +53,6 @@ struct SnrFloorSettings {
   int minPerBin = 20;
   double matchRadiusPix = 3.0;
   std::uint64_t seed = 1;  // of the noise realisations
-  SourceChoice sources;    // the simulation's (resimulationSources)
   int threads = 0;         // 0 = all cores
   ProgressFn progress;     // (arcs x factors done, arcs x factors), when given
 };
@@ -90,11 +89,11 @@ double snrFloor(const std::vector<SnrFloorBin>& bins, int minPerBin);
 // than 1000 noise factors or S/N bins, ...).
 void checkSnrFloorSettings(const SnrFloorSettings& settings);
 
-// The study on the arcs of `simulation`, remade with `survey` (resimulationOptions) and
-// settings.sources. ConfigError for combined outputs, when no chosen arc is in the arcness
-// window, or when an arc taken cannot be remade (checkRemade on every arc taken).
+// The study on the arcs of `simulation`, remade with `survey` (resimulationOptions) and its
+// `sources` (resimulationSources). ConfigError for combined outputs, when no chosen arc is in the
+// arcness window, or when an arc taken cannot be remade (requireRemadeDraw on every arc taken).
 SnrFloorResult snrFloorStudy(const SimulationOutput& simulation, const LensSetupOptions& survey,
-                             const SnrFloorSettings& settings);
+                             const SourceDatabase& sources, const SnrFloorSettings& settings);
 
 // The table of bins and the floor, as `octarc calibrate` prints them.
 void printSnrFloor(std::ostream& out, const SnrFloorResult& result,

@@ -27,7 +27,6 @@ struct ThresholdCountSettings {
   std::int64_t systems = 3000;
   std::uint64_t seed = 1;
   double arcnessMin = 0.10;
-  SourceChoice sources;
   ProgressFn progress;  // (systems done, systems), when given
   int threads = 0;
 };
@@ -47,6 +46,7 @@ struct ThresholdCountCurve {
 
 // ConfigError for a level count below 1 or above 255, or no system.
 ThresholdCountCurve thresholdCountCurve(const LensSetupOptions& survey,
+                                        const SourceDatabase& sources,
                                         const ThresholdCountSettings& settings);
 
 }  // namespace octarc

@@ -3,24 +3,37 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 namespace octarc {
 
-// The q quantile (0 <= q <= 1) of the finite values, by linear interpolation between order
+// The q quantiles (0 <= q <= 1) of the finite values, by linear interpolation between order
 // statistics: with the n sorted values v_0..v_{n-1}, h = q (n - 1) and the quantile is
 // v_floor(h) + (h - floor(h)) (v_floor(h)+1 - v_floor(h)) (numpy's default, "type 7" of
-// Hyndman & Fan 1996). NaN when no value is finite.
-inline double sampleQuantile(std::vector<double> values, double q) {
+// Hyndman & Fan 1996). NaN when no value is finite. One sort for all of `qs`.
+inline std::vector<double> sampleQuantiles(std::vector<double> values,
+                                           const std::vector<double>& qs) {
   values.erase(
       std::remove_if(values.begin(), values.end(), [](double v) { return !std::isfinite(v); }),
       values.end());
-  if (values.empty()) return std::nan("");
   std::sort(values.begin(), values.end());
-  const double h = std::clamp(q, 0.0, 1.0) * double(values.size() - 1);
-  const std::size_t lo = std::size_t(std::floor(h));
-  const std::size_t hi = std::min(lo + 1, values.size() - 1);
-  return values[lo] + (h - double(lo)) * (values[hi] - values[lo]);
+  std::vector<double> out;
+  for (double q : qs) {
+    if (values.empty()) {
+      out.push_back(std::nan(""));
+      continue;
+    }
+    const double h = std::clamp(q, 0.0, 1.0) * double(values.size() - 1);
+    const std::size_t lo = std::size_t(std::floor(h));
+    const std::size_t hi = std::min(lo + 1, values.size() - 1);
+    out.push_back(values[lo] + (h - double(lo)) * (values[hi] - values[lo]));
+  }
+  return out;
+}
+
+inline double sampleQuantile(std::vector<double> values, double q) {
+  return sampleQuantiles(std::move(values), {q}).front();
 }
 
 inline double sampleMedian(std::vector<double> values) {

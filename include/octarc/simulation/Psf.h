@@ -20,12 +20,17 @@ enum class PsfSampling {
 // pixels, sigma = FWHM / (2 sqrt(2 ln 2))), each tap taken as `sampling` says, then normalised
 // so that sum k = 1; the 2-D PSF is k_x k_y (sum 1 to rounding).
 // Throws ConfigError unless fwhmArcsec > 0 and pixelScaleArcsec > 0.
+// No default sampling: each caller says which its image needs.
 std::vector<double> gaussianPsfKernel1d(double fwhmArcsec, double pixelScaleArcsec,
-                                        PsfSampling sampling = PsfSampling::PixelIntegrated);
+                                        PsfSampling sampling);
 
 // The 2-D image of the same PSF (outer product of the 1-D kernel).
-ImageD gaussianPsfImage(double fwhmArcsec, double pixelScaleArcsec,
-                        PsfSampling sampling = PsfSampling::PixelIntegrated);
+ImageD gaussianPsfImage(double fwhmArcsec, double pixelScaleArcsec, PsfSampling sampling);
+
+// Gaussian seeing of FWHM fwhmArcsec applied to an image that already holds the flux per pixel
+// (ray-traced stamps, integrated or sub-sampled renderings): the point-sampled kernel, so the
+// pixel box is not applied a second time. What the lens and field simulators both use.
+ImageD applyGaussianSeeing(const ImageD& fluxPerPixel, double fwhmArcsec, double pixelScaleArcsec);
 
 // A user PSF image, normalised to unit sum. Its centre is pixel (width/2, height/2) (integer
 // division, 0-based), i.e. the middle pixel of an odd-sized image. Throws ConfigError naming

@@ -308,10 +308,8 @@ SimulatedField simulateField(const FieldSimulationSettings& s, const ProgressFn&
     report(std::int64_t(count));
   }
 
-  // Every stamp summed so far already holds the flux per pixel (integrated or sub-sampled), so
-  // the PSF is point-sampled: a pixel-integrated kernel would apply the pixel box twice.
-  sky = convolveSeparable(
-      sky, gaussianPsfKernel1d(s.seeingFwhmArcsec, s.pixelScaleArcsec, PsfSampling::PointSampled));
+  // Every stamp summed so far already holds the flux per pixel (integrated or sub-sampled).
+  sky = applyGaussianSeeing(sky, s.seeingFwhmArcsec, s.pixelScaleArcsec);
   for (std::size_t i : stars) {
     const FieldObject& o = objects[i];
     addStamp(sky, renderStarStamp(o.xPix, o.yPix, fluxFromMagnitude(o.mag, s.magZeroPoint),

@@ -97,14 +97,13 @@ void setLevels(const LensSetupOptions& o, SimulationSetup& setup) {
 void setPopulation(const LensSetupOptions& o, SimulationSetup& setup) {
   if (!o.populationPath.empty() && !o.populationPreset.empty())
     throw ConfigError("--population and --preset both name a population file: give one");
+  // A file of one's own has no preset name; otherwise the preset, "physical" by default.
+  setup.populationPreset = !o.populationPath.empty()    ? ""
+                           : o.populationPreset.empty() ? "physical"
+                                                        : o.populationPreset;
   setup.population = sim::readPopulationModel(
-      !o.populationPath.empty()
-          ? o.populationPath
-          : sim::populationPresetPath(o.populationPreset.empty() ? "physical"
-                                                                 : o.populationPreset));
-  setup.populationPreset = o.populationPath.empty()
-                               ? (o.populationPreset.empty() ? "physical" : o.populationPreset)
-                               : "";
+      setup.populationPreset.empty() ? o.populationPath
+                                     : sim::populationPresetPath(setup.populationPreset));
   sim::PopulationModel& pop = setup.population;
   pop.tabulate(setup.cosmology);
   pop.lensMagMin = o.lensMagMin.value_or(pop.lensMagMin);

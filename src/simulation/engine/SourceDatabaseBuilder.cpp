@@ -195,7 +195,11 @@ RealGalaxyCatalogPaths writeSourceDatabase(const std::string& outputPath,
   RealGalaxyCatalogInfo info;
   info.band = build.band;
   info.pixelScaleArcsec = build.pixelScale.value;
-  if (o.psfFwhmArcsec) info.psf = gaussianPsfImage(*o.psfFwhmArcsec, build.pixelScale.value);
+  // The PSF of an observed image, as a PSF image of the data would hold it: pixel-integrated.
+  if (o.psfFwhmArcsec) {
+    info.psf =
+        gaussianPsfImage(*o.psfFwhmArcsec, build.pixelScale.value, PsfSampling::PixelIntegrated);
+  }
   char card[81];
   std::snprintf(card, sizeof card,
                 "HISTORY   octarc %s simulate database: %.4g sigma, sigma %.6g ADU", version,

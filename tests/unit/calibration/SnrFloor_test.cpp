@@ -88,6 +88,7 @@ TEST(SnrFloor, SettingsOutOfRangeAreRefused) {
 struct SmallSimulation {
   LensSetupOptions options;
   SourceChoice sources;
+  SourceDatabase database;  // sources.make()
   SimulationOutput output;
 };
 
@@ -98,8 +99,9 @@ const SmallSimulation& smallSimulation() {
     out.options.sourceMagMin = 21.0;
     out.options.sourceMagMax = 22.0;
     out.sources.syntheticCount = 12;
+    out.database = out.sources.make();
     const LensRun run =
-        runLensSimulation(makeSimulationSetup(out.options), out.sources.make(), 7, 400, 2, 0, {});
+        runLensSimulation(makeSimulationSetup(out.options), out.database, 7, 400, 2, 0, {});
     out.output.path = "small simulation";
     out.output.systems = run.systems;
     out.output.arcs = run.arcs;
@@ -111,7 +113,6 @@ const SmallSimulation& smallSimulation() {
 
 SnrFloorSettings quickStudy() {
   SnrFloorSettings f;
-  f.sources = smallSimulation().sources;
   f.arcs = 2;
   f.arcnessMin = 0.0;
   f.arcnessMax = 1.0;
@@ -135,7 +136,7 @@ TEST(SnrFloor, EachArcIsScaledToTheReferenceAtItsHighestSnr) {
   f.snrLo = 1;
   f.snrHi = 1e5;
   f.snrBinCount = 1;  // one bin holds every measurement
-  const SnrFloorResult r = snrFloorStudy(sim.output, sim.options, f);
+  const SnrFloorResult r = snrFloorStudy(sim.output, sim.options, sim.database, f);
   ASSERT_EQ(r.systems.size(), 1u);
   ASSERT_GT(r.foundPerFactor[0], f.realisations / 2);
   ASSERT_EQ(r.bins.size(), 1u);
@@ -150,9 +151,9 @@ TEST(SnrFloor, TheResultDoesNotDependOnTheThreads) {
   const SmallSimulation& sim = smallSimulation();
   SnrFloorSettings f = quickStudy();
   f.threads = 1;
-  const SnrFloorResult one = snrFloorStudy(sim.output, sim.options, f);
+  const SnrFloorResult one = snrFloorStudy(sim.output, sim.options, sim.database, f);
   f.threads = 3;
-  const SnrFloorResult three = snrFloorStudy(sim.output, sim.options, f);
+  const SnrFloorResult three = snrFloorStudy(sim.output, sim.options, sim.database, f);
   ASSERT_EQ(one.bins.size(), three.bins.size());
   EXPECT_EQ(one.foundPerFactor, three.foundPerFactor);
   for (std::size_t k = 0; k < one.bins.size(); ++k) {
@@ -168,7 +169,7 @@ TEST(SnrFloor, TheResultDoesNotDependOnTheThreads) {
 TEST(SnrFloor, CombinedOutputsAreRefused) {
   SmallSimulation sim = smallSimulation();
   sim.output.outputs = 2;
-  EXPECT_THROW(snrFloorStudy(sim.output, sim.options, quickStudy()), ConfigError);
+  EXPECT_THROW(snrFloorStudy(sim.output, sim.options, sim.database, quickStudy()), ConfigError);
 }
 
 TEST(SnrFloor, ASimulationThatCannotBeRemadeIsAnError) {
@@ -177,7 +178,7 @@ TEST(SnrFloor, ASimulationThatCannotBeRemadeIsAnError) {
   other.sourceMagMin = 22.0;  // other draws than the simulation's
   other.sourceMagMax = 23.0;
   try {
-    snrFloorStudy(sim.output, other, quickStudy());
+    snrFloorStudy(sim.output, other, sim.database, quickStudy());
     FAIL() << "no error";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("cannot be remade"), std::string::npos) << e.what();
@@ -185,7 +186,7 @@ TEST(SnrFloor, ASimulationThatCannotBeRemadeIsAnError) {
   SnrFloorSettings none = quickStudy();
   none.arcnessMin = 5.0;
   none.arcnessMax = 6.0;
-  EXPECT_THROW(snrFloorStudy(sim.output, sim.options, none), ConfigError);
+  EXPECT_THROW(snrFloorStudy(sim.output, sim.options, sim.database, none), ConfigError);
 }
 
 }  // namespace

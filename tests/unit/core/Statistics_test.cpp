@@ -18,6 +18,16 @@ TEST(Statistics, QuantilesInterpolateBetweenOrderStatistics) {
   EXPECT_DOUBLE_EQ(sampleMedian({5.0, 1.0, 3.0}), 3.0);
 }
 
+TEST(Statistics, SeveralQuantilesAtOnceAreTheSingleOnes) {
+  const std::vector<double> v = {4.0, 1.0, 3.0, 2.0, NAN};
+  const std::vector<double> q = sampleQuantiles(v, {0.2, 0.5, 0.8});
+  ASSERT_EQ(q.size(), 3u);
+  EXPECT_DOUBLE_EQ(q[0], 1.6);
+  EXPECT_DOUBLE_EQ(q[1], 2.5);
+  EXPECT_DOUBLE_EQ(q[2], 3.4);
+  EXPECT_TRUE(std::isnan(sampleQuantiles({}, {0.5}).front()));
+}
+
 TEST(Statistics, NonFiniteValuesAreLeftOut) {
   const double nan = std::nan("");
   EXPECT_DOUBLE_EQ(sampleMedian({nan, 2.0, INFINITY, 4.0}), 3.0);

@@ -84,7 +84,7 @@ TEST(RealGalaxyCatalogWriter, OneGalaxyIsThePrimaryImageAndThePsfFileIsNamed) {
   RealGalaxyCatalogInfo info;
   info.band = "R";
   info.pixelScaleArcsec = 0.1;
-  info.psf = gaussianPsfImage(0.3, 0.1);
+  info.psf = gaussianPsfImage(0.3, 0.1, PsfSampling::PixelIntegrated);
   writeRealGalaxyCatalog(cat, {record(7, 5, 5, 1.0f)}, info);
   EXPECT_EQ(filesIn(dir),
             (std::vector<std::string>{"one.fits", "one_images.fits", "one_psf.fits"}));
@@ -93,7 +93,7 @@ TEST(RealGalaxyCatalogWriter, OneGalaxyIsThePrimaryImageAndThePsfFileIsNamed) {
   EXPECT_EQ(loaded.entry(0).galaxyHdu, 0);
   EXPECT_NEAR(totalFlux(loaded.loadGalaxy(0)), 575.0, 1e-9);  // 25 + 5*10 + 10*5*10
   const ImageD psf = loaded.loadPsf(0);
-  const ImageD expected = gaussianPsfImage(0.3, 0.1);
+  const ImageD expected = gaussianPsfImage(0.3, 0.1, PsfSampling::PixelIntegrated);
   ASSERT_EQ(psf.width(), expected.width());
   for (std::int64_t k = 0; k < psf.size(); ++k) EXPECT_NEAR(psf[k], expected[k], 1e-7);
 }
