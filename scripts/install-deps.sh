@@ -53,6 +53,8 @@ packages=(
   python3-scipy
   python3-sep
   python3-photutils
+  # DS9 region files: the oracle of the region-mask tests (astropy regions)
+  python3-regions
 )
 
 missing=()

@@ -1,0 +1,341 @@
+#include "octarc/io/Ds9Region.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "ExpectError.h"
+#include "TestCommands.h"
+#include "TestPaths.h"
+#include "octarc/core/Conventions.h"
+#include "octarc/core/Error.h"
+
+namespace octarc {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string num(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17G", v);
+  return text;
+}
+
+using Cards = std::vector<std::pair<std::string, std::string>>;
+
+FitsHeader makeHeader(const Cards& cards) {
+  FitsHeader h;
+  h.set("SIMPLE", "T");
+  h.set("BITPIX", "-32");
+  h.set("NAXIS", "2");
+  h.set("NAXIS1", "400");
+  h.set("NAXIS2", "300");
+  for (const auto& [key, value] : cards) h.set(key, value);
+  return h;
+}
+
+// A TAN WCS at 0.2 arcsec per pixel, North rotated 30 degrees from +y, East to the left.
+constexpr double kScaleDeg = 0.2 / 3600.0;
+constexpr double kRotationRad = 30.0 * kRadPerDeg;
+const Cards kSkyCards = {{"CTYPE1", "'RA---TAN'"},
+                         {"CTYPE2", "'DEC--TAN'"},
+                         {"CRPIX1", "200.5"},
+                         {"CRPIX2", "150.5"},
+                         {"CRVAL1", "150.1"},
+                         {"CRVAL2", "2.2"},
+                         {"CD1_1", num(-kScaleDeg* std::cos(kRotationRad))},
+                         {"CD1_2", num(kScaleDeg* std::sin(kRotationRad))},
+                         {"CD2_1", num(kScaleDeg* std::sin(kRotationRad))},
+                         {"CD2_2", num(kScaleDeg* std::cos(kRotationRad))},
+                         {"RADESYS", "'ICRS'"}};
+
+std::vector<RegionShape> parse(const std::string& text, const Cards& cards = {}) {
+  return parseDs9Regions(text, "mask.reg", makeHeader(cards), "image.fits");
+}
+
+TEST(Ds9Region, ImageCircleBoxEllipsePolygonByHand) {
+  const auto shapes = parse(
+      "# Region file format: DS9 version 4.1\n"
+      "global color=green dashlist=8 3 width=1\n"
+      "image\n"
+      "circle(100,100,10) # text={star}\n"
+      "box(50.5,60,20,10,90)\n"
+      "ellipse(200,100,30,10,0)\n"
+      "polygon(10,10,30,10,30,30)\n");
+  ASSERT_EQ(shapes.size(), 4U);
+  const RegionShape& circle = shapes[0];
+  EXPECT_EQ(circle.kind, RegionShapeKind::Circle);
+  EXPECT_EQ(circle.lineNumber, 4);
+  EXPECT_TRUE(circle.contains(109.9, 100.0));
+  EXPECT_FALSE(circle.contains(107.2, 107.2));  // distance 10.18
+  // A box 20 wide and 10 high turned by 90 degrees: 10 wide and 20 high.
+  const RegionShape& box = shapes[1];
+  EXPECT_TRUE(box.contains(50.5 + 4.9, 60.0 + 9.9));
+  EXPECT_FALSE(box.contains(50.5 + 5.1, 60.0));
+  EXPECT_FALSE(box.contains(50.5, 60.0 + 10.1));
+  const RegionShape& ellipse = shapes[2];
+  EXPECT_TRUE(ellipse.contains(229.9, 100.0));
+  EXPECT_FALSE(ellipse.contains(200.0, 110.1));
+  EXPECT_TRUE(ellipse.contains(200.0 + 30.0 * 0.6, 100.0 + 10.0 * 0.79));  // 0.36 + 0.6241 < 1
+  EXPECT_FALSE(ellipse.contains(200.0 + 30.0 * 0.6, 100.0 + 10.0 * 0.81));
+  // The triangle (10,10), (30,10), (30,30): below the diagonal y = x.
+  const RegionShape& triangle = shapes[3];
+  EXPECT_TRUE(triangle.contains(25.0, 20.0));
+  EXPECT_FALSE(triangle.contains(15.0, 20.0));
+  EXPECT_FALSE(triangle.contains(31.0, 20.0));
+  const auto b = triangle.bounds();
+  EXPECT_EQ(b[0], 10.0);
+  EXPECT_EQ(b[1], 30.0);
+  EXPECT_EQ(b[2], 10.0);
+  EXPECT_EQ(b[3], 30.0);
+}
+
+TEST(Ds9Region, RotatedBoxAndEllipseBounds) {
+  const auto shapes = parse("image; box(0,0,4,2,30); ellipse(0,0,4,2,30)\n");
+  ASSERT_EQ(shapes.size(), 2U);
+  const double c = std::cos(30.0 * kRadPerDeg);
+  const double s = std::sin(30.0 * kRadPerDeg);
+  const auto box = shapes[0].bounds();
+  EXPECT_NEAR(box[1], 2.0 * c + 1.0 * s, 1e-12);
+  EXPECT_NEAR(box[3], 2.0 * s + 1.0 * c, 1e-12);
+  const auto ellipse = shapes[1].bounds();
+  EXPECT_NEAR(ellipse[1], std::hypot(4.0 * c, 2.0 * s), 1e-12);
+  EXPECT_NEAR(ellipse[3], std::hypot(4.0 * s, 2.0 * c), 1e-12);
+  // A corner of the rotated box is inside, the same corner unrotated is not.
+  EXPECT_TRUE(shapes[0].contains(0.99 * (2.0 * c - 1.0 * s), 0.99 * (2.0 * s + 1.0 * c)));
+  EXPECT_FALSE(shapes[0].contains(1.9, 0.99 * (2.0 * s + 1.0 * c)));
+}
+
+// DS9's rule: inside an include shape (or no include shape at all), and inside no exclude one,
+// whatever the order of the lines.
+TEST(Ds9Region, ExcludeShapesCutIncludeShapesInAnyOrder) {
+  const auto shapes = parse("image\n-circle(50,50,5)\ncircle(50,50,20)\nbox(100,50,10,10)\n");
+  ASSERT_EQ(shapes.size(), 3U);
+  EXPECT_TRUE(shapes[0].exclude);
+  EXPECT_FALSE(shapes[1].exclude);
+  EXPECT_FALSE(regionContains(shapes, 50.0, 50.0));  // in the hole
+  EXPECT_TRUE(regionContains(shapes, 60.0, 50.0));
+  EXPECT_TRUE(regionContains(shapes, 100.0, 50.0));
+  EXPECT_FALSE(regionContains(shapes, 80.0, 50.0));  // in no include shape
+
+  const auto onlyExcludes = parse("image; -circle(50,50,5)\n");
+  EXPECT_FALSE(regionContains(onlyExcludes, 51.0, 51.0));
+  EXPECT_TRUE(regionContains(onlyExcludes, 300.0, 200.0));  // the rest of the image
+  EXPECT_TRUE(regionContains({}, 1.0, 1.0));
+}
+
+// Physical coordinates go through LTV / LTM (image = LTM * physical + LTV); no cards = image.
+TEST(Ds9Region, PhysicalCoordinatesThroughLtvAndLtm) {
+  const auto identity = parse("circle(10,20,3)\n");  // DS9's default system is physical
+  EXPECT_EQ(identity[0].xCentre, 10.0);
+  EXPECT_EQ(identity[0].semiAxis1Pix, 3.0);
+  const auto shifted =
+      parse("physical\ncircle(10,20,3)\npolygon(0,0,4,0,4,4)\n",
+            {{"LTV1", "-100"}, {"LTV2", "-50"}, {"LTM1_1", "0.5"}, {"LTM2_2", "0.5"}});
+  EXPECT_DOUBLE_EQ(shifted[0].xCentre, 0.5 * 10.0 - 100.0);
+  EXPECT_DOUBLE_EQ(shifted[0].yCentre, 0.5 * 20.0 - 50.0);
+  EXPECT_DOUBLE_EQ(shifted[0].semiAxis1Pix, 1.5);
+  EXPECT_DOUBLE_EQ(shifted[1].vertices[1][0], 2.0 - 100.0);
+  test::expectError<ConfigError>(
+      [] {
+        parse("physical; circle(1,1,1)\n", {{"LTM1_1", "0.5"}, {"LTM2_2", "0.25"}});
+      },
+      {"mask.reg:1", "LTM", "image.fits"});
+}
+
+// fk5 shapes on a rotated TAN WCS: the centre through the WCS, sizes through the pixel scale,
+// the angle through the North angle (here 120 degrees from +x).
+TEST(Ds9Region, SkyShapesUseTheLocalScaleAndNorthAngle) {
+  const auto shapes = parse(
+      "fk5\n"
+      "circle(150.1,2.2,2\")\n"
+      "circle(10:00:24.000,+02:12:00.00,0.05')\n"
+      "circle(10h00m24s,2d12m00s,0.000833333333333333d)\n"
+      "box(150.1,2.2,4\",2\",0)\n",
+      kSkyCards);
+  ASSERT_EQ(shapes.size(), 4U);
+  for (int i = 0; i < 3; ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_NEAR(shapes[i].xCentre, 200.5, 1e-6);
+    EXPECT_NEAR(shapes[i].yCentre, 150.5, 1e-6);
+    EXPECT_NEAR(shapes[i].semiAxis1Pix, i == 0 ? 10.0 : 15.0, 1e-4);
+  }
+  EXPECT_NEAR(shapes[3].semiAxis1Pix, 10.0, 1e-4);
+  EXPECT_NEAR(shapes[3].semiAxis2Pix, 5.0, 1e-4);
+  // North is 30 degrees clockwise from +y, 60 degrees from +x: the width axis (RA) at -30.
+  EXPECT_NEAR(shapes[3].angleRad, -30.0 * kRadPerDeg, 1e-6);
+}
+
+TEST(Ds9Region, AreaLessShapesAreSkipped) {
+  const auto shapes =
+      parse("image\npoint(10,10) # point=x\ntext(5,5) # text={hi}\nline(1,1,5,5)\ncircle(1,1,1)\n");
+  ASSERT_EQ(shapes.size(), 1U);
+  EXPECT_EQ(shapes[0].lineNumber, 5);
+}
+
+TEST(Ds9Region, BadLinesNameTheFileAndLine) {
+  test::expectError<ConfigError>([] { parse("image\ncircle(1,1)\n"); },
+                                 {"mask.reg:2", "circle needs"});
+  test::expectError<ConfigError>([] { parse("image\n\ncircle(1,x,3)\n"); }, {"mask.reg:3", "'x'"});
+  test::expectError<ConfigError>([] { parse("image\ncircle 1 1 3\n"); },
+                                 {"mask.reg:2", "region shape"});
+  test::expectError<ConfigError>([] { parse("image\nannulus(1,1,3,4)\n"); },
+                                 {"mask.reg:2", "annulus", "not supported"});
+  test::expectError<ConfigError>([] { parse("galactic\ncircle(1,1,3)\n"); },
+                                 {"mask.reg:1", "galactic"});
+  test::expectError<ConfigError>([] { parse("image; hexagon(1,1,3)\n"); },
+                                 {"mask.reg:1", "hexagon"});
+  test::expectError<ConfigError>([] { parse("image; circle(1,1,-3)\n"); },
+                                 {"mask.reg:1", "negative"});
+  test::expectError<ConfigError>([] { parse("image; polygon(1,1,2,2)\n"); },
+                                 {"mask.reg:1", "three"});
+  test::expectError<ConfigError>([] { parse("fk5; circle(150.1,2.2,3\")\n"); },
+                                 {"mask.reg:1", "image.fits", "no celestial WCS"});
+  test::expectError<ConfigError>([] { parse("fk5; circle(150.1,95,3\")\n", kSkyCards); },
+                                 {"mask.reg:1", "declination"});
+  test::expectIoError([] { readDs9Regions("/nonexistent/mask.reg", makeHeader({}), "i.fits"); },
+                      {"/nonexistent/mask.reg"});
+}
+
+// A region file of random shapes in image and fk5 coordinates, each with a random include or
+// exclude sign: every shape's membership and DS9's combined rule at random points agree with
+// astropy regions reading the same file.
+TEST(Ds9Region, RandomShapesAgreeWithAstropyRegions) {
+  if (test::runQuiet("/usr/bin/python3 -c 'import regions'") != 0) {
+    OCTARC_SKIP_MISSING()
+        << "/usr/bin/python3 with astropy regions (python3-regions) not available";
+  }
+  const fs::path dir = test::scratchDir();
+  std::mt19937_64 rng(20261202);
+  std::uniform_real_distribution<double> ux(1.0, 400.0);
+  std::uniform_real_distribution<double> uy(1.0, 300.0);
+  std::uniform_real_distribution<double> size(5.0, 80.0);
+  std::uniform_real_distribution<double> angle(-180.0, 360.0);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::string text = "# Region file format: DS9 version 4.1\nglobal color=green\n";
+  const int kShapes = 24;
+  for (int i = 0; i < kShapes; ++i) {
+    const bool sky = i % 2 == 1;
+    const std::string sign = unit(rng) < 0.3 ? "-" : "";
+    // icrs, the frame of the WCS: astropy would move fk5 positions by the FK5 -> ICRS frame bias
+    // (about 0.02 arcsec), which octarc ignores as SExtractor's ALPHA_J2000 does.
+    std::string line = sky ? "icrs; " : "image; ";
+    double x = ux(rng);
+    double y = uy(rng);
+    // Sky shapes: positions from a pixel through the same linear approximation DS9 users write.
+    auto position = [&](double px, double py) {
+      if (!sky) return num(px) + "," + num(py);
+      const double u = (px - 200.5) * kScaleDeg;
+      const double v = (py - 150.5) * kScaleDeg;
+      const double xi = -std::cos(kRotationRad) * u + std::sin(kRotationRad) * v;
+      const double eta = std::sin(kRotationRad) * u + std::cos(kRotationRad) * v;
+      return num(150.1 + xi / std::cos(2.2 * kRadPerDeg)) + "," + num(2.2 + eta);
+    };
+    auto length = [&](double pixels) { return sky ? num(pixels * 0.2) + "\"" : num(pixels); };
+    switch (i % 8 / 2) {
+      case 0:
+        line += sign + "circle(" + position(x, y) + "," + length(size(rng)) + ")";
+        break;
+      case 1:
+        line += sign + "box(" + position(x, y) + "," + length(size(rng)) + "," + length(size(rng)) +
+                "," + num(angle(rng)) + ")";
+        break;
+      case 2:
+        line += sign + "ellipse(" + position(x, y) + "," + length(size(rng)) + "," +
+                length(size(rng)) + "," + num(angle(rng)) + ")";
+        break;
+      default: {
+        line += sign + "polygon(";
+        const int n = 3 + static_cast<int>(unit(rng) * 5);
+        for (int k = 0; k < n; ++k) {
+          line += (k ? "," : "") + position(x + size(rng) * std::cos(6.283 * unit(rng)),
+                                            y + size(rng) * std::sin(6.283 * unit(rng)));
+        }
+        line += ")";
+      }
+    }
+    text += line + " # text={shape " + std::to_string(i) + "}\n";
+  }
+  const auto shapes = parse(text, kSkyCards);
+  ASSERT_EQ(shapes.size(), static_cast<std::size_t>(kShapes));
+  { std::ofstream(dir / "random.reg") << text; }
+
+  const int kPoints = 4000;
+  std::vector<std::array<double, 2>> points(kPoints);
+  {
+    std::ofstream out(dir / "points.txt");
+    for (auto& p : points) {
+      p = {ux(rng), uy(rng)};
+      out << num(p[0]) << " " << num(p[1]) << "\n";
+    }
+  }
+  std::string cardsPython = "{";
+  for (const auto& [key, value] : kSkyCards) {
+    cardsPython += "'" + key + "': " + value + ", ";  // FITS strings are Python strings too
+  }
+  cardsPython += "'NAXIS': 2, 'NAXIS1': 400, 'NAXIS2': 300}";
+  const std::string script =
+      "import numpy as np\n"
+      "from astropy.wcs import WCS\n"
+      "from regions import Regions, PixCoord, SkyRegion\n"
+      "wcs = WCS(" +
+      cardsPython +
+      ")\n"
+      "xy = np.loadtxt('" +
+      (dir / "points.txt").string() +
+      "')\n"
+      "pix = PixCoord(xy[:, 0] - 1.0, xy[:, 1] - 1.0)\n"  // DS9 image coordinates are 1-based
+      "regs = Regions.read('" +
+      (dir / "random.reg").string() +
+      "', format='ds9')\n"
+      "rows = []\n"
+      "inc = [r.meta.get('include', 1) != 0 for r in regs]\n"
+      "for r in regs:\n"
+      "    p = r.to_pixel(wcs) if isinstance(r, SkyRegion) else r\n"
+      "    p.meta['include'] = 1\n"  // regions inverts contains() of exclude shapes
+      "    rows.append(p.contains(pix))\n"
+      "anyinc = any(inc)\n"
+      "combined = np.array([(not anyinc or any(rows[k][j] for k in range(len(regs)) if inc[k]))\n"
+      "    and not any(rows[k][j] for k in range(len(regs)) if not inc[k])\n"
+      "    for j in range(len(xy))])\n"
+      "print(' '.join('1' if v else '0' for v in inc))\n"
+      "for row in rows + [combined]:\n"
+      "    print(''.join('1' if v else '0' for v in row))\n";
+  { std::ofstream(dir / "oracle.py") << script; }
+  ASSERT_EQ(test::run("/usr/bin/python3 '" + (dir / "oracle.py").string() + "' > '" +
+                      (dir / "oracle.txt").string() + "'"),
+            0);
+  std::ifstream in(dir / "oracle.txt");
+  for (int i = 0; i < kShapes; ++i) {
+    int include = 0;
+    in >> include;
+    EXPECT_EQ(include == 0, shapes[i].exclude) << "shape " << i;
+  }
+  int insideSomewhere = 0;
+  for (int i = 0; i <= kShapes; ++i) {
+    std::string row;
+    in >> row;
+    ASSERT_EQ(row.size(), points.size());
+    int disagreements = 0;
+    for (int j = 0; j < kPoints; ++j) {
+      const bool got = i < kShapes ? shapes[i].contains(points[j][0], points[j][1])
+                                   : regionContains(shapes, points[j][0], points[j][1]);
+      if (got != (row[j] == '1')) ++disagreements;
+      if (i < kShapes && got) ++insideSomewhere;
+    }
+    EXPECT_EQ(disagreements, 0) << (i < kShapes ? "shape " + std::to_string(i) : "combined");
+  }
+  // The points fall inside shapes often enough for the comparison to mean something (about 2%
+  // of point-shape pairs).
+  EXPECT_GT(insideSomewhere, 1000);
+}
+
+}  // namespace
+}  // namespace octarc
