@@ -42,6 +42,7 @@ STAGES = [
     ("run", "octarc_run", None),
     ("simulation/engine", "octarc_simulation_engine", None),
     ("calibration", "octarc_calibration", None),
+    ("search", "octarc_search", None),
     ("app", "octarc_app", None),
 ]
 CHECKED_FOLDERS = ["include/octarc", "src", "sextractor_compat"]

@@ -1,0 +1,120 @@
+#include "octarc/selection/SearchMask.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "octarc/core/Conventions.h"
+#include "octarc/core/Error.h"
+
+namespace octarc {
+
+namespace {
+
+// The 0-based pixel index range [first, last] of the pixels whose centres a shape's bounding
+// box covers, clipped to the image; empty when first > last.
+struct PixelRange {
+  std::int64_t xFirst, xLast, yFirst, yLast;
+};
+
+PixelRange pixelRange(const RegionShape& shape, std::int64_t width, std::int64_t height) {
+  const auto b = shape.bounds();
+  const auto first = [](double fitsLo) {
+    return static_cast<std::int64_t>(std::ceil(fromFitsPixel(fitsLo)));
+  };
+  const auto last = [](double fitsHi) {
+    return static_cast<std::int64_t>(std::floor(fromFitsPixel(fitsHi)));
+  };
+  // Clip in double first: a huge shape must not overflow the integer conversion.
+  const auto clip = [](double v, std::int64_t n) { return std::clamp(v, -1.0, double(n)); };
+  return {first(clip(b[0], width)), last(clip(b[1], width)), first(clip(b[2], height)),
+          last(clip(b[3], height))};
+}
+
+void paint(Image<std::uint8_t>& image, const RegionShape& shape, std::uint8_t value) {
+  const PixelRange r = pixelRange(shape, image.width(), image.height());
+  for (std::int64_t y = std::max<std::int64_t>(r.yFirst, 0);
+       y <= std::min(r.yLast, image.height() - 1); ++y) {
+    for (std::int64_t x = std::max<std::int64_t>(r.xFirst, 0);
+         x <= std::min(r.xLast, image.width() - 1); ++x) {
+      if (shape.contains(toFitsPixel(double(x)), toFitsPixel(double(y)))) image(x, y) = value;
+    }
+  }
+}
+
+}  // namespace
+
+SearchMask::SearchMask(std::int64_t width, std::int64_t height, const SearchMaskSettings& settings)
+    : searched_(width, height, 0) {
+  if (settings.borderPix < 0) {
+    throw ConfigError("border margin " + std::to_string(settings.borderPix) + " is negative");
+  }
+  const ImageF* variance = settings.varianceAdu2;
+  if (variance != nullptr && (variance->width() != width || variance->height() != height)) {
+    throw ConfigError("weight map is " + std::to_string(variance->width()) + "x" +
+                      std::to_string(variance->height()) + " but the image is " +
+                      std::to_string(width) + "x" + std::to_string(height));
+  }
+  // DS9's rule: the union of the include shapes (the whole image if none), then every exclude
+  // shape cut out, whatever the order of the lines.
+  const bool anyInclude = std::any_of(settings.regions.begin(), settings.regions.end(),
+                                      [](const RegionShape& s) { return !s.exclude; });
+  if (!anyInclude) std::fill(searched_.pixels().begin(), searched_.pixels().end(), 1);
+  for (const RegionShape& shape : settings.regions) {
+    if (!shape.exclude) paint(searched_, shape, 1);
+  }
+  for (const RegionShape& shape : settings.regions) {
+    if (shape.exclude) paint(searched_, shape, 0);
+  }
+  const std::int64_t border = settings.borderPix;
+  for (std::int64_t y = 0; y < height; ++y) {
+    const bool rowInBorder = y < border || y >= height - border;
+    for (std::int64_t x = 0; x < width; ++x) {
+      std::uint8_t& pixel = searched_(x, y);
+      if (rowInBorder || x < border || x >= width - border) pixel = 0;
+      if (variance != nullptr && std::isinf((*variance)(x, y))) pixel = 0;
+      searchedCount_ += pixel;
+    }
+  }
+}
+
+bool SearchMask::searched(double xFits, double yFits) const {
+  const double x = std::round(fromFitsPixel(xFits));
+  const double y = std::round(fromFitsPixel(yFits));
+  if (!(x >= 0.0 && y >= 0.0 && x < double(width()) && y < double(height()))) return false;
+  return searchedPixel(static_cast<std::int64_t>(x), static_cast<std::int64_t>(y));
+}
+
+double SearchMask::searchedAreaDeg2(const Wcs& wcs) const {
+  // The pixel area changes slowly across an image: one Jacobian per block is exact enough.
+  constexpr std::int64_t kBlock = 64;
+  double areaDeg2 = 0.0;
+  for (std::int64_t y0 = 0; y0 < height(); y0 += kBlock) {
+    for (std::int64_t x0 = 0; x0 < width(); x0 += kBlock) {
+      const std::int64_t x1 = std::min(x0 + kBlock, width());
+      const std::int64_t y1 = std::min(y0 + kBlock, height());
+      std::int64_t count = 0;
+      for (std::int64_t y = y0; y < y1; ++y) {
+        for (std::int64_t x = x0; x < x1; ++x) count += searched_(x, y);
+      }
+      if (count == 0) continue;
+      const double xc = toFitsPixel(0.5 * double(x0 + x1 - 1));
+      const double yc = toFitsPixel(0.5 * double(y0 + y1 - 1));
+      const auto c = wcs.pixelToWorld(xc, yc);
+      const auto px = wcs.pixelToWorld(xc + 1.0, yc);
+      const auto py = wcs.pixelToWorld(xc, yc + 1.0);
+      // Longitude differences wrap at 0 / 360 and shrink by cos(latitude).
+      const auto dLng = [](double a, double b) { return std::remainder(a - b, 360.0); };
+      const double cosLat = std::cos(c[1] * kRadPerDeg);
+      const double j11 = dLng(px[0], c[0]) * cosLat;
+      const double j12 = dLng(py[0], c[0]) * cosLat;
+      const double j21 = px[1] - c[1];
+      const double j22 = py[1] - c[1];
+      const double pixelAreaDeg2 = std::fabs(j11 * j22 - j12 * j21);
+      if (std::isfinite(pixelAreaDeg2)) areaDeg2 += pixelAreaDeg2 * double(count);
+    }
+  }
+  return areaDeg2;
+}
+
+}  // namespace octarc

@@ -1,0 +1,128 @@
+#include "octarc/selection/SearchMask.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "ExpectError.h"
+#include "octarc/io/FitsHeader.h"
+
+namespace octarc {
+namespace {
+
+FitsHeader imageHeader(int width, int height) {
+  FitsHeader h;
+  h.set("SIMPLE", "T");
+  h.set("BITPIX", "-32");
+  h.set("NAXIS", "2");
+  h.set("NAXIS1", std::to_string(width));
+  h.set("NAXIS2", std::to_string(height));
+  return h;
+}
+
+std::vector<RegionShape> regions(const std::string& text) {
+  return parseDs9Regions(text, "mask.reg", imageHeader(20, 20), "image.fits");
+}
+
+TEST(SearchMask, BorderMarginLeavesTheInnerRectangle) {
+  SearchMaskSettings settings;
+  settings.borderPix = 2;
+  const SearchMask mask(10, 8, settings);
+  EXPECT_EQ(mask.searchedPixelCount(), (10 - 4) * (8 - 4));
+  EXPECT_FALSE(mask.searched(2.0, 4.0));  // 0-based column 1
+  EXPECT_TRUE(mask.searched(3.0, 4.0));
+  EXPECT_TRUE(mask.searched(8.4, 6.4));   // pixel (8, 6), 0-based (7, 5)
+  EXPECT_FALSE(mask.searched(8.6, 6.4));  // pixel (9, 6)
+  EXPECT_FALSE(mask.searched(0.0, 4.0));  // outside the image
+}
+
+// A circle of radius 3 centred on a pixel holds the 29 pixel centres with dx^2 + dy^2 <= 9
+// (Gauss's circle problem for r = 3).
+TEST(SearchMask, CircleHoldsTheLatticePointsOfGausssCircle) {
+  SearchMaskSettings settings;
+  settings.regions = regions("image; circle(10,10,3)\n");
+  EXPECT_EQ(SearchMask(20, 20, settings).searchedPixelCount(), 29);
+  settings.regions = regions("image; -circle(10,10,3)\n");
+  EXPECT_EQ(SearchMask(20, 20, settings).searchedPixelCount(), 400 - 29);
+  // A 7 x 7 box around the same centre holds all 29 and 20 more: the box minus the circle.
+  settings.regions = regions("image; box(10,10,7,7); -circle(10,10,3)\n");
+  EXPECT_EQ(SearchMask(20, 20, settings).searchedPixelCount(), 49 - 29);
+  // A shape partly off the image counts only the pixels inside it.
+  settings.regions = regions("image; box(1,1,5,5)\n");
+  EXPECT_EQ(SearchMask(20, 20, settings).searchedPixelCount(), 3 * 3);
+}
+
+// Painting shape by shape inside bounding boxes gives DS9's rule (regionContains) at every
+// pixel centre, for rotated boxes and ellipses, a polygon and shapes over the edge.
+TEST(SearchMask, EveryPixelFollowsTheRegionRule) {
+  SearchMaskSettings settings;
+  settings.regions = regions(
+      "image\n"
+      "ellipse(6.3,7.9,6.5,2.2,33)\n"
+      "box(15.2,4.1,9.5,3.3,-62)\n"
+      "-ellipse(8,8,2.5,1.2,100)\n"
+      "polygon(12,12,19.5,13,14,21.7,16,15)\n"
+      "-box(20,20,4,6,45)\n");
+  const SearchMask mask(20, 20, settings);
+  std::int64_t count = 0;
+  for (int y = 0; y < 20; ++y) {
+    for (int x = 0; x < 20; ++x) {
+      const bool want = regionContains(settings.regions, x + 1.0, y + 1.0);
+      EXPECT_EQ(mask.searchedPixel(x, y), want) << x << "," << y;
+      count += want;
+    }
+  }
+  EXPECT_EQ(mask.searchedPixelCount(), count);
+  EXPECT_GT(count, 50);
+  EXPECT_LT(count, 400 - 50);
+}
+
+TEST(SearchMask, InfiniteVarianceMasksPixels) {
+  ImageF variance(6, 5, 1.0f);
+  variance(2, 3) = std::numeric_limits<float>::infinity();
+  variance(4, 0) = std::numeric_limits<float>::infinity();
+  SearchMaskSettings settings;
+  settings.varianceAdu2 = &variance;
+  const SearchMask mask(6, 5, settings);
+  EXPECT_EQ(mask.searchedPixelCount(), 30 - 2);
+  EXPECT_FALSE(mask.searchedPixel(2, 3));
+  EXPECT_FALSE(mask.searched(5.0, 1.0));
+}
+
+// An image of 0.2 arcsec pixels: 300 x 200 pixels cover 60" x 40" = 6.1728e-5 deg2 (a TAN
+// projection 30" from its centre changes the pixel area by about 1e-8).
+TEST(SearchMask, AreaFromTheWcsPixelArea) {
+  FitsHeader h = imageHeader(300, 200);
+  h.set("CTYPE1", "'RA---TAN'");
+  h.set("CTYPE2", "'DEC--TAN'");
+  h.set("CRPIX1", "150.5");
+  h.set("CRPIX2", "100.5");
+  h.set("CRVAL1", "359.99");  // the longitude wraps inside the image
+  h.set("CRVAL2", "-30.0");
+  h.set("CD1_1", "-5.5555555555555556E-05");
+  h.set("CD2_2", "5.5555555555555556E-05");
+  const auto wcs = Wcs::fromHeader(h, "image.fits");
+  ASSERT_TRUE(wcs.has_value());
+  const double pixelAreaDeg2 = std::pow(0.2 / 3600.0, 2);
+  SearchMaskSettings settings;
+  EXPECT_NEAR(SearchMask(300, 200, settings).searchedAreaDeg2(*wcs) / (300 * 200 * pixelAreaDeg2),
+              1.0, 1e-6);
+  settings.borderPix = 10;
+  EXPECT_NEAR(SearchMask(300, 200, settings).searchedAreaDeg2(*wcs) / (280 * 180 * pixelAreaDeg2),
+              1.0, 1e-6);
+}
+
+TEST(SearchMask, BadSettingsAreConfigErrors) {
+  ImageF variance(4, 4, 1.0f);
+  SearchMaskSettings settings;
+  settings.varianceAdu2 = &variance;
+  test::expectError<ConfigError>([&] { SearchMask(5, 4, settings); }, {"4x4", "5x4"});
+  settings.varianceAdu2 = nullptr;
+  settings.borderPix = -1;
+  test::expectError<ConfigError>([&] { SearchMask(5, 4, settings); }, {"border", "-1"});
+}
+
+}  // namespace
+}  // namespace octarc
