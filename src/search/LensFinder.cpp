@@ -1,0 +1,101 @@
+#include "octarc/search/LensFinder.h"
+
+#include <Eigen/Dense>
+#include <cmath>
+
+namespace octarc {
+
+std::optional<CircleFit> fitCircle(const std::vector<double>& x, const std::vector<double>& y,
+                                   const std::vector<double>& weight) {
+  // Local origin at the weighted centroid: the squares below stay small.
+  double sumW = 0.0;
+  double sumX = 0.0;
+  double sumY = 0.0;
+  std::size_t used = 0;
+  const auto usable = [&](std::size_t i) { return std::isfinite(weight[i]) && weight[i] > 0.0; };
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (!usable(i)) continue;
+    sumW += weight[i];
+    sumX += weight[i] * x[i];
+    sumY += weight[i] * y[i];
+    ++used;
+  }
+  if (used < 3) return std::nullopt;
+  const double x0 = sumX / sumW;
+  const double y0 = sumY / sumW;
+  // Normal equations of min sum w (u^2 + v^2 + D u + E v + F)^2 over (D, E, F).
+  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+  double scale2 = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (!usable(i)) continue;
+    const double u = x[i] - x0;
+    const double v = y[i] - y0;
+    const Eigen::Vector3d row(u, v, 1.0);
+    normal += weight[i] * row * row.transpose();
+    rhs -= weight[i] * (u * u + v * v) * row;
+    scale2 += weight[i] * (u * u + v * v);
+  }
+  scale2 /= sumW;
+  Eigen::FullPivLU<Eigen::Matrix3d> lu(normal);
+  // Collinear points make the system singular (relative to the spread of the points).
+  lu.setThreshold(1e-12);
+  if (lu.rank() < 3 || scale2 <= 0.0) return std::nullopt;
+  const Eigen::Vector3d def = lu.solve(rhs);
+  Eigen::Vector3d circle(-0.5 * def[0], -0.5 * def[1], 0.0);  // centre (local), radius
+  const double r2 = circle[0] * circle[0] + circle[1] * circle[1] - def[2];
+  if (!(r2 > 0.0) || !std::isfinite(r2)) return std::nullopt;
+  circle[2] = std::sqrt(r2);
+  // The algebraic fit shrinks the circle of a thick, short arc (its outer pixels weigh more):
+  // Gauss-Newton on the geometric distances |p - c| - R from there removes that bias.
+  for (int iteration = 0; iteration < 50; ++iteration) {
+    Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d jtr = Eigen::Vector3d::Zero();
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      if (!usable(i)) continue;
+      const double du = x[i] - x0 - circle[0];
+      const double dv = y[i] - y0 - circle[1];
+      const double d = std::hypot(du, dv);
+      if (d == 0.0) continue;
+      const Eigen::Vector3d j(-du / d, -dv / d, -1.0);
+      jtj += weight[i] * j * j.transpose();
+      jtr += weight[i] * (d - circle[2]) * j;
+    }
+    const Eigen::Vector3d step = jtj.ldlt().solve(-jtr);
+    if (!step.allFinite()) return std::nullopt;
+    circle += step;
+    if (step.norm() < 1e-10 * (1.0 + std::fabs(circle[2]))) break;
+  }
+  // A radius many times the object's size is a straight object: no usable centre.
+  if (!(circle[2] > 0.0) || circle[2] * circle[2] > 1e8 * scale2) return std::nullopt;
+  return CircleFit{circle[0] + x0, circle[1] + y0, circle[2]};
+}
+
+std::optional<LensMatch> findLens(const ArcGeometry& arc,
+                                  const std::vector<LensCandidateGalaxy>& galaxies,
+                                  double maxDistancePix) {
+  if (arc.arcSide == 0) return std::nullopt;
+  // The unit vector from the arc centroid towards its concave side.
+  const double nx = -std::sin(arc.thetaRad) * arc.arcSide;
+  const double ny = std::cos(arc.thetaRad) * arc.arcSide;
+  const double xTarget = arc.curvature ? arc.curvature->xCentre : arc.xCentroid;
+  const double yTarget = arc.curvature ? arc.curvature->yCentre : arc.yCentroid;
+  constexpr double kSameObjectPix = 0.5;
+  std::optional<LensMatch> best;
+  double bestTargetDistance = 0.0;
+  for (const LensCandidateGalaxy& g : galaxies) {
+    const double dx = g.x - arc.xCentroid;
+    const double dy = g.y - arc.yCentroid;
+    const double distance = std::hypot(dx, dy);
+    if (!(distance <= maxDistancePix) || distance < kSameObjectPix) continue;
+    if (dx * nx + dy * ny <= 0.0) continue;  // convex side
+    const double targetDistance = std::hypot(g.x - xTarget, g.y - yTarget);
+    if (!best || targetDistance < bestTargetDistance) {
+      best = LensMatch{g.row, distance};
+      bestTargetDistance = targetDistance;
+    }
+  }
+  return best;
+}
+
+}  // namespace octarc
