@@ -75,16 +75,23 @@ std::optional<double> sexagesimal(std::string_view text) {
   std::string field;
   double value = 0.0;
   double unit = 1.0;
-  int count = 0;
   const bool negative = trim(text).starts_with('-');
+  std::vector<double> parts;
   while (fields >> field) {
     const auto part = plainNumber(field);
-    if (!part || count == 3 || (count > 0 && (*part < 0.0 || *part >= 60.0))) return std::nullopt;
-    value += std::fabs(*part) * unit;
-    unit /= 60.0;
-    ++count;
+    if (!part || parts.size() == 3) return std::nullopt;
+    if (!parts.empty() && (field.front() == '-' || field.front() == '+' || *part >= 60.0)) {
+      return std::nullopt;
+    }
+    parts.push_back(*part);
   }
-  if (count == 0) return std::nullopt;
+  if (parts.empty()) return std::nullopt;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    // Every field but the last is a whole number: 10.5:30:00 is not a position.
+    if (i + 1 < parts.size() && parts[i] != std::floor(parts[i])) return std::nullopt;
+    value += std::fabs(parts[i]) * unit;
+    unit /= 60.0;
+  }
   return negative ? -value : value;
 }
 
@@ -93,7 +100,7 @@ double skyLongitudeDeg(const ParseContext& context, std::string_view text) {
   std::optional<double> deg;
   if (t.find(':') != std::string::npos || t.find('h') != std::string::npos) {
     const auto hours = sexagesimal(t);
-    if (hours) deg = *hours * 15.0;
+    if (hours && *hours >= 0.0 && *hours < 24.0) deg = *hours * 15.0;
   } else if (t.ends_with('d')) {
     deg = plainNumber(std::string_view(t).substr(0, t.size() - 1));
   } else {
@@ -150,21 +157,31 @@ double skySizeArcsec(const ParseContext& context, std::string_view text) {
   return value * scale;
 }
 
+// A size in image pixels: `ltm` image pixels per unit of the shape's system, unless marked i
+// (image pixels) or p (physical pixels).
 double pixelSize(const ParseContext& context, std::string_view text, double ltm) {
   std::string_view t = trim(text);
-  if (!t.empty() && (t.back() == 'i' || t.back() == 'p')) t.remove_suffix(1);
+  if (!t.empty() && t.back() == 'i') {
+    ltm = 1.0;
+    t.remove_suffix(1);
+  } else if (!t.empty() && t.back() == 'p') {
+    ltm = context.ltm;
+    t.remove_suffix(1);
+  }
   const double value = number(context, t, "a size");
   if (value < 0.0) fail(context, "negative size '" + std::string(text) + "'");
   return value * ltm;
 }
 
-// The local frame of a sky position on the image: its pixel position, pixels per arcsec, and
-// the angle of North from +x (as astropy regions converts a sky shape).
+// The local frame of a sky position on the image: its pixel position, pixels per arcsec, the
+// angle of North from +x and whether East lies counter-clockwise of North (East left of North
+// up, the sky as seen) or clockwise (a mirrored image).
 struct LocalSkyFrame {
   double x = 0.0;
   double y = 0.0;
   double pixPerArcsec = 0.0;
   double northRad = 0.0;
+  bool eastCounterClockwise = true;
 };
 
 const Wcs& requireWcs(const ParseContext& context) {
@@ -193,27 +210,45 @@ LocalSkyFrame localSkyFrame(const ParseContext& context, double raDeg, double de
     dx = -dx;
     dy = -dy;
   }
+  // One arcsec towards East (RA grows by 1 / cos(Dec) arcsec), for the parity of the image.
+  const double cosDec = std::max(std::cos(decDeg * kRadPerDeg), 1e-9);
+  const auto east = skyToPixel(context, raDeg + 1.0 / kArcsecPerDeg / cosDec, decDeg);
   LocalSkyFrame frame;
   frame.x = centre[0];
   frame.y = centre[1];
   frame.pixPerArcsec = std::hypot(dx, dy);
   frame.northRad = std::atan2(dy, dx);
+  frame.eastCounterClockwise = dx * (east[1] - centre[1]) - dy * (east[0] - centre[0]) > 0.0;
   return frame;
 }
 
-// The arguments of "name(a, b, c)": split on commas and blanks.
-std::vector<std::string> splitArguments(std::string_view inside) {
+// The arguments of "name(a, b, c)": split on commas (blanks around them allowed) or on blanks
+// alone. An empty field ("1,,2" or a trailing comma) is an error.
+std::vector<std::string> splitArguments(const ParseContext& context, std::string_view inside) {
   std::vector<std::string> args;
   std::string current;
+  bool commaPending = false;  // a comma seen since the last argument
   for (const char c : inside) {
     if (c == ',' || c == ' ' || c == '\t') {
-      if (!current.empty()) args.push_back(current);
-      current.clear();
+      if (!current.empty()) {
+        args.push_back(current);
+        current.clear();
+        commaPending = false;
+      }
+      if (c == ',') {
+        if (commaPending || args.empty())
+          fail(context, "empty argument in '" + std::string(inside) + "'");
+        commaPending = true;
+      }
     } else {
       current += c;
     }
   }
-  if (!current.empty()) args.push_back(current);
+  if (!current.empty()) {
+    args.push_back(current);
+  } else if (commaPending) {
+    fail(context, "empty argument in '" + std::string(inside) + "'");
+  }
   return args;
 }
 
@@ -250,7 +285,11 @@ RegionShape centredShape(const ParseContext& context, RegionSystem system, Regio
     shape.yCentre = frame.y;
     shape.semiAxis1Pix = sizeToSemiAxis * skySizeArcsec(context, args[2]) * frame.pixPerArcsec;
     shape.semiAxis2Pix = sizeToSemiAxis * skySizeArcsec(context, size2) * frame.pixPerArcsec;
-    shape.angleRad = angleDeg * kRadPerDeg + frame.northRad - 0.5 * std::numbers::pi;
+    // The sky angle turns from West through North: counter-clockwise on the image when East is
+    // counter-clockwise of North, clockwise on a mirrored image.
+    shape.angleRad = frame.eastCounterClockwise
+                         ? frame.northRad - 0.5 * std::numbers::pi + angleDeg * kRadPerDeg
+                         : frame.northRad + 0.5 * std::numbers::pi - angleDeg * kRadPerDeg;
   } else {
     const auto centre = position(context, system, args, 0);
     const double ltm = system == RegionSystem::Physical ? context.ltm : 1.0;
@@ -313,7 +352,7 @@ void parsePart(const ParseContext& context, std::string_view part, RegionSystem&
     fail(context, "cannot read '" + std::string(part) + "' as a region shape");
   }
   const std::string name = lower(trim(body.substr(0, open)));
-  const auto args = splitArguments(body.substr(open + 1, close - open - 1));
+  const auto args = splitArguments(context, body.substr(open + 1, close - open - 1));
   if (isAreaLessShape(name)) return;
   if (isUnsupportedShape(name)) fail(context, "shape '" + name + "' is not supported");
   if (!systemSet) system = RegionSystem::Physical;  // DS9's default coordinate system
@@ -430,13 +469,22 @@ std::vector<RegionShape> parseDs9Regions(const std::string& text,
                                          const std::string& regionFileForErrors,
                                          const FitsHeader& imageHeader,
                                          const std::string& imageNameForErrors) {
-  const std::optional<Wcs> wcs = Wcs::fromHeader(imageHeader, imageNameForErrors);
   ParseContext context;
-  // Checked only when a sky shape is read: image-coordinate files work on any image.
-  if (!wcs) {
+  // Checked only when a sky shape is read: image-coordinate files work on any image, even one
+  // whose WCS cards are broken.
+  std::optional<Wcs> wcs;
+  try {
+    wcs = Wcs::fromHeader(imageHeader, imageNameForErrors);
+  } catch (const Error& e) {
+    context.wcsProblem = e.what();
+  }
+  if (!context.wcsProblem.empty()) {
+    // the WCS error already names the image
+  } else if (!wcs) {
     context.wcsProblem = imageNameForErrors + " has no celestial WCS (use image coordinates)";
   } else if (wcs->radesys() != "ICRS" && !(wcs->radesys() == "FK5" && wcs->equinox() == 2000.0)) {
-    context.wcsProblem = "the WCS of " + imageNameForErrors + " is " + wcs->radesys() +
+    const std::string frame = wcs->radesys().empty() ? "not equatorial" : wcs->radesys();
+    context.wcsProblem = "the WCS of " + imageNameForErrors + " is " + frame +
                          ", not ICRS or FK5 J2000 as the region file";
   } else {
     context.wcs = &*wcs;

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <stdexcept>
+#include <string>
 
 namespace octarc {
 
@@ -17,6 +19,11 @@ struct Sexagesimal {
 // |value| (hours or degrees) split into whole, minutes and seconds, rounded or truncated to
 // `decimals` second decimals, with the carry.
 Sexagesimal split(double value, int decimals, bool round) {
+  // 9 decimals keep the count of second units of 360 degrees far inside 64 bits.
+  if (decimals < 0 || decimals > 9) {
+    throw std::invalid_argument("sexagesimal seconds need 0 to 9 decimals, not " +
+                                std::to_string(decimals));
+  }
   const double unitsPerSecond = std::pow(10.0, decimals);
   const double units = std::fabs(value) * 3600.0 * unitsPerSecond;
   // A tiny tolerance keeps values such as 12.2 hours, not exact in binary, from truncating to
@@ -68,6 +75,8 @@ std::string formatDecSexagesimal(double decDeg, int secondDecimals) {
 }
 
 std::string iauDesignation(const std::string& prefix, double raDeg, double decDeg) {
+  if (!std::isfinite(raDeg) || !std::isfinite(decDeg))
+    return prefix.empty() ? "NaN" : prefix + " NaN";
   const Sexagesimal ra = split(normalisedRaHours(raDeg), 2, false);
   const Sexagesimal dec = split(decDeg, 1, false);
   char text[64];

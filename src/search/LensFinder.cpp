@@ -7,6 +7,7 @@ namespace octarc {
 
 std::optional<CircleFit> fitCircle(const std::vector<double>& x, const std::vector<double>& y,
                                    const std::vector<double>& weight) {
+  if (y.size() != x.size() || weight.size() != x.size()) return std::nullopt;
   // Local origin at the weighted centroid: the squares below stay small.
   double sumW = 0.0;
   double sumX = 0.0;
@@ -48,7 +49,8 @@ std::optional<CircleFit> fitCircle(const std::vector<double>& x, const std::vect
   circle[2] = std::sqrt(r2);
   // The algebraic fit shrinks the circle of a thick, short arc (its outer pixels weigh more):
   // Gauss-Newton on the geometric distances |p - c| - R from there removes that bias.
-  for (int iteration = 0; iteration < 50; ++iteration) {
+  bool converged = false;
+  for (int iteration = 0; iteration < 50 && !converged; ++iteration) {
     Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
     Eigen::Vector3d jtr = Eigen::Vector3d::Zero();
     for (std::size_t i = 0; i < x.size(); ++i) {
@@ -64,8 +66,9 @@ std::optional<CircleFit> fitCircle(const std::vector<double>& x, const std::vect
     const Eigen::Vector3d step = jtj.ldlt().solve(-jtr);
     if (!step.allFinite()) return std::nullopt;
     circle += step;
-    if (step.norm() < 1e-10 * (1.0 + std::fabs(circle[2]))) break;
+    converged = step.norm() < 1e-10 * (1.0 + std::fabs(circle[2]));
   }
+  if (!converged) return std::nullopt;
   // A radius many times the object's size is a straight object: no usable centre.
   if (!(circle[2] > 0.0) || circle[2] * circle[2] > 1e8 * scale2) return std::nullopt;
   return CircleFit{circle[0] + x0, circle[1] + y0, circle[2]};
@@ -78,8 +81,18 @@ std::optional<LensMatch> findLens(const ArcGeometry& arc,
   // The unit vector from the arc centroid towards its concave side.
   const double nx = -std::sin(arc.thetaRad) * arc.arcSide;
   const double ny = std::cos(arc.thetaRad) * arc.arcSide;
-  const double xTarget = arc.curvature ? arc.curvature->xCentre : arc.xCentroid;
-  const double yTarget = arc.curvature ? arc.curvature->yCentre : arc.yCentroid;
+  // The fitted centre, unless it lies on the convex side or beyond the search radius (a nearly
+  // straight arc): then the galaxy nearest the arc itself.
+  double xTarget = arc.xCentroid;
+  double yTarget = arc.yCentroid;
+  if (arc.curvature) {
+    const double cx = arc.curvature->xCentre - arc.xCentroid;
+    const double cy = arc.curvature->yCentre - arc.yCentroid;
+    if (cx * nx + cy * ny > 0.0 && std::hypot(cx, cy) <= maxDistancePix) {
+      xTarget = arc.curvature->xCentre;
+      yTarget = arc.curvature->yCentre;
+    }
+  }
   constexpr double kSameObjectPix = 0.5;
   std::optional<LensMatch> best;
   double bestTargetDistance = 0.0;

@@ -1,6 +1,8 @@
 #include "octarc/search/LevelMerge.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <string>
@@ -27,10 +29,17 @@ void unite(std::vector<std::size_t>& parent, std::size_t a, std::size_t b) {
   if (a != b) parent[std::max(a, b)] = std::min(a, b);
 }
 
+// A score to order by: NaN (a row that could not be scored) ranks below every number.
+double rankingScore(double score) {
+  return std::isnan(score) ? -std::numeric_limits<double>::infinity() : score;
+}
+
 // Whether row a is a better representative than row b.
 bool better(const std::vector<TreeRow>& rows, const std::vector<double>& score, std::size_t a,
             std::size_t b) {
-  if (score[a] != score[b]) return score[a] > score[b];
+  const double sa = rankingScore(score[a]);
+  const double sb = rankingScore(score[b]);
+  if (sa != sb) return sa > sb;
   if (rows[a].level != rows[b].level) return rows[a].level < rows[b].level;
   return a < b;
 }
@@ -85,7 +94,9 @@ std::vector<MergedObject> mergeAcrossLevels(const std::vector<TreeRow>& rows,
     objects.push_back(std::move(object));
   }
   std::sort(objects.begin(), objects.end(), [&](const MergedObject& a, const MergedObject& b) {
-    if (score[a.bestRow] != score[b.bestRow]) return score[a.bestRow] > score[b.bestRow];
+    const double sa = rankingScore(score[a.bestRow]);
+    const double sb = rankingScore(score[b.bestRow]);
+    if (sa != sb) return sa > sb;
     return a.bestRow < b.bestRow;
   });
   return objects;

@@ -55,8 +55,8 @@ SearchMask::SearchMask(std::int64_t width, std::int64_t height, const SearchMask
                       std::to_string(variance->height()) + " but the image is " +
                       std::to_string(width) + "x" + std::to_string(height));
   }
-  // DS9's rule: the union of the include shapes (the whole image if none), then every exclude
-  // shape cut out, whatever the order of the lines.
+  // DS9's rule (regionContains), painted shape by shape inside each bounding box for speed: the
+  // union of the include shapes (the whole image if none), then every exclude shape cut out.
   const bool anyInclude = std::any_of(settings.regions.begin(), settings.regions.end(),
                                       [](const RegionShape& s) { return !s.exclude; });
   if (!anyInclude) std::fill(searched_.pixels().begin(), searched_.pixels().end(), 1);
@@ -72,15 +72,17 @@ SearchMask::SearchMask(std::int64_t width, std::int64_t height, const SearchMask
     for (std::int64_t x = 0; x < width; ++x) {
       std::uint8_t& pixel = searched_(x, y);
       if (rowInBorder || x < border || x >= width - border) pixel = 0;
-      if (variance != nullptr && std::isinf((*variance)(x, y))) pixel = 0;
+      // +Inf marks a bad weight; NaN (never made by prepareImage) is treated the same.
+      if (variance != nullptr && !std::isfinite((*variance)(x, y))) pixel = 0;
       searchedCount_ += pixel;
     }
   }
 }
 
 bool SearchMask::searched(double xFits, double yFits) const {
-  const double x = std::round(fromFitsPixel(xFits));
-  const double y = std::round(fromFitsPixel(yFits));
+  // Pixel i covers [i + 0.5, i + 1.5) in 1-based coordinates.
+  const double x = std::floor(xFits - 0.5);
+  const double y = std::floor(yFits - 0.5);
   if (!(x >= 0.0 && y >= 0.0 && x < double(width()) && y < double(height()))) return false;
   return searchedPixel(static_cast<std::int64_t>(x), static_cast<std::int64_t>(y));
 }
@@ -111,7 +113,11 @@ double SearchMask::searchedAreaDeg2(const Wcs& wcs) const {
       const double j21 = px[1] - c[1];
       const double j22 = py[1] - c[1];
       const double pixelAreaDeg2 = std::fabs(j11 * j22 - j12 * j21);
-      if (std::isfinite(pixelAreaDeg2)) areaDeg2 += pixelAreaDeg2 * double(count);
+      if (!std::isfinite(pixelAreaDeg2)) {
+        throw ConfigError("the WCS gives no pixel area at pixel (" + std::to_string(xc) + ", " +
+                          std::to_string(yc) + ") of the searched area");
+      }
+      areaDeg2 += pixelAreaDeg2 * double(count);
     }
   }
   return areaDeg2;

@@ -4,9 +4,11 @@
 //
 // The centre of curvature comes from a circle fitted to the arc's pixels, weighted by flux:
 // Kasa's linear least squares for x^2 + y^2 + D x + E y + F = 0 (about the flux centroid, in
-// double) as the start of a Gauss-Newton fit of the geometric distances |p - c| - R. The concave side is the +b side of the octopole frame when
-// ARC_SIDE = +1 (core/Conventions.h): a galaxy is on it when its offset from the arc centroid
-// has a positive component along ARC_SIDE * (-sin THETA, cos THETA).
+// double) as the start of a Gauss-Newton fit of the geometric distances |p - c| - R.
+//
+// The concave side is the +b side of the octopole frame when ARC_SIDE = +1
+// (core/Conventions.h): a galaxy is on it when its offset from the arc centroid has a positive
+// component along ARC_SIDE * (-sin THETA, cos THETA).
 #pragma once
 
 #include <cstddef>
@@ -23,7 +25,8 @@ struct CircleFit {
 };
 
 // The flux-weighted circle through points (x, y) with weights w > 0 (non-positive and non-finite
-// weights are left out). nullopt for fewer than three usable points or points on a line (the
+// weights are left out). nullopt for inputs of different lengths, fewer than three usable
+// points, a geometric fit that does not converge, or points on a line (the
 // fitted radius would be unbounded).
 std::optional<CircleFit> fitCircle(const std::vector<double>& x, const std::vector<double>& y,
                                    const std::vector<double>& weight);
@@ -50,8 +53,11 @@ struct LensMatch {
 
 // The lens among `galaxies`: those on the concave side within maxDistancePix of the arc
 // centroid, the one nearest to the centre of curvature (nearest to the arc centroid when no
-// circle was fitted). nullopt when none qualifies, or the side is unknown: a possible dark
-// lens. Galaxies at the arc centroid itself (the arc's own row at another level) are skipped.
+// circle was fitted, or its centre is on the convex side or beyond maxDistancePix). The arc
+// centroid lies inside the ridge by about sin(phi)/phi for a half-opening phi, so theta_E is
+// low by that factor (6% at +-35 degrees). nullopt when none qualifies, or the side is unknown: a
+// possible dark lens. Galaxies at the arc centroid itself (the arc's own row at another level) are
+// skipped.
 std::optional<LensMatch> findLens(const ArcGeometry& arc,
                                   const std::vector<LensCandidateGalaxy>& galaxies,
                                   double maxDistancePix);

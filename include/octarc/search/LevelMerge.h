@@ -27,10 +27,11 @@ struct MergedObject {
   std::vector<int> passedLevels;  // the levels of the members, ascending, each once
 };
 
-// Merges the rows with passed[i] true. The best row of an object has the highest score, ties
-// going to the lower level, then the lower row index. Objects are ordered by the score of their
-// best row, highest first (ties by best row index). Throws ConfigError for rows, passed and
-// score of different lengths or two rows with the same level and NUMBER.
+// Merges the rows with passed[i] true. The best row of an object has the highest score (NaN
+// ranking below every number), ties going to the lower level, then the lower row index. Objects are
+// ordered by the score of their best row, highest first (ties by best row index). Throws
+// ConfigError for rows, passed and score of different lengths or two rows with the same level and
+// NUMBER.
 std::vector<MergedObject> mergeAcrossLevels(const std::vector<TreeRow>& rows,
                                             const std::vector<bool>& passed,
                                             const std::vector<double>& score);

@@ -15,8 +15,8 @@ namespace octarc {
 
 struct SearchMaskSettings {
   std::vector<RegionShape> regions;  // none: the whole image
-  // Pixels whose variance is +Inf are masked: the variance map of a prepared image, where the
-  // weight threshold (WEIGHT_THRESH) has already marked bad pixels so. Null: none is masked.
+  // Pixels whose variance is +Inf (or NaN) are masked: the variance map of a prepared image, where
+  // the weight threshold (WEIGHT_THRESH) has already marked bad pixels so. Null: none is masked.
   const ImageF* varianceAdu2 = nullptr;
   int borderPix = 0;  // pixels this close to an edge are masked (0: none)
 };
@@ -34,7 +34,8 @@ class SearchMask {
   bool searchedPixel(std::int64_t x, std::int64_t y) const { return searched_(x, y) != 0; }
   std::int64_t searchedPixelCount() const { return searchedCount_; }
   // The searched area on the sky, in square degrees: each block of pixels weighted by the pixel
-  // area of the WCS at its centre (the Jacobian determinant).
+  // area of the WCS at its centre (the Jacobian determinant). Throws ConfigError where the WCS
+  // gives no area for a block holding searched pixels.
   double searchedAreaDeg2(const Wcs& wcs) const;
 
  private:

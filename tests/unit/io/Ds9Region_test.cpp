@@ -173,6 +173,64 @@ TEST(Ds9Region, SkyShapesUseTheLocalScaleAndNorthAngle) {
   EXPECT_NEAR(shapes[3].angleRad, -30.0 * kRadPerDeg, 1e-6);
 }
 
+// On a mirrored image (East to the right of North up) the sky angle turns clockwise: a box at
+// sky angle 30 lies at -30 degrees (150 for its width axis) on the pixels.
+TEST(Ds9Region, SkyAnglesTurnTheOtherWayOnAMirroredImage) {
+  const Cards mirrored = {
+      {"CTYPE1", "'RA---TAN'"},  {"CTYPE2", "'DEC--TAN'"},  {"CRPIX1", "200.5"},
+      {"CRPIX2", "150.5"},       {"CRVAL1", "150.1"},       {"CRVAL2", "2.2"},
+      {"CD1_1", num(kScaleDeg)}, {"CD2_2", num(kScaleDeg)}, {"RADESYS", "'ICRS'"}};
+  const auto shapes = parse("fk5; box(150.1,2.2,4\",1\",30)\n", mirrored);
+  ASSERT_EQ(shapes.size(), 1U);
+  const double c = std::cos(150.0 * kRadPerDeg);
+  const double s = std::sin(150.0 * kRadPerDeg);
+  EXPECT_TRUE(shapes[0].contains(200.5 + 9.0 * c, 150.5 + 9.0 * s));  // along the width
+  EXPECT_FALSE(shapes[0].contains(200.5 + 9.0 * std::cos(30.0 * kRadPerDeg),
+                                  150.5 + 9.0 * std::sin(30.0 * kRadPerDeg)));
+  // On the unmirrored image (North 60 degrees from +x) a sky angle of 60 gives 60 - 90 + 60.
+  const auto unmirrored = parse("fk5; box(150.1,2.2,4\",1\",60)\n", kSkyCards);
+  EXPECT_TRUE(unmirrored[0].contains(200.5 + 9.0 * std::cos(30.0 * kRadPerDeg),
+                                     150.5 + 9.0 * std::sin(30.0 * kRadPerDeg)));
+}
+
+// "-00:00:10" is ten arcsec south: the sign of a zero leading field is kept.
+TEST(Ds9Region, NegativeDeclinationsBelowOneDegreeKeepTheirSign) {
+  const Cards equator = {
+      {"CTYPE1", "'RA---TAN'"},   {"CTYPE2", "'DEC--TAN'"},  {"CRPIX1", "200.5"},
+      {"CRPIX2", "150.5"},        {"CRVAL1", "150.0"},       {"CRVAL2", "0.0"},
+      {"CD1_1", num(-kScaleDeg)}, {"CD2_2", num(kScaleDeg)}, {"RADESYS", "'ICRS'"}};
+  const auto shapes = parse(
+      "icrs\ncircle(10:00:00,-00:00:10,1\")\ncircle(10h00m00s,-00d00m10s,1\")\n"
+      "circle(150,+00:00:10,1\")\ncircle(150,-0.0027777777777777779,1\")\n",
+      equator);
+  ASSERT_EQ(shapes.size(), 4U);
+  EXPECT_NEAR(shapes[0].yCentre, 150.5 - 50.0, 1e-6);
+  EXPECT_NEAR(shapes[1].yCentre, 150.5 - 50.0, 1e-6);
+  EXPECT_NEAR(shapes[2].yCentre, 150.5 + 50.0, 1e-6);
+  EXPECT_NEAR(shapes[3].yCentre, 150.5 - 50.0, 1e-6);
+  EXPECT_NEAR(shapes[0].xCentre, 200.5, 1e-6);
+}
+
+// Sizes marked i are image pixels and p physical pixels, whatever the shape's system.
+TEST(Ds9Region, SizeSuffixesImageAndPhysical) {
+  const Cards ltm = {{"LTV1", "0"}, {"LTV2", "0"}, {"LTM1_1", "0.5"}, {"LTM2_2", "0.5"}};
+  const auto shapes = parse(
+      "physical; circle(10,10,4); circle(10,10,4i)\nimage; circle(5,5,4p); circle(5,5,4)\n", ltm);
+  ASSERT_EQ(shapes.size(), 4U);
+  EXPECT_DOUBLE_EQ(shapes[0].semiAxis1Pix, 2.0);
+  EXPECT_DOUBLE_EQ(shapes[1].semiAxis1Pix, 4.0);
+  EXPECT_DOUBLE_EQ(shapes[2].semiAxis1Pix, 2.0);
+  EXPECT_DOUBLE_EQ(shapes[3].semiAxis1Pix, 4.0);
+}
+
+// Image-coordinate files need no WCS, so broken WCS cards only matter to sky shapes.
+TEST(Ds9Region, BrokenWcsCardsOnlyStopSkyShapes) {
+  const Cards broken = {{"CTYPE1", "'RA---TAN'"}, {"CTYPE2", "'DEC--TAN'"}, {"CD1_1", "0"},
+                        {"CD1_2", "0"},           {"CD2_1", "0"},           {"CD2_2", "0"}};
+  EXPECT_EQ(parse("image; circle(1,1,1)\n", broken).size(), 1U);
+  EXPECT_THROW(parse("fk5; circle(150,2,1\")\n", broken), ConfigError);
+}
+
 TEST(Ds9Region, AreaLessShapesAreSkipped) {
   const auto shapes =
       parse("image\npoint(10,10) # point=x\ntext(5,5) # text={hi}\nline(1,1,5,5)\ncircle(1,1,1)\n");
@@ -196,6 +254,16 @@ TEST(Ds9Region, BadLinesNameTheFileAndLine) {
                                  {"mask.reg:1", "negative"});
   test::expectError<ConfigError>([] { parse("image; polygon(1,1,2,2)\n"); },
                                  {"mask.reg:1", "three"});
+  test::expectError<ConfigError>([] { parse("image; circle(1,,2,3)\n"); },
+                                 {"mask.reg:1", "empty argument"});
+  test::expectError<ConfigError>([] { parse("image; circle(1,2,3,)\n"); },
+                                 {"mask.reg:1", "empty argument"});
+  test::expectError<ConfigError>([] { parse("fk5; circle(10.5:30:00,2.2,3\")\n", kSkyCards); },
+                                 {"mask.reg:1", "right ascension"});
+  test::expectError<ConfigError>([] { parse("fk5; circle(24:00:01,2.2,3\")\n", kSkyCards); },
+                                 {"mask.reg:1", "right ascension"});
+  test::expectError<ConfigError>([] { parse("fk5; circle(10:00:24,+02:-12:00,3\")\n", kSkyCards); },
+                                 {"mask.reg:1", "declination"});
   test::expectError<ConfigError>([] { parse("fk5; circle(150.1,2.2,3\")\n"); },
                                  {"mask.reg:1", "image.fits", "no celestial WCS"});
   test::expectError<ConfigError>([] { parse("fk5; circle(150.1,95,3\")\n", kSkyCards); },

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+#include <stdexcept>
+
 namespace octarc {
 namespace {
 
@@ -29,6 +32,15 @@ TEST(CandidateName, IauDesignationTruncates) {
   EXPECT_EQ(iauDesignation("", 150.1 + 0.009 * 15.0 / 3600.0, -(2.2 + 0.09 / 3600.0)),
             "J100024.00-021200.0");
   EXPECT_EQ(iauDesignation("X", 360.0 - 0.0001 / 3600.0 * 15.0, 89.99999), "X J235959.99+895959.9");
+}
+
+TEST(CandidateName, NonFinitePositionsAndBadDecimals) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(formatRaSexagesimal(nan), "NaN");
+  EXPECT_EQ(formatDecSexagesimal(nan), "NaN");
+  EXPECT_EQ(iauDesignation("OCTARC", 150.0, nan), "OCTARC NaN");
+  EXPECT_THROW(formatRaSexagesimal(150.0, 10), std::invalid_argument);
+  EXPECT_THROW(formatDecSexagesimal(2.0, -1), std::invalid_argument);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <vector>
 
 #include "ExpectError.h"
@@ -71,6 +72,19 @@ TEST(LevelMerge, AMissingParentEndsTheWalk) {
   EXPECT_EQ(objects[0].rows, (std::vector<std::size_t>{1}));
   EXPECT_EQ(objects[1].rows, (std::vector<std::size_t>{0, 2}));
   EXPECT_TRUE(mergeAcrossLevels(rows, {false, false, false}, {0, 0, 0}).empty());
+}
+
+// A row that could not be scored (NaN) never becomes the best row of an object that has a
+// scored one, and objects with only NaN scores come last.
+TEST(LevelMerge, NanScoresRankLast) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<TreeRow> rows = {{1, 1, 0}, {2, 1, 1}, {1, 2, 0}, {1, 3, 0}};
+  const auto objects = mergeAcrossLevels(rows, {true, true, true, true}, {nan, 0.3, nan, 0.1});
+  ASSERT_EQ(objects.size(), 3U);
+  EXPECT_EQ(objects[0].bestRow, 1U);
+  EXPECT_EQ(objects[0].rows, (std::vector<std::size_t>{0, 1}));
+  EXPECT_EQ(objects[1].bestRow, 3U);
+  EXPECT_EQ(objects[2].bestRow, 2U);
 }
 
 TEST(LevelMerge, InconsistentInputIsAConfigError) {

@@ -35,6 +35,13 @@ TEST(SearchMask, BorderMarginLeavesTheInnerRectangle) {
   EXPECT_TRUE(mask.searched(3.0, 4.0));
   EXPECT_TRUE(mask.searched(8.4, 6.4));   // pixel (8, 6), 0-based (7, 5)
   EXPECT_FALSE(mask.searched(8.6, 6.4));  // pixel (9, 6)
+  // Pixel i (1-based) covers [i - 0.5, i + 0.5): 0.5 is in pixel 1, 10.5 is off the image.
+  SearchMaskSettings whole;
+  const SearchMask all(10, 8, whole);
+  EXPECT_TRUE(all.searched(0.5, 1.0));
+  EXPECT_FALSE(all.searched(0.49, 1.0));
+  EXPECT_TRUE(all.searched(10.49, 8.49));
+  EXPECT_FALSE(all.searched(10.5, 1.0));
   EXPECT_FALSE(mask.searched(0.0, 4.0));  // outside the image
 }
 
@@ -99,7 +106,7 @@ TEST(SearchMask, AreaFromTheWcsPixelArea) {
   h.set("CTYPE2", "'DEC--TAN'");
   h.set("CRPIX1", "150.5");
   h.set("CRPIX2", "100.5");
-  h.set("CRVAL1", "359.99");  // the longitude wraps inside the image
+  h.set("CRVAL1", "0.002");  // the longitude wraps through 0 inside the image (+-0.0096 deg)
   h.set("CRVAL2", "-30.0");
   h.set("CD1_1", "-5.5555555555555556E-05");
   h.set("CD2_2", "5.5555555555555556E-05");
