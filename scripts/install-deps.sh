@@ -45,6 +45,8 @@ packages=(
   scamp
   # The installation test records every file octarc opens
   strace
+  # The benchmark scripts time whole runs (wall, CPU, peak memory)
+  time
 
   # Python for the end-to-end tests (Debian's /usr/bin/python3)
   python3
@@ -55,6 +57,15 @@ packages=(
   python3-photutils
   # DS9 region files: the oracle of the region-mask tests (astropy regions)
   python3-regions
+  # Screenshots read back in the contact-sheet test
+  python3-pil
+  # The search's inspection outputs in their real clients: SAOImage DS9 (headless under Xvfb)
+  # loads the region file, Chromium (headless) the contact sheet
+  saods9
+  xvfb
+  xauth
+  libtk-img
+  chromium
 )
 
 missing=()

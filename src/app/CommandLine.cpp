@@ -133,8 +133,15 @@ std::optional<LoadedConfig> loadConfig(const std::vector<std::string>& args,
 
 std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std::string& command,
                                  const std::function<void()>& printUsage) {
+  return loadRun(args, command, octarcKeys(), printUsage, printColumns);
+}
+
+std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std::string& command,
+                                 const std::vector<sexcompat::KeySpec>& schema,
+                                 const std::function<void()>& printUsage,
+                                 const std::function<void()>& printColumnList) {
   std::optional<LoadedConfig> loaded =
-      loadConfig(args, command, octarcKeys(), printUsage, printColumns, true, "image name");
+      loadConfig(args, command, schema, printUsage, printColumnList, true, "image name");
   if (!loaded) return std::nullopt;
   RunSettings settings = settingsFromConfig(loaded->config);
   settings.imagePaths = loaded->positional;

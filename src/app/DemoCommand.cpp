@@ -1,9 +1,10 @@
 // `octarc demo`: the whole method on a simulated survey field, in under two minutes.
 //
-//   simulate field (with injected lenses) --> detection run in memory (run/DetectionRun.h,
-//   octarc.sex: 15 levels, MAP_WEIGHT, ASSOC with the truth list) --> catalog + report: objects
-//   per level, injected arcs found and their arcness (simulation/engine/InjectionRecovery.h),
-//   arcness of arcs versus everything else
+//   simulate field (with injected lenses) --> octarc search in memory (search/SearchRun.h,
+//   octarc.sex: 15 levels, MAP_WEIGHT, ASSOC with the truth list; the shipped demo grid)
+//   --> catalog, candidates, stamps, contact sheet + report: objects per level, injected arcs
+//   found and their arcness (simulation/engine/InjectionRecovery.h), the candidates and which
+//   injected lenses they are (search/InjectionMatch.h)
 
 #include <boost/program_options.hpp>
 #include <chrono>
@@ -22,6 +23,9 @@
 #include "octarc/core/Interrupt.h"
 #include "octarc/core/Progress.h"
 #include "octarc/run/DetectionRun.h"
+#include "octarc/run/RunSettings.h"
+#include "octarc/search/InjectionMatch.h"
+#include "octarc/search/SearchRun.h"
 #include "octarc/simulation/engine/FieldSimulation.h"
 #include "octarc/simulation/engine/InjectedField.h"
 #include "octarc/simulation/engine/InjectionRecovery.h"
@@ -41,18 +45,23 @@ constexpr double kArcMatchArcsec = 2.0;
 constexpr double kDemoMinEinsteinRadiusArcsec = 1.5;
 // Arcness above which an object counts as arc-like (METHOD.md section 3).
 constexpr double kArcLikeArcness = 0.10;
+// A candidate names the right lens when its lens lies this close to the injected one.
+constexpr double kLensMatchArcsec = 1.0;
 
 struct DemoTimes {
-  double simulateSec = 0, detectSec = 0, totalSec = 0;
+  double simulateSec = 0, searchSec = 0, totalSec = 0;
 };
 
 void printUsage(const po::options_description& options) {
   std::cout << "Usage: octarc demo [--size 2048] [--lenses 12] [--seed S] [--out DIR] [--quiet]\n"
                "\n"
                "Simulates a survey field with injected galaxy-galaxy lenses (octarc simulate\n"
-               "field), detects and measures every object at the 15 thresholds of the shipped\n"
-               "octarc.sex (octarc detect, with the weight map and the truth list as an ASSOC\n"
-               "list), and reports how many injected arcs were found and their arcness.\n"
+               "field) and searches it (octarc search: every object at the 15 thresholds of the\n"
+               "shipped octarc.sex, with the weight map and the truth list as an ASSOC list,\n"
+               "selected with the shipped demo grid, params/demo.grid.fits). Reports how many\n"
+               "injected arcs were detected and their arcness, the candidates, and which of\n"
+               "them are injected lenses; writes the catalog, the candidates, their stamps and\n"
+               "the contact sheet.\n"
                "\n"
                "Options:\n"
             << options;
@@ -75,9 +84,42 @@ std::optional<po::variables_map> parseOptions(const std::vector<std::string>& ar
   return vm;
 }
 
+std::string injectionSystemsPath(const InjectedFieldFiles& paths) {
+  return (paths.dir / "injection-systems.txt").string();
+}
+std::string injectionCandidatesPath(const InjectedFieldFiles& paths) {
+  return (paths.dir / "injection-candidates.txt").string();
+}
+
+void printCandidates(std::ostream& o, const SearchRun& run, const SearchRunSettings& settings,
+                     const InjectionMatch& match) {
+  o << "\nSearch: octarc search -GRID_NAME " << settings.gridPath << " (SNR_ISO > "
+    << settings.search.snrMin << ", resolved, in the grid's contour)\n";
+  for (const std::string& w : run.warnings) o << "  note: " << w << "\n";
+  for (const std::string& line : searchSummaryLines(run, settings)) o << "  " << line << "\n";
+  const std::int64_t spurious = match.spurious();
+  o << "  " << (std::int64_t(run.result.candidates.size()) - spurious)
+    << " candidate(s) are arcs of injected lenses, " << spurious << " are other objects\n"
+    << "Injected lenses:\n"
+    << "  system  theta_E    arc mag  candidate  lens right  theta_E estimate\n";
+  for (const InjectedLensOutcome& s : match.systems) {
+    char line[160];
+    std::snprintf(line, sizeof line, "  %6d  %6.2f\"  %8.2f  %9s  %10s  %s\n", s.system,
+                  s.einsteinRadiusArcsec, s.arcMag,
+                  s.candidate >= 0 ? ("#" + std::to_string(s.candidate + 1)).c_str() : "-",
+                  s.candidate < 0 ? "" : (s.lensRight ? "yes" : "no"),
+                  s.candidate >= 0 && s.einsteinRadiusEstimateArcsec > 0
+                      ? (formatNumber(s.einsteinRadiusEstimateArcsec, "%.2f") + "\"").c_str()
+                      : "");
+    o << line;
+  }
+}
+
 void printReport(std::ostream& o, const FieldSimulationSettings& s, const SimulatedField& field,
                  const InjectedFieldFiles& paths, const InjectionRecovery& r,
-                 const RecoveryRows& cat, const std::string& shippedSex, const DemoTimes& times) {
+                 const RecoveryRows& cat, const std::string& shippedSex, const DemoTimes& times,
+                 const SearchRun& run, const SearchRunSettings& search,
+                 const InjectionMatch& match) {
   const ArcRules rules;
   const double scale = s.pixelScaleArcsec;
   const double fieldArcmin = s.sizePix * scale / 60.0;
@@ -93,10 +135,11 @@ void printReport(std::ostream& o, const FieldSimulationSettings& s, const Simula
     << "  " << field.galaxyCount << " galaxies, " << field.starCount << " stars ("
     << field.saturatedPixels << " saturated pixels), " << r.systems.size() << " lens systems\n"
     << "  simulated in " << formatNumber(times.simulateSec, "%.1f", true) << " s\n\n"
-    << "Detection: octarc detect -c " << shippedSex << " (" << r.levelCount
-    << " levels, MAP_WEIGHT, ASSOC with the truth list) in "
-    << formatNumber(times.detectSec, "%.1f", true) << " s\n";
+    << "Detection: octarc search -c " << shippedSex << " (" << r.levelCount
+    << " levels, MAP_WEIGHT, ASSOC with the truth list), search and outputs in "
+    << formatNumber(times.searchSec, "%.1f", true) << " s\n";
   printRecovery(o, r, cat, rules, kArcMatchArcsec, kArcLikeArcness);
+  printCandidates(o, run, search, match);
   o << "\nOutputs:\n"
     << "  " << paths.field.image << "  the image\n"
     << "  " << paths.field.weight << "  its weight map (MAP_WEIGHT)\n"
@@ -106,7 +149,56 @@ void printReport(std::ostream& o, const FieldSimulationSettings& s, const Simula
     << "  " << paths.catalog
     << "  the catalog (FITS_LDAC, every object at every level; VECTOR_ASSOC = truth id, kind, "
        "mag, theta_E, system)\n"
-    << "Total " << formatNumber(times.totalSec, "%.1f", true) << " s\n";
+    << "  " << search.outputDir
+    << "/  the candidates (candidates.fits, .cat, .reg), stamps/ and the contact sheet\n"
+    << "  " << injectionSystemsPath(paths)
+    << "  per injected lens: theta_E, arc mag, its candidate, lens right, theta_E estimate\n"
+    << "  " << injectionCandidatesPath(paths)
+    << "  per candidate: the injected system it is an arc of (0: none), its spaces\n"
+    << "Total " << formatNumber(times.totalSec, "%.1f", true) << " s\n"
+    << "\nOpen " << search.outputDir << "/index.html in a browser to inspect the candidates.\n";
+}
+
+// One line per injected system (scripts/injection-study.py reads them).
+void writeInjectionSystems(const std::string& path, const InjectionMatch& match) {
+  std::ofstream f(path);
+  f << "# system theta_E_arcsec arc_mag candidate spaces lens_right theta_E_estimate_arcsec\n";
+  for (const InjectedLensOutcome& s : match.systems) {
+    f << s.system << ' ' << formatNumber(s.einsteinRadiusArcsec, "%.4f") << ' '
+      << formatNumber(s.arcMag, "%.3f") << ' ' << (s.candidate + 1) << ' ' << s.spaces << ' '
+      << (s.lensRight ? 1 : 0) << ' ' << formatNumber(s.einsteinRadiusEstimateArcsec, "%.4f")
+      << '\n';
+  }
+  if (!f) throw IoError(path + ": cannot write");
+}
+
+// One line per candidate: the injected system it is an arc of (0: none), its report spaces.
+void writeInjectionCandidates(const std::string& path, const InjectionMatch& match,
+                              const SearchRun& run) {
+  std::ofstream f(path);
+  f << "# candidate system spaces (searched area "
+    << formatNumber(run.result.summary.searchedAreaDeg2, "%.8f") << " deg2)\n";
+  for (std::size_t i = 0; i < match.candidateSystem.size(); ++i) {
+    f << (i + 1) << ' ' << match.candidateSystem[i] << ' ' << run.result.candidates[i].spaces
+      << '\n';
+  }
+  if (!f) throw IoError(path + ": cannot write");
+}
+
+// The search the demo runs: the shipped configuration, the field's weight map and truth list
+// (ASSOC), the shipped demo grid, the candidates into <out>/candidates.
+SearchRunSettings demoSearchSettings(const InjectedFieldFiles& paths, const std::string& shippedSex,
+                                     int threads) {
+  std::vector<std::pair<std::string, std::string>> keys = recoveryDetectionKeys(paths, threads);
+  keys.emplace_back("GRID_NAME", dataFile("demo.grid.fits"));
+  keys.emplace_back("OUTPUT_DIR", (paths.dir / "candidates").string());
+  std::vector<std::string> warnings;
+  const sexcompat::Config config =
+      sexcompat::Config::load(searchKeys(), shippedSex, keys, &warnings);
+  RunSettings run = settingsFromConfig(config);
+  run.imagePaths = {paths.field.image};
+  run.configPath = shippedSex;
+  return searchSettingsFromConfig(config, run);
 }
 
 }  // namespace
@@ -138,6 +230,7 @@ int runDemo(const std::vector<std::string>& args) {
   // The shipped survey configuration and columns, found before anything is made.
   const std::string shippedSex = dataFile("octarc.sex");
   (void)dataFile("octarc.param");
+  (void)dataFile("demo.grid.fits");
 
   const InjectedFieldFiles paths = makeInjectedFieldDirectory((*vm)["out"].as<std::string>());
   // Until the last step is done the outputs are provisional: a failure or an interrupt
@@ -147,22 +240,33 @@ int runDemo(const std::vector<std::string>& args) {
   for (const std::string& p : paths.files()) provisional.push_back(removeOnInterrupt(p));
   DemoTimes times;
   SimulatedField field;
-  DetectionRunResult detection;
+  SearchRunSettings search;
+  SearchRun run;
+  InjectionMatch match;
   try {
     field = writeInjectedField(s, paths, terminalProgress("simulate", "objects", quiet));
     times.simulateSec = seconds();
-    // 2. Detection and measurement with the survey configuration, in memory; the catalog is
-    // written from what the run returns.
-    if (!quiet) std::cerr << "> Detecting and measuring at 15 levels (octarc detect)\n";
-    detection = runConfiguredDetection(paths.field.image, shippedSex,
-                                       recoveryDetectionKeys(paths, s.threads));
-    OutputFiles catalog;
-    catalog.add(paths.catalog);
-    catalog.write(0, [&](const std::string& path) {
-      writeCatalog(path, CatalogType::FitsLdac, detection.parts(), detection.fits10Cards);
+    // 2. The search, detection and measurement included, in memory; the catalog and the
+    // candidates are written from what it returns.
+    if (!quiet) std::cerr << "> Searching at 15 levels with the demo grid (octarc search)\n";
+    search = demoSearchSettings(paths, shippedSex, s.threads);
+    run = searchImage(search, RunLog());
+    match = matchInjectedLenses(field.truth, run.catalog, run.result, run.pixelScaleArcsec,
+                                ArcRules(), kArcMatchArcsec, kLensMatchArcsec);
+    OutputFiles outputs;
+    outputs.add(paths.catalog);
+    outputs.add(injectionSystemsPath(paths));
+    outputs.add(injectionCandidatesPath(paths));
+    outputs.write(0, [&](const std::string& path) {
+      const CatalogPart part{run.image.hdu.header, run.runCards, &run.catalog,
+                             run.catalogOrder.empty() ? nullptr : &run.catalogOrder};
+      writeCatalog(path, CatalogType::FitsLdac, {part});
     });
-    catalog.commit();
-    times.detectSec = seconds() - times.simulateSec;
+    outputs.write(1, [&](const std::string& path) { writeInjectionSystems(path, match); });
+    outputs.write(2, [&](const std::string& path) { writeInjectionCandidates(path, match, run); });
+    writeSearchOutputs(run, search, terminalProgress("stamps", "stamps", quiet), RunLog());
+    outputs.commit();
+    times.searchSec = seconds() - times.simulateSec;
   } catch (...) {
     std::error_code ec;
     if (paths.madeDir) {
@@ -176,12 +280,11 @@ int runDemo(const std::vector<std::string>& args) {
   for (const int slot : provisional) forgetOnInterrupt(slot);
 
   // 3. The report.
-  const RecoveryRows cat =
-      recoveryRows(detection.extensions[0].table, detection.extensions[0].order);
+  const RecoveryRows cat = recoveryRows(run.catalog, run.catalogOrder);
   const InjectionRecovery recovery =
       recoverInjectedArcs(field.truth, cat, s.pixelScaleArcsec, ArcRules(), kArcMatchArcsec);
   times.totalSec = seconds();
-  printReport(std::cout, s, field, paths, recovery, cat, shippedSex, times);
+  printReport(std::cout, s, field, paths, recovery, cat, shippedSex, times, run, search, match);
   return 0;
 }
 

@@ -30,6 +30,8 @@ void printUsage() {
                "  calibrate SIM.fits [...] [-c file] [-KEY value ...]\n"
                "      lensing fractions, distributions, noise-only threshold and the occupation\n"
                "      grid of simulated arcs, with check-plots\n"
+               "  search IMAGE [-c file] [-KEY value ...]\n"
+               "      ranked lens candidates: catalog, DS9 regions, stamps and a contact sheet\n"
                "  demo [options]\n"
                "      simulate a field with lenses, detect them and report\n"
                "\n"
@@ -60,6 +62,7 @@ int main(int argc, char** argv) {
     if (command == "detect") return octarc::runDetect(args);
     if (command == "demo") return octarc::runDemo(args);
     if (command == "calibrate") return octarc::runCalibrate(args);
+    if (command == "search") return octarc::runSearch(args);
     if (command == "simulate") {
       const std::string what = args.empty() ? "" : args[0];
       if (!args.empty()) args.erase(args.begin());

@@ -234,15 +234,21 @@ void writeObjects(fitsfile* f, const std::string& extname,
   detail::writeTableRows(f, tables, path);
 }
 
-// LDAC_IMHEAD: one row, one column holding the image cards, the run cards and END.
-void writeImhead(fitsfile* f, const CatalogPart& part, const std::string& path) {
+// The LDAC_IMHEAD cell: the image cards, the run cards and END, 80 characters each.
+std::string imheadCell(const FitsHeader& imageHeader, const std::vector<std::string>& runCards) {
   std::string cell;
-  for (const std::string& card : part.imageHeader.cards) {
+  for (const std::string& card : imageHeader.cards) {
     if (card.compare(0, 8, "END     ") == 0 || card == "END") continue;
     cell += formatPlainCard(card);
   }
-  for (const std::string& card : part.runCards) cell += formatPlainCard(card);
+  for (const std::string& card : runCards) cell += formatPlainCard(card);
   cell += formatPlainCard("END");
+  return cell;
+}
+
+// LDAC_IMHEAD: one row, one column holding the image cards, the run cards and END.
+void writeImhead(fitsfile* f, const CatalogPart& part, const std::string& path) {
+  std::string cell = imheadCell(part.imageHeader, part.runCards);
   const std::size_t ncards = cell.size() / 80;
 
   createTable(f, "LDAC_IMHEAD", 1, {"Field Header Card"}, {std::to_string(cell.size()) + "A"},
@@ -453,6 +459,19 @@ void writeCatalog(const std::string& path, CatalogType type, const std::vector<C
     case CatalogType::None:
       break;
   }
+}
+
+FitsTable ldacImheadTable(const FitsHeader& imageHeader, const std::vector<std::string>& runCards) {
+  const std::string cell = imheadCell(imageHeader, runCards);
+  FitsTable table;
+  table.name = "LDAC_IMHEAD";
+  FitsColumn column;
+  column.name = "Field Header Card";
+  column.repeat = int(cell.size());
+  column.dimensions = "(80, " + std::to_string(cell.size() / 80) + ")";
+  column.values = std::vector<std::string>{cell};
+  table.columns.push_back(std::move(column));
+  return table;
 }
 
 void writeLdacTables(const std::string& path, const std::vector<std::string>& runCards,

@@ -56,7 +56,7 @@ void removeStaleTemporaries(const fs::path& dir, const std::string& name) {
     }
     if (stale) {
       std::error_code ignored;
-      fs::remove(it->path(), ignored);
+      fs::remove_all(it->path(), ignored);  // a temporary directory goes with its contents
     }
   }
 }
@@ -148,6 +148,62 @@ void OutputFiles::commit() {
   fs::remove(files_.front()->finalPath(), ignored);
   for (std::size_t i = 1; i < files_.size(); ++i) files_[i]->commit();
   files_.front()->commit();
+  markOutputsComplete();
+}
+
+AtomicDirectory::AtomicDirectory(std::string finalPath, std::string markerFile)
+    : finalPath_(std::move(finalPath)), markerFile_(std::move(markerFile)) {
+  if (finalPath_.empty()) throw ConfigError("an output directory name is empty");
+  while (finalPath_.size() > 1 && finalPath_.back() == '/') finalPath_.pop_back();
+  std::error_code ec;
+  if (fs::exists(finalPath_, ec) &&
+      !(fs::is_directory(finalPath_, ec) && fs::exists(fs::path(finalPath_) / markerFile_, ec))) {
+    throw ConfigError(finalPath_ + ": exists and is not an earlier output of this command (no " +
+                      markerFile_ + " in it); give a new directory name or remove it");
+  }
+  const fs::path p = fs::path(finalPath_).lexically_normal();
+  const fs::path parent = p.parent_path();
+  if (!parent.empty() && !fs::is_directory(parent, ec)) {
+    throw IoError(finalPath_ + ": cannot write (directory " + parent.string() + " does not exist)");
+  }
+  removeStaleTemporaries(parent, p.filename().string());
+  const std::string name = "." + p.filename().string() + ".tmp." + std::to_string(::getpid()) +
+                           "." + std::to_string(tempCounter++);
+  tempPath_ = (parent.empty() ? fs::path(name) : parent / name).string();
+  interruptSlot_ = removeTreeOnInterrupt(tempPath_);
+  fs::create_directory(tempPath_, ec);
+  if (ec) {
+    forgetOnInterrupt(interruptSlot_);
+    throw IoError(finalPath_ + ": cannot write (" + ec.message() + ")");
+  }
+}
+
+AtomicDirectory::~AtomicDirectory() {
+  std::error_code ignored;
+  if (!committed_) fs::remove_all(tempPath_, ignored);
+  forgetOnInterrupt(interruptSlot_);
+}
+
+void AtomicDirectory::commit() {
+  std::error_code ec;
+  if (!fs::exists(fs::path(tempPath_) / markerFile_, ec)) {
+    throw IoError(finalPath_ + ": cannot write (" + markerFile_ + " was not written)");
+  }
+  DeferInterrupts hold;
+  const std::string aside = tempPath_ + ".old";
+  const bool replacing = fs::exists(finalPath_, ec);
+  if (replacing && std::rename(finalPath_.c_str(), aside.c_str()) != 0) {
+    throw IoError(finalPath_ + ": cannot replace (" + std::strerror(errno) + ")");
+  }
+  if (std::rename(tempPath_.c_str(), finalPath_.c_str()) != 0) {
+    const std::string why = std::strerror(errno);
+    if (replacing) std::rename(aside.c_str(), finalPath_.c_str());
+    throw IoError(finalPath_ + ": cannot write (" + why + ")");
+  }
+  committed_ = true;
+  forgetOnInterrupt(interruptSlot_);
+  interruptSlot_ = -1;
+  if (replacing) fs::remove_all(aside, ec);
   markOutputsComplete();
 }
 

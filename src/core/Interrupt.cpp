@@ -1,6 +1,9 @@
 #include "octarc/core/Interrupt.h"
 
+#include <dirent.h>
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -15,7 +18,7 @@ namespace {
 // locking (only async-signal-safe calls: unlink, rmdir, write, _exit).
 constexpr int kSlots = 1024;
 constexpr std::size_t kPathBytes = 4096;
-enum SlotState : int { kFree = 0, kFilling = 1, kFile = 2, kDirectory = 3 };
+enum SlotState : int { kFree = 0, kFilling = 1, kFile = 2, kDirectory = 3, kTree = 4 };
 
 struct Slot {
   std::atomic<int> state{kFree};
@@ -53,6 +56,42 @@ const char* signalName(int sig) {
   }
 }
 
+// Removes directory `name` of `parentFd` with everything in it, with system calls only (no
+// allocation: one fixed buffer per depth; deeper than kTreeDepth levels is left in place).
+constexpr int kTreeDepth = 8;
+struct LinuxDirent64 {
+  ino64_t inode;
+  off64_t offset;
+  unsigned short length;
+  unsigned char type;
+  char name[1];
+};
+alignas(8) char gTreeBuffers[kTreeDepth][4096];
+
+void removeTreeAt(int parentFd, const char* name, int depth) {
+  const int fd = ::openat(parentFd, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) return;
+  if (depth < kTreeDepth) {
+    char* buffer = gTreeBuffers[depth];
+    for (;;) {
+      const long n = ::syscall(SYS_getdents64, fd, buffer, sizeof gTreeBuffers[depth]);
+      if (n <= 0) break;
+      for (long at = 0; at < n;) {
+        const auto* entry = reinterpret_cast<const LinuxDirent64*>(buffer + at);
+        at += entry->length;
+        if (std::strcmp(entry->name, ".") == 0 || std::strcmp(entry->name, "..") == 0) continue;
+        if (entry->type == DT_DIR) {
+          removeTreeAt(fd, entry->name, depth + 1);
+        } else {
+          ::unlinkat(fd, entry->name, 0);
+        }
+      }
+    }
+  }
+  ::close(fd);
+  ::unlinkat(parentFd, name, AT_REMOVEDIR);
+}
+
 // Ends the process after a signal, removing every registered temporary file and directory (an
 // output already renamed into place is no longer registered). `heldBack`: the signal waited for a
 // set of outputs to be renamed into place, which are therefore complete.
@@ -72,6 +111,9 @@ const char* signalName(int sig) {
   for (int i = kSlots - 1; i >= 0; --i) {
     if (gSlots[i].state.load() == kDirectory) {
       ::rmdir(gSlots[i].path);
+      ++removed;
+    } else if (gSlots[i].state.load() == kTree) {
+      removeTreeAt(AT_FDCWD, gSlots[i].path, 0);
       ++removed;
     }
   }
@@ -110,6 +152,12 @@ void installInterruptCleanup(const std::string& messagePrefix) {
   sigemptyset(&action.sa_mask);
   action.sa_flags = SA_RESTART;
   for (int sig : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(sig, &action, nullptr);
+}
+
+int removeTreeOnInterrupt(const std::string& path) {
+  const int slot = removeOnInterrupt(path, true);
+  gSlots[slot].state.store(kTree);
+  return slot;
 }
 
 int removeOnInterrupt(const std::string& path, bool isDirectory) {

@@ -556,6 +556,18 @@ void SegmentationRuns::render(int level, ImageI32& labels) const {
   }
 }
 
+std::vector<PixelRun> SegmentationRuns::footprint(int level, std::int32_t number) const {
+  std::vector<PixelRun> out;
+  if (level < 1 || level > levelCount()) return out;
+  for (const Run& run : levels_[level - 1]) {
+    if (run.number == number) out.push_back({run.y, run.x0, run.x0 + run.length - 1});
+  }
+  std::sort(out.begin(), out.end(), [](const PixelRun& a, const PixelRun& b) {
+    return a.y != b.y ? a.y < b.y : a.x0 < b.x0;
+  });
+  return out;
+}
+
 std::size_t SegmentationRuns::runCount(int level) const {
   return level >= 1 && level <= levelCount() ? levels_[level - 1].size() : 0;
 }

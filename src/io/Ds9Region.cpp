@@ -198,28 +198,59 @@ std::array<double, 2> skyToPixel(const ParseContext& context, double raDeg, doub
   return pixel;
 }
 
-LocalSkyFrame localSkyFrame(const ParseContext& context, double raDeg, double decDeg) {
-  const auto centre = skyToPixel(context, raDeg, decDeg);
+// The local frame at a sky position; nullopt where the WCS gives no pixel for it.
+std::optional<LocalSkyFrame> localSkyFrameOf(const Wcs& wcs, double raDeg, double decDeg) {
+  auto pixel = [&](double ra, double dec) -> std::optional<std::array<double, 2>> {
+    const auto p = wcs.worldToPixel(ra, dec);
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1])) return std::nullopt;
+    return p;
+  };
+  const auto centre = pixel(raDeg, decDeg);
   // One arcsec towards North (towards South at the pole, the direction then reversed).
   const double stepDeg =
       decDeg + 1.0 / kArcsecPerDeg <= 90.0 ? 1.0 / kArcsecPerDeg : -1.0 / kArcsecPerDeg;
-  const auto north = skyToPixel(context, raDeg, decDeg + stepDeg);
-  double dx = north[0] - centre[0];
-  double dy = north[1] - centre[1];
+  const auto north = pixel(raDeg, decDeg + stepDeg);
+  // One arcsec towards East (RA grows by 1 / cos(Dec) arcsec), for the parity of the image.
+  const double cosDec = std::max(std::cos(decDeg * kRadPerDeg), 1e-9);
+  const auto east = pixel(raDeg + 1.0 / kArcsecPerDeg / cosDec, decDeg);
+  if (!centre || !north || !east) return std::nullopt;
+  double dx = (*north)[0] - (*centre)[0];
+  double dy = (*north)[1] - (*centre)[1];
   if (stepDeg < 0.0) {
     dx = -dx;
     dy = -dy;
   }
-  // One arcsec towards East (RA grows by 1 / cos(Dec) arcsec), for the parity of the image.
-  const double cosDec = std::max(std::cos(decDeg * kRadPerDeg), 1e-9);
-  const auto east = skyToPixel(context, raDeg + 1.0 / kArcsecPerDeg / cosDec, decDeg);
   LocalSkyFrame frame;
-  frame.x = centre[0];
-  frame.y = centre[1];
+  frame.x = (*centre)[0];
+  frame.y = (*centre)[1];
   frame.pixPerArcsec = std::hypot(dx, dy);
   frame.northRad = std::atan2(dy, dx);
-  frame.eastCounterClockwise = dx * (east[1] - centre[1]) - dy * (east[0] - centre[0]) > 0.0;
+  frame.eastCounterClockwise =
+      dx * ((*east)[1] - (*centre)[1]) - dy * ((*east)[0] - (*centre)[0]) > 0.0;
   return frame;
+}
+
+LocalSkyFrame localSkyFrame(const ParseContext& context, double raDeg, double decDeg) {
+  const std::optional<LocalSkyFrame> frame = localSkyFrameOf(requireWcs(context), raDeg, decDeg);
+  if (!frame) fail(context, "a sky position outside the image's WCS");
+  return *frame;
+}
+
+// The image angle of a sky angle (degrees from the longitude axis, counter-clockwise on the
+// sky): counter-clockwise on the image when East is counter-clockwise of North, clockwise on a
+// mirrored image.
+double imageAngleRad(const LocalSkyFrame& frame, double skyAngleDeg) {
+  return frame.eastCounterClockwise
+             ? frame.northRad - 0.5 * std::numbers::pi + skyAngleDeg * kRadPerDeg
+             : frame.northRad + 0.5 * std::numbers::pi - skyAngleDeg * kRadPerDeg;
+}
+
+// Its inverse.
+double skyAngleDeg(const LocalSkyFrame& frame, double imageAngleRad) {
+  const double deg = frame.eastCounterClockwise
+                         ? (imageAngleRad - frame.northRad + 0.5 * std::numbers::pi) / kRadPerDeg
+                         : (frame.northRad + 0.5 * std::numbers::pi - imageAngleRad) / kRadPerDeg;
+  return deg - 360.0 * std::floor(deg / 360.0);
 }
 
 // The arguments of "name(a, b, c)": split on commas (blanks around them allowed) or on blanks
@@ -285,11 +316,7 @@ RegionShape centredShape(const ParseContext& context, RegionSystem system, Regio
     shape.yCentre = frame.y;
     shape.semiAxis1Pix = sizeToSemiAxis * skySizeArcsec(context, args[2]) * frame.pixPerArcsec;
     shape.semiAxis2Pix = sizeToSemiAxis * skySizeArcsec(context, size2) * frame.pixPerArcsec;
-    // The sky angle turns from West through North: counter-clockwise on the image when East is
-    // counter-clockwise of North, clockwise on a mirrored image.
-    shape.angleRad = frame.eastCounterClockwise
-                         ? frame.northRad - 0.5 * std::numbers::pi + angleDeg * kRadPerDeg
-                         : frame.northRad + 0.5 * std::numbers::pi - angleDeg * kRadPerDeg;
+    shape.angleRad = imageAngleRad(frame, angleDeg);
   } else {
     const auto centre = position(context, system, args, 0);
     const double ltm = system == RegionSystem::Physical ? context.ltm : 1.0;
@@ -542,6 +569,51 @@ bool regionContains(const std::vector<RegionShape>& shapes, double xFits, double
     }
   }
   return inInclude || !anyInclude;
+}
+
+std::string formatDs9Regions(const std::vector<RegionMark>& marks, const Wcs* wcs) {
+  std::ostringstream out;
+  out.precision(12);  // 1e-9 degree (4 micro-arcsec) on the sky, 1e-8 pixel
+  out << "# Region file format: DS9 version 4.1\n"
+      << "global color=green width=1 font=\"helvetica 10 normal roman\"\n"
+      << (wcs != nullptr ? "fk5\n" : "image\n");
+  for (const RegionMark& m : marks) {
+    if (m.kind != RegionShapeKind::Circle && m.kind != RegionShapeKind::Ellipse) {
+      throw ConfigError("region marks: only circles and ellipses are written");
+    }
+    const bool circle = m.kind == RegionShapeKind::Circle;
+    double x = m.xCentre, y = m.yCentre, r1 = m.semiAxis1Pix, r2 = m.semiAxis2Pix;
+    double angleDeg = m.angleRad / kRadPerDeg;
+    const char* sizeUnit = "";
+    if (wcs != nullptr) {
+      const auto sky = wcs->pixelToWorld(m.xCentre, m.yCentre);
+      const std::optional<LocalSkyFrame> frame = std::isfinite(sky[0]) && std::isfinite(sky[1])
+                                                     ? localSkyFrameOf(*wcs, sky[0], sky[1])
+                                                     : std::nullopt;
+      if (!frame) {
+        throw ConfigError("region marks: the WCS gives no sky position for pixel (" +
+                          std::to_string(m.xCentre) + ", " + std::to_string(m.yCentre) + ")");
+      }
+      x = sky[0] - 360.0 * std::floor(sky[0] / 360.0);
+      y = sky[1];
+      r1 /= frame->pixPerArcsec;
+      r2 /= frame->pixPerArcsec;
+      angleDeg = skyAngleDeg(*frame, m.angleRad);
+      sizeUnit = "\"";
+    }
+    out << (circle ? "circle(" : "ellipse(") << x << "," << y << "," << r1 << sizeUnit;
+    if (!circle) out << "," << r2 << sizeUnit << "," << angleDeg;
+    out << ") # color=" << m.colour;
+    if (!m.text.empty()) {
+      std::string label;
+      for (const char c : m.text) {
+        if (c != '{' && c != '}' && c != '\n') label += c;
+      }
+      out << " text={" << label << "}";
+    }
+    out << "\n";
+  }
+  return out.str();
 }
 
 }  // namespace octarc

@@ -247,6 +247,15 @@ void writeDisplay(fitsfile* f, int colnum, const FitsColumn& column, const std::
   throwIfFitsError(status, at, "cannot write TDISP of column " + column.name);
 }
 
+// TDIMn, after the column's other cards.
+void writeDimensions(fitsfile* f, int colnum, const std::string& dimensions,
+                     const std::string& at) {
+  int status = 0;
+  fits_write_key_str(f, ("TDIM" + std::to_string(colnum)).c_str(), dimensions.c_str(),
+                     "dimensions of the cell", &status);
+  throwIfFitsError(status, at, "cannot write TDIM" + std::to_string(colnum));
+}
+
 void writeColumnValues(fitsfile* f, int colnum, const FitsColumn& column, const std::string& at) {
   int status = 0;
   const int datatype = cfitsioDatatype(column.type());
@@ -299,6 +308,9 @@ void writeTable(fitsfile* f, const FitsTable& table, const std::string& path) {
     fits_update_key_str(f, ttypeKey.c_str(), c.name.c_str(), c.comment.c_str(), &status);
     throwIfFitsError(status, at, "cannot write the description of column " + c.name);
     if (!c.display.empty()) writeDisplay(f, colnum, c, at);
+    if (!c.dimensions.empty()) {
+      writeDimensions(f, colnum, c.dimensions, at);
+    }
   }
   if (std::any_of(table.keywords.begin(), table.keywords.end(), isLongString)) {
     fits_write_key_longwarn(f, &status);
@@ -473,6 +485,7 @@ FitsColumn readColumnInfo(fitsfile* f, int colnum, FitsColumnType* type, const s
   column.tform = readStringKey(f, "TFORM" + n, nullptr, at);
   column.unit = readStringKey(f, "TUNIT" + n, nullptr, at);
   column.display = readStringKey(f, "TDISP" + n, nullptr, at);
+  column.dimensions = readStringKey(f, "TDIM" + n, nullptr, at);
   const ColumnFormat format = columnFormat(f, colnum, at);
   column.repeat = format.repeat;
   *type = format.type;

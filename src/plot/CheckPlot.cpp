@@ -9,17 +9,18 @@
 #include <limits>
 #include <mutex>
 
+#include "PlplotMutex.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
 
 namespace octarc {
 
-namespace {
-
-std::mutex& plplotMutex() {
+std::mutex& detail::plplotMutex() {
   static std::mutex m;
   return m;
 }
+
+namespace {
 
 const char* driverName(PlotDevice d) {
   switch (d) {
@@ -150,7 +151,7 @@ void writePlot(const std::string& path, PlotDevice device, const Plot& plot) {
     yr.pad(0.05);
   }
 
-  std::lock_guard<std::mutex> lock(plplotMutex());
+  std::lock_guard<std::mutex> lock(detail::plplotMutex());
   PLINT stream = 0;
   plmkstrm(&stream);
   plsdev(driverName(device));

@@ -67,8 +67,8 @@ DetectedExtension detectExtension(const RunSettings& s, const ColumnPlan& column
                                   const std::optional<sexcompat::AssocSettings>& assoc,
                                   const std::string& path, int e, int count,
                                   std::chrono::steady_clock::time_point start, StageClock& clock,
-                                  DetectionRunResult& result, const RunLog& log) {
-  const bool checkImages = !s.checkImageTypes.empty();
+                                  DetectionRunResult& result, const RunLog& log, bool keep) {
+  const bool checkImages = !s.checkImageTypes.empty() || keep;
   const bool keepMaps = wants(s, "BACKGROUND") || wants(s, "BACKGROUND_RMS");
   const bool relative = s.detectThresholdType == ThresholdType::Relative;
   if (log) log("> Reading " + path);
@@ -97,7 +97,8 @@ DetectedExtension detectExtension(const RunSettings& s, const ColumnPlan& column
   if (relative) request.levelsInSigma = levelValues(s);
   request.minAreaPix = s.minAreaPix;
   request.threads = resolveThreads(s.threads);
-  request.keepSegmentation = checkImages && (wants(s, "SEGMENTATION") || wants(s, "OBJECTS"));
+  request.keepSegmentation =
+      keep || (checkImages && (wants(s, "SEGMENTATION") || wants(s, "OBJECTS")));
   ImageRunResult run = detectAndMeasure(image, columns.plan, context, request, &extensionSettings);
   out.objectsPerLevel = run.objectsPerLevel;
   clock.lap("detection and measurement");
@@ -162,19 +163,25 @@ std::vector<CatalogPart> DetectionRunResult::parts() const {
 
 DetectionRunResult runDetection(const RunSettings& s, const ColumnPlan& columns,
                                 const std::optional<sexcompat::AssocSettings>& assoc,
-                                const RunLog& log) {
+                                const RunLog& log, bool keepImageAndFootprints) {
   const auto start = std::chrono::steady_clock::now();
   const std::vector<std::string> extensions = listImageHdus(s.imagePaths[0]);
   const int count = int(extensions.size());
   if (!s.checkImageTypes.empty() && count > 1) {
     throw ConfigError("CHECKIMAGE_TYPE: check-images of multi-extension images are not supported");
   }
+  if (keepImageAndFootprints && count > 1) {
+    throw ConfigError(s.imagePaths[0] +
+                      ": a multi-extension image; search one extension at a "
+                      "time (image.fits[N])");
+  }
   DetectionRunResult result;
   result.extensions.reserve(std::size_t(count));
   StageClock clock(s.verboseFull, log);
   for (int e = 0; e < count; ++e) {
     result.extensions.push_back(detectExtension(s, columns, assoc, extensions[std::size_t(e)], e,
-                                                count, start, clock, result, log));
+                                                count, start, clock, result, log,
+                                                keepImageAndFootprints));
   }
   return result;
 }

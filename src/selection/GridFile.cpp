@@ -65,11 +65,12 @@ FitsTable binsTable(const SavedGrid& saved) {
   FitsTable t;
   t.name = kTableName;
   t.columns = {
-      {"BIN", "Bin index along each axis (0-based)", "", "", int(dims), std::move(bin), ""},
-      {"COUNT", "Simulated arcs in the bin", "", "", 1, std::move(count), ""},
-      {"PROB", "Probability of the bin", "", "", 1, std::move(probability), ""},
-      {"CUMPROB", "Contour level at which the bin enters", "", "", 1, std::move(cumulative), ""},
-      {"SELECTED", "1 if in the contour at PLEVEL", "", "", 1, std::move(selected), ""},
+      {"BIN", "Bin index along each axis (0-based)", "", "", int(dims), std::move(bin), "", ""},
+      {"COUNT", "Simulated arcs in the bin", "", "", 1, std::move(count), "", ""},
+      {"PROB", "Probability of the bin", "", "", 1, std::move(probability), "", ""},
+      {"CUMPROB", "Contour level at which the bin enters", "", "", 1, std::move(cumulative), "",
+       ""},
+      {"SELECTED", "1 if in the contour at PLEVEL", "", "", 1, std::move(selected), "", ""},
   };
   auto& k = t.keywords;
   k.push_back(FitsKeyword::integer("OCTGRID", kFormatVersion, "octarc occupation grid version"));

@@ -5,6 +5,7 @@ import re
 import unittest
 
 import numpy as np
+from astropy.io import fits
 
 from octarc_testlib import SOURCE_DIR, WorkDirTest, fitsverify_errors, ldac_objects, run_octarc
 
@@ -26,7 +27,8 @@ class SmallDemo(WorkDirTest):
                        "system  theta_E[\"]  best ARCNESS  level     S/N", "injected arcs",
                        "other objects", "Outputs:"):
             self.assertIn(needle, text)
-        names = ("field.fits", "field.weight.fits", "field.truth.txt", "field.ldac")
+        names = ("field.fits", "field.weight.fits", "field.truth.txt", "field.ldac",
+                 "injection-systems.txt", "injection-candidates.txt")
         for name in names:
             self.assertTrue(os.path.isfile(os.path.join(out, name)), name)
             self.assertIn(os.path.join(out, name), text)
@@ -86,6 +88,31 @@ class SmallDemo(WorkDirTest):
             self.assertAlmostEqual(float(row.group(2)), best, places=3)
         # The demo injects lenses whose arcs can separate from the lens: theta_E >= 1.5".
         self.assertTrue(np.all(lenses[:, 7] >= 1.5))
+
+        # The search: its candidates, and which injected lenses they are.
+        cand = fits.getdata(os.path.join(out, "candidates", "candidates.fits"), "LDAC_OBJECTS")
+        self.assertIn("Search: octarc search -GRID_NAME", text)
+        self.assertIn("%d candidate(s)," % len(cand), text)
+        self.assertTrue(os.path.isfile(os.path.join(out, "candidates", "index.html")))
+        systems = np.loadtxt(os.path.join(out, "injection-systems.txt"), ndmin=2)
+        per_candidate = np.loadtxt(os.path.join(out, "injection-candidates.txt"), ndmin=2)
+        self.assertEqual(len(systems), 6)
+        self.assertEqual(len(per_candidate), len(cand))
+        arcs = int(np.sum(per_candidate[:, 1] > 0))
+        self.assertIn("%d candidate(s) are arcs of injected lenses, %d are other objects"
+                      % (arcs, len(cand) - arcs), text)
+        for system, theta_e, _, number, spaces, lens_right, estimate in systems:
+            if number == 0:
+                continue
+            row = cand[int(number) - 1]
+            self.assertEqual(per_candidate[int(number) - 1, 1], system)
+            self.assertEqual(row["SPACES"], spaces)
+            # The lens is right when the candidate's lens lies within 1" of the injected one.
+            lens = lenses[lenses[:, 8] == system][0]
+            d = np.hypot(row["LENS_X"] - lens[1], row["LENS_Y"] - lens[2]) * PIXEL_SCALE
+            self.assertEqual(bool(lens_right), bool(row["LENS_NUMBER"] > 0 and d <= 1.0))
+            if row["LENS_NUMBER"] > 0:
+                self.assertAlmostEqual(row["THETA_E"], estimate, delta=1e-3)
 
 
 class ReadmeFigures(WorkDirTest):

@@ -20,7 +20,7 @@ CPACK = os.environ.get("OCTARC_CPACK", "cpack")
 
 # Every installed file and, for the data, its source in the tree.
 DATA = {"octarc.sex": "params/octarc.sex", "octarc.param": "params/octarc.param",
-        "default.conv": "params/default.conv",
+        "default.conv": "params/default.conv", "demo.grid.fits": "params/demo.grid.fits",
         "simulation/population.txt": "params/simulation/population.txt",
         "simulation/population-dls.txt": "params/simulation/population-dls.txt"}
 INSTALLED = sorted(["bin/octarc", "share/doc/octarc/README.md", "share/doc/octarc/LICENSE"] +
@@ -84,16 +84,19 @@ class InstalledTree(WorkDirTest):
             for tree in trees:
                 self.assertNotIn(tree.encode(), binary)
 
-        # The demo: its field simulated, detected with the shipped octarc.sex and octarc.param.
+        # The demo: its field simulated, searched with the shipped octarc.sex, octarc.param and
+        # demo grid.
         shipped = os.path.join(moved, "share", "octarc")
         proc, opened = self.run_traced("demo", ["demo", "--size", "512", "--lenses", "3",
                                                 "--seed", "2", "--out", "demo", "--quiet"],
                                        work, env)
-        self.assertIn("Detection: octarc detect -c %s/octarc.sex (15 levels" % shipped,
+        self.assertIn("Detection: octarc search -c %s/octarc.sex (15 levels" % shipped,
                       proc.stdout)
+        self.assertIn("Search: octarc search -GRID_NAME %s/demo.grid.fits" % shipped, proc.stdout)
         self.assertIn("Injected arcs detected:", proc.stdout)
         # The field's lenses follow the Deep Lens Survey preset.
-        for name in ("octarc.sex", "octarc.param", "simulation/population-dls.txt"):
+        for name in ("octarc.sex", "octarc.param", "demo.grid.fits",
+                     "simulation/population-dls.txt"):
             self.assertIn(os.path.join(shipped, name), opened)
         rows = fits.getdata(os.path.join(work, "demo", "field.ldac"), "LDAC_OBJECTS")
         self.assertEqual(sorted(set(rows["THRESH_LEVEL"])), list(range(1, 16)))

@@ -46,6 +46,11 @@ struct LoadedRun {
 // printed on stdout). Configuration warnings go to stderr unless VERBOSE_TYPE is QUIET.
 std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std::string& command,
                                  const std::function<void()>& printUsage);
+// The same with another key table (detect's keys and a command's own) and -dp listing.
+std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std::string& command,
+                                 const std::vector<sexcompat::KeySpec>& schema,
+                                 const std::function<void()>& printUsage,
+                                 const std::function<void()>& printColumnList);
 
 // The single image of a detect/measure run (settings.imagePaths[0]). ConfigError when none or
 // several are given; SExtractor's dual-image syntax (IMAGE_DETECT,IMAGE_MEASURE or two images)

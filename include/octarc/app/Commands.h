@@ -31,6 +31,10 @@ int runBuildDatabase(const std::vector<std::string>& args);
 // their arcs (src/app/CalibrateCommand.cpp).
 int runCalibrate(const std::vector<std::string>& args);
 
+// `octarc search IMAGE`: lens candidates with stamps and a contact sheet
+// (src/app/SearchCommand.cpp).
+int runSearch(const std::vector<std::string>& args);
+
 // `octarc demo`: simulate a field with lenses, detect, measure, and report
 // (src/app/DemoCommand.cpp).
 int runDemo(const std::vector<std::string>& args);

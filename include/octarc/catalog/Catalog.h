@@ -7,6 +7,7 @@
 
 #include "octarc/core/Table.h"
 #include "octarc/io/FitsHeader.h"
+#include "octarc/io/FitsTable.h"
 
 namespace octarc {
 
@@ -52,6 +53,11 @@ struct NamedTable {
 };
 void writeLdacTables(const std::string& path, const std::vector<std::string>& runCards,
                      const std::vector<NamedTable>& tables);
+
+// The LDAC_IMHEAD table of a FITS-LDAC file written with io/FitsTable (for tables with string
+// columns, which writeCatalog does not hold): one row, one cell "Field Header Card" of
+// 80-character cards (TDIM (80, n)): the image header's cards, then `runCards`, then END.
+FitsTable ldacImheadTable(const FitsHeader& imageHeader, const std::vector<std::string>& runCards);
 
 // FITS TDISP value for a printf format: "%10d" -> "I10", "%11.4f" -> "F11.4", "%18.10e" ->
 // "E18.10", "%12.7g" -> "G12.7", "%+6.2f" -> "F6.2". Empty when the format has no width or is

@@ -64,6 +64,34 @@ class OutputFiles {
   std::vector<std::unique_ptr<AtomicFile>> files_;
 };
 
+// A directory of outputs written whole (a search's candidates, stamps and contact sheet): made
+// under a temporary name beside its target (".<name>.tmp.<pid>.<n>"), filled by the caller, then
+// renamed into place by commit(). An existing directory of that name is replaced only when it
+// holds `markerFile` (it is an earlier output of the same kind): a user's other directory is
+// never removed. Removed, with its contents, when the run fails or is interrupted.
+class AtomicDirectory {
+ public:
+  // ConfigError when `finalPath` is empty, or exists and is not a directory holding
+  // `markerFile`; IoError when the temporary directory cannot be made.
+  AtomicDirectory(std::string finalPath, std::string markerFile);
+  AtomicDirectory(const AtomicDirectory&) = delete;
+  AtomicDirectory& operator=(const AtomicDirectory&) = delete;
+  ~AtomicDirectory();
+
+  const std::string& tempPath() const { return tempPath_; }
+  const std::string& finalPath() const { return finalPath_; }
+  // Renames the temporary directory into place (the marker file must have been written); the
+  // older directory is renamed aside first and removed after. IoError naming the final path.
+  void commit();
+
+ private:
+  std::string finalPath_;
+  std::string markerFile_;
+  std::string tempPath_;
+  int interruptSlot_ = -1;
+  bool committed_ = false;
+};
+
 // Throws ConfigError when `outputPath` names the same file as `inputPath` (same path, or the same
 // file through a link): `outputKey` and `inputKey` name the options in the message, e.g.
 // "CATALOG_NAME x.ldac is also INPUT_CATALOG: ...".

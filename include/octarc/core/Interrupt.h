@@ -25,6 +25,9 @@ void installInterruptCleanup(const std::string& messagePrefix);
 // beyond the registry's 1024 slots, throw std::length_error.
 int removeOnInterrupt(const std::string& path, bool isDirectory = false);
 void forgetOnInterrupt(int slot);
+// A temporary directory removed with everything in it (a directory of outputs written whole,
+// AtomicDirectory), with system calls only, as a signal handler may.
+int removeTreeOnInterrupt(const std::string& path);
 
 // Called once a run's outputs are all in place (OutputFiles::commit does it): a signal arriving
 // afterwards, with nothing left to remove, still ends the process with 128 + signal but says that

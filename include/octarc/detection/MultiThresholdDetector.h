@@ -83,6 +83,8 @@ class SegmentationRuns {
   int levelCount() const { return static_cast<int>(levels_.size()); }
   // Runs stored for `level` (memory use: 16 bytes each).
   std::size_t runCount(int level) const;
+  // The footprint of object `number` of `level` (empty when there is none), in raster order.
+  std::vector<PixelRun> footprint(int level, std::int32_t number) const;
 
  private:
   struct Run {

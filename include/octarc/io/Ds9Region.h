@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "octarc/io/FitsHeader.h"
+#include "octarc/io/Wcs.h"
 
 namespace octarc {
 
@@ -70,6 +71,25 @@ std::vector<RegionShape> parseDs9Regions(const std::string& text,
                                          const std::string& regionFileForErrors,
                                          const FitsHeader& imageHeader,
                                          const std::string& imageNameForErrors);
+
+// A mark to draw: a circle or an ellipse (1-based pixel coordinates, as RegionShape) with its
+// colour and an optional text label shown with it.
+struct RegionMark {
+  RegionShapeKind kind = RegionShapeKind::Circle;  // Circle or Ellipse
+  double xCentre = 0.0;
+  double yCentre = 0.0;
+  double semiAxis1Pix = 0.0;
+  double semiAxis2Pix = 0.0;
+  double angleRad = 0.0;
+  std::string colour = "green";  // a DS9 colour name
+  std::string text;              // "" for none; '{' and '}' are dropped
+};
+
+// A DS9 region file (version 4.1) of the marks: in fk5 (degrees, sizes in arcsec, sky angles)
+// through the local frame of `wcs` at each centre (the inverse of what readDs9Regions does),
+// or in image coordinates when `wcs` is null. ConfigError for a box or polygon mark, or a
+// centre the WCS cannot place on the sky.
+std::string formatDs9Regions(const std::vector<RegionMark>& marks, const Wcs* wcs);
 
 // DS9's rule for a set of shapes: a point is in the region when it lies inside at least one
 // include shape (or there is no include shape at all) and inside no exclude shape.

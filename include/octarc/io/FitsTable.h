@@ -49,7 +49,8 @@ struct FitsColumn {
   // characters; 0 when writing means the longest value's length (at least 1).
   int repeat = 1;
   FitsColumnValues values;
-  std::string tform;  // filled when read (e.g. "3J", "16A"); ignored when writing
+  std::string tform;       // filled when read (e.g. "3J", "16A"); ignored when writing
+  std::string dimensions;  // TDIMn, e.g. "(80, 36)" for an LDAC header cell; "" for none
 
   FitsColumnType type() const;
   // Rows held: values / repeat for numeric columns, the number of strings for string ones.

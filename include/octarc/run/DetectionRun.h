@@ -55,10 +55,11 @@ using RunLog = std::function<void(const std::string& line)>;
 
 // Detects and measures settings.imagePaths[0] (every image extension) with the columns of
 // `columns`; ASSOC with `assoc` when set. Keeps the image and its footprints when the settings
-// ask for check-images. ConfigError / IoError on bad settings or input; nothing is written.
+// ask for check-images, or with `keepImageAndFootprints` (a search, single-extension images
+// only). ConfigError / IoError on bad settings or input; nothing is written.
 DetectionRunResult runDetection(const RunSettings& settings, const ColumnPlan& columns,
                                 const std::optional<sexcompat::AssocSettings>& assoc,
-                                const RunLog& log);
+                                const RunLog& log, bool keepImageAndFootprints = false);
 
 // The run `octarc detect IMAGE -c configPath -KEY value ...` makes, in memory and silent: the
 // .sex file with `keys` (KEY, value) on top, PARAMETERS_NAME as given, ASSOC when its columns

@@ -194,6 +194,48 @@ TEST(Ds9Region, SkyAnglesTurnTheOtherWayOnAMirroredImage) {
 }
 
 // "-00:00:10" is ten arcsec south: the sign of a zero leading field is kept.
+// The writer is the reader's inverse: marks written in fk5 through a rotated and through a
+// mirrored WCS, and in image coordinates, read back to the same pixel shapes.
+TEST(Ds9Region, WrittenMarksReadBackToTheSamePixelShapes) {
+  const Cards mirrored = {
+      {"CTYPE1", "'RA---TAN'"},  {"CTYPE2", "'DEC--TAN'"},  {"CRPIX1", "200.5"},
+      {"CRPIX2", "150.5"},       {"CRVAL1", "150.1"},       {"CRVAL2", "2.2"},
+      {"CD1_1", num(kScaleDeg)}, {"CD2_2", num(kScaleDeg)}, {"RADESYS", "'ICRS'"}};
+  std::vector<RegionMark> marks;
+  for (int k = 0; k < 6; ++k) {
+    RegionMark m;
+    m.kind = k % 2 ? RegionShapeKind::Circle : RegionShapeKind::Ellipse;
+    m.xCentre = 40.0 + 55.0 * k;
+    m.yCentre = 260.0 - 37.0 * k;
+    m.semiAxis1Pix = 3.0 + k;
+    m.semiAxis2Pix = k % 2 ? m.semiAxis1Pix : 1.5 + 0.5 * k;
+    m.angleRad = k % 2 ? 0.0 : (-80.0 + 35.0 * k) * kRadPerDeg;
+    m.text = "#" + std::to_string(k + 1) + " {x}";
+    marks.push_back(m);
+  }
+  for (const Cards* cards : {&kSkyCards, &mirrored, static_cast<const Cards*>(nullptr)}) {
+    const FitsHeader header = makeHeader(cards ? *cards : Cards{});
+    const std::optional<Wcs> wcs = Wcs::fromHeader(header, "image.fits");
+    const std::string text = formatDs9Regions(marks, cards ? &*wcs : nullptr);
+    EXPECT_NE(text.find(cards ? "\nfk5\n" : "\nimage\n"), std::string::npos);
+    EXPECT_NE(text.find("text={#1 x}"), std::string::npos);
+    const std::vector<RegionShape> back = parse(text, cards ? *cards : Cards{});
+    ASSERT_EQ(back.size(), marks.size());
+    for (std::size_t i = 0; i < marks.size(); ++i) {
+      SCOPED_TRACE(i);
+      EXPECT_NEAR(back[i].xCentre, marks[i].xCentre, 1e-5);
+      EXPECT_NEAR(back[i].yCentre, marks[i].yCentre, 1e-5);
+      EXPECT_NEAR(back[i].semiAxis1Pix, marks[i].semiAxis1Pix, 1e-6);
+      EXPECT_NEAR(back[i].semiAxis2Pix, marks[i].semiAxis2Pix, 1e-6);
+      if (marks[i].kind == RegionShapeKind::Ellipse) {
+        // An ellipse's angle is defined modulo 180 degrees.
+        const double d = std::remainder(back[i].angleRad - marks[i].angleRad, std::numbers::pi);
+        EXPECT_NEAR(d, 0.0, 1e-6);
+      }
+    }
+  }
+}
+
 TEST(Ds9Region, NegativeDeclinationsBelowOneDegreeKeepTheirSign) {
   const Cards equator = {
       {"CTYPE1", "'RA---TAN'"},   {"CTYPE2", "'DEC--TAN'"},  {"CRPIX1", "200.5"},

@@ -155,7 +155,7 @@ TEST(GridFile, FilesThatAreNotAGridNameWhatIsMissing) {
   const fs::path dir = test::scratchDir();
   FitsTable other;
   other.name = "LDAC_OBJECTS";
-  other.columns = {FitsColumn{"NUMBER", "", "", "", 1, std::vector<std::int32_t>{1}, ""}};
+  other.columns = {FitsColumn{"NUMBER", "", "", "", 1, std::vector<std::int32_t>{1}, "", ""}};
   const std::string catalog = (dir / "catalog.fits").string();
   writeFitsTables(catalog, {other});
   expectError<IoError>([&] { loadGrid(catalog); },

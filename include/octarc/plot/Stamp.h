@@ -1,0 +1,46 @@
+// Postage stamps for visual inspection (METHOD.md section 4): a cut-out of the image drawn in
+// grey levels with PLplot (pngcairo), marks on it (the arc's ellipse, the lens), North and East
+// arrows and a scale bar. PLplot is wrapped here and in CheckPlot.cpp only.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "octarc/core/Image.h"
+
+namespace octarc {
+
+struct StampMark {
+  bool ellipse = true;  // else a circle of radius semiAxis1Pix
+  double xFits = 0.0;   // 1-based pixel coordinates of the full image
+  double yFits = 0.0;
+  double semiAxis1Pix = 0.0;
+  double semiAxis2Pix = 0.0;
+  double angleRad = 0.0;  // counter-clockwise from +x
+  int red = 0, green = 255, blue = 0;
+  std::string label;  // drawn beside the mark; "" for none
+};
+
+struct Stamp {
+  ImageF pixels;          // the cut-out (NaN: no data, drawn black)
+  double xFirstFits = 1;  // 1-based coordinates of the cut-out's pixel (0, 0) in the image
+  double yFirstFits = 1;
+  double displayLowAdu = 0;   // black
+  double displayHighAdu = 1;  // white; values between go through an asinh stretch
+  // North and East as unit vectors in pixel coordinates (+x right, +y up), from the WCS.
+  bool hasSkyDirections = false;
+  double northX = 0, northY = 1, eastX = -1, eastY = 0;
+  double pixelScaleArcsec = 0;  // > 0: a scale bar of scaleBarArcsec is drawn
+  double scaleBarArcsec = 5;
+  std::vector<StampMark> marks;
+  std::string title;     // above the image
+  std::string subtitle;  // below it
+  int sizePix = 400;     // the PNG is sizePix x sizePix
+};
+
+// Writes `stamp` as a PNG at `path` (the temporary path of an output: PLplot writes it itself).
+// ConfigError for an empty cut-out or a display range that is not increasing; IoError naming
+// the file when it cannot be written.
+void writeStampPng(const std::string& path, const Stamp& stamp);
+
+}  // namespace octarc

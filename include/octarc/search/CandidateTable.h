@@ -1,0 +1,41 @@
+// The candidate catalog of a search: its columns, declared and filled in one place, as a
+// FITS-LDAC objects table (with the search summary as header keywords) and as ASCII_HEAD text.
+//
+// One row per candidate, by probability (NUMBER 1 is the most probable). Positions are 1-based
+// pixels (core/Conventions.h) and J2000 degrees; NaN where there is no WCS or no lens. Values
+// of the catalog taken from the candidate's best row (MAG_ISO, ARCNESS, ...) are NaN when the
+// catalog has no such column.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "octarc/core/Column.h"
+#include "octarc/core/Table.h"
+#include "octarc/io/FitsTable.h"
+#include "octarc/search/Search.h"
+
+namespace octarc {
+
+// A column of the candidate table; `type` is ignored for the string columns (text = true).
+struct CandidateColumnSpec {
+  ColumnSpec spec;
+  bool text = false;
+};
+
+// Every column, in table order (for -dp and the writers).
+const std::vector<CandidateColumnSpec>& candidateColumns();
+
+// The LDAC_OBJECTS table of the candidates, with the summary as keywords: NCANDID, NROWSRCH,
+// NOBJSRCH, NROWSEL, SRCHPIX, SRCHAREA (deg2, undefined without WCS), CANDDEG2, REJFRAC,
+// NSPACES, and per report space n: SPNAMEn, SPEXPRn, SPCANDn, SPDEG2n.
+FitsTable candidateObjectsTable(const Table& catalog, const SearchResult& result,
+                                const SearchSettings& settings);
+
+// The same rows as SExtractor's ASCII_HEAD: "# %3d %-22.22s %-58.58s [unit]" lines, then one
+// line per candidate. Text values are single words, as SExtractor ASCII readers split lines at
+// blanks: a blank becomes '_' ("OCTARC_J095951.45+015833.5") and an empty value "-".
+std::string candidateAsciiText(const Table& catalog, const SearchResult& result,
+                               const SearchSettings& settings);
+
+}  // namespace octarc

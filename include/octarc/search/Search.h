@@ -1,0 +1,115 @@
+// The search (METHOD.md section 4): from a multi-threshold catalog of one image to lens
+// candidates, in memory.
+//
+//   catalog rows (every level) --> searched area (selection/SearchMask.h, on X_IMAGE, Y_IMAGE)
+//     --> selection: SNR_ISO > S/N floor, resolved (sqrt(2) SIZE_IMAGE > RESOLVED_MIN), in the
+//         grid's own search space, in a selected bin of the grid (selection/GridScore.h)
+//     --> one candidate per physical object (search/LevelMerge.h)
+//     --> its lens and Einstein radius (search/LensFinder.h), its name (search/CandidateName.h)
+//
+// The report spaces (e.g. the paper's "a > 0.15, e > 0.6, S/N > 40") only label candidates:
+// a candidate is in a space when one of its passing rows is. Nothing here reads or writes files.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "octarc/core/Image.h"
+#include "octarc/core/Table.h"
+#include "octarc/detection/MultiThresholdDetector.h"
+#include "octarc/io/Wcs.h"
+#include "octarc/search/LensFinder.h"
+#include "octarc/selection/GridFile.h"
+#include "octarc/selection/SearchMask.h"
+#include "octarc/selection/SearchSpace.h"
+
+namespace octarc {
+
+// The catalog columns the search reads (besides the grid's axes and the spaces' cuts). The arc's
+// octopole frame angle is 0.5 atan2(E2_IMAGE, E1_IMAGE) (core/Conventions.h).
+const std::vector<std::string>& searchRequiredColumns();
+
+// CANDIDATE_FLAGS bits.
+enum CandidateFlag : int {
+  kCandidateDarkLens = 1,     // no galaxy on the concave side within LENS_RADIUS
+  kCandidateNoCurvature = 2,  // no circle could be fitted to the arc's pixels (centroid used)
+  kCandidateNoWcs = 4,        // the image has no celestial WCS: no RA, Dec or name
+};
+
+struct SearchSettings {
+  double snrMin = 40.0;                   // S/N floor: SNR_ISO above it
+  double resolvedMinArcsec = 1.0;         // resolved: sqrt(2) * SIZE_IMAGE above it (METHOD 3)
+  double pixelScaleArcsec = 0.0;          // > 0
+  double lensRadiusArcsec = 6.0;          // how far from the arc a lens may lie
+  std::vector<SearchSpace> reportSpaces;  // at most 30
+  std::string namePrefix = "OCTARC";      // of the IAU-style designations
+};
+
+// The lens of a candidate, when one was found.
+struct CandidateLens {
+  std::size_t row = 0;            // in the catalog
+  double xPix = 0.0, yPix = 0.0;  // 1-based
+  double raDeg = std::numeric_limits<double>::quiet_NaN();
+  double decDeg = std::numeric_limits<double>::quiet_NaN();
+  double einsteinRadiusArcsec = 0.0;
+};
+
+struct Candidate {
+  std::size_t row = 0;            // the best row, in the catalog
+  std::vector<std::size_t> rows;  // every passing row of the object
+  std::vector<int> passedLevels;
+  std::uint32_t spaces = 0;                                 // bit i: in report space i
+  double probability = 0.0;                                 // of the best row's bin
+  double contourLevel = 0.0;                                // at which that bin enters the contour
+  std::string name;                                         // designation, "" without WCS
+  double raDeg = std::numeric_limits<double>::quiet_NaN();  // J2000 of the best row
+  double decDeg = std::numeric_limits<double>::quiet_NaN();
+  std::optional<CircleFit> curvature;  // in 1-based pixel coordinates
+  std::optional<CandidateLens> lens;
+  int flags = 0;  // CandidateFlag bits
+};
+
+struct SpaceCount {
+  std::string name;
+  std::string expression;
+  std::int64_t candidates = 0;
+  std::int64_t rowsPassed = 0;  // selected rows inside the space
+};
+
+struct SearchSummary {
+  std::int64_t rowsSearched = 0;     // catalog rows (every level) inside the searched area
+  std::int64_t objectsSearched = 0;  // level-1 objects inside it
+  std::int64_t rowsSelected = 0;     // rows that passed every cut
+  std::int64_t candidates = 0;
+  double searchedAreaDeg2 = std::numeric_limits<double>::quiet_NaN();  // NaN without WCS
+  std::int64_t searchedPixels = 0;
+  std::vector<SpaceCount> spaces;  // the report spaces, in order
+  // Candidates per square degree (NaN without area) and the fraction of searched rows rejected.
+  double candidatesPerDeg2() const;
+  double rejectedFraction() const;
+};
+
+struct SearchResult {
+  std::vector<Candidate> candidates;  // by probability, highest first
+  SearchSummary summary;
+};
+
+// What the search reads. `footprints` and `pixels` (the background-subtracted measurement image)
+// give the arcs' pixels for the curvature fit; without them the lens is looked for from the arc
+// centroid (kCandidateNoCurvature).
+struct SearchInput {
+  const Table* catalog = nullptr;  // every level, searchRequiredColumns() and the grid's columns
+  const SavedGrid* grid = nullptr;
+  const SearchMask* mask = nullptr;
+  const Wcs* wcs = nullptr;  // null: pixel positions only
+  const SegmentationRuns* footprints = nullptr;
+  const ImageF* pixels = nullptr;
+};
+
+// ConfigError for a missing column, a bad setting or inconsistent inputs.
+SearchResult searchCandidates(const SearchInput& input, const SearchSettings& settings);
+
+}  // namespace octarc

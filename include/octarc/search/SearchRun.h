@@ -1,0 +1,85 @@
+// A whole search of one image, as `octarc search` (and a batch of tiles) runs it:
+//
+//   image (+ weight map) --> prepared once (run/PreparedImage.h)
+//     --> rows: detected and measured in memory (run/DetectionRun.h), or INPUT_CATALOG
+//     --> searched area: MASK_NAME regions, bad weights, MASK_BORDER (selection/SearchMask.h)
+//     --> grid (GRID_NAME) checked against the image's setup (a warning when they differ)
+//     --> candidates (search/Search.h)
+//   --> writeSearchOutputs(): OUTPUT_DIR holding candidates.fits (FITS-LDAC), candidates.cat
+//       (ASCII_HEAD), candidates.reg (DS9), stamps/NNNN.png, index.html (the contact sheet) and
+//       summary.txt, written whole into a temporary directory and renamed into place.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "octarc/core/Progress.h"
+#include "octarc/core/Table.h"
+#include "octarc/run/DetectionRun.h"
+#include "octarc/run/PreparedImage.h"
+#include "octarc/run/RunSettings.h"
+#include "octarc/search/Inspection.h"
+#include "octarc/search/Search.h"
+#include "octarc/selection/GridFile.h"
+#include "octarc/sexcompat/Assoc.h"
+#include "octarc/sexcompat/Config.h"
+
+namespace octarc {
+
+// The configuration keys of `octarc search`: those of detect (run/RunKeys.h) and GRID_NAME,
+// SEARCH_SPACE, MASK_NAME, MASK_BORDER, OUTPUT_DIR, SNR_MIN, RESOLVED_MIN, LENS_RADIUS,
+// STAMP_SIZE, STAMP_PIXELS, STAMPS, NAME_PREFIX.
+std::vector<sexcompat::KeySpec> searchKeys();
+
+struct SearchRunSettings {
+  RunSettings run;               // the image, weights, levels, columns (as for detect)
+  std::string gridPath;          // GRID_NAME
+  std::string maskPath;          // MASK_NAME, "" for none
+  int borderPix = 0;             // MASK_BORDER
+  std::string inputCatalogPath;  // INPUT_CATALOG: its LDAC_OBJECTS instead of detecting
+  std::string outputDir;         // OUTPUT_DIR
+  SearchSettings search;         // pixelScaleArcsec set by the run (PIXEL_SCALE or the WCS)
+  StampSettings stamps;
+  bool writeStamps = true;  // STAMPS
+  // ASSOC, when PARAMETERS_NAME asks for its columns (rows are never removed: the search needs
+  // the whole component tree, so ASSOCSELEC_TYPE must be ALL).
+  std::optional<sexcompat::AssocSettings> assoc;
+};
+
+// The settings of a loaded configuration; `run` is the detection part as the command line
+// resolved it (image paths, PARAMETERS_NAME found). ConfigError for bad values (a SEARCH_SPACE
+// without a name, ASSOCSELEC_TYPE other than ALL, ...).
+SearchRunSettings searchSettingsFromConfig(const sexcompat::Config& config, RunSettings run);
+
+// The file that marks a directory as a search output (an existing OUTPUT_DIR is replaced only
+// when it holds it).
+inline constexpr const char* kSearchMarkerFile = "candidates.fits";
+
+struct SearchRun {
+  PreparedImage image;  // the measurement image (background-subtracted) and its WCS
+  Table catalog;        // every row of every level
+  std::optional<SegmentationRuns> footprints;  // when detected here
+  std::vector<ThresholdLevel> levels;
+  std::optional<SavedGrid> grid;  // GRID_NAME (always set by searchImage)
+  SearchResult result;
+  double pixelScaleArcsec = 0.0;
+  std::vector<std::string> warnings;       // grid made for another setup, no WCS, ...
+  std::vector<std::string> runCards;       // the detection run's LDAC_IMHEAD cards
+  std::vector<std::int64_t> catalogOrder;  // rows in catalog order (empty: as stored)
+};
+
+// Runs the search. ConfigError / IoError on bad settings or input; nothing is written.
+SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log);
+
+// The summary lines (printed, in summary.txt and on the contact sheet).
+std::vector<std::string> searchSummaryLines(const SearchRun& run,
+                                            const SearchRunSettings& settings);
+
+// Writes OUTPUT_DIR whole (see above); `progress` is told of each stamp. IoError naming the
+// directory on failure, which leaves no partial directory.
+void writeSearchOutputs(const SearchRun& run, const SearchRunSettings& settings,
+                        const ProgressFn& progress, const RunLog& log);
+
+}  // namespace octarc

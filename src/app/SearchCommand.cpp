@@ -1,0 +1,88 @@
+// `octarc search`: from a survey image to ranked lens candidates ready for inspection.
+//
+//   image --> detection in memory (or INPUT_CATALOG) --> searched area --> selection with the
+//   occupation grid --> one candidate per object, its lens --> OUTPUT_DIR (search/SearchRun.h)
+
+#include <cstdio>
+#include <iostream>
+
+#include "octarc/app/CommandLine.h"
+#include "octarc/app/Commands.h"
+#include "octarc/core/Error.h"
+#include "octarc/core/Progress.h"
+#include "octarc/search/CandidateTable.h"
+#include "octarc/search/SearchRun.h"
+
+namespace octarc {
+
+namespace {
+
+// clang-format off
+void printUsage() {
+  std::cout <<
+      "Usage: octarc search IMAGE [-c survey.sex] [-KEY value ...]\n"
+      "\n"
+      "Detects and measures IMAGE at every level of the configuration, as octarc detect does\n"
+      "(or reads the rows of an earlier run: INPUT_CATALOG), and keeps the rows that are\n"
+      "  - inside the searched area: the DS9 region file MASK_NAME (include and '-' exclude\n"
+      "    shapes), good weight pixels (WEIGHT_IMAGE, WEIGHT_THRESH), MASK_BORDER from the edges;\n"
+      "  - above the S/N floor (SNR_ISO > SNR_MIN) and resolved (sqrt(2) SIZE_IMAGE >\n"
+      "    RESOLVED_MIN arcsec);\n"
+      "  - in a selected bin of the occupation grid GRID_NAME (octarc calibrate), and in the\n"
+      "    grid's own search space.\n"
+      "Rows of one object at several levels make one candidate (its best row, the levels it\n"
+      "passed). Its lens is the galaxy on the arc's concave side nearest the centre of\n"
+      "curvature, within LENS_RADIUS; theta_E is the arc-lens distance; no lens: a possible\n"
+      "dark lens. Candidates are counted in each SEARCH_SPACE (NAME: cut ...).\n"
+      "\n"
+      "OUTPUT_DIR (written whole, replacing an earlier search output of that name):\n"
+      "  candidates.fits  FITS-LDAC catalog, the summary in its header (-dp lists the columns)\n"
+      "  candidates.cat   the same as ASCII_HEAD\n"
+      "  candidates.reg   DS9 regions: arc ellipse (3 A x 3 B), lens circle, number (fk5 with\n"
+      "                   a WCS, else image)\n"
+      "  stamps/NNNN.png  STAMP_SIZE arcsec stamps, North and East arrows, scale bar\n"
+      "  index.html       the contact sheet (works offline), sortable\n"
+      "  summary.txt      objects searched, area, candidates per search space and per deg2\n"
+      "\n"
+      "An image without a celestial WCS is searched in pixel coordinates (PIXEL_SCALE must then\n"
+      "be set). A grid made for another pixel scale, seeing, depth or thresholds is warned of.\n"
+      "\n"
+      "Options:\n"
+      "  -c FILE      configuration file (SExtractor .sex syntax; see share/octarc/octarc.sex)\n"
+      "  -KEY value   override a configuration key (e.g. -GRID_NAME dls.grid.fits)\n"
+      "  -d, -dd      print the default configuration (-dd: every key)\n"
+      "  -dp          list the columns of the candidate catalog\n"
+      "  -h           this help;  -v  version\n";
+}
+// clang-format on
+
+void printCandidateColumns() {
+  for (const CandidateColumnSpec& c : candidateColumns()) {
+    char line[256];
+    std::snprintf(line, sizeof line, "#%-24s %-57s", c.spec.name.c_str(),
+                  c.spec.description.c_str());
+    std::cout << line;
+    if (!c.spec.unit.empty()) std::cout << " [" << c.spec.unit << "]";
+    std::cout << "\n";
+  }
+}
+
+}  // namespace
+
+int runSearch(const std::vector<std::string>& args) {
+  std::optional<LoadedRun> loaded =
+      loadRun(args, "search", searchKeys(), printUsage, printCandidateColumns);
+  if (!loaded) return 0;
+  requireSingleImage(loaded->settings, "search");
+  SearchRunSettings settings = searchSettingsFromConfig(loaded->config, loaded->settings);
+  const bool quiet = settings.run.quiet;
+  const RunLog log = quiet ? RunLog() : [](const std::string& line) { std::cerr << line << "\n"; };
+
+  const SearchRun run = searchImage(settings, log);
+  writeSearchOutputs(run, settings, terminalProgress("Stamps", "stamps", quiet), log);
+  for (const std::string& line : searchSummaryLines(run, settings)) std::cout << line << "\n";
+  std::cout << "Open " << settings.outputDir << "/index.html to inspect them\n";
+  return 0;
+}
+
+}  // namespace octarc

@@ -1,0 +1,284 @@
+#include "octarc/search/CandidateTable.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <limits>
+#include <variant>
+
+#include "octarc/catalog/Catalog.h"
+#include "octarc/search/CandidateName.h"
+
+namespace octarc {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// What a column's value is computed from.
+struct RowView {
+  const Table& catalog;
+  const Candidate& candidate;
+  std::int64_t number;  // 1-based candidate number
+  // A catalog value of the best row (row = -1: the lens row); NaN without such a column.
+  double best(const char* column) const { return at(std::int64_t(candidate.row), column); }
+  double lens(const char* column) const {
+    return candidate.lens ? at(std::int64_t(candidate.lens->row), column) : kNaN;
+  }
+  double at(std::int64_t row, const char* column) const {
+    const int c = catalog.findColumn(column);
+    return c < 0 ? kNaN : catalog.value(row, c);
+  }
+};
+
+using Value = std::variant<double, std::string>;
+
+struct ColumnDef {
+  CandidateColumnSpec column;
+  std::function<Value(const RowView&)> value;
+};
+
+ColumnDef number(std::string name, std::string description, std::string unit, ColumnType type,
+                 std::string format, std::function<double(const RowView&)> f) {
+  return {{{std::move(name), std::move(description), std::move(unit), "", type, std::move(format)},
+           false},
+          [f = std::move(f)](const RowView& v) { return Value(f(v)); }};
+}
+
+ColumnDef text(std::string name, std::string description,
+               std::function<std::string(const RowView&)> f) {
+  return {{{std::move(name), std::move(description), "", "", ColumnType::Float32, "%s"}, true},
+          [f = std::move(f)](const RowView& v) { return Value(f(v)); }};
+}
+
+// A column copied from the catalog's best row.
+ColumnDef copied(const char* name, std::string description, std::string unit, ColumnType type,
+                 std::string format) {
+  return number(name, std::move(description), std::move(unit), type, std::move(format),
+                [name](const RowView& v) { return v.best(name); });
+}
+
+std::string levelList(const std::vector<int>& levels) {
+  std::string out;
+  for (const int level : levels) out += (out.empty() ? "" : ",") + std::to_string(level);
+  return out;
+}
+
+const std::vector<ColumnDef>& definitions() {
+  using T = ColumnType;
+  static const std::vector<ColumnDef> defs = {
+      number("NUMBER", "Candidate number, by probability", "", T::Int32, "%6d",
+             [](const RowView& v) { return double(v.number); }),
+      text("NAME", "IAU-style designation (J2000, truncated)",
+           [](const RowView& v) { return v.candidate.name; }),
+      number("ALPHA_J2000", "Right ascension of the arc (J2000)", "deg", T::Float64, "%11.7f",
+             [](const RowView& v) { return v.candidate.raDeg; }),
+      number("DELTA_J2000", "Declination of the arc (J2000)", "deg", T::Float64, "%+11.7f",
+             [](const RowView& v) { return v.candidate.decDeg; }),
+      text("RA_SEX", "Right ascension of the arc (J2000), hh:mm:ss.ss",
+           [](const RowView& v) { return formatRaSexagesimal(v.candidate.raDeg, 2); }),
+      text("DEC_SEX", "Declination of the arc (J2000), +dd:mm:ss.s",
+           [](const RowView& v) { return formatDecSexagesimal(v.candidate.decDeg, 1); }),
+      copied("X_IMAGE", "Arc centroid x (1-based)", "pixel", T::Float32, "%10.3f"),
+      copied("Y_IMAGE", "Arc centroid y (1-based)", "pixel", T::Float32, "%10.3f"),
+      copied("THRESH_LEVEL", "Threshold level of the best row", "", T::Int16, "%3d"),
+      number("OBJ_NUMBER", "NUMBER of the best row within its level", "", T::Int32, "%8d",
+             [](const RowView& v) { return v.best("NUMBER"); }),
+      text("LEVELS", "Levels at which the object passed",
+           [](const RowView& v) { return levelList(v.candidate.passedLevels); }),
+      number("NLEVELS", "Number of levels at which it passed", "", T::Int16, "%3d",
+             [](const RowView& v) { return double(v.candidate.passedLevels.size()); }),
+      copied("MAG_ISO", "Isophotal magnitude of the arc", "mag", T::Float32, "%8.4f"),
+      copied("MAGERR_ISO", "RMS error of MAG_ISO", "mag", T::Float32, "%8.4f"),
+      copied("SNR_ISO", "FLUX_ISO / FLUXERR_ISO", "", T::Float32, "%10.2f"),
+      copied("ARCNESS", "|I_aab| / size^3", "", T::Float32, "%8.4f"),
+      copied("E_IMAGE", "Distortion (a^2 - b^2)/(a^2 + b^2)", "", T::Float32, "%7.4f"),
+      copied("ANTIARCNESS", "I_abb / size^3", "", T::Float32, "%8.4f"),
+      copied("SKEW_MAJOR", "I_aaa / size^3", "", T::Float32, "%8.4f"),
+      copied("SKEW_MINOR", "I_bbb / size^3", "", T::Float32, "%8.4f"),
+      copied("ARC_SIDE", "Side of the centre of curvature: sign(I_aab)", "", T::Int16, "%2d"),
+      copied("A_IMAGE", "Profile RMS along major axis", "pixel", T::Float32, "%9.3f"),
+      copied("B_IMAGE", "Profile RMS along minor axis", "pixel", T::Float32, "%9.3f"),
+      copied("THETA_IMAGE", "Position angle (CCW/x)", "deg", T::Float32, "%5.1f"),
+      number("PROB", "Occupation probability of the arc's grid bin", "", T::Float64, "%12.5e",
+             [](const RowView& v) { return v.candidate.probability; }),
+      number("CONTOUR", "Contour level at which the bin enters", "", T::Float64, "%8.5f",
+             [](const RowView& v) { return v.candidate.contourLevel; }),
+      number("SPACES", "Report spaces the arc is in (bit n-1: SPNAMEn)", "", T::Int32, "%6d",
+             [](const RowView& v) { return double(v.candidate.spaces); }),
+      number("LENS_LEVEL", "Threshold level of the lens row (0: none)", "", T::Int16, "%3d",
+             [](const RowView& v) { return v.candidate.lens ? v.lens("THRESH_LEVEL") : 0.0; }),
+      number("LENS_NUMBER", "NUMBER of the lens within its level (0: none)", "", T::Int32, "%8d",
+             [](const RowView& v) { return v.candidate.lens ? v.lens("NUMBER") : 0.0; }),
+      number("LENS_X", "Lens centroid x (1-based)", "pixel", T::Float32, "%10.3f",
+             [](const RowView& v) { return v.candidate.lens ? v.candidate.lens->xPix : kNaN; }),
+      number("LENS_Y", "Lens centroid y (1-based)", "pixel", T::Float32, "%10.3f",
+             [](const RowView& v) { return v.candidate.lens ? v.candidate.lens->yPix : kNaN; }),
+      number("LENS_ALPHA", "Right ascension of the lens (J2000)", "deg", T::Float64, "%11.7f",
+             [](const RowView& v) { return v.candidate.lens ? v.candidate.lens->raDeg : kNaN; }),
+      number("LENS_DELTA", "Declination of the lens (J2000)", "deg", T::Float64, "%+11.7f",
+             [](const RowView& v) { return v.candidate.lens ? v.candidate.lens->decDeg : kNaN; }),
+      number("LENS_MAG", "Isophotal magnitude of the lens", "mag", T::Float32, "%8.4f",
+             [](const RowView& v) { return v.lens("MAG_ISO"); }),
+      number("THETA_E", "Einstein radius estimate: arc-lens distance", "arcsec", T::Float32,
+             "%7.3f",
+             [](const RowView& v) {
+               return v.candidate.lens ? v.candidate.lens->einsteinRadiusArcsec : kNaN;
+             }),
+      number("CURV_X", "Centre of curvature x (1-based)", "pixel", T::Float32, "%10.3f",
+             [](const RowView& v) {
+               return v.candidate.curvature ? v.candidate.curvature->xCentre : kNaN;
+             }),
+      number("CURV_Y", "Centre of curvature y (1-based)", "pixel", T::Float32, "%10.3f",
+             [](const RowView& v) {
+               return v.candidate.curvature ? v.candidate.curvature->yCentre : kNaN;
+             }),
+      number("CURV_RADIUS", "Radius of curvature of the arc", "pixel", T::Float32, "%9.3f",
+             [](const RowView& v) {
+               return v.candidate.curvature ? v.candidate.curvature->radius : kNaN;
+             }),
+      copied("FLAGS", "Extraction flags of the best row", "", T::Int16, "%3d"),
+      number("CAND_FLAGS", "Candidate flags: 1 dark lens?, 2 no curvature fit, 4 no WCS", "",
+             T::Int16, "%3d", [](const RowView& v) { return double(v.candidate.flags); }),
+  };
+  return defs;
+}
+
+FitsColumnValues emptyValues(ColumnType type) {
+  switch (type) {
+    case ColumnType::Int16:
+      return std::vector<std::int16_t>();
+    case ColumnType::Int32:
+      return std::vector<std::int32_t>();
+    case ColumnType::Int64:
+      return std::vector<std::int64_t>();
+    case ColumnType::Float32:
+      return std::vector<float>();
+    case ColumnType::Float64:
+      return std::vector<double>();
+  }
+  return std::vector<double>();
+}
+
+// Integer storage as the catalogs store it: rounded, NaN as 0.
+template <typename I>
+I integerOf(double v) {
+  return std::isfinite(v) ? I(std::llround(v)) : I(0);
+}
+
+void append(FitsColumnValues& values, const Value& v) {
+  std::visit(
+      [&](auto& out) {
+        using V = std::decay_t<decltype(out)>;
+        if constexpr (std::is_same_v<V, std::vector<std::string>>) {
+          out.push_back(std::get<std::string>(v));
+        } else if constexpr (std::is_same_v<V, std::vector<float>>) {
+          out.push_back(float(std::get<double>(v)));
+        } else if constexpr (std::is_same_v<V, std::vector<double>>) {
+          out.push_back(std::get<double>(v));
+        } else if constexpr (!std::is_same_v<V, std::monostate>) {
+          out.push_back(integerOf<typename V::value_type>(std::get<double>(v)));
+        }
+      },
+      values);
+}
+
+}  // namespace
+
+const std::vector<CandidateColumnSpec>& candidateColumns() {
+  static const std::vector<CandidateColumnSpec> columns = [] {
+    std::vector<CandidateColumnSpec> out;
+    for (const ColumnDef& d : definitions()) out.push_back(d.column);
+    return out;
+  }();
+  return columns;
+}
+
+FitsTable candidateObjectsTable(const Table& catalog, const SearchResult& result,
+                                const SearchSettings& settings) {
+  FitsTable table;
+  table.name = "LDAC_OBJECTS";
+  for (const ColumnDef& d : definitions()) {
+    FitsColumn column;
+    column.name = d.column.spec.name;
+    column.comment = d.column.spec.description;
+    column.unit = d.column.spec.unit;
+    column.repeat = d.column.text ? 0 : 1;
+    column.values = d.column.text ? FitsColumnValues(std::vector<std::string>())
+                                  : emptyValues(d.column.spec.type);
+    if (!d.column.text) column.display = tdispFromPrintf(d.column.spec.printfFormat);
+    table.columns.push_back(std::move(column));
+  }
+  for (std::size_t i = 0; i < result.candidates.size(); ++i) {
+    const RowView view{catalog, result.candidates[i], std::int64_t(i) + 1};
+    for (std::size_t c = 0; c < definitions().size(); ++c) {
+      append(table.columns[c].values, definitions()[c].value(view));
+    }
+  }
+  const SearchSummary& s = result.summary;
+  auto& k = table.keywords;
+  k.push_back(FitsKeyword::integer("NCANDID", s.candidates, "lens candidates"));
+  k.push_back(
+      FitsKeyword::integer("NROWSRCH", s.rowsSearched, "catalog rows in the searched area"));
+  k.push_back(FitsKeyword::integer("NOBJSRCH", s.objectsSearched, "level-1 objects searched"));
+  k.push_back(FitsKeyword::integer("NROWSEL", s.rowsSelected, "rows that passed the selection"));
+  k.push_back(FitsKeyword::integer("SRCHPIX", s.searchedPixels, "searched pixels"));
+  k.push_back(FitsKeyword::real("SRCHAREA", s.searchedAreaDeg2, "[deg2] searched area"));
+  k.push_back(FitsKeyword::real("CANDDEG2", s.candidatesPerDeg2(), "[deg-2] candidates per deg2"));
+  k.push_back(
+      FitsKeyword::real("REJFRAC", s.rejectedFraction(), "fraction of searched rows rejected"));
+  k.push_back(FitsKeyword::real("SNRMIN", settings.snrMin, "S/N floor (SNR_ISO >)"));
+  k.push_back(FitsKeyword::real("RESOLMIN", settings.resolvedMinArcsec,
+                                "[arcsec] resolved: sqrt(2) SIZE_IMAGE >"));
+  k.push_back(
+      FitsKeyword::real("LENSRAD", settings.lensRadiusArcsec, "[arcsec] lens search radius"));
+  k.push_back(FitsKeyword::integer("NSPACES", std::int64_t(s.spaces.size()), "report spaces"));
+  for (std::size_t i = 0; i < s.spaces.size(); ++i) {
+    const std::string n = std::to_string(i + 1);
+    k.push_back(FitsKeyword::text("SPNAME" + n, s.spaces[i].name, "report space"));
+    k.push_back(FitsKeyword::text("SPEXPR" + n, s.spaces[i].expression, "its cut"));
+    k.push_back(FitsKeyword::integer("SPCAND" + n, s.spaces[i].candidates, "candidates in it"));
+    k.push_back(FitsKeyword::real(
+        "SPDEG2" + n,
+        s.searchedAreaDeg2 > 0 ? double(s.spaces[i].candidates) / s.searchedAreaDeg2 : kNaN,
+        "[deg-2] its candidates per deg2"));
+  }
+  return table;
+}
+
+std::string candidateAsciiText(const Table& catalog, const SearchResult& result,
+                               const SearchSettings&) {
+  std::string out;
+  char line[256];
+  int index = 1;
+  for (const ColumnDef& d : definitions()) {
+    const ColumnSpec& c = d.column.spec;
+    std::snprintf(line, sizeof line, "# %3d %-22.22s %-58.58s", index++, c.name.c_str(),
+                  c.description.c_str());
+    out += line;
+    if (!c.unit.empty()) out += " [" + c.unit + "]";
+    out += '\n';
+  }
+  for (std::size_t i = 0; i < result.candidates.size(); ++i) {
+    const RowView view{catalog, result.candidates[i], std::int64_t(i) + 1};
+    bool first = true;
+    for (const ColumnDef& d : definitions()) {
+      const Value v = d.value(view);
+      if (!first) out += ' ';
+      first = false;
+      if (d.column.text) {
+        // One blank-free word per value, as SExtractor ASCII readers split lines at blanks.
+        std::string word = std::get<std::string>(v);
+        std::replace(word.begin(), word.end(), ' ', '_');
+        out += word.empty() ? "-" : word;
+      } else {
+        out += formatAsciiValue(d.column.spec, std::get<double>(v));
+      }
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+}  // namespace octarc

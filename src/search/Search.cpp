@@ -1,0 +1,249 @@
+#include "octarc/search/Search.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+#include <utility>
+
+#include "octarc/core/Conventions.h"
+#include "octarc/core/Error.h"
+#include "octarc/search/CandidateName.h"
+#include "octarc/search/LevelMerge.h"
+#include "octarc/selection/GridScore.h"
+
+namespace octarc {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The catalog columns the search reads, by index.
+struct SearchColumns {
+  int x, y, level, number, parent, snr, size, e1, e2, arcSide;
+  explicit SearchColumns(const Table& t)
+      : x(t.requireColumn("X_IMAGE", "search")),
+        y(t.requireColumn("Y_IMAGE", "search")),
+        level(t.requireColumn("THRESH_LEVEL", "search")),
+        number(t.requireColumn("NUMBER", "search")),
+        parent(t.requireColumn("PARENT_NUMBER", "search")),
+        snr(t.requireColumn("SNR_ISO", "search")),
+        size(t.requireColumn("SIZE_IMAGE", "search")),
+        e1(t.requireColumn("E1_IMAGE", "search")),
+        e2(t.requireColumn("E2_IMAGE", "search")),
+        arcSide(t.requireColumn("ARC_SIDE", "search")) {}
+};
+
+std::int64_t treeKey(int level, std::int32_t number) {
+  return (std::int64_t(level) << 32) | std::uint32_t(number);
+}
+
+// The rows of each level in square cells of a given side, to find the galaxies near an arc
+// without a pass over the whole catalog per candidate.
+class RowCells {
+ public:
+  RowCells(const Table& catalog, const SearchColumns& c, const std::vector<TreeRow>& tree,
+           double cellPix)
+      : cellPix_(std::max(cellPix, 1.0)) {
+    for (std::size_t i = 0; i < tree.size(); ++i) {
+      const double x = catalog.value(std::int64_t(i), c.x);
+      const double y = catalog.value(std::int64_t(i), c.y);
+      if (!std::isfinite(x) || !std::isfinite(y)) continue;
+      cells_[key(tree[i].level, cell(x), cell(y))].push_back(i);
+    }
+  }
+  // Calls f(row) for the rows of `level` in the 3 x 3 cells around (x, y): every row within one
+  // cell side, and some beyond.
+  template <typename F>
+  void forEachNear(int level, double x, double y, F&& f) const {
+    const std::int64_t cx = cell(x), cy = cell(y);
+    for (std::int64_t j = cy - 1; j <= cy + 1; ++j) {
+      for (std::int64_t i = cx - 1; i <= cx + 1; ++i) {
+        const auto found = cells_.find(key(level, i, j));
+        if (found == cells_.end()) continue;
+        for (const std::size_t row : found->second) f(row);
+      }
+    }
+  }
+
+ private:
+  std::int64_t cell(double v) const { return std::int64_t(std::floor(v / cellPix_)); }
+  static std::int64_t key(int level, std::int64_t i, std::int64_t j) {
+    // Cells of at least one pixel: indices fit in 24 bits for images up to 16 million pixels
+    // on a side (positions slightly outside the image give small negative indices).
+    return (std::int64_t(level) << 48) | ((i & 0xffffff) << 24) | (j & 0xffffff);
+  }
+  double cellPix_;
+  std::unordered_map<std::int64_t, std::vector<std::size_t>> cells_;
+};
+
+// The arc's pixels (1-based coordinates) weighted by their positive flux, for the circle fit.
+std::optional<CircleFit> curvatureOf(const SearchInput& in, int level, std::int32_t number) {
+  if (in.footprints == nullptr || in.pixels == nullptr) return std::nullopt;
+  std::vector<double> xs, ys, ws;
+  for (const PixelRun& run : in.footprints->footprint(level, number)) {
+    for (std::int32_t x = run.x0; x <= run.x1; ++x) {
+      xs.push_back(toFitsPixel(x));
+      ys.push_back(toFitsPixel(run.y));
+      ws.push_back((*in.pixels)(x, run.y));
+    }
+  }
+  return fitCircle(xs, ys, ws);
+}
+
+}  // namespace
+
+const std::vector<std::string>& searchRequiredColumns() {
+  static const std::vector<std::string> columns = {
+      "X_IMAGE", "Y_IMAGE",    "THRESH_LEVEL", "NUMBER",   "PARENT_NUMBER",
+      "SNR_ISO", "SIZE_IMAGE", "E1_IMAGE",     "E2_IMAGE", "ARC_SIDE"};
+  return columns;
+}
+
+double SearchSummary::candidatesPerDeg2() const {
+  return searchedAreaDeg2 > 0.0 ? double(candidates) / searchedAreaDeg2 : kNaN;
+}
+
+double SearchSummary::rejectedFraction() const {
+  return rowsSearched > 0 ? 1.0 - double(rowsSelected) / double(rowsSearched) : kNaN;
+}
+
+SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
+  if (in.catalog == nullptr || in.grid == nullptr || in.mask == nullptr) {
+    throw ConfigError("search: a catalog, a grid and a searched area are needed");
+  }
+  if (!(s.pixelScaleArcsec > 0.0)) throw ConfigError("search: the pixel scale must be positive");
+  if (!(s.lensRadiusArcsec >= 0.0)) throw ConfigError("LENS_RADIUS: must not be negative");
+  if (s.reportSpaces.size() > 30) throw ConfigError("SEARCH_SPACE: at most 30 spaces");
+  const Table& catalog = *in.catalog;
+  const SearchColumns c(catalog);
+  const std::int64_t n = catalog.rows();
+
+  // Every cut, row by row.
+  const std::vector<RowScore> scores = scoreRows(in.grid->grid, in.grid->contour, catalog);
+  std::vector<bool> gridSpace(static_cast<std::size_t>(n), true);
+  if (!in.grid->provenance.searchSpaceExpression.empty()) {
+    gridSpace =
+        SearchSpace(in.grid->provenance.searchSpace.empty() ? std::string("grid")
+                                                            : in.grid->provenance.searchSpace,
+                    in.grid->provenance.searchSpaceExpression)
+            .mask(catalog);
+  }
+  std::vector<std::vector<bool>> spaceMasks;
+  for (const SearchSpace& space : s.reportSpaces) spaceMasks.push_back(space.mask(catalog));
+
+  SearchResult result;
+  SearchSummary& summary = result.summary;
+  summary.searchedPixels = in.mask->searchedPixelCount();
+  if (in.wcs != nullptr) summary.searchedAreaDeg2 = in.mask->searchedAreaDeg2(*in.wcs);
+  std::vector<TreeRow> tree(static_cast<std::size_t>(n));
+  std::vector<bool> passed(std::size_t(n), false);
+  std::vector<double> probability(std::size_t(n), kNaN);
+  std::unordered_map<std::int64_t, std::size_t> rowOf;
+  rowOf.reserve(std::size_t(n));
+  const double resolvedMinPix = s.resolvedMinArcsec / s.pixelScaleArcsec;
+  for (std::int64_t r = 0; r < n; ++r) {
+    const std::size_t i = std::size_t(r);
+    tree[i] = {int(catalog.value(r, c.level)), std::int32_t(catalog.value(r, c.number)),
+               std::int32_t(catalog.value(r, c.parent))};
+    rowOf[treeKey(tree[i].level, tree[i].number)] = i;
+    if (!in.mask->searched(catalog.value(r, c.x), catalog.value(r, c.y))) continue;
+    ++summary.rowsSearched;
+    if (tree[i].level == 1) ++summary.objectsSearched;
+    const double snr = catalog.value(r, c.snr);
+    const double size = catalog.value(r, c.size);
+    passed[i] = snr > s.snrMin && std::sqrt(2.0) * size > resolvedMinPix && gridSpace[i] &&
+                scores[i].selected;
+    if (passed[i]) {
+      probability[i] = scores[i].probability;
+      ++summary.rowsSelected;
+    }
+  }
+  for (std::size_t k = 0; k < s.reportSpaces.size(); ++k) {
+    SpaceCount count{s.reportSpaces[k].name(), s.reportSpaces[k].expression(), 0, 0};
+    for (std::size_t i = 0; i < passed.size(); ++i)
+      count.rowsPassed += passed[i] && spaceMasks[k][i];
+    summary.spaces.push_back(count);
+  }
+
+  const std::vector<MergedObject> objects = mergeAcrossLevels(tree, passed, probability);
+  const double lensRadiusPix = s.lensRadiusArcsec / s.pixelScaleArcsec;
+  const RowCells nearby(catalog, c, tree, lensRadiusPix);
+  for (const MergedObject& object : objects) {
+    Candidate cand;
+    cand.row = object.bestRow;
+    cand.rows = object.rows;
+    cand.passedLevels = object.passedLevels;
+    cand.probability = scores[object.bestRow].probability;
+    cand.contourLevel = scores[object.bestRow].entryLevel;
+    for (std::size_t k = 0; k < s.reportSpaces.size(); ++k) {
+      for (const std::size_t r : object.rows) {
+        if (spaceMasks[k][r]) cand.spaces |= 1u << k;
+      }
+      if (cand.spaces & (1u << k)) ++summary.spaces[k].candidates;
+    }
+    const std::int64_t best = std::int64_t(object.bestRow);
+    const TreeRow& id = tree[object.bestRow];
+    const double x = catalog.value(best, c.x);
+    const double y = catalog.value(best, c.y);
+    if (in.wcs != nullptr) {
+      const auto sky = in.wcs->pixelToJ2000(x, y);
+      cand.raDeg = sky[0];
+      cand.decDeg = sky[1];
+      cand.name = iauDesignation(s.namePrefix, sky[0], sky[1]);
+    } else {
+      cand.flags |= kCandidateNoWcs;
+    }
+
+    // The lens: another galaxy at the arc's level or at the lowest one; the arc's own ancestors
+    // contain it (their centroids are pulled towards it) and are left out.
+    std::vector<std::size_t> ancestors;
+    for (TreeRow walk = id; walk.level > 1;) {
+      const auto up = rowOf.find(treeKey(walk.level - 1, walk.parentNumber));
+      if (up == rowOf.end()) break;
+      ancestors.push_back(up->second);
+      walk = tree[up->second];
+    }
+    std::vector<LensCandidateGalaxy> galaxies;
+    for (const int level : {1, id.level}) {
+      nearby.forEachNear(level, x, y, [&](std::size_t i) {
+        if (i == object.bestRow ||
+            std::find(ancestors.begin(), ancestors.end(), i) != ancestors.end()) {
+          return;
+        }
+        const double gx = catalog.value(std::int64_t(i), c.x);
+        const double gy = catalog.value(std::int64_t(i), c.y);
+        if (std::hypot(gx - x, gy - y) <= lensRadiusPix) galaxies.push_back({gx, gy, i});
+      });
+      if (id.level == 1) break;
+    }
+    ArcGeometry arc;
+    arc.xCentroid = x;
+    arc.yCentroid = y;
+    arc.thetaRad = 0.5 * std::atan2(catalog.value(best, c.e2), catalog.value(best, c.e1));
+    const double side = catalog.value(best, c.arcSide);
+    arc.arcSide = side > 0 ? 1 : side < 0 ? -1 : 0;
+    arc.curvature = curvatureOf(in, id.level, id.number);
+    cand.curvature = arc.curvature;
+    if (!arc.curvature) cand.flags |= kCandidateNoCurvature;
+    if (const std::optional<LensMatch> match = findLens(arc, galaxies, lensRadiusPix)) {
+      CandidateLens lens;
+      lens.row = match->row;
+      lens.xPix = catalog.value(std::int64_t(match->row), c.x);
+      lens.yPix = catalog.value(std::int64_t(match->row), c.y);
+      if (in.wcs != nullptr) {
+        const auto sky = in.wcs->pixelToJ2000(lens.xPix, lens.yPix);
+        lens.raDeg = sky[0];
+        lens.decDeg = sky[1];
+      }
+      lens.einsteinRadiusArcsec = match->einsteinRadiusPix * s.pixelScaleArcsec;
+      cand.lens = lens;
+    } else {
+      cand.flags |= kCandidateDarkLens;
+    }
+    result.candidates.push_back(std::move(cand));
+  }
+  summary.candidates = std::int64_t(result.candidates.size());
+  return result;
+}
+
+}  // namespace octarc

@@ -1,0 +1,348 @@
+#include "octarc/search/SearchRun.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "octarc/catalog/Catalog.h"
+#include "octarc/core/AtomicFile.h"
+#include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
+#include "octarc/io/Ds9Region.h"
+#include "octarc/io/FitsTable.h"
+#include "octarc/run/CatalogAssembly.h"
+#include "octarc/run/Levels.h"
+#include "octarc/run/RunKeys.h"
+#include "octarc/search/CandidateTable.h"
+#include "octarc/selection/SurveySetup.h"
+#include "octarc/sexcompat/KeyRow.h"
+
+namespace octarc {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using sexcompat::KeySpec;
+using Kind = KeySpec::Kind;
+using Row = sexcompat::KeyRow;
+
+// The paper's two spaces of "significantly distorted and extended" arcs (METHOD.md section 4).
+const std::vector<std::string>& defaultSearchSpaces() {
+  static const std::vector<std::string> words = {
+      "A015:", "ARCNESS", ">",         "0.15",    "&&", "E_IMAGE", ">",  "0.6",     "&&", "SNR_ISO",
+      ">",     "40",      "A010_015:", "ARCNESS", ">",  "0.10",    "&&", "ARCNESS", "<=", "0.15",
+      "&&",    "E_IMAGE", ">",         "0.6",     "&&", "SNR_ISO", ">",  "40"};
+  return words;
+}
+
+// SEARCH_SPACE words: a word ending in ':' names a space, the words after it are its cut.
+std::vector<SearchSpace> parseSearchSpaces(const std::vector<std::string>& words) {
+  std::vector<SearchSpace> spaces;
+  std::string name, expression;
+  auto flush = [&] {
+    if (name.empty()) return;
+    if (expression.empty()) throw ConfigError("SEARCH_SPACE " + name + ": no cut after the name");
+    spaces.emplace_back(name, expression);
+  };
+  for (const std::string& w : words) {
+    if (w.size() > 1 && w.back() == ':') {
+      flush();
+      name = w.substr(0, w.size() - 1);
+      expression.clear();
+    } else if (name.empty()) {
+      throw ConfigError(
+          "SEARCH_SPACE: give each space a name first, as in 'A015: ARCNESS > "
+          "0.15 && E_IMAGE > 0.6' (found " +
+          quoteForMessage(w) + ")");
+    } else {
+      expression += (expression.empty() ? "" : " ") + w;
+    }
+  }
+  flush();
+  return spaces;
+}
+
+// Pixel scale at the image centre from the WCS (the mean of the two axes' steps), 0 if none.
+double wcsPixelScaleArcsec(const Wcs& wcs, std::int64_t width, std::int64_t height) {
+  const double xc = 0.5 * double(width + 1), yc = 0.5 * double(height + 1);
+  const auto c = wcs.pixelToWorld(xc, yc);
+  const auto dx = wcs.pixelToWorld(xc + 1, yc);
+  const auto dy = wcs.pixelToWorld(xc, yc + 1);
+  auto separationArcsec = [](const std::array<double, 2>& a, const std::array<double, 2>& b) {
+    const double k = std::numbers::pi / 180.0;
+    const double s = std::sin(0.5 * (b[1] - a[1]) * k), t = std::sin(0.5 * (b[0] - a[0]) * k);
+    const double h = s * s + std::cos(a[1] * k) * std::cos(b[1] * k) * t * t;
+    return 2.0 * std::asin(std::sqrt(std::min(1.0, h))) / k * 3600.0;
+  };
+  const double scale = 0.5 * (separationArcsec(c, dx) + separationArcsec(c, dy));
+  return std::isfinite(scale) ? scale : 0.0;
+}
+
+void requireColumns(const Table& catalog, const std::vector<std::string>& names,
+                    const std::string& source) {
+  std::string missing;
+  for (const std::string& n : names) {
+    if (catalog.findColumn(n) < 0) missing += (missing.empty() ? "" : ", ") + n;
+  }
+  if (!missing.empty()) {
+    throw ConfigError(source + ": lacks the column(s) the search needs: " + missing);
+  }
+}
+
+std::string spaceSummary(const SpaceCount& s, double areaDeg2) {
+  std::string line =
+      "  " + s.name + " (" + s.expression + "): " + std::to_string(s.candidates) + " candidate(s)";
+  if (areaDeg2 > 0) {
+    line += ", " + formatNumber(double(s.candidates) / areaDeg2, "%.1f") + " per deg2";
+  }
+  return line;
+}
+
+}  // namespace
+
+std::vector<KeySpec> searchKeys() {
+  std::vector<KeySpec> keys = octarcKeys();
+  // clang-format off
+  const std::vector<KeySpec> own = {
+    Row("GRID_NAME", Kind::String, {"arcs.grid.fits"},
+        "the occupation grid (octarc calibrate)"),
+    Row("SEARCH_SPACE", Kind::String, defaultSearchSpaces(),
+        "report spaces: NAME: cut, ... (a word ending in ':'\nstarts a space)")
+        .list(0, 1024),
+    Row("MASK_NAME", Kind::String, {}, "DS9 region file of the searched area (include and\n"
+        "'-' exclude shapes)").list(0, 1),
+    Row("MASK_BORDER", Kind::Int, {"0"}, "pixels this close to an edge are not searched")
+        .range(0, 1e9),
+    Row("OUTPUT_DIR", Kind::String, {"candidates"}, "directory of the candidates, stamps and\n"
+        "contact sheet"),
+    Row("SNR_MIN", Kind::Float, {"40"}, "S/N floor: SNR_ISO above it").range(0, 1e30),
+    Row("RESOLVED_MIN", Kind::Float, {"1.0"}, "resolved: sqrt(2) SIZE_IMAGE above it (arcsec)")
+        .range(0, 1e30),
+    Row("LENS_RADIUS", Kind::Float, {"6.0"}, "farthest lens from the arc (arcsec)")
+        .range(0, 1e30),
+    Row("STAMP_SIZE", Kind::Float, {"26.0"}, "side of the postage stamps (arcsec)")
+        .range(1, 3600),
+    Row("STAMP_PIXELS", Kind::Int, {"400"}, "side of the stamp images (PNG pixels)")
+        .range(64, 4096),
+    Row("STAMPS", Kind::Bool, {"Y"}, "write the stamps and contact sheet"),
+    Row("NAME_PREFIX", Kind::String, {"OCTARC"}, "prefix of the designations"),
+  };
+  // clang-format on
+  keys.insert(keys.end(), own.begin(), own.end());
+  return keys;
+}
+
+SearchRunSettings searchSettingsFromConfig(const sexcompat::Config& c, RunSettings run) {
+  SearchRunSettings s;
+  s.run = std::move(run);
+  if (planColumns(s.run, true, int(detectionLevels(s.run, 1.0).size())).assoc) {
+    s.assoc = sexcompat::AssocSettings::fromConfig(c);
+    if (c.getString("ASSOCSELEC_TYPE") != "ALL") {
+      throw ConfigError("ASSOCSELEC_TYPE: a search keeps every row (the component tree); use ALL");
+    }
+  }
+  s.gridPath = c.getString("GRID_NAME");
+  s.search.reportSpaces = parseSearchSpaces(c.getStrings("SEARCH_SPACE"));
+  if (s.search.reportSpaces.size() > 30) throw ConfigError("SEARCH_SPACE: at most 30 spaces");
+  if (c.count("MASK_NAME") > 0) s.maskPath = c.getString("MASK_NAME");
+  s.borderPix = c.getInt("MASK_BORDER");
+  if (c.isExplicit("INPUT_CATALOG")) {
+    if (c.count("INPUT_CATALOG") != 1) throw ConfigError("INPUT_CATALOG: give one catalog");
+    s.inputCatalogPath = c.getString("INPUT_CATALOG");
+  }
+  s.outputDir = c.getString("OUTPUT_DIR");
+  s.search.snrMin = c.getDouble("SNR_MIN");
+  s.search.resolvedMinArcsec = c.getDouble("RESOLVED_MIN");
+  s.search.lensRadiusArcsec = c.getDouble("LENS_RADIUS");
+  s.search.namePrefix = c.getString("NAME_PREFIX");
+  s.stamps.sideArcsec = c.getDouble("STAMP_SIZE");
+  s.stamps.sizePix = c.getInt("STAMP_PIXELS");
+  s.writeStamps = c.getBool("STAMPS");
+  return s;
+}
+
+SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
+  const RunSettings& rs = settings.run;
+  if (rs.imagePaths.size() != 1) throw ConfigError("search: give one image (see -h)");
+  SearchRun run;
+  // The grid and the region file are read before any pixel: a bad one fails fast.
+  run.grid = loadGrid(settings.gridPath);
+  if (settings.inputCatalogPath.empty()) {
+    const int levelCount = int(detectionLevels(rs, 1.0).size());
+    const ColumnPlan columns = planColumns(rs, true, levelCount);
+    DetectionRunResult detected = runDetection(rs, columns, settings.assoc, log, true);
+    DetectedExtension& ext = detected.extensions.front();
+    run.catalog = std::move(ext.table);
+    run.catalogOrder = std::move(ext.order);
+    run.levels = ext.levels;
+    run.runCards = ext.cards;
+    run.image = std::move(*detected.checkImage);
+    run.footprints = std::move(detected.segmentation);
+    requireColumns(run.catalog, searchRequiredColumns(), "PARAMETERS_NAME " + rs.parametersPath);
+  } else {
+    if (log) log("> Reading " + settings.inputCatalogPath);
+    run.catalog = tableFromFits(readFitsTable(settings.inputCatalogPath, "LDAC_OBJECTS"));
+    requireColumns(run.catalog, searchRequiredColumns(), settings.inputCatalogPath);
+    if (log) log("> Reading " + rs.imagePaths[0]);
+    run.image = prepareImage(rs.imagePaths[0], rs, {}, false);
+    for (const std::string& w : run.image.warnings) run.warnings.push_back(w);
+    // The levels as the catalog holds them (THRESHOLD per THRESH_LEVEL).
+    const int level = run.catalog.findColumn("THRESH_LEVEL");
+    const int threshold = run.catalog.findColumn("THRESHOLD");
+    for (std::int64_t r = 0; r < run.catalog.rows(); ++r) {
+      const int k = int(run.catalog.value(r, level));
+      if (k < 1 || k > 255) continue;
+      if (int(run.levels.size()) < k) run.levels.resize(std::size_t(k));
+      ThresholdLevel& t = run.levels[std::size_t(k - 1)];
+      t.level = k;
+      t.thresholdAdu = threshold >= 0 ? run.catalog.value(r, threshold) : std::nan("");
+      t.thresholdSigma = t.thresholdAdu / run.image.sigmaAdu;
+    }
+  }
+  const Wcs* wcs = run.image.wcs ? &*run.image.wcs : nullptr;
+  run.pixelScaleArcsec = rs.pixelScaleArcsec > 0
+                             ? rs.pixelScaleArcsec
+                             : (wcs ? wcsPixelScaleArcsec(*wcs, run.image.hdu.pixels.width(),
+                                                          run.image.hdu.pixels.height())
+                                    : 0.0);
+  if (!(run.pixelScaleArcsec > 0)) {
+    throw ConfigError(rs.imagePaths[0] + ": no WCS to take the pixel scale from; set PIXEL_SCALE");
+  }
+  if (!wcs) {
+    run.warnings.push_back(rs.imagePaths[0] +
+                           " has no celestial WCS: candidates get pixel positions only (no RA, "
+                           "Dec or name) and no area in deg2");
+  }
+
+  // The grid's setup against this image's.
+  SurveySetup here;
+  here.pixelScaleArcsec = run.pixelScaleArcsec;
+  here.seeingFwhmArcsec = rs.seeingFwhmArcsec;
+  here.gainElectronsPerAdu = run.image.gain > 0 ? run.image.gain : std::nan("");
+  here.skySigmaAdu = run.image.sigmaAdu;
+  for (const ThresholdLevel& t : run.levels) here.thresholdsSigma.push_back(t.thresholdSigma);
+  here.minAreaPix = rs.minAreaPix;
+  for (const std::string& d : compareSetups(run.grid->provenance.setup, here)) {
+    run.warnings.push_back("the grid " + settings.gridPath + " was made for another setup: " + d);
+  }
+
+  SearchMaskSettings maskSettings;
+  if (!settings.maskPath.empty()) {
+    maskSettings.regions =
+        readDs9Regions(settings.maskPath, run.image.hdu.header, rs.imagePaths[0]);
+  }
+  if (!run.image.variance.empty()) maskSettings.varianceAdu2 = &run.image.variance;
+  maskSettings.borderPix = settings.borderPix;
+  const SearchMask mask(run.image.hdu.pixels.width(), run.image.hdu.pixels.height(), maskSettings);
+
+  SearchSettings search = settings.search;
+  search.pixelScaleArcsec = run.pixelScaleArcsec;
+  SearchInput input;
+  input.catalog = &run.catalog;
+  input.grid = &*run.grid;
+  input.mask = &mask;
+  input.wcs = wcs;
+  input.footprints = run.footprints ? &*run.footprints : nullptr;
+  input.pixels = &run.image.hdu.pixels;
+  if (log) log("> Selecting candidates");
+  run.result = searchCandidates(input, search);
+  if (log) {
+    for (const std::string& w : run.warnings) log("WARNING: " + w);
+  }
+  return run;
+}
+
+std::vector<std::string> searchSummaryLines(const SearchRun& run,
+                                            const SearchRunSettings& settings) {
+  const SearchSummary& s = run.result.summary;
+  std::vector<std::string> lines;
+  lines.push_back("Image " + settings.run.imagePaths.front() + ", grid " + settings.gridPath);
+  std::string area = std::to_string(s.searchedPixels) + " pixels searched";
+  if (s.searchedAreaDeg2 > 0) {
+    area += " (" + formatNumber(s.searchedAreaDeg2, "%.5f") + " deg2)";
+  } else {
+    area += " (no WCS: no area in deg2)";
+  }
+  lines.push_back(area);
+  lines.push_back(std::to_string(s.objectsSearched) + " objects (" +
+                  std::to_string(s.rowsSearched) + " rows at all levels) searched; " +
+                  std::to_string(s.rowsSelected) + " rows selected (" +
+                  formatNumber(100.0 * s.rejectedFraction(), "%.3f", true) + "% rejected)");
+  std::string cands = std::to_string(s.candidates) + " candidate(s)";
+  if (s.searchedAreaDeg2 > 0) {
+    cands += ", " + formatNumber(s.candidatesPerDeg2(), "%.1f") + " per deg2";
+  }
+  std::int64_t dark = 0;
+  for (const Candidate& c : run.result.candidates) dark += (c.flags & kCandidateDarkLens) != 0;
+  cands += "; " + std::to_string(dark) + " without a visible lens";
+  lines.push_back(cands);
+  for (const SpaceCount& space : s.spaces) {
+    lines.push_back(spaceSummary(space, s.searchedAreaDeg2));
+  }
+  return lines;
+}
+
+void writeSearchOutputs(const SearchRun& run, const SearchRunSettings& settings,
+                        const ProgressFn& progress, const RunLog& log) {
+  const std::vector<std::string> inputs = {settings.run.imagePaths.front(), settings.gridPath,
+                                           settings.maskPath, settings.inputCatalogPath,
+                                           settings.run.weightImagePath};
+  for (const std::string& in : inputs) {
+    if (in.empty()) continue;
+    std::error_code ec;
+    const fs::path out = fs::weakly_canonical(settings.outputDir, ec);
+    const fs::path file = fs::weakly_canonical(in, ec);
+    if (!ec && std::mismatch(out.begin(), out.end(), file.begin(), file.end()).first == out.end()) {
+      throw ConfigError("OUTPUT_DIR " + settings.outputDir + " holds the input " + in +
+                        ": it would be replaced; choose another OUTPUT_DIR");
+    }
+  }
+  AtomicDirectory dir(settings.outputDir, kSearchMarkerFile);
+  const fs::path root = dir.tempPath();
+  SearchSettings search = settings.search;
+  search.pixelScaleArcsec = run.pixelScaleArcsec;
+  const Table& catalog = run.catalog;
+  const Wcs* wcs = run.image.wcs ? &*run.image.wcs : nullptr;
+  auto writeText = [&](const std::string& name, const std::string& text) {
+    std::ofstream out(root / name, std::ios::binary);
+    out << text;
+    out.close();
+    if (!out) throw IoError(settings.outputDir + "/" + name + ": cannot write");
+  };
+  const std::vector<std::string> summary = searchSummaryLines(run, settings);
+  std::string summaryText;
+  for (const std::string& l : summary) summaryText += l + "\n";
+  writeText("summary.txt", summaryText);
+  writeText("candidates.cat", candidateAsciiText(catalog, run.result, search));
+  writeText("candidates.reg",
+            formatDs9Regions(candidateRegionMarks(catalog, run.result, run.pixelScaleArcsec), wcs));
+  if (settings.writeStamps) {
+    fs::create_directory(root / "stamps");
+    const std::size_t n = run.result.candidates.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const Stamp stamp = candidateStamp(run.image.hdu.pixels, catalog, run.result, i, wcs,
+                                         run.pixelScaleArcsec, settings.stamps);
+      writeStampPng((root / stampFileName(i)).string(), stamp);
+      if (progress) progress(std::int64_t(i + 1), std::int64_t(n));
+    }
+    ContactSheetInfo info;
+    info.title = "octarc search: " + fs::path(settings.run.imagePaths.front()).filename().string();
+    info.catalogFile = "candidates.fits";
+    info.regionFile = "candidates.reg";
+    info.summaryLines = summary;
+    writeText("index.html", contactSheetHtml(catalog, run.result, info));
+  }
+  // The catalog last: it marks the directory as complete.
+  std::vector<std::string> cards = run.runCards;
+  FitsHeader header = run.image.hdu.header;
+  writeFitsTables(
+      (root / kSearchMarkerFile).string(),
+      {ldacImheadTable(header, cards), candidateObjectsTable(catalog, run.result, search)});
+  dir.commit();
+  if (log) log("> Wrote " + settings.outputDir);
+}
+
+}  // namespace octarc

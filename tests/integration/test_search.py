@@ -1,0 +1,379 @@
+"""`octarc search` end to end on a simulated field: the candidates against the selection worked
+out again here with numpy from the catalog `octarc detect` writes for the same image and the
+grid file; the outputs in their real readers (fitsverify, astropy, STILTS, astropy regions,
+SAOImage DS9, Chromium); and bad input."""
+import os
+import re
+import shutil
+import subprocess
+import tempfile
+import unittest
+
+import numpy as np
+from astropy.io import fits
+from astropy.wcs import WCS
+
+from octarc_testlib import (SOURCE_DIR, WorkDirTest, fitsverify_errors, have_program,
+                            require_program, run_octarc)
+
+SEX = os.path.join(SOURCE_DIR, "params", "octarc.sex")
+GRID_ARGS = ["-GRID_AXES", "ARCNESS,E_IMAGE", "-GRID_LEVEL", "0.9", "-CHECKPLOT_TYPE", "NONE"]
+# A low floor, so that a small field gives a few tens of candidates to compare.
+SNR_MIN = "8"
+
+
+def in_ci():
+    return os.environ.get("CI") == "true"
+
+
+class SearchFixture(WorkDirTest):
+    """A 1024^2 field with injected lenses and a 2-D grid of a small lens simulation, made once."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.data = tempfile.mkdtemp(prefix="octarc-search-")
+        d = cls.data
+        cls.image = os.path.join(d, "field.fits")
+        cls.weight = os.path.join(d, "field.weight.fits")
+        run_octarc("simulate", "field", "-o", cls.image, "--size", "1024", "--lenses", "6",
+                   "--min-einstein-radius", "1.5", "--seed", "3", "--quiet")
+        run_octarc("simulate", "lenses", "-n", "3000", "--seed", "5", "-o",
+                   os.path.join(d, "sim.fits"), "--quiet")
+        calibrated = os.path.join(d, "calibrated.grid.fits")
+        run_octarc("calibrate", os.path.join(d, "sim.fits"), "-CALIBRATION_NAME",
+                   os.path.join(d, "cal.fits"), "-GRID_NAME", calibrated, *GRID_ARGS,
+                   "-NOISE_STUDY", "N", cwd=d)
+        # A few thousand systems give only some arcs: the test's grid keeps the calibrated
+        # grid's survey setup but holds a known selection, 0.10 <= ARCNESS < 0.30.
+        cls.grid = os.path.join(d, "grid.fits")
+        known_grid(calibrated, cls.grid)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.data, ignore_errors=True)
+
+    def search(self, *args, out="out", check=True, image=None):
+        return run_octarc("search", image or self.image, "-c", SEX, "-GRID_NAME", self.grid,
+                          "-WEIGHT_TYPE", "MAP_WEIGHT", "-WEIGHT_IMAGE", self.weight,
+                          "-SNR_MIN", SNR_MIN, "-OUTPUT_DIR", self.path(out), "-NTHREADS", "2",
+                          *args, check=check, cwd=self.work)
+
+    def candidates(self, out="out"):
+        return fits.getdata(self.path(os.path.join(out, "candidates.fits")), "LDAC_OBJECTS")
+
+
+def known_grid(template, path):
+    """A 1-D ARCNESS grid of six bins on [0, 0.3): counts 1, 2, 2, 2, 2, 2; at P = 0.9 the
+    contour holds bins 1 to 5 (10/11 of the probability), i.e. 0.05 <= ARCNESS < 0.30."""
+    with fits.open(template) as f:
+        h = f["OCC_GRID"].header.copy()
+    for key in list(h.keys()):
+        if key.startswith("TTYPE") or key.startswith("TFORM") or key.startswith("TDISP"):
+            del h[key]
+        elif re.fullmatch(r"AX(EXPR|LO|HI|BINS)\d+", key):
+            del h[key]
+    h["GRIDDIM"] = 1
+    h["AXEXPR1"], h["AXLO1"], h["AXHI1"], h["AXBINS1"] = "ARCNESS", 0.0, 0.3, 6
+    h["PLEVEL"], h["PSELECT"], h["NSELECT"] = 0.9, 10 / 11, 5
+    h["NBINNED"], h["NOUTSIDE"], h["NUNDEF"], h["NOCCUP"] = 11, 0, 0, 6
+    counts = np.array([2, 2, 2, 2, 2, 1])
+    cols = [fits.Column("BIN", "1J", array=[1, 2, 3, 4, 5, 0]),
+            fits.Column("COUNT", "1K", array=counts),
+            fits.Column("PROB", "1D", array=counts / 11),
+            fits.Column("CUMPROB", "1D", array=np.cumsum(counts) / 11),
+            fits.Column("SELECTED", "1I", array=[1, 1, 1, 1, 1, 0])]
+    table = fits.BinTableHDU.from_columns(cols, name="OCC_GRID")
+    for card in h.cards:
+        if card.keyword not in table.header and card.keyword not in (
+                "XTENSION", "BITPIX", "NAXIS", "NAXIS1", "NAXIS2", "PCOUNT", "GCOUNT",
+                "TFIELDS"):
+            table.header.append(card)
+    fits.HDUList([fits.PrimaryHDU(), table]).writeto(path)
+
+
+def grid_selected_bins(grid_path):
+    """The selected bins of a grid file as a set of index tuples, and its axes."""
+    with fits.open(grid_path) as f:
+        h, d = f["OCC_GRID"].header, f["OCC_GRID"].data
+        axes = [(h["AXEXPR%d" % (k + 1)], h["AXLO%d" % (k + 1)], h["AXHI%d" % (k + 1)],
+                 h["AXBINS%d" % (k + 1)]) for k in range(h["GRIDDIM"])]
+        bins = d["BIN"].reshape(len(d), -1)
+        selected = {tuple(int(v) for v in b) for b, s in zip(bins, d["SELECTED"]) if s == 1}
+    return axes, selected
+
+
+class SearchSelection(SearchFixture):
+
+    def test_candidates_are_the_selection_worked_out_from_the_catalog(self):
+        self.search()
+        # The same image through `octarc detect`, with the same configuration.
+        catalog = self.path("all.ldac")
+        run_octarc("detect", self.image, "-c", SEX, "-WEIGHT_TYPE", "MAP_WEIGHT",
+                   "-WEIGHT_IMAGE", self.weight, "-CATALOG_NAME", catalog, "-NTHREADS", "2",
+                   cwd=self.work)
+        rows = fits.getdata(catalog, "LDAC_OBJECTS")
+        scale = np.sqrt(abs(np.linalg.det(WCS(fits.getheader(self.image)).pixel_scale_matrix)))
+        scale *= 3600
+        axes, selected = grid_selected_bins(self.grid)
+        index = []
+        for name, lo, hi, n in axes:
+            v = rows[name].astype(float)
+            k = np.floor((v - lo) / ((hi - lo) / n))
+            k[(v < lo) | (v >= hi) | ~np.isfinite(v)] = -1
+            index.append(k.astype(int))
+        in_grid = np.array([tuple(ix) in selected for ix in zip(*index)])
+        weight = fits.getdata(self.weight)
+        xi = np.floor(rows["X_IMAGE"] - 0.5).astype(int)
+        yi = np.floor(rows["Y_IMAGE"] - 0.5).astype(int)
+        good = weight[yi, xi] > 0
+        passed = (good & (rows["SNR_ISO"] > float(SNR_MIN)) &
+                  (np.sqrt(2) * rows["SIZE_IMAGE"] * scale > 1.0) & in_grid)
+        # Merge through the parent links: each passing row joins its nearest passing ancestor.
+        key = {(int(l), int(n)): i for i, (l, n) in
+               enumerate(zip(rows["THRESH_LEVEL"], rows["NUMBER"]))}
+        root = {}
+
+        def top(i):
+            j, found = i, i
+            while rows["THRESH_LEVEL"][j] > 1:
+                up = key.get((int(rows["THRESH_LEVEL"][j]) - 1, int(rows["PARENT_NUMBER"][j])))
+                if up is None:
+                    break
+                j = up
+                if passed[j]:
+                    found = j
+            return found
+
+        for i in np.nonzero(passed)[0]:
+            t = i
+            while top(t) != t:
+                t = top(t)
+            root.setdefault(t, []).append(i)
+        cand = self.candidates()
+        self.assertGreaterEqual(len(root), 5)
+        self.assertEqual(len(cand), len(root))
+        # Each candidate is one merged object: its levels are those of the object's rows.
+        expected = sorted(sorted({int(rows["THRESH_LEVEL"][i]) for i in members})
+                          for members in root.values())
+        got = sorted([int(v) for v in s.split(",")] for s in cand["LEVELS"])
+        self.assertEqual(got, expected)
+        # Ranked by probability; ARCNESS and positions are those of a passing row.
+        self.assertTrue(np.all(np.diff(cand["PROB"]) <= 0))
+        passing = {(round(float(x), 2), round(float(y), 2)) for x, y in
+                   zip(rows["X_IMAGE"][passed], rows["Y_IMAGE"][passed])}
+        for x, y in zip(cand["X_IMAGE"], cand["Y_IMAGE"]):
+            self.assertIn((round(float(x), 2), round(float(y), 2)), passing)
+        # The summary in the header.
+        h = fits.getheader(self.path("out/candidates.fits"), "LDAC_OBJECTS")
+        self.assertEqual(h["NCANDID"], len(cand))
+        self.assertEqual(h["NROWSEL"], int(passed.sum()))
+        self.assertEqual(h["NROWSRCH"], int(good.sum()))
+        self.assertAlmostEqual(h["SRCHAREA"], h["SRCHPIX"] * (scale / 3600) ** 2,
+                               delta=1e-3 * h["SRCHAREA"])
+        for k in range(h["NSPACES"]):
+            n = k + 1
+            self.assertEqual(h["SPCAND%d" % n], int(np.sum((cand["SPACES"] >> k) & 1)))
+
+    def test_positions_names_and_lenses(self):
+        self.search()
+        cand = self.candidates()
+        w = WCS(fits.getheader(self.image))
+        ra, dec = w.all_pix2world(cand["X_IMAGE"], cand["Y_IMAGE"], 1)
+        np.testing.assert_allclose(cand["ALPHA_J2000"], ra, atol=1e-7)
+        np.testing.assert_allclose(cand["DELTA_J2000"], dec, atol=1e-7)
+        from astropy.coordinates import Angle
+        for row in cand:
+            self.assertAlmostEqual(Angle(row["RA_SEX"], unit="hourangle").deg,
+                                   row["ALPHA_J2000"], delta=0.01 / 3600 * 15)
+            self.assertAlmostEqual(Angle(row["DEC_SEX"], unit="deg").deg, row["DELTA_J2000"],
+                                   delta=0.1 / 3600)
+            self.assertTrue(re.fullmatch(r"OCTARC J\d{6}\.\d{2}[+-]\d{6}\.\d", row["NAME"]))
+            has_lens = row["LENS_NUMBER"] > 0
+            self.assertEqual(bool(row["CAND_FLAGS"] & 1), not has_lens)
+            if has_lens:
+                d = np.hypot(row["LENS_X"] - row["X_IMAGE"], row["LENS_Y"] - row["Y_IMAGE"])
+                scale = np.sqrt(abs(np.linalg.det(w.pixel_scale_matrix))) * 3600
+                self.assertAlmostEqual(row["THETA_E"], d * scale, delta=1e-3 * row["THETA_E"])
+                self.assertLessEqual(row["THETA_E"], 6.0 + 1e-6)
+
+
+class SearchOutputs(SearchFixture):
+
+    @classmethod
+    def setUpClass(cls):
+        super().setUpClass()
+        cls.out = os.path.join(cls.data, "shared-out")
+        run_octarc("search", cls.image, "-c", SEX, "-GRID_NAME", cls.grid, "-WEIGHT_TYPE",
+                   "MAP_WEIGHT", "-WEIGHT_IMAGE", cls.weight, "-SNR_MIN", SNR_MIN,
+                   "-OUTPUT_DIR", cls.out, "-NTHREADS", "2", cwd=cls.data)
+        cls.cand = fits.getdata(os.path.join(cls.out, "candidates.fits"), "LDAC_OBJECTS")
+
+    def test_catalog_passes_fitsverify_and_reads_in_stilts(self):
+        path = os.path.join(self.out, "candidates.fits")
+        self.assertEqual(fitsverify_errors(path)[0], 0)
+        require_program("stilts")
+        for name, fmt in (("candidates.fits", "fits"), ("candidates.cat", "ascii")):
+            hdu = "#2" if fmt == "fits" else ""
+            r = subprocess.run(["stilts", "tpipe", "in=" + os.path.join(self.out, name) + hdu,
+                                "ifmt=" + fmt, "omode=stats"], capture_output=True, text=True)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertIn("Total Rows: %d" % len(self.cand), r.stdout)
+            if fmt == "fits":
+                self.assertIn("ARCNESS", r.stdout)
+        r = subprocess.run(["stilts", "tpipe", "in=" + os.path.join(self.out, "candidates.cat"),
+                            "ifmt=ascii", "omode=count"], capture_output=True, text=True)
+        self.assertIn("rows: %d" % len(self.cand), r.stdout)
+
+    def test_ascii_catalog_equals_the_fits_one(self):
+        from astropy.io import ascii
+        t = ascii.read(os.path.join(self.out, "candidates.cat"), format="sextractor")
+        self.assertEqual(len(t), len(self.cand))
+        self.assertEqual(list(t["NAME"]), [str(n).replace(" ", "_") for n in self.cand["NAME"]])
+        np.testing.assert_allclose(t["ARCNESS"], self.cand["ARCNESS"], atol=1e-4)
+        np.testing.assert_allclose(t["X_IMAGE"], self.cand["X_IMAGE"], atol=1e-3)
+
+    def test_regions_sit_on_the_candidates(self):
+        import regions
+        header = fits.getheader(self.image)
+        w = WCS(header)
+        shapes = regions.Regions.read(os.path.join(self.out, "candidates.reg"), format="ds9")
+        arcs = [s for s in shapes if s.visual.get("color", s.meta.get("color")) == "green"
+                or "text" in s.meta]
+        self.assertEqual(len(arcs), len(self.cand))
+        for s, row in zip(arcs, self.cand):
+            p = s.to_pixel(w)
+            # astropy's pixels are 0-based; octarc's catalog 1-based. astropy applies the
+            # FK5 -> ICRS frame bias (about 0.02", 0.09 px here): octarc writes fk5 for J2000.
+            self.assertAlmostEqual(p.center.x + 1, row["X_IMAGE"], delta=0.12)
+            self.assertAlmostEqual(p.center.y + 1, row["Y_IMAGE"], delta=0.12)
+            self.assertAlmostEqual(p.width / 2, 3 * row["A_IMAGE"], delta=0.01 * row["A_IMAGE"])
+
+    def test_stamps_one_per_candidate(self):
+        stamps = sorted(os.listdir(os.path.join(self.out, "stamps")))
+        self.assertEqual(stamps, ["%04d.png" % (i + 1) for i in range(len(self.cand))])
+        for name in stamps:
+            with open(os.path.join(self.out, "stamps", name), "rb") as f:
+                self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+
+    def test_ds9_places_every_region_where_octarc_wrote_it(self):
+        if not have_program("ds9") and not in_ci():
+            self.skipTest("program not installed: ds9 (saods9)")
+        require_program("xvfb-run")
+        work = self.work
+        tcl = os.path.join(work, "ds9headless.tcl")
+        with open(tcl, "w") as f:
+            f.write("package require img::window\npackage require img::png\n"
+                    "source /usr/share/saods9/library/ds9.tcl\n")
+        listed = os.path.join(work, "listed.reg")
+        r = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "wish", "-f", tcl,
+                            self.image, "-regions", os.path.join(self.out, "candidates.reg"),
+                            "-regions", "system", "image", "-regions", "save", listed,
+                            "-exit"], capture_output=True, text=True, timeout=300)
+        self.assertTrue(os.path.exists(listed), r.stderr)
+        with open(listed) as f:
+            text = f.read()
+        ellipses = re.findall(r"ellipse\(([-\d.e+]+),([-\d.e+]+),", text)
+        self.assertEqual(len(ellipses), len(self.cand))
+        # DS9 converts the fk5 positions back through the image's WCS (ICRS here: 0.02").
+        for (x, y), row in zip(ellipses, self.cand):
+            self.assertAlmostEqual(float(x), row["X_IMAGE"], delta=0.1)
+            self.assertAlmostEqual(float(y), row["Y_IMAGE"], delta=0.1)
+
+    def test_contact_sheet_opens_in_chromium(self):
+        if not have_program("chromium") and not in_ci():
+            self.skipTest("program not installed: chromium")
+        page = "file://" + os.path.join(self.out, "index.html")
+        base = ["chromium", "--headless=new", "--no-sandbox", "--disable-gpu",
+                "--allow-file-access-from-files", "--virtual-time-budget=5000"]
+        dom = subprocess.run(base + ["--dump-dom", page + "#sort=arcness-asc"],
+                             capture_output=True, text=True, timeout=300).stdout
+        status = re.search(r'id="status">([^<]*)<', dom).group(1)
+        n = len(self.cand)
+        self.assertIn("images %d/%d loaded" % (n, n), status)
+        order = [int(v) for v in status.split("order ")[1].split(",")]
+        arcness = self.cand["ARCNESS"]
+        self.assertEqual(order, [int(i) + 1 for i in np.argsort(arcness, kind="stable")])
+        shot = os.path.join(self.work, "sheet.png")
+        subprocess.run(base + ["--screenshot=" + shot, "--window-size=1400,1000", page],
+                       capture_output=True, timeout=300)
+        from PIL import Image
+        pixels = np.asarray(Image.open(shot).convert("L"), dtype=float)
+        self.assertGreater(pixels.std(), 5.0)
+
+
+class SearchBadInput(SearchFixture):
+
+    def test_malformed_region_line_names_file_and_line(self):
+        reg = self.path("mask.reg")
+        with open(reg, "w") as f:
+            f.write("# Region file format: DS9 version 4.1\nimage\ncircle(100,100,50)\n"
+                    "box(10,10,5)\n")
+        r = self.search("-MASK_NAME", reg, check=False)
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("mask.reg:4", r.stderr)
+        self.assertEqual(len(r.stderr.strip().splitlines()[-1:]), 1)
+        self.assertFalse(os.path.exists(self.path("out")))
+        self.assertEqual([n for n in os.listdir(self.work) if n.startswith(".")], [])
+
+    def test_mask_excludes_its_area(self):
+        reg = self.path("mask.reg")
+        with open(reg, "w") as f:
+            f.write("image\nbox(512.5,512.5,1024,1024)\n-box(256.5,512.5,512,1024)\n")
+        self.search("-MASK_NAME", reg)
+        cand = self.candidates()
+        self.assertTrue(np.all(cand["X_IMAGE"] >= 512.5))
+        h = fits.getheader(self.path("out/candidates.fits"), "LDAC_OBJECTS")
+        self.assertEqual(h["SRCHPIX"], 512 * 1024 - int(
+            np.sum(fits.getdata(self.weight)[:, 512:] <= 0)))
+
+    def test_image_without_wcs_searches_in_pixels(self):
+        with fits.open(self.image) as f:
+            h = f[0].header
+            for k in list(h.keys()):
+                if k[:5] in ("CTYPE", "CRVAL", "CRPIX", "CUNIT", "CDELT", "RADES", "EQUIN") or \
+                        k[:2] in ("CD", "PC"):
+                    del h[k]
+            f.writeto(self.path("nowcs.fits"))
+        r = self.search("-PIXEL_SCALE", "0.257", image=self.path("nowcs.fits"))
+        self.assertIn("no celestial WCS", r.stderr)
+        cand = self.candidates()
+        self.assertGreater(len(cand), 0)
+        self.assertTrue(np.all(np.isnan(cand["ALPHA_J2000"])))
+        self.assertTrue(np.all(cand["CAND_FLAGS"] & 4))
+        with open(self.path("out/candidates.reg")) as f:
+            self.assertIn("\nimage\n", f.read())
+        r = self.search("-PIXEL_SCALE", "0", image=self.path("nowcs.fits"), out="out2",
+                        check=False)
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("PIXEL_SCALE", r.stderr)
+        self.assertFalse(os.path.exists(self.path("out2")))
+
+    def test_empty_result_is_a_valid_empty_catalog_and_sheet(self):
+        self.search("-SNR_MIN", "1e12")
+        cand = self.candidates()
+        self.assertEqual(len(cand), 0)
+        self.assertEqual(fitsverify_errors(self.path("out/candidates.fits"))[0], 0)
+        with open(self.path("out/index.html")) as f:
+            self.assertIn('<div id="grid">\n</div>', f.read())
+        self.assertEqual(os.listdir(self.path("out/stamps")), [])
+
+    def test_grid_of_another_setup_is_warned(self):
+        r = self.search("-SEEING_FWHM", "1.5")
+        self.assertIn("made for another setup: seeing FWHM", r.stderr)
+
+    def test_output_dir_that_is_not_a_search_output_is_refused(self):
+        os.makedirs(self.path("mine"))
+        with open(self.path("mine/notes.txt"), "w") as f:
+            f.write("keep me\n")
+        r = self.search(out="mine", check=False)
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("not an earlier output", r.stderr)
+        self.assertEqual(os.listdir(self.path("mine")), ["notes.txt"])
+        # An earlier search output is replaced whole.
+        self.search("-SNR_MIN", "1e12")
+        self.search()
+        self.assertGreater(len(self.candidates()), 0)
+
+
+if __name__ == "__main__":
+    unittest.main()
