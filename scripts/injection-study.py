@@ -7,8 +7,8 @@ seeds and adds up, per search space, which injected lenses came back as candidat
 
 Prints the README table (Markdown): completeness against theta_E and arc magnitude, spurious
 candidates per deg2 (candidates that are no injected arc), the fraction of found lenses whose
-lens galaxy is named right, and the theta_E estimate against the truth (median ratio, and the
-scatter as half the 16-84% range)."""
+lens galaxy is named right (within 1"), and, for those, the theta_E estimate against the truth
+(median ratio, and the scatter as half the 16-84% range)."""
 import argparse
 import os
 import subprocess
@@ -83,7 +83,8 @@ def main():
         spurious = ((cands[:, 1] == 0) & in_space(cands[:, 2], bit)).sum()
         row.append("%.0f (%d)" % (spurious / area, spurious) if area > 0 else "-")
         row.append(fraction((got & lens_right).sum(), got.sum()))
-        ratio = estimate[got & (estimate > 0)] / theta[got & (estimate > 0)]
+        right = got & lens_right
+        ratio = estimate[right] / theta[right]
         if len(ratio):
             q16, q50, q84 = np.percentile(ratio, [16, 50, 84])
             row.append("%.2f +- %.2f (%d)" % (q50, 0.5 * (q84 - q16), len(ratio)))

@@ -21,6 +21,10 @@ packages=(
   # Check-plots (as SCAMP and PSFEx make them): PLplot with its cairo (PNG, PDF, SVG) driver
   libplplot-dev
   plplot-driver-cairo
+  # Postage stamps: cairo, PLplot's own drawing back end, called directly (thread-safe, so the
+  # stamps of a search are drawn on every core)
+  libcairo2-dev
+  libpng-dev
   # Least-squares fits (the Gaussian FWHM of the skewness distributions): Ceres Solver
   libceres-dev
   libgtest-dev

@@ -243,6 +243,7 @@ int runDemo(const std::vector<std::string>& args) {
   SearchRunSettings search;
   SearchRun run;
   InjectionMatch match;
+  int candidatesSlot = -1;
   try {
     field = writeInjectedField(s, paths, terminalProgress("simulate", "objects", quiet));
     times.simulateSec = seconds();
@@ -265,6 +266,8 @@ int runDemo(const std::vector<std::string>& args) {
     outputs.write(1, [&](const std::string& path) { writeInjectionSystems(path, match); });
     outputs.write(2, [&](const std::string& path) { writeInjectionCandidates(path, match, run); });
     writeSearchOutputs(run, search, terminalProgress("stamps", "stamps", quiet), RunLog());
+    // In place under its final name: removed with the rest if what follows fails.
+    candidatesSlot = removeTreeOnInterrupt(search.outputDir);
     outputs.commit();
     times.searchSec = seconds() - times.simulateSec;
   } catch (...) {
@@ -273,11 +276,13 @@ int runDemo(const std::vector<std::string>& args) {
       fs::remove_all(paths.dir, ec);
     } else {
       for (const std::string& p : paths.files()) fs::remove(p, ec);
+      if (candidatesSlot >= 0) fs::remove_all(search.outputDir, ec);
     }
     throw;
   }
   // Every output is in place: they stay, whatever happens now.
   for (const int slot : provisional) forgetOnInterrupt(slot);
+  forgetOnInterrupt(candidatesSlot);
 
   // 3. The report.
   const RecoveryRows cat = recoveryRows(run.catalog, run.catalogOrder);

@@ -81,7 +81,9 @@ int runSearch(const std::vector<std::string>& args) {
   const SearchRun run = searchImage(settings, log);
   writeSearchOutputs(run, settings, terminalProgress("Stamps", "stamps", quiet), log);
   for (const std::string& line : searchSummaryLines(run, settings)) std::cout << line << "\n";
-  std::cout << "Open " << settings.outputDir << "/index.html to inspect them\n";
+  if (settings.writeStamps) {
+    std::cout << "Open " << settings.outputDir << "/index.html to inspect them\n";
+  }
   return 0;
 }
 

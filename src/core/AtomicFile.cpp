@@ -61,6 +61,18 @@ void removeStaleTemporaries(const fs::path& dir, const std::string& name) {
   }
 }
 
+// True when `dir` is a directory holding the file `marker` whose content is exactly `text`.
+bool holdsMarker(const std::string& dir, const std::string& marker, const std::string& text) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return false;
+  std::FILE* f = std::fopen((fs::path(dir) / marker).c_str(), "rb");
+  if (f == nullptr) return false;
+  std::string content(text.size() + 1, '\0');
+  const std::size_t n = std::fread(content.data(), 1, content.size(), f);
+  std::fclose(f);
+  return n == text.size() && content.compare(0, n, text) == 0;
+}
+
 }  // namespace
 
 AtomicFile::AtomicFile(std::string finalPath) : finalPath_(std::move(finalPath)) {
@@ -151,13 +163,15 @@ void OutputFiles::commit() {
   markOutputsComplete();
 }
 
-AtomicDirectory::AtomicDirectory(std::string finalPath, std::string markerFile)
-    : finalPath_(std::move(finalPath)), markerFile_(std::move(markerFile)) {
+AtomicDirectory::AtomicDirectory(std::string finalPath, std::string markerFile,
+                                 std::string markerText)
+    : finalPath_(std::move(finalPath)),
+      markerFile_(std::move(markerFile)),
+      markerText_(std::move(markerText)) {
   if (finalPath_.empty()) throw ConfigError("an output directory name is empty");
   while (finalPath_.size() > 1 && finalPath_.back() == '/') finalPath_.pop_back();
   std::error_code ec;
-  if (fs::exists(finalPath_, ec) &&
-      !(fs::is_directory(finalPath_, ec) && fs::exists(fs::path(finalPath_) / markerFile_, ec))) {
+  if (fs::exists(finalPath_, ec) && !holdsMarker(finalPath_, markerFile_, markerText_)) {
     throw ConfigError(finalPath_ + ": exists and is not an earlier output of this command (no " +
                       markerFile_ + " in it); give a new directory name or remove it");
   }
@@ -192,6 +206,10 @@ void AtomicDirectory::commit() {
   DeferInterrupts hold;
   const std::string aside = tempPath_ + ".old";
   const bool replacing = fs::exists(finalPath_, ec);
+  // Checked again: the directory may have changed since the run began.
+  if (replacing && !holdsMarker(finalPath_, markerFile_, markerText_)) {
+    throw IoError(finalPath_ + ": is no longer an earlier output of this command; not replaced");
+  }
   if (replacing && std::rename(finalPath_.c_str(), aside.c_str()) != 0) {
     throw IoError(finalPath_ + ": cannot replace (" + std::strerror(errno) + ")");
   }

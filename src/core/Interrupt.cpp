@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <cstring>
 #include <stdexcept>
 
@@ -73,17 +74,23 @@ void removeTreeAt(int parentFd, const char* name, int depth) {
   if (fd < 0) return;
   if (depth < kTreeDepth) {
     char* buffer = gTreeBuffers[depth];
-    for (;;) {
-      const long n = ::syscall(SYS_getdents64, fd, buffer, sizeof gTreeBuffers[depth]);
-      if (n <= 0) break;
-      for (long at = 0; at < n;) {
-        const auto* entry = reinterpret_cast<const LinuxDirent64*>(buffer + at);
-        at += entry->length;
-        if (std::strcmp(entry->name, ".") == 0 || std::strcmp(entry->name, "..") == 0) continue;
-        if (entry->type == DT_DIR) {
-          removeTreeAt(fd, entry->name, depth + 1);
-        } else {
-          ::unlinkat(fd, entry->name, 0);
+    // Twice over: a file another thread created during the first pass goes in the second.
+    for (int pass = 0; pass < 2; ++pass) {
+      ::lseek(fd, 0, SEEK_SET);
+      for (;;) {
+        const long n = ::syscall(SYS_getdents64, fd, buffer, sizeof gTreeBuffers[depth]);
+        if (n <= 0) break;
+        for (long at = 0; at < n;) {
+          const auto* entry = reinterpret_cast<const LinuxDirent64*>(buffer + at);
+          at += entry->length;
+          if (std::strcmp(entry->name, ".") == 0 || std::strcmp(entry->name, "..") == 0) continue;
+          // A file system that does not report entry types (DT_UNKNOWN) says EISDIR for a
+          // directory.
+          if (entry->type == DT_DIR ||
+              (::unlinkat(fd, entry->name, 0) != 0 && (errno == EISDIR || errno == EPERM))) {
+            removeTreeAt(fd, entry->name, depth + 1);
+            buffer = gTreeBuffers[depth];
+          }
         }
       }
     }

@@ -7,6 +7,7 @@
 #include <limits>
 #include <numeric>
 #include <string>
+#include <unordered_map>
 
 #include "octarc/core/Error.h"
 #include "octarc/core/Parallel.h"
@@ -556,15 +557,22 @@ void SegmentationRuns::render(int level, ImageI32& labels) const {
   }
 }
 
-std::vector<PixelRun> SegmentationRuns::footprint(int level, std::int32_t number) const {
-  std::vector<PixelRun> out;
+std::vector<std::vector<PixelRun>> SegmentationRuns::footprints(
+    int level, const std::vector<std::int32_t>& numbers) const {
+  std::vector<std::vector<PixelRun>> out(numbers.size());
   if (level < 1 || level > levelCount()) return out;
+  std::unordered_map<std::int32_t, std::size_t> slot;
+  for (std::size_t i = 0; i < numbers.size(); ++i) slot.emplace(numbers[i], i);
   for (const Run& run : levels_[level - 1]) {
-    if (run.number == number) out.push_back({run.y, run.x0, run.x0 + run.length - 1});
+    const auto found = slot.find(run.number);
+    if (found != slot.end()) out[found->second].push_back({run.y, run.x0, run.x0 + run.length - 1});
   }
-  std::sort(out.begin(), out.end(), [](const PixelRun& a, const PixelRun& b) {
-    return a.y != b.y ? a.y < b.y : a.x0 < b.x0;
-  });
+  for (std::size_t i = 0; i < numbers.size(); ++i) {
+    if (const auto first = slot.find(numbers[i]); first->second != i) out[i] = out[first->second];
+    std::sort(out[i].begin(), out[i].end(), [](const PixelRun& a, const PixelRun& b) {
+      return a.y != b.y ? a.y < b.y : a.x0 < b.x0;
+    });
+  }
   return out;
 }
 

@@ -571,7 +571,8 @@ bool regionContains(const std::vector<RegionShape>& shapes, double xFits, double
   return inInclude || !anyInclude;
 }
 
-std::string formatDs9Regions(const std::vector<RegionMark>& marks, const Wcs* wcs) {
+std::string formatDs9Regions(const std::vector<RegionMark>& marks, const Wcs* skyWcs) {
+  const Wcs* wcs = skyWcs != nullptr && skyWcs->isJ2000Equatorial() ? skyWcs : nullptr;
   std::ostringstream out;
   out.precision(12);  // 1e-9 degree (4 micro-arcsec) on the sky, 1e-8 pixel
   out << "# Region file format: DS9 version 4.1\n"

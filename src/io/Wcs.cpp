@@ -293,6 +293,11 @@ std::string Wcs::radesys() const {
   return impl_->wcs.equinox < 1984.0 ? "FK4" : "FK5";
 }
 
+bool Wcs::isJ2000Equatorial() const {
+  const std::string frame = radesys();
+  return frame == "ICRS" || (frame == "FK5" && equinox() == 2000.0);
+}
+
 std::array<double, 2> Wcs::pixelToJ2000(double xFits, double yFits) const {
   const std::array<double, 2> world = pixelToWorld(xFits, yFits);
   return worldToJ2000(world[0], world[1]);

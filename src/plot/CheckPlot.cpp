@@ -9,18 +9,17 @@
 #include <limits>
 #include <mutex>
 
-#include "PlplotMutex.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
 
 namespace octarc {
 
-std::mutex& detail::plplotMutex() {
+namespace {
+
+std::mutex& plplotMutex() {
   static std::mutex m;
   return m;
 }
-
-namespace {
 
 const char* driverName(PlotDevice d) {
   switch (d) {
@@ -151,7 +150,7 @@ void writePlot(const std::string& path, PlotDevice device, const Plot& plot) {
     yr.pad(0.05);
   }
 
-  std::lock_guard<std::mutex> lock(detail::plplotMutex());
+  std::lock_guard<std::mutex> lock(plplotMutex());
   PLINT stream = 0;
   plmkstrm(&stream);
   plsdev(driverName(device));

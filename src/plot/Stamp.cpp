@@ -1,27 +1,26 @@
 #include "octarc/plot/Stamp.h"
 
-#include <plplot/plplot.h>
+#include <cairo.h>
+#include <png.h>
 
 #include <algorithm>
 #include <cmath>
+#include <csetjmp>
+#include <cstdint>
 #include <cstdio>
-#include <filesystem>
-#include <mutex>
+#include <memory>
 #include <numbers>
 #include <vector>
 
-#include "PlplotMutex.h"
 #include "octarc/core/Error.h"
 
 namespace octarc {
 
 namespace {
 
-// cmap0 indices: 0 background, 1 text, 2 scale bar and arrows, 3.. the marks.
-constexpr int kBackground = 0, kText = 1, kOverlay = 2, kFirstMark = 3;
-constexpr int kMaxMarkColours = 12;
 // Softness of the asinh stretch: the faint end is stretched about this much more than the top.
 constexpr double kStretch = 12.0;
+constexpr double kMarginFraction = 0.07;  // of the PNG side, around the image (text above, below)
 
 double stretched(double v, double lo, double hi) {
   if (!std::isfinite(v)) return 0.0;
@@ -29,34 +28,87 @@ double stretched(double v, double lo, double hi) {
   return std::asinh(kStretch * t) / std::asinh(kStretch);
 }
 
-// An ellipse (or circle) as a closed polyline in image coordinates.
-void drawEllipse(const StampMark& m) {
-  constexpr int kPoints = 97;
-  PLFLT x[kPoints], y[kPoints];
-  const double b = m.ellipse ? m.semiAxis2Pix : m.semiAxis1Pix;
-  const double c = std::cos(m.angleRad), s = std::sin(m.angleRad);
-  for (int k = 0; k < kPoints; ++k) {
-    const double t = 2.0 * std::numbers::pi * k / (kPoints - 1);
-    const double u = m.semiAxis1Pix * std::cos(t), v = b * std::sin(t);
-    x[k] = m.xFits + c * u - s * v;
-    y[k] = m.yFits + s * u + c * v;
-  }
-  plline(kPoints, x, y);
+struct SurfaceDeleter {
+  void operator()(cairo_surface_t* s) const { cairo_surface_destroy(s); }
+};
+struct ContextDeleter {
+  void operator()(cairo_t* c) const { cairo_destroy(c); }
+};
+using Surface = std::unique_ptr<cairo_surface_t, SurfaceDeleter>;
+using Context = std::unique_ptr<cairo_t, ContextDeleter>;
+
+// Image pixel coordinates (1-based, +y up) to PNG coordinates (+y down).
+struct Frame {
+  double x0, y0;      // image coordinates of the image area's lower-left corner
+  double pixPerUnit;  // PNG pixels per image pixel
+  double left, top, size;
+  double x(double xFits) const { return left + (xFits - x0) * pixPerUnit; }
+  double y(double yFits) const { return top + size - (yFits - y0) * pixPerUnit; }
+};
+
+void centredText(cairo_t* cr, double x, double y, const std::string& text) {
+  cairo_text_extents_t e;
+  cairo_text_extents(cr, text.c_str(), &e);
+  cairo_move_to(cr, x - 0.5 * e.width - e.x_bearing, y - 0.5 * e.height - e.y_bearing);
+  cairo_show_text(cr, text.c_str());
 }
 
-// An arrow from (x0, y0) along (dx, dy), with a head and a label at its tip.
-void drawArrow(double x0, double y0, double dx, double dy, const char* label) {
-  PLFLT lx[2] = {x0, x0 + dx}, ly[2] = {y0, y0 + dy};
-  plline(2, lx, ly);
-  const double len = std::hypot(dx, dy);
-  const double ux = dx / len, uy = dy / len;
-  const double head = 0.25 * len;
-  for (const double side : {1.0, -1.0}) {
-    PLFLT hx[2] = {x0 + dx, x0 + dx - head * (ux * 0.87 - side * uy * 0.5)};
-    PLFLT hy[2] = {y0 + dy, y0 + dy - head * (uy * 0.87 + side * ux * 0.5)};
-    plline(2, hx, hy);
+// An arrow from (x, y) along the unit vector (ux, uy) of the image (+y up), `length` PNG pixels.
+void drawArrow(cairo_t* cr, double x, double y, double ux, double uy, double length,
+               const char* label) {
+  const double dx = ux * length, dy = -uy * length;  // PNG +y is down
+  cairo_move_to(cr, x, y);
+  cairo_line_to(cr, x + dx, y + dy);
+  const double head = 0.25 * length, c = 0.87, s = 0.5;
+  const double hx = -dx / length * head, hy = -dy / length * head;
+  cairo_move_to(cr, x + dx + c * hx - s * hy, y + dy + s * hx + c * hy);
+  cairo_line_to(cr, x + dx, y + dy);
+  cairo_line_to(cr, x + dx + c * hx + s * hy, y + dy - s * hx + c * hy);
+  cairo_stroke(cr);
+  centredText(cr, x + 1.35 * dx, y + 1.35 * dy, label);
+}
+
+// Writes an RGB24 cairo surface as an 8-bit RGB PNG with libpng at zlib's fastest level:
+// cairo's own writer uses the default level, which made PNG compression most of a search's
+// time. On failure the partly written file is removed.
+void writePng(cairo_surface_t* surface, const std::string& path) {
+  const int width = cairo_image_surface_get_width(surface);
+  const int height = cairo_image_surface_get_height(surface);
+  const int stride = cairo_image_surface_get_stride(surface);
+  const unsigned char* data = cairo_image_surface_get_data(surface);
+  std::FILE* file = std::fopen(path.c_str(), "wb");
+  if (file == nullptr) throw IoError(path + ": cannot create the stamp");
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png != nullptr ? png_create_info_struct(png) : nullptr;
+  std::vector<png_byte> row(std::size_t(width) * 3);
+  bool ok = png != nullptr && info != nullptr;
+  if (ok && setjmp(png_jmpbuf(png)) != 0) ok = false;  // libpng's error path lands here
+  if (ok) {
+    png_init_io(png, file);
+    png_set_compression_level(png, 1);
+    // One filter (left neighbour) instead of libpng's per-row trial of all five: the stamp's
+    // pixels repeat along rows, which it turns into runs of zeros.
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
+    png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), 8, PNG_COLOR_TYPE_RGB,
+                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    for (int y = 0; y < height; ++y) {
+      const auto* pixel = reinterpret_cast<const std::uint32_t*>(data + std::size_t(y) * stride);
+      for (int x = 0; x < width; ++x) {
+        row[std::size_t(x) * 3 + 0] = png_byte((pixel[x] >> 16) & 0xff);
+        row[std::size_t(x) * 3 + 1] = png_byte((pixel[x] >> 8) & 0xff);
+        row[std::size_t(x) * 3 + 2] = png_byte(pixel[x] & 0xff);
+      }
+      png_write_row(png, row.data());
+    }
+    png_write_end(png, nullptr);
   }
-  plptex(x0 + 1.3 * dx, y0 + 1.3 * dy, 1.0, 0.0, 0.5, label);
+  png_destroy_write_struct(png != nullptr ? &png : nullptr, info != nullptr ? &info : nullptr);
+  ok = std::fclose(file) == 0 && ok;
+  if (!ok) {
+    std::remove(path.c_str());
+    throw IoError(path + ": cannot write the stamp");
+  }
 }
 
 }  // namespace
@@ -67,82 +119,88 @@ void writeStampPng(const std::string& path, const Stamp& stamp) {
   if (!(stamp.displayHighAdu > stamp.displayLowAdu)) {
     throw ConfigError("stamp " + stamp.title + ": the display range is not increasing");
   }
-  // The grey levels, column-major as plimage takes them.
-  std::vector<PLFLT> values(static_cast<std::size_t>(nx * ny));
-  std::vector<const PLFLT*> columns(static_cast<std::size_t>(nx));
-  for (std::int64_t i = 0; i < nx; ++i) {
-    for (std::int64_t j = 0; j < ny; ++j) {
-      values[std::size_t(i * ny + j)] =
-          stretched(stamp.pixels(i, j), stamp.displayLowAdu, stamp.displayHighAdu);
+  // The grey levels, top row first as a PNG holds them.
+  Surface image(cairo_image_surface_create(CAIRO_FORMAT_RGB24, int(nx), int(ny)));
+  const int stride = cairo_image_surface_get_stride(image.get());
+  unsigned char* data = cairo_image_surface_get_data(image.get());
+  for (std::int64_t j = 0; j < ny; ++j) {
+    auto* row = reinterpret_cast<std::uint32_t*>(data + std::size_t(ny - 1 - j) * stride);
+    for (std::int64_t i = 0; i < nx; ++i) {
+      const auto g = std::uint32_t(std::lround(
+          255.0 * stretched(stamp.pixels(i, j), stamp.displayLowAdu, stamp.displayHighAdu)));
+      row[i] = (g << 16) | (g << 8) | g;
     }
-    columns[std::size_t(i)] = &values[std::size_t(i * ny)];
   }
-  const double x0 = stamp.xFirstFits - 0.5, x1 = x0 + double(nx);
-  const double y0 = stamp.yFirstFits - 0.5, y1 = y0 + double(ny);
-  const double side = std::max(x1 - x0, y1 - y0);
+  cairo_surface_mark_dirty(image.get());
 
-  std::lock_guard<std::mutex> lock(detail::plplotMutex());
-  PLINT stream = 0;
-  plmkstrm(&stream);
-  plsdev("pngcairo");
-  plsfnam(path.c_str());
-  plspage(0, 0, stamp.sizePix, stamp.sizePix, 0, 0);
-  plscol0(kBackground, 24, 24, 24);
-  plscol0(kText, 235, 235, 235);
-  plscol0(kOverlay, 255, 220, 60);
-  for (std::size_t k = 0; k < stamp.marks.size() && k < std::size_t(kMaxMarkColours); ++k) {
-    const StampMark& m = stamp.marks[k];
-    plscol0(kFirstMark + PLINT(k), m.red, m.green, m.blue);
-  }
-  plinit();
-  pladv(0);
-  plvpor(0.06, 0.94, 0.08, 0.92);
-  plwind(x0, x0 + side, y0, y0 + side);
-  const PLFLT level[2] = {0.0, 1.0}, grey[2] = {0.0, 1.0};
-  plscmap1n(256);
-  plscmap1l(1, 2, level, grey, grey, grey, nullptr);
-  plimage(columns.data(), PLINT(nx), PLINT(ny), x0, x1, y0, y1, 0.0, 1.0, x0, x1, y0, y1);
+  const double side = double(stamp.sizePix);
+  Surface png(cairo_image_surface_create(CAIRO_FORMAT_RGB24, stamp.sizePix, stamp.sizePix));
+  Context owner(cairo_create(png.get()));
+  cairo_t* cr = owner.get();
+  cairo_set_source_rgb(cr, 0.094, 0.094, 0.094);
+  cairo_paint(cr);
+  const double margin = kMarginFraction * side;
+  const double area = side - 2.0 * margin;
+  const double extent = double(std::max(nx, ny));
+  const Frame f{
+      stamp.xFirstFits - 0.5, stamp.yFirstFits - 0.5, area / extent, margin, margin, area};
+  // The cut-out, each pixel a square (no interpolation: the inspector sees the real pixels).
+  cairo_save(cr);
+  cairo_translate(cr, f.left, f.top + area - double(ny) * f.pixPerUnit);
+  cairo_scale(cr, f.pixPerUnit, f.pixPerUnit);
+  cairo_set_source_surface(cr, image.get(), 0, 0);
+  cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
+  cairo_rectangle(cr, 0, 0, double(nx), double(ny));
+  cairo_fill(cr);
+  cairo_restore(cr);
 
-  plwidth(1.5);
-  for (std::size_t k = 0; k < stamp.marks.size(); ++k) {
-    const StampMark& m = stamp.marks[k];
-    plcol0(kFirstMark + PLINT(k % std::size_t(kMaxMarkColours)));
-    drawEllipse(m);
+  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, std::max(9.0, 0.032 * side));
+  cairo_set_line_width(cr, std::max(1.0, 0.004 * side));
+  for (const StampMark& m : stamp.marks) {
+    cairo_set_source_rgb(cr, m.red / 255.0, m.green / 255.0, m.blue / 255.0);
+    const double a = m.semiAxis1Pix * f.pixPerUnit;
+    const double b = (m.ellipse ? m.semiAxis2Pix : m.semiAxis1Pix) * f.pixPerUnit;
+    if (a > 0 && b > 0) {
+      cairo_save(cr);
+      cairo_translate(cr, f.x(m.xFits), f.y(m.yFits));
+      cairo_rotate(cr, -m.angleRad);  // counter-clockwise on the sky image is clockwise in PNG y
+      cairo_scale(cr, a, b);
+      cairo_new_sub_path(cr);
+      cairo_arc(cr, 0, 0, 1, 0, 2 * std::numbers::pi);
+      cairo_restore(cr);
+      cairo_stroke(cr);
+    }
     if (!m.label.empty()) {
-      plschr(0, 0.8);
-      plptex(m.xFits + m.semiAxis1Pix + 0.02 * side, m.yFits, 1.0, 0.0, 0.0, m.label.c_str());
-      plschr(0, 1.0);
+      cairo_move_to(cr, f.x(m.xFits) + a + 3, f.y(m.yFits) + 4);
+      cairo_show_text(cr, m.label.c_str());
     }
   }
-  plcol0(kOverlay);
-  plschr(0, 0.9);
+  cairo_set_source_rgb(cr, 1.0, 0.86, 0.24);
   if (stamp.hasSkyDirections) {
-    // In the upper-left corner, 15% of the side long.
-    const double len = 0.15 * side;
-    const double ax = x0 + 0.82 * side, ay = y0 + 0.78 * side;
-    drawArrow(ax, ay, len * stamp.northX, len * stamp.northY, "N");
-    drawArrow(ax, ay, len * stamp.eastX, len * stamp.eastY, "E");
+    const double length = 0.13 * area;
+    const double ax = f.left + 0.82 * area, ay = f.top + 0.22 * area;
+    drawArrow(cr, ax, ay, stamp.northX, stamp.northY, length, "N");
+    drawArrow(cr, ax, ay, stamp.eastX, stamp.eastY, length, "E");
   }
   if (stamp.pixelScaleArcsec > 0 && stamp.scaleBarArcsec > 0) {
-    const double bar = stamp.scaleBarArcsec / stamp.pixelScaleArcsec;
-    const double bx = x0 + 0.06 * side, by = y0 + 0.06 * side;
-    PLFLT lx[2] = {bx, bx + bar}, ly[2] = {by, by};
-    plwidth(3.0);
-    plline(2, lx, ly);
-    plwidth(1.0);
+    const double bar = stamp.scaleBarArcsec / stamp.pixelScaleArcsec * f.pixPerUnit;
+    const double bx = f.left + 0.06 * area, by = f.top + 0.94 * area;
+    cairo_save(cr);
+    cairo_set_line_width(cr, std::max(2.0, 0.008 * side));
+    cairo_move_to(cr, bx, by);
+    cairo_line_to(cr, bx + bar, by);
+    cairo_stroke(cr);
+    cairo_restore(cr);
     char label[32];
     std::snprintf(label, sizeof label, "%g\"", stamp.scaleBarArcsec);
-    plptex(bx + 0.5 * bar, by + 0.03 * side, 1.0, 0.0, 0.5, label);
+    centredText(cr, bx + 0.5 * bar, by - 0.04 * area, label);
   }
-  plcol0(kText);
-  plschr(0, 1.0);
-  if (!stamp.title.empty()) plmtex("t", 1.0, 0.5, 0.5, stamp.title.c_str());
-  if (!stamp.subtitle.empty()) plmtex("b", 1.6, 0.5, 0.5, stamp.subtitle.c_str());
-  plend1();
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec) || std::filesystem::file_size(path, ec) == 0) {
-    throw IoError(path + ": PLplot did not write the stamp");
-  }
+  cairo_set_source_rgb(cr, 0.92, 0.92, 0.92);
+  if (!stamp.title.empty()) centredText(cr, 0.5 * side, 0.5 * margin, stamp.title);
+  if (!stamp.subtitle.empty()) centredText(cr, 0.5 * side, side - 0.5 * margin, stamp.subtitle);
+  cairo_surface_flush(png.get());
+  writePng(png.get(), path);
 }
 
 }  // namespace octarc

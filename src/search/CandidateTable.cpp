@@ -21,7 +21,8 @@ struct RowView {
   const Table& catalog;
   const Candidate& candidate;
   std::int64_t number;  // 1-based candidate number
-  // A catalog value of the best row (row = -1: the lens row); NaN without such a column.
+  // A catalog value of the best row, or of the lens row; NaN without such a column (stored as 0
+  // in an integer column).
   double best(const char* column) const { return at(std::int64_t(candidate.row), column); }
   double lens(const char* column) const {
     return candidate.lens ? at(std::int64_t(candidate.lens->row), column) : kNaN;
@@ -139,8 +140,8 @@ const std::vector<ColumnDef>& definitions() {
                return v.candidate.curvature ? v.candidate.curvature->radius : kNaN;
              }),
       copied("FLAGS", "Extraction flags of the best row", "", T::Int16, "%3d"),
-      number("CAND_FLAGS", "Candidate flags: 1 dark lens?, 2 no curvature fit, 4 no WCS", "",
-             T::Int16, "%3d", [](const RowView& v) { return double(v.candidate.flags); }),
+      number("CAND_FLAGS", "1 dark lens?, 2 no circle fit, 4 no WCS, 8 side unknown", "", T::Int16,
+             "%3d", [](const RowView& v) { return double(v.candidate.flags); }),
   };
   return defs;
 }

@@ -144,7 +144,7 @@ Stamp candidateStamp(const ImageF& image, const Table& catalog, const SearchResu
   if (!(stamp.displayHighAdu > stamp.displayLowAdu)) {
     stamp.displayHighAdu = stamp.displayLowAdu + 1.0;
   }
-  if (wcs != nullptr) {
+  if (wcs != nullptr && wcs->isJ2000Equatorial()) {
     const double cosDec = std::max(std::cos(cand.decDeg * kRadPerDeg), 1e-9);
     const auto north = skyDirection(*wcs, xc, yc, 0.0, 1.0 / 3600.0);
     const auto east = skyDirection(*wcs, xc, yc, 1.0 / 3600.0 / cosDec, 0.0);

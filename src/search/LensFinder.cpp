@@ -93,7 +93,6 @@ std::optional<LensMatch> findLens(const ArcGeometry& arc,
       yTarget = arc.curvature->yCentre;
     }
   }
-  constexpr double kSameObjectPix = 0.5;
   std::optional<LensMatch> best;
   double bestTargetDistance = 0.0;
   for (const LensCandidateGalaxy& g : galaxies) {

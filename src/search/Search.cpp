@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <unordered_map>
 #include <utility>
 
@@ -32,6 +33,10 @@ struct SearchColumns {
         e2(t.requireColumn("E2_IMAGE", "search")),
         arcSide(t.requireColumn("ARC_SIDE", "search")) {}
 };
+
+bool wholeIn(double v, double lo, double hi) {
+  return v >= lo && v <= hi && v == std::floor(v);
+}
 
 std::int64_t treeKey(int level, std::int32_t number) {
   return (std::int64_t(level) << 32) | std::uint32_t(number);
@@ -76,18 +81,38 @@ class RowCells {
   std::unordered_map<std::int64_t, std::vector<std::size_t>> cells_;
 };
 
-// The arc's pixels (1-based coordinates) weighted by their positive flux, for the circle fit.
-std::optional<CircleFit> curvatureOf(const SearchInput& in, int level, std::int32_t number) {
-  if (in.footprints == nullptr || in.pixels == nullptr) return std::nullopt;
+// The circle fitted to an arc's pixels (1-based coordinates) weighted by their flux.
+std::optional<CircleFit> curvatureOf(const ImageF& pixels, const std::vector<PixelRun>& runs) {
   std::vector<double> xs, ys, ws;
-  for (const PixelRun& run : in.footprints->footprint(level, number)) {
+  for (const PixelRun& run : runs) {
     for (std::int32_t x = run.x0; x <= run.x1; ++x) {
       xs.push_back(toFitsPixel(x));
       ys.push_back(toFitsPixel(run.y));
-      ws.push_back((*in.pixels)(x, run.y));
+      ws.push_back(pixels(x, run.y));
     }
   }
   return fitCircle(xs, ys, ws);
+}
+
+// The circle fits of the objects' best rows, every level's footprints gathered in one pass.
+std::vector<std::optional<CircleFit>> curvaturesOf(const SearchInput& in,
+                                                   const std::vector<MergedObject>& objects,
+                                                   const std::vector<TreeRow>& tree) {
+  std::vector<std::optional<CircleFit>> out(objects.size());
+  if (in.footprints == nullptr || in.pixels == nullptr) return out;
+  std::map<int, std::vector<std::size_t>> byLevel;  // level -> objects
+  for (std::size_t k = 0; k < objects.size(); ++k) {
+    byLevel[tree[objects[k].bestRow].level].push_back(k);
+  }
+  for (const auto& [level, members] : byLevel) {
+    std::vector<std::int32_t> numbers;
+    for (const std::size_t k : members) numbers.push_back(tree[objects[k].bestRow].number);
+    const std::vector<std::vector<PixelRun>> runs = in.footprints->footprints(level, numbers);
+    for (std::size_t i = 0; i < members.size(); ++i) {
+      out[members[i]] = curvatureOf(*in.pixels, runs[i]);
+    }
+  }
+  return out;
 }
 
 }  // namespace
@@ -143,8 +168,15 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
   const double resolvedMinPix = s.resolvedMinArcsec / s.pixelScaleArcsec;
   for (std::int64_t r = 0; r < n; ++r) {
     const std::size_t i = std::size_t(r);
-    tree[i] = {int(catalog.value(r, c.level)), std::int32_t(catalog.value(r, c.number)),
-               std::int32_t(catalog.value(r, c.parent))};
+    const double level = catalog.value(r, c.level), number = catalog.value(r, c.number);
+    const double parent = catalog.value(r, c.parent);
+    if (!wholeIn(level, 1, 255) || !wholeIn(number, 1, 2147483647.0) ||
+        !wholeIn(parent, 0, 2147483647.0)) {
+      throw ConfigError("search: catalog row " + std::to_string(r + 1) +
+                        ": THRESH_LEVEL, NUMBER or PARENT_NUMBER is not a level 1-255 and "
+                        "object numbers of a multi-threshold run");
+    }
+    tree[i] = {int(level), std::int32_t(number), std::int32_t(parent)};
     rowOf[treeKey(tree[i].level, tree[i].number)] = i;
     if (!in.mask->searched(catalog.value(r, c.x), catalog.value(r, c.y))) continue;
     ++summary.rowsSearched;
@@ -168,7 +200,10 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
   const std::vector<MergedObject> objects = mergeAcrossLevels(tree, passed, probability);
   const double lensRadiusPix = s.lensRadiusArcsec / s.pixelScaleArcsec;
   const RowCells nearby(catalog, c, tree, lensRadiusPix);
-  for (const MergedObject& object : objects) {
+  const int arcnessColumn = catalog.findColumn("ARCNESS");
+  const std::vector<std::optional<CircleFit>> curvatures = curvaturesOf(in, objects, tree);
+  for (std::size_t k = 0; k < objects.size(); ++k) {
+    const MergedObject& object = objects[k];
     Candidate cand;
     cand.row = object.bestRow;
     cand.rows = object.rows;
@@ -222,10 +257,22 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
     arc.thetaRad = 0.5 * std::atan2(catalog.value(best, c.e2), catalog.value(best, c.e1));
     const double side = catalog.value(best, c.arcSide);
     arc.arcSide = side > 0 ? 1 : side < 0 ? -1 : 0;
-    arc.curvature = curvatureOf(in, id.level, id.number);
+    arc.curvature = curvatures[k];
     cand.curvature = arc.curvature;
     if (!arc.curvature) cand.flags |= kCandidateNoCurvature;
-    if (const std::optional<LensMatch> match = findLens(arc, galaxies, lensRadiusPix)) {
+    // Below LENS_SIDE_ARCNESS the octopole does not tell the concave side: the nearest galaxy.
+    const double arcness = arcnessColumn >= 0 ? catalog.value(best, arcnessColumn) : kNaN;
+    std::optional<LensMatch> match;
+    if (std::abs(arcness) < s.sideMinArcness) {
+      cand.flags |= kCandidateSideUnknown;
+      for (const LensCandidateGalaxy& g : galaxies) {
+        const double d = std::hypot(g.x - x, g.y - y);
+        if (d > kSameObjectPix && (!match || d < match->einsteinRadiusPix)) match = {g.row, d};
+      }
+    } else {
+      match = findLens(arc, galaxies, lensRadiusPix);
+    }
+    if (match) {
       CandidateLens lens;
       lens.row = match->row;
       lens.xPix = catalog.value(std::int64_t(match->row), c.x);

@@ -10,7 +10,9 @@
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
+#include "octarc/core/Parallel.h"
 #include "octarc/io/Ds9Region.h"
+#include "octarc/io/FitsImage.h"
 #include "octarc/io/FitsTable.h"
 #include "octarc/run/CatalogAssembly.h"
 #include "octarc/run/Levels.h"
@@ -101,6 +103,34 @@ std::string spaceSummary(const SpaceCount& s, double areaDeg2) {
   return line;
 }
 
+// Every file the search reads, for the check that none lies inside OUTPUT_DIR.
+std::vector<NamedInput> searchInputs(const SearchRunSettings& s) {
+  std::vector<NamedInput> inputs = runInputs(s.run, s.assoc ? s.assoc->listPath : std::string());
+  inputs.push_back({"GRID_NAME", s.gridPath});
+  if (!s.maskPath.empty()) inputs.push_back({"MASK_NAME", s.maskPath});
+  if (!s.inputCatalogPath.empty()) inputs.push_back({"INPUT_CATALOG", s.inputCatalogPath});
+  return inputs;
+}
+
+// OUTPUT_DIR is replaced whole: it must be new or an earlier search output, and hold no input.
+void checkOutputDirectory(const SearchRunSettings& s) {
+  if (s.outputDir.empty()) throw ConfigError("OUTPUT_DIR: empty");
+  std::error_code ec;
+  const fs::path out = fs::weakly_canonical(s.outputDir, ec);
+  for (const NamedInput& in : searchInputs(s)) {
+    if (in.path.empty()) continue;
+    const std::size_t bracket = in.path.find('[');  // cfitsio syntax: file[HDU]
+    const fs::path file = fs::weakly_canonical(
+        bracket == std::string::npos ? in.path : in.path.substr(0, bracket), ec);
+    if (!ec && std::mismatch(out.begin(), out.end(), file.begin(), file.end()).first == out.end()) {
+      throw ConfigError("OUTPUT_DIR " + s.outputDir + " holds " + in.key + " " + in.path +
+                        ", and is replaced whole by the search; choose another OUTPUT_DIR");
+    }
+  }
+  // The same test AtomicDirectory makes, before any work rather than after it.
+  { AtomicDirectory probe(s.outputDir, kSearchMarkerFile, kSearchMarkerText); }
+}
+
 }  // namespace
 
 std::vector<KeySpec> searchKeys() {
@@ -122,9 +152,11 @@ std::vector<KeySpec> searchKeys() {
     Row("RESOLVED_MIN", Kind::Float, {"1.0"}, "resolved: sqrt(2) SIZE_IMAGE above it (arcsec)")
         .range(0, 1e30),
     Row("LENS_RADIUS", Kind::Float, {"6.0"}, "farthest lens from the arc (arcsec)")
-        .range(0, 1e30),
+        .range(0, 60),
+    Row("LENS_SIDE_ARCNESS", Kind::Float, {"0.05"}, "below this |ARCNESS| the concave side is\n"
+        "unknown: the lens is the nearest galaxy").range(0, 1e30),
     Row("STAMP_SIZE", Kind::Float, {"26.0"}, "side of the postage stamps (arcsec)")
-        .range(1, 3600),
+        .range(1, 300),
     Row("STAMP_PIXELS", Kind::Int, {"400"}, "side of the stamp images (PNG pixels)")
         .range(64, 4096),
     Row("STAMPS", Kind::Bool, {"Y"}, "write the stamps and contact sheet"),
@@ -157,6 +189,7 @@ SearchRunSettings searchSettingsFromConfig(const sexcompat::Config& c, RunSettin
   s.search.snrMin = c.getDouble("SNR_MIN");
   s.search.resolvedMinArcsec = c.getDouble("RESOLVED_MIN");
   s.search.lensRadiusArcsec = c.getDouble("LENS_RADIUS");
+  s.search.sideMinArcness = c.getDouble("LENS_SIDE_ARCNESS");
   s.search.namePrefix = c.getString("NAME_PREFIX");
   s.stamps.sideArcsec = c.getDouble("STAMP_SIZE");
   s.stamps.sizePix = c.getInt("STAMP_PIXELS");
@@ -168,8 +201,14 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
   const RunSettings& rs = settings.run;
   if (rs.imagePaths.size() != 1) throw ConfigError("search: give one image (see -h)");
   SearchRun run;
-  // The grid and the region file are read before any pixel: a bad one fails fast.
+  // Everything that can be checked is checked before any pixel is read.
+  checkOutputDirectory(settings);
   run.grid = loadGrid(settings.gridPath);
+  SearchMaskSettings maskSettings;
+  if (!settings.maskPath.empty()) {
+    maskSettings.regions = readDs9Regions(
+        settings.maskPath, readImageHeader(rs.imagePaths[0]).header, rs.imagePaths[0]);
+  }
   if (settings.inputCatalogPath.empty()) {
     const int levelCount = int(detectionLevels(rs, 1.0).size());
     const ColumnPlan columns = planColumns(rs, true, levelCount);
@@ -201,6 +240,12 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
       t.thresholdAdu = threshold >= 0 ? run.catalog.value(r, threshold) : std::nan("");
       t.thresholdSigma = t.thresholdAdu / run.image.sigmaAdu;
     }
+    if (std::any_of(run.levels.begin(), run.levels.end(),
+                    [](const ThresholdLevel& t) { return t.level == 0; })) {
+      throw ConfigError(settings.inputCatalogPath +
+                        ": THRESH_LEVEL skips a level (a filtered catalog?); the search needs "
+                        "every level of the run");
+    }
   }
   const Wcs* wcs = run.image.wcs ? &*run.image.wcs : nullptr;
   run.pixelScaleArcsec = rs.pixelScaleArcsec > 0
@@ -229,11 +274,6 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
     run.warnings.push_back("the grid " + settings.gridPath + " was made for another setup: " + d);
   }
 
-  SearchMaskSettings maskSettings;
-  if (!settings.maskPath.empty()) {
-    maskSettings.regions =
-        readDs9Regions(settings.maskPath, run.image.hdu.header, rs.imagePaths[0]);
-  }
   if (!run.image.variance.empty()) maskSettings.varianceAdu2 = &run.image.variance;
   maskSettings.borderPix = settings.borderPix;
   const SearchMask mask(run.image.hdu.pixels.width(), run.image.hdu.pixels.height(), maskSettings);
@@ -285,23 +325,34 @@ std::vector<std::string> searchSummaryLines(const SearchRun& run,
   return lines;
 }
 
+namespace {
+void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings,
+                         const std::string& tempPath, const ProgressFn& progress);
+}  // namespace
+
 void writeSearchOutputs(const SearchRun& run, const SearchRunSettings& settings,
                         const ProgressFn& progress, const RunLog& log) {
-  const std::vector<std::string> inputs = {settings.run.imagePaths.front(), settings.gridPath,
-                                           settings.maskPath, settings.inputCatalogPath,
-                                           settings.run.weightImagePath};
-  for (const std::string& in : inputs) {
-    if (in.empty()) continue;
-    std::error_code ec;
-    const fs::path out = fs::weakly_canonical(settings.outputDir, ec);
-    const fs::path file = fs::weakly_canonical(in, ec);
-    if (!ec && std::mismatch(out.begin(), out.end(), file.begin(), file.end()).first == out.end()) {
-      throw ConfigError("OUTPUT_DIR " + settings.outputDir + " holds the input " + in +
-                        ": it would be replaced; choose another OUTPUT_DIR");
+  checkOutputDirectory(settings);
+  AtomicDirectory dir(settings.outputDir, kSearchMarkerFile, kSearchMarkerText);
+  try {
+    fillOutputDirectory(run, settings, dir.tempPath(), progress);
+  } catch (const IoError& e) {
+    // Messages name the directory the user knows, not its temporary name.
+    std::string message = e.what();
+    for (std::size_t at; (at = message.find(dir.tempPath())) != std::string::npos;) {
+      message.replace(at, dir.tempPath().size(), settings.outputDir);
     }
+    throw IoError(message);
   }
-  AtomicDirectory dir(settings.outputDir, kSearchMarkerFile);
-  const fs::path root = dir.tempPath();
+  dir.commit();
+  if (log) log("> Wrote " + settings.outputDir);
+}
+
+namespace {
+
+void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings,
+                         const std::string& tempPath, const ProgressFn& progress) {
+  const fs::path root = tempPath;
   SearchSettings search = settings.search;
   search.pixelScaleArcsec = run.pixelScaleArcsec;
   const Table& catalog = run.catalog;
@@ -320,14 +371,23 @@ void writeSearchOutputs(const SearchRun& run, const SearchRunSettings& settings,
   writeText("candidates.reg",
             formatDs9Regions(candidateRegionMarks(catalog, run.result, run.pixelScaleArcsec), wcs));
   if (settings.writeStamps) {
-    fs::create_directory(root / "stamps");
-    const std::size_t n = run.result.candidates.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      const Stamp stamp = candidateStamp(run.image.hdu.pixels, catalog, run.result, i, wcs,
-                                         run.pixelScaleArcsec, settings.stamps);
-      writeStampPng((root / stampFileName(i)).string(), stamp);
-      if (progress) progress(std::int64_t(i + 1), std::int64_t(n));
-    }
+    std::error_code ec;
+    fs::create_directory(root / "stamps", ec);
+    if (ec) throw IoError(settings.outputDir + "/stamps: cannot create (" + ec.message() + ")");
+    // On every thread (cairo draws one surface per thread; the few WCS calls per stamp wait for
+    // each other, wcslib's transforms of one Wcs being serialised).
+    const std::int64_t n = std::int64_t(run.result.candidates.size());
+    parallelForDynamic(
+        n, resolveThreads(settings.run.threads),
+        [&](std::int64_t i) {
+          const Stamp stamp =
+              candidateStamp(run.image.hdu.pixels, catalog, run.result, std::size_t(i), wcs,
+                             run.pixelScaleArcsec, settings.stamps);
+          writeStampPng((root / stampFileName(std::size_t(i))).string(), stamp);
+        },
+        [&](std::int64_t done) {
+          if (progress) progress(done, n);
+        });
     ContactSheetInfo info;
     info.title = "octarc search: " + fs::path(settings.run.imagePaths.front()).filename().string();
     info.catalogFile = "candidates.fits";
@@ -335,14 +395,13 @@ void writeSearchOutputs(const SearchRun& run, const SearchRunSettings& settings,
     info.summaryLines = summary;
     writeText("index.html", contactSheetHtml(catalog, run.result, info));
   }
-  // The catalog last: it marks the directory as complete.
-  std::vector<std::string> cards = run.runCards;
-  FitsHeader header = run.image.hdu.header;
-  writeFitsTables(
-      (root / kSearchMarkerFile).string(),
-      {ldacImheadTable(header, cards), candidateObjectsTable(catalog, run.result, search)});
-  dir.commit();
-  if (log) log("> Wrote " + settings.outputDir);
+  writeFitsTables((root / "candidates.fits").string(),
+                  {ldacImheadTable(run.image.hdu.header, run.runCards),
+                   candidateObjectsTable(catalog, run.result, search)});
+  // The marker last: it says the directory is complete.
+  writeText(kSearchMarkerFile, kSearchMarkerText);
 }
+
+}  // namespace
 
 }  // namespace octarc

@@ -151,7 +151,7 @@ class InstalledTree(WorkDirTest):
         proc = subprocess.run(["octarc", "demo", "--size", "256", "--lenses", "1", "--out", "demo",
                                "--quiet"], cwd=self.work, env=env, capture_output=True, text=True)
         self.assertEqual(proc.returncode, 0, proc.stderr)
-        self.assertIn("octarc detect -c %s/octarc.sex" % data, proc.stdout)
+        self.assertIn("octarc search -c %s/octarc.sex" % data, proc.stdout)
         self.assertTrue(os.path.exists(os.path.join(self.work, "demo", "field.ldac")))
 
 

@@ -301,13 +301,13 @@ class InterruptedSimulation(WorkDirTest):
         self.assertGreaterEqual(outcome.interrupted, outcome.runs // 2)
 
     def test_demo_interrupted_between_its_steps_leaves_nothing(self):
-        # The demo writes the field, then detects on it: interrupted during detection, its
+        # The demo writes the field, then searches it: interrupted during the search, its
         # directory (which it made) goes, with the field files already written.
         out = self.path("demo")
         for sig in (signal.SIGINT, signal.SIGTERM):
             with self.subTest(signal=sig.name):
                 rc, err, sent = run_until([OCTARC, "demo", "--size", "1024", "--lenses", "2",
-                                           "--out", out], r"^> Detecting", sig, self.work)
+                                           "--out", out], r"^> Searching", sig, self.work)
                 self.assertTrue(sent, err)
                 self.assertEqual(rc, 128 + sig, err)
                 self.assertEqual(os.listdir(self.work), [], err)

@@ -247,6 +247,9 @@ class SearchOutputs(SearchFixture):
             self.assertAlmostEqual(p.center.x + 1, row["X_IMAGE"], delta=0.12)
             self.assertAlmostEqual(p.center.y + 1, row["Y_IMAGE"], delta=0.12)
             self.assertAlmostEqual(p.width / 2, 3 * row["A_IMAGE"], delta=0.01 * row["A_IMAGE"])
+            # The ellipse's angle back on the pixels is THETA_IMAGE (modulo 180 degrees).
+            d = (p.angle.to("deg").value - row["THETA_IMAGE"] + 90) % 180 - 90
+            self.assertAlmostEqual(d, 0.0, delta=0.2)
 
     def test_stamps_one_per_candidate(self):
         stamps = sorted(os.listdir(os.path.join(self.out, "stamps")))
@@ -301,6 +304,39 @@ class SearchOutputs(SearchFixture):
         self.assertGreater(pixels.std(), 5.0)
 
 
+class SearchInterrupted(SearchFixture):
+    """SIGINT or SIGTERM at several points of a search: OUTPUT_DIR complete or absent, and no
+    temporary directory left."""
+
+    def test_interrupted_search_leaves_all_or_nothing(self):
+        import signal
+        cmd = [os.environ.get("OCTARC_BIN", "octarc"), "search", self.image, "-c", SEX,
+               "-GRID_NAME", self.grid, "-WEIGHT_TYPE", "MAP_WEIGHT", "-WEIGHT_IMAGE",
+               self.weight, "-SNR_MIN", SNR_MIN, "-OUTPUT_DIR", self.path("out"),
+               "-NTHREADS", "2"]
+        interrupted = 0
+        for trigger in (r"> Level 3 ", r"> Level 15 ", r"> Selecting candidates"):
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                shutil.rmtree(self.path("out"), ignore_errors=True)
+                with subprocess.Popen(cmd, cwd=self.work, stderr=subprocess.PIPE,
+                                      stdout=subprocess.DEVNULL, text=True) as proc:
+                    for line in proc.stderr:
+                        if re.search(trigger, line):
+                            proc.send_signal(sig)
+                            break
+                    err = proc.stderr.read()
+                    proc.wait(timeout=120)
+                names = os.listdir(self.work)
+                self.assertEqual([n for n in names if ".tmp." in n], [], err)
+                if proc.returncode == 0:
+                    self.assertTrue(os.path.exists(self.path("out/.octarc-search")))
+                else:
+                    interrupted += 1
+                    self.assertEqual(proc.returncode, 128 + sig, err)
+                    self.assertFalse(os.path.exists(self.path("out")), err)
+        self.assertGreater(interrupted, 0)
+
+
 class SearchBadInput(SearchFixture):
 
     def test_malformed_region_line_names_file_and_line(self):
@@ -308,10 +344,11 @@ class SearchBadInput(SearchFixture):
         with open(reg, "w") as f:
             f.write("# Region file format: DS9 version 4.1\nimage\ncircle(100,100,50)\n"
                     "box(10,10,5)\n")
-        r = self.search("-MASK_NAME", reg, check=False)
+        r = self.search("-MASK_NAME", reg, "-VERBOSE_TYPE", "QUIET", check=False)
         self.assertNotEqual(r.returncode, 0)
+        # One line, before any pixel is read.
+        self.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)
         self.assertIn("mask.reg:4", r.stderr)
-        self.assertEqual(len(r.stderr.strip().splitlines()[-1:]), 1)
         self.assertFalse(os.path.exists(self.path("out")))
         self.assertEqual([n for n in os.listdir(self.work) if n.startswith(".")], [])
 
@@ -369,10 +406,30 @@ class SearchBadInput(SearchFixture):
         self.assertNotEqual(r.returncode, 0)
         self.assertIn("not an earlier output", r.stderr)
         self.assertEqual(os.listdir(self.path("mine")), ["notes.txt"])
-        # An earlier search output is replaced whole.
-        self.search("-SNR_MIN", "1e12")
+        # A directory that merely holds a candidates.fits is no search output either.
+        with open(self.path("mine/candidates.fits"), "w") as f:
+            f.write("not ours\n")
+        r = self.search(out="mine", check=False)
+        self.assertNotEqual(r.returncode, 0)
+        self.assertEqual(sorted(os.listdir(self.path("mine"))), ["candidates.fits", "notes.txt"])
+        # An earlier search output is replaced whole: many candidates, then none.
         self.search()
-        self.assertGreater(len(self.candidates()), 0)
+        self.assertGreater(len(os.listdir(self.path("out/stamps"))), 0)
+        self.search("-SNR_MIN", "1e12")
+        self.assertEqual(len(self.candidates()), 0)
+        self.assertEqual(os.listdir(self.path("out/stamps")), [])
+        self.assertEqual([n for n in os.listdir(self.work) if n.startswith(".")], [])
+
+    def test_inputs_inside_output_dir_are_refused_before_the_run(self):
+        self.search()
+        shutil.copy(SEX, self.path("out/my.sex"))
+        r = run_octarc("search", self.image, "-c", self.path("out/my.sex"), "-GRID_NAME",
+                       self.grid, "-OUTPUT_DIR", self.path("out"), "-VERBOSE_TYPE", "QUIET",
+                       check=False, cwd=self.work)
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("holds", r.stderr)
+        self.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)
+        self.assertTrue(os.path.exists(self.path("out/my.sex")))
 
 
 if __name__ == "__main__":

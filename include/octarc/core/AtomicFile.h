@@ -67,13 +67,14 @@ class OutputFiles {
 // A directory of outputs written whole (a search's candidates, stamps and contact sheet): made
 // under a temporary name beside its target (".<name>.tmp.<pid>.<n>"), filled by the caller, then
 // renamed into place by commit(). An existing directory of that name is replaced only when it
-// holds `markerFile` (it is an earlier output of the same kind): a user's other directory is
-// never removed. Removed, with its contents, when the run fails or is interrupted.
+// holds `markerFile` with exactly `markerText` in it (an earlier output of the same kind, which
+// wrote it): a user's other directory is never removed. Removed, with its contents, when the
+// run fails or is interrupted.
 class AtomicDirectory {
  public:
-  // ConfigError when `finalPath` is empty, or exists and is not a directory holding
-  // `markerFile`; IoError when the temporary directory cannot be made.
-  AtomicDirectory(std::string finalPath, std::string markerFile);
+  // ConfigError when `finalPath` is empty, or exists and is not a directory holding the
+  // marker; IoError when the temporary directory cannot be made.
+  AtomicDirectory(std::string finalPath, std::string markerFile, std::string markerText);
   AtomicDirectory(const AtomicDirectory&) = delete;
   AtomicDirectory& operator=(const AtomicDirectory&) = delete;
   ~AtomicDirectory();
@@ -81,12 +82,14 @@ class AtomicDirectory {
   const std::string& tempPath() const { return tempPath_; }
   const std::string& finalPath() const { return finalPath_; }
   // Renames the temporary directory into place (the marker file must have been written); the
-  // older directory is renamed aside first and removed after. IoError naming the final path.
+  // older directory, checked again, is renamed aside first and removed after. IoError naming
+  // the final path.
   void commit();
 
  private:
   std::string finalPath_;
   std::string markerFile_;
+  std::string markerText_;
   std::string tempPath_;
   int interruptSlot_ = -1;
   bool committed_ = false;

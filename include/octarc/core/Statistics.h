@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <utility>
 #include <vector>
 
@@ -17,7 +18,14 @@ inline std::vector<double> sampleQuantiles(std::vector<double> values,
   values.erase(
       std::remove_if(values.begin(), values.end(), [](double v) { return !std::isfinite(v); }),
       values.end());
-  std::sort(values.begin(), values.end());
+  // A few quantiles of many values (a postage stamp's display range) by selection, O(n) each;
+  // more by one sort. The order statistics, hence the quantiles, are the same either way.
+  const bool select = qs.size() <= 4;
+  if (!select) std::sort(values.begin(), values.end());
+  auto orderStatistic = [&](std::size_t k) {
+    if (select) std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(k), values.end());
+    return values[k];
+  };
   std::vector<double> out;
   for (double q : qs) {
     if (values.empty()) {
@@ -27,7 +35,13 @@ inline std::vector<double> sampleQuantiles(std::vector<double> values,
     const double h = std::clamp(q, 0.0, 1.0) * double(values.size() - 1);
     const std::size_t lo = std::size_t(std::floor(h));
     const std::size_t hi = std::min(lo + 1, values.size() - 1);
-    out.push_back(values[lo] + (h - double(lo)) * (values[hi] - values[lo]));
+    const double vLo = orderStatistic(lo);
+    // After selecting lo, the next order statistic is the least of the values above it.
+    const double vHi = hi == lo ? vLo
+                       : select
+                           ? *std::min_element(values.begin() + std::ptrdiff_t(hi), values.end())
+                           : values[hi];
+    out.push_back(vLo + (h - double(lo)) * (vHi - vLo));
   }
   return out;
 }

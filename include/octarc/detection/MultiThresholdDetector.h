@@ -83,8 +83,10 @@ class SegmentationRuns {
   int levelCount() const { return static_cast<int>(levels_.size()); }
   // Runs stored for `level` (memory use: 16 bytes each).
   std::size_t runCount(int level) const;
-  // The footprint of object `number` of `level` (empty when there is none), in raster order.
-  std::vector<PixelRun> footprint(int level, std::int32_t number) const;
+  // The footprints of objects `numbers` of `level` (one pass over the level's runs), each in
+  // raster order; empty for a number with no object.
+  std::vector<std::vector<PixelRun>> footprints(int level,
+                                                const std::vector<std::int32_t>& numbers) const;
 
  private:
   struct Run {

@@ -87,8 +87,9 @@ struct RegionMark {
 
 // A DS9 region file (version 4.1) of the marks: in fk5 (degrees, sizes in arcsec, sky angles)
 // through the local frame of `wcs` at each centre (the inverse of what readDs9Regions does),
-// or in image coordinates when `wcs` is null. ConfigError for a box or polygon mark, or a
-// centre the WCS cannot place on the sky.
+// or in image coordinates when `wcs` is null or not J2000 equatorial (Wcs::isJ2000Equatorial:
+// a galactic or B1950 WCS would put its own coordinates under the fk5 label). ConfigError for a
+// box or polygon mark, or a centre the WCS cannot place on the sky.
 std::string formatDs9Regions(const std::vector<RegionMark>& marks, const Wcs* wcs);
 
 // DS9's rule for a set of shapes: a point is in the region when it lies inside at least one

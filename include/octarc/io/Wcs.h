@@ -48,6 +48,9 @@ class Wcs {
   // RADESYS: "ICRS", "FK5", "FK4", ...; if absent, the FITS default for an equatorial frame
   // (ICRS without EQUINOX, FK4 for EQUINOX < 1984, else FK5); "" for non-equatorial frames.
   std::string radesys() const;
+  // True when world coordinates are J2000 RA and Dec already: ICRS, or FK5 at equinox 2000
+  // (DS9's fk5 and icrs, SExtractor's ALPHA_J2000 without precession).
+  bool isJ2000Equatorial() const;
 
  private:
   struct Impl;

@@ -1,6 +1,9 @@
 // Postage stamps for visual inspection (METHOD.md section 4): a cut-out of the image drawn in
-// grey levels with PLplot (pngcairo), marks on it (the arc's ellipse, the lens), North and East
-// arrows and a scale bar. PLplot is wrapped here and in CheckPlot.cpp only.
+// grey levels, each pixel a square, marks on it (the arc's ellipse, the lens), North and East
+// arrows and a scale bar, written as PNG with cairo (wrapped here only). cairo rather than
+// PLplot, which draws the check-plots: PLplot's global state allows one plot at a time, about
+// 18 ms each, too slow for the thousands of stamps of a survey tile; cairo draws one surface per
+// thread.
 #pragma once
 
 #include <string>
@@ -38,7 +41,7 @@ struct Stamp {
   int sizePix = 400;     // the PNG is sizePix x sizePix
 };
 
-// Writes `stamp` as a PNG at `path` (the temporary path of an output: PLplot writes it itself).
+// Writes `stamp` as a PNG at `path`; safe to call from several threads at once.
 // ConfigError for an empty cut-out or a display range that is not increasing; IoError naming
 // the file when it cannot be written.
 void writeStampPng(const std::string& path, const Stamp& stamp);

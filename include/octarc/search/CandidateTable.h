@@ -4,7 +4,7 @@
 // One row per candidate, by probability (NUMBER 1 is the most probable). Positions are 1-based
 // pixels (core/Conventions.h) and J2000 degrees; NaN where there is no WCS or no lens. Values
 // of the catalog taken from the candidate's best row (MAG_ISO, ARCNESS, ...) are NaN when the
-// catalog has no such column.
+// catalog has no such column (0 in the integer columns THRESH_LEVEL, ARC_SIDE, FLAGS).
 #pragma once
 
 #include <string>

@@ -1,10 +1,12 @@
 // Which injected lenses of a simulated field a search found (the measured completeness and
-// purity of README "Completeness and purity"): the field's truth list against the candidates.
+// purity of the README's "Completeness and purity"): the field's truth list against the
+// candidates.
 //
-// A candidate is an arc of system S when one of its passing rows lies at least
-// ArcRules::minDistanceArcsec from S's lens and within `matchArcsec` of one of S's lensed images
-// (as simulation/engine/InjectionRecovery.h matches rows). A candidate that is no injected arc is
-// spurious. Its lens is right when the lens it names lies within `lensMatchArcsec` of S's lens.
+// A candidate is an arc of system S when one of its passing rows (resolved by the search's own
+// cut) lies at least ArcRules::minDistanceArcsec from S's lens and within `matchArcsec` of one
+// of S's lensed images; the first such system, by id, when several qualify. A candidate that is
+// no injected arc is spurious. Its lens is right when the lens it names lies within
+// `lensMatchArcsec` of S's lens.
 #pragma once
 
 #include <cstdint>

@@ -50,7 +50,8 @@ struct ContactSheetInfo {
 // stamps in a grid, each with its number, linked to the full-size PNG and to its values (a
 // table row); sortable by probability, arcness, S/N, magnitude or number (buttons, or the URL
 // fragment "#sort=KEY" or "#sort=KEY-asc"). Once loaded, the page writes into the element
-// id="status" how many stamp images failed to load ("images 12/12 loaded").
+// id="status" how many stamp images loaded and the cards' order ("images 12/12 loaded; order
+// 3,1,2,...").
 std::string contactSheetHtml(const Table& catalog, const SearchResult& result,
                              const ContactSheetInfo& info);
 

@@ -46,6 +46,9 @@ struct ArcGeometry {
   std::optional<CircleFit> curvature;  // the fitted circle, if any
 };
 
+// A galaxy closer than this to the arc's centroid is the arc itself (its row at another level).
+inline constexpr double kSameObjectPix = 0.5;
+
 struct LensMatch {
   std::size_t row = 0;             // the chosen galaxy's row
   double einsteinRadiusPix = 0.0;  // arc centroid to lens distance

@@ -37,13 +37,17 @@ enum CandidateFlag : int {
   kCandidateDarkLens = 1,     // no galaxy on the concave side within LENS_RADIUS
   kCandidateNoCurvature = 2,  // no circle could be fitted to the arc's pixels (centroid used)
   kCandidateNoWcs = 4,        // the image has no celestial WCS: no RA, Dec or name
+  kCandidateSideUnknown = 8,  // |ARCNESS| below LENS_SIDE_ARCNESS: the nearest galaxy, any side
 };
 
 struct SearchSettings {
-  double snrMin = 40.0;                   // S/N floor: SNR_ISO above it
-  double resolvedMinArcsec = 1.0;         // resolved: sqrt(2) * SIZE_IMAGE above it (METHOD 3)
-  double pixelScaleArcsec = 0.0;          // > 0
-  double lensRadiusArcsec = 6.0;          // how far from the arc a lens may lie
+  double snrMin = 40.0;            // S/N floor: SNR_ISO above it
+  double resolvedMinArcsec = 1.0;  // resolved: sqrt(2) * SIZE_IMAGE above it (METHOD 3)
+  double pixelScaleArcsec = 0.0;   // > 0
+  double lensRadiusArcsec = 6.0;   // how far from the arc a lens may lie
+  // Below this |ARCNESS| the arc's curvature, hence its concave side, is not measurable (noise
+  // gives ordinary galaxies a median of about 0.01): the lens is the nearest galaxy on any side.
+  double sideMinArcness = 0.05;
   std::vector<SearchSpace> reportSpaces;  // at most 30
   std::string namePrefix = "OCTARC";      // of the IAU-style designations
 };

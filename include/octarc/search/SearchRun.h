@@ -30,7 +30,7 @@ namespace octarc {
 
 // The configuration keys of `octarc search`: those of detect (run/RunKeys.h) and GRID_NAME,
 // SEARCH_SPACE, MASK_NAME, MASK_BORDER, OUTPUT_DIR, SNR_MIN, RESOLVED_MIN, LENS_RADIUS,
-// STAMP_SIZE, STAMP_PIXELS, STAMPS, NAME_PREFIX.
+// LENS_SIDE_ARCNESS, STAMP_SIZE, STAMP_PIXELS, STAMPS, NAME_PREFIX.
 std::vector<sexcompat::KeySpec> searchKeys();
 
 struct SearchRunSettings {
@@ -53,9 +53,11 @@ struct SearchRunSettings {
 // without a name, ASSOCSELEC_TYPE other than ALL, ...).
 SearchRunSettings searchSettingsFromConfig(const sexcompat::Config& config, RunSettings run);
 
-// The file that marks a directory as a search output (an existing OUTPUT_DIR is replaced only
-// when it holds it).
-inline constexpr const char* kSearchMarkerFile = "candidates.fits";
+// The file that marks a directory as a search output, written last: an existing OUTPUT_DIR is
+// replaced only when it holds it (a user's directory that merely holds a candidates.fits is
+// refused), and its content is checked too.
+inline constexpr const char* kSearchMarkerFile = ".octarc-search";
+inline constexpr const char* kSearchMarkerText = "octarc search output directory\n";
 
 struct SearchRun {
   PreparedImage image;  // the measurement image (background-subtracted) and its WCS
@@ -70,7 +72,10 @@ struct SearchRun {
   std::vector<std::int64_t> catalogOrder;  // rows in catalog order (empty: as stored)
 };
 
-// Runs the search. ConfigError / IoError on bad settings or input; nothing is written.
+// Runs the search. Before any pixel is read: the grid and the region file are read, OUTPUT_DIR
+// is checked (a directory that is not an earlier search output is refused) and no input may
+// lie inside it (it is replaced whole). ConfigError / IoError on bad settings or input; nothing
+// is written.
 SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log);
 
 // The summary lines (printed, in summary.txt and on the contact sheet).

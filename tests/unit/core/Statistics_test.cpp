@@ -3,7 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 namespace octarc {
 namespace {
@@ -34,6 +37,29 @@ TEST(Statistics, NonFiniteValuesAreLeftOut) {
   EXPECT_TRUE(std::isnan(sampleMedian({})));
   EXPECT_TRUE(std::isnan(sampleQuantile({nan}, 0.2)));
   EXPECT_DOUBLE_EQ(sampleQuantile({7.0}, 0.8), 7.0);
+}
+
+}  // namespace
+}  // namespace octarc
+
+namespace octarc {
+namespace {
+
+// A few quantiles are found by selection, more by a sort: the same values either way.
+TEST(Statistics, SelectionAndSortGiveTheSameQuantiles) {
+  std::vector<double> v;
+  std::uint64_t x = 12345;
+  for (int i = 0; i < 1001; ++i) {
+    x = x * 6364136223846793005ULL + 1442695040888963407ULL;
+    v.push_back(double(x >> 11) / double(1ULL << 53));
+  }
+  v.push_back(std::nan(""));
+  const std::vector<double> few = sampleQuantiles(v, {0.1587, 0.5, 0.997});
+  const std::vector<double> many = sampleQuantiles(v, {0.1587, 0.5, 0.997, 0.25, 0.75});
+  for (std::size_t i = 0; i < few.size(); ++i) EXPECT_EQ(few[i], many[i]);
+  std::vector<double> sorted(v.begin(), v.end() - 1);
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(few[1], sorted[500]);
 }
 
 }  // namespace

@@ -193,7 +193,6 @@ TEST(Ds9Region, SkyAnglesTurnTheOtherWayOnAMirroredImage) {
                                      150.5 + 9.0 * std::sin(30.0 * kRadPerDeg)));
 }
 
-// "-00:00:10" is ten arcsec south: the sign of a zero leading field is kept.
 // The writer is the reader's inverse: marks written in fk5 through a rotated and through a
 // mirrored WCS, and in image coordinates, read back to the same pixel shapes.
 TEST(Ds9Region, WrittenMarksReadBackToTheSamePixelShapes) {
@@ -213,6 +212,15 @@ TEST(Ds9Region, WrittenMarksReadBackToTheSamePixelShapes) {
     m.text = "#" + std::to_string(k + 1) + " {x}";
     marks.push_back(m);
   }
+  // A galactic WCS is no fk5 frame: the marks are written in image coordinates.
+  Cards galactic = kSkyCards;
+  galactic[0].second = "'GLON-TAN'";
+  galactic[1].second = "'GLAT-TAN'";
+  galactic.pop_back();
+  const FitsHeader galacticHeader = makeHeader(galactic);
+  const std::optional<Wcs> galacticWcs = Wcs::fromHeader(galacticHeader, "image.fits");
+  ASSERT_TRUE(galacticWcs);
+  EXPECT_NE(formatDs9Regions(marks, &*galacticWcs).find("\nimage\n"), std::string::npos);
   for (const Cards* cards : {&kSkyCards, &mirrored, static_cast<const Cards*>(nullptr)}) {
     const FitsHeader header = makeHeader(cards ? *cards : Cards{});
     const std::optional<Wcs> wcs = Wcs::fromHeader(header, "image.fits");
@@ -236,6 +244,7 @@ TEST(Ds9Region, WrittenMarksReadBackToTheSamePixelShapes) {
   }
 }
 
+// "-00:00:10" is ten arcsec south: the sign of a zero leading field is kept.
 TEST(Ds9Region, NegativeDeclinationsBelowOneDegreeKeepTheirSign) {
   const Cards equator = {
       {"CTYPE1", "'RA---TAN'"},   {"CTYPE2", "'DEC--TAN'"},  {"CRPIX1", "200.5"},

@@ -154,5 +154,34 @@ TEST(Search, TheGridsOwnSpaceAndMissingColumns) {
   EXPECT_THROW(searchCandidates(in, s), ConfigError);
 }
 
+// An arc too little curved for its side to be known (|ARCNESS| < LENS_SIDE_ARCNESS): the lens is
+// the nearest galaxy, here on the side ARC_SIDE calls convex; with the rule off, the concave one.
+TEST(Search, NearestGalaxyWhenTheSideIsUnknown) {
+  const Table catalog = catalogOf({{100, 100, 1, 1, 0, 90, 5.0, 0.5, 0, 1, 0.02},
+                                   {100, 90, 1, 2, 0, 300, 4.0, 0.1, 0, 0, 0.01},
+                                   {100, 115, 1, 3, 0, 300, 4.0, 0.1, 0, 0, 0.01}});
+  GridBinning binning({GridAxis{"ARCNESS", 0.0, 0.03, 1}});
+  OccupationGrid occupation = OccupationGrid::fromCounts(binning, {{0, 3}}, 0, 0);
+  const Contour contour = occupation.contour(0.9);
+  const SavedGrid grid{std::move(occupation), contour, GridProvenance{}};
+  const SearchMask mask(200, 200, {});
+  SearchSettings s;
+  s.pixelScaleArcsec = kScale;
+  SearchInput in{&catalog, &grid, &mask, nullptr, nullptr, nullptr};
+  // Rows 1 and 2 (ARCNESS 0.01) pass too; the first candidate is row 0 (ties: lower row).
+  SearchResult r = searchCandidates(in, s);
+  ASSERT_EQ(r.candidates.size(), 3U);
+  ASSERT_EQ(r.candidates[0].row, 0U);
+  ASSERT_TRUE(r.candidates[0].lens);
+  EXPECT_EQ(r.candidates[0].lens->row, 1U);
+  EXPECT_DOUBLE_EQ(r.candidates[0].lens->einsteinRadiusArcsec, 10 * kScale);
+  EXPECT_NE(r.candidates[0].flags & kCandidateSideUnknown, 0);
+  s.sideMinArcness = 0.0;
+  r = searchCandidates(in, s);
+  ASSERT_TRUE(r.candidates[0].lens);
+  EXPECT_EQ(r.candidates[0].lens->row, 2U);
+  EXPECT_EQ(r.candidates[0].flags & kCandidateSideUnknown, 0);
+}
+
 }  // namespace
 }  // namespace octarc
