@@ -63,6 +63,10 @@ void printUsage(const po::options_description& options) {
                "them are injected lenses; writes the catalog, the candidates, their stamps and\n"
                "the contact sheet.\n"
                "\n"
+               "--into IMAGE injects the lenses into a real image instead (its own sky, noise\n"
+               "and objects; give its --pixel-scale, and --seeing, --mag-zero, --gain for the\n"
+               "injected light), searched with --grid (a grid made for that setup).\n"
+               "\n"
                "Options:\n"
             << options;
 }
@@ -118,23 +122,33 @@ void printCandidates(std::ostream& o, const SearchRun& run, const SearchRunSetti
 void printReport(std::ostream& o, const FieldSimulationSettings& s, const SimulatedField& field,
                  const InjectedFieldFiles& paths, const InjectionRecovery& r,
                  const RecoveryRows& cat, const std::string& shippedSex, const DemoTimes& times,
-                 const SearchRun& run, const SearchRunSettings& search,
-                 const InjectionMatch& match) {
+                 const SearchRun& run, const SearchRunSettings& search, const InjectionMatch& match,
+                 const RealImageInput& real) {
   const ArcRules rules;
   const double scale = s.pixelScaleArcsec;
-  const double fieldArcmin = s.sizePix * scale / 60.0;
-  o << "octarc demo: a simulated survey field with " << s.lensCount
-    << " injected galaxy-galaxy lenses\n\n"
-    << "Field: " << paths.field.image << "\n  " << s.sizePix << " x " << s.sizePix << " px of "
-    << scale << "\" (" << formatNumber(fieldArcmin, "%.1f", true) << "' x "
-    << formatNumber(fieldArcmin, "%.1f", true) << "'), seeing " << s.seeingFwhmArcsec << "\", gain "
-    << s.gainElectronsPerAdu << " e-/ADU\n"
-    << "  sky noise " << formatNumber(field.skySigmaAdu, "%.3f", true)
-    << " ADU per pixel (5-sigma limit " << formatNumber(s.limitingMag, "%.1f", true)
-    << " mag), chip gap at half weight\n"
-    << "  " << field.galaxyCount << " galaxies, " << field.starCount << " stars ("
-    << field.saturatedPixels << " saturated pixels), " << r.systems.size() << " lens systems\n"
-    << "  simulated in " << formatNumber(times.simulateSec, "%.1f", true) << " s\n\n"
+  const std::int64_t width = field.image.width(), height = field.image.height();
+  if (real.imagePath.empty()) {
+    o << "octarc demo: a simulated survey field with " << s.lensCount
+      << " injected galaxy-galaxy lenses\n\n";
+  } else {
+    o << "octarc demo: " << s.lensCount << " galaxy-galaxy lenses injected into " << real.imagePath
+      << "\n\n";
+  }
+  o << "Field: " << paths.field.image << "\n  " << width << " x " << height << " px of " << scale
+    << "\" (" << formatNumber(double(width) * scale / 60.0, "%.1f", true) << "' x "
+    << formatNumber(double(height) * scale / 60.0, "%.1f", true) << "'), seeing "
+    << s.seeingFwhmArcsec << "\", gain " << s.gainElectronsPerAdu << " e-/ADU\n";
+  if (real.imagePath.empty()) {
+    o << "  sky noise " << formatNumber(field.skySigmaAdu, "%.3f", true)
+      << " ADU per pixel (5-sigma limit " << formatNumber(s.limitingMag, "%.1f", true)
+      << " mag), chip gap at half weight\n"
+      << "  " << field.galaxyCount << " galaxies, " << field.starCount << " stars ("
+      << field.saturatedPixels << " saturated pixels), " << r.systems.size() << " lens systems\n";
+  } else {
+    o << "  the real image's own sky, noise and objects; zero point " << s.magZeroPoint << ", "
+      << r.systems.size() << " lens systems injected\n";
+  }
+  o << "  simulated in " << formatNumber(times.simulateSec, "%.1f", true) << " s\n\n"
     << "Detection: octarc search -c " << shippedSex << " (" << r.levelCount
     << " levels, MAP_WEIGHT, ASSOC with the truth list), search and outputs in "
     << formatNumber(times.searchSec, "%.1f", true) << " s\n";
@@ -188,9 +202,16 @@ void writeInjectionCandidates(const std::string& path, const InjectionMatch& mat
 // The search the demo runs: the shipped configuration, the field's weight map and truth list
 // (ASSOC), the shipped demo grid, the candidates into <out>/candidates.
 SearchRunSettings demoSearchSettings(const InjectedFieldFiles& paths, const std::string& shippedSex,
-                                     int threads) {
-  std::vector<std::pair<std::string, std::string>> keys = recoveryDetectionKeys(paths, threads);
-  keys.emplace_back("GRID_NAME", dataFile("demo.grid.fits"));
+                                     const FieldSimulationSettings& s, const std::string& gridPath,
+                                     double snrMin) {
+  std::vector<std::pair<std::string, std::string>> keys = recoveryDetectionKeys(paths, s.threads);
+  keys.emplace_back("GRID_NAME", gridPath);
+  // The survey the field was made for (a real image's without a celestial WCS needs the scale).
+  keys.emplace_back("PIXEL_SCALE", formatNumber(s.pixelScaleArcsec, "%.10g"));
+  keys.emplace_back("SEEING_FWHM", formatNumber(s.seeingFwhmArcsec, "%.10g"));
+  keys.emplace_back("MAG_ZEROPOINT", formatNumber(s.magZeroPoint, "%.10g"));
+  keys.emplace_back("GAIN", formatNumber(s.gainElectronsPerAdu, "%.10g"));
+  keys.emplace_back("SNR_MIN", formatNumber(snrMin, "%.10g"));
   keys.emplace_back("OUTPUT_DIR", (paths.dir / "candidates").string());
   std::vector<std::string> warnings;
   const sexcompat::Config config =
@@ -216,6 +237,14 @@ int runDemo(const std::vector<std::string>& args) {
   add("seed", po::value<std::uint64_t>()->default_value(1), "master random seed");
   add("out", po::value<std::string>()->default_value("out/demo"), "output directory");
   add("threads", po::value<int>()->default_value(0), "worker threads (0 = all cores)");
+  add("into", po::value<std::string>(), "inject the lenses into this real image instead");
+  add("into-weight", po::value<std::string>(), "its MAP_WEIGHT weight map (with --into)");
+  add("pixel-scale", po::value<double>(), "arcsec per pixel (default 0.257; with --into: needed)");
+  add("seeing", po::value<double>(), "PSF FWHM, arcsec (default 0.9)");
+  add("mag-zero", po::value<double>(), "magnitude zero point (default 30)");
+  add("gain", po::value<double>(), "e-/ADU (default 54)");
+  add("grid", po::value<std::string>(), "occupation grid (default: the shipped demo grid)");
+  add("snr-min", po::value<double>()->default_value(40.0), "the search's S/N floor (SNR_MIN)");
   add("quiet", "no progress bar");
   const std::optional<po::variables_map> vm = parseOptions(args, options);
   if (!vm) return 0;
@@ -226,11 +255,29 @@ int runDemo(const std::vector<std::string>& args) {
   s.seed = (*vm)["seed"].as<std::uint64_t>();
   s.threads = (*vm)["threads"].as<int>();
   s.minEinsteinRadiusArcsec = kDemoMinEinsteinRadiusArcsec;
+  if (vm->count("pixel-scale")) s.pixelScaleArcsec = (*vm)["pixel-scale"].as<double>();
+  if (vm->count("seeing")) s.seeingFwhmArcsec = (*vm)["seeing"].as<double>();
+  if (vm->count("mag-zero")) s.magZeroPoint = (*vm)["mag-zero"].as<double>();
+  if (vm->count("gain")) s.gainElectronsPerAdu = (*vm)["gain"].as<double>();
+  RealImageInput real;
+  if (vm->count("into")) {
+    real.imagePath = (*vm)["into"].as<std::string>();
+    if (!vm->count("pixel-scale")) {
+      throw ConfigError(
+          "--into: give the image's --pixel-scale (and --seeing, --mag-zero, "
+          "--gain for the injected lenses)");
+    }
+  }
+  if (vm->count("into-weight")) {
+    if (real.imagePath.empty()) throw ConfigError("--into-weight: only with --into");
+    real.weightPath = (*vm)["into-weight"].as<std::string>();
+  }
   s.validate();
   // The shipped survey configuration and columns, found before anything is made.
   const std::string shippedSex = dataFile("octarc.sex");
   (void)dataFile("octarc.param");
-  (void)dataFile("demo.grid.fits");
+  const std::string gridPath =
+      vm->count("grid") ? (*vm)["grid"].as<std::string>() : dataFile("demo.grid.fits");
 
   const InjectedFieldFiles paths = makeInjectedFieldDirectory((*vm)["out"].as<std::string>());
   // Until the last step is done the outputs are provisional: a failure or an interrupt
@@ -245,12 +292,12 @@ int runDemo(const std::vector<std::string>& args) {
   InjectionMatch match;
   int candidatesSlot = -1;
   try {
-    field = writeInjectedField(s, paths, terminalProgress("simulate", "objects", quiet));
+    field = writeInjectedField(s, paths, terminalProgress("simulate", "objects", quiet), real);
     times.simulateSec = seconds();
     // 2. The search, detection and measurement included, in memory; the catalog and the
     // candidates are written from what it returns.
     if (!quiet) std::cerr << "> Searching at 15 levels with the demo grid (octarc search)\n";
-    search = demoSearchSettings(paths, shippedSex, s.threads);
+    search = demoSearchSettings(paths, shippedSex, s, gridPath, (*vm)["snr-min"].as<double>());
     run = searchImage(search, RunLog());
     match = matchInjectedLenses(field.truth, run.catalog, run.result, run.pixelScaleArcsec,
                                 ArcRules(), kArcMatchArcsec, kLensMatchArcsec);
@@ -289,7 +336,8 @@ int runDemo(const std::vector<std::string>& args) {
   const InjectionRecovery recovery =
       recoverInjectedArcs(field.truth, cat, s.pixelScaleArcsec, ArcRules(), kArcMatchArcsec);
   times.totalSec = seconds();
-  printReport(std::cout, s, field, paths, recovery, cat, shippedSex, times, run, search, match);
+  printReport(std::cout, s, field, paths, recovery, cat, shippedSex, times, run, search, match,
+              real);
   return 0;
 }
 

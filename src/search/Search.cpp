@@ -159,7 +159,10 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
   SearchResult result;
   SearchSummary& summary = result.summary;
   summary.searchedPixels = in.mask->searchedPixelCount();
-  if (in.wcs != nullptr) summary.searchedAreaDeg2 = in.mask->searchedAreaDeg2(*in.wcs);
+  // Without a WCS, from the pixel scale (a flat, square-pixel sky).
+  summary.searchedAreaDeg2 =
+      in.wcs != nullptr ? in.mask->searchedAreaDeg2(*in.wcs)
+                        : double(summary.searchedPixels) * std::pow(s.pixelScaleArcsec / 3600.0, 2);
   std::vector<TreeRow> tree(static_cast<std::size_t>(n));
   std::vector<bool> passed(std::size_t(n), false);
   std::vector<double> probability(std::size_t(n), kNaN);

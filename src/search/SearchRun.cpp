@@ -259,7 +259,7 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
   if (!wcs) {
     run.warnings.push_back(rs.imagePaths[0] +
                            " has no celestial WCS: candidates get pixel positions only (no RA, "
-                           "Dec or name) and no area in deg2");
+                           "Dec or name), the searched area comes from PIXEL_SCALE");
   }
 
   // The grid's setup against this image's.
@@ -301,11 +301,8 @@ std::vector<std::string> searchSummaryLines(const SearchRun& run,
   std::vector<std::string> lines;
   lines.push_back("Image " + settings.run.imagePaths.front() + ", grid " + settings.gridPath);
   std::string area = std::to_string(s.searchedPixels) + " pixels searched";
-  if (s.searchedAreaDeg2 > 0) {
-    area += " (" + formatNumber(s.searchedAreaDeg2, "%.5f") + " deg2)";
-  } else {
-    area += " (no WCS: no area in deg2)";
-  }
+  area += " (" + formatNumber(s.searchedAreaDeg2, "%.5f") + " deg2" +
+          (run.image.wcs ? std::string(")") : std::string(", from PIXEL_SCALE: no WCS)"));
   lines.push_back(area);
   lines.push_back(std::to_string(s.objectsSearched) + " objects (" +
                   std::to_string(s.rowsSearched) + " rows at all levels) searched; " +

@@ -7,7 +7,8 @@ import unittest
 import numpy as np
 from astropy.io import fits
 
-from octarc_testlib import SOURCE_DIR, WorkDirTest, fitsverify_errors, ldac_objects, run_octarc
+from octarc_testlib import (SOURCE_DIR, WorkDirTest, fitsverify_errors, ldac_objects,
+                            require_shared, run_octarc)
 
 PIXEL_SCALE = 0.257
 
@@ -135,6 +136,37 @@ class ReadmeFigures(WorkDirTest):
         printed = proc.stdout.splitlines()
         for line in quoted:
             self.assertIn(line, printed)
+
+
+class IntoRealImage(WorkDirTest):
+    """--into: lenses injected into the real NTT/EMMI frame, whose pixels are otherwise kept."""
+
+    def test_injected_light_sits_on_the_truth_list(self):
+        real = require_shared(self, "ntt-emmi", "galaxies.fits")
+        out = self.path("demo")
+        proc = run_octarc("demo", "--into", real, "--pixel-scale", 0.35, "--seeing", 1.2,
+                          "--gain", 1.7, "--mag-zero", 34.2, "--lenses", 3, "--seed", 4,
+                          "--out", out, "--quiet")
+        self.assertIn("3 galaxy-galaxy lenses injected into", proc.stdout)
+        self.assertIn("has no celestial WCS", proc.stdout)
+        added = (fits.getdata(os.path.join(out, "field.fits")).astype(float)
+                 - fits.getdata(real).astype(float))
+        truth = np.loadtxt(os.path.join(out, "field.truth.txt"), ndmin=2)
+        # Only lens systems: a lens galaxy and its images per system.
+        self.assertEqual(set(truth[:, 5].astype(int)), {1, 2})
+        self.assertEqual(sorted(set(truth[:, 8].astype(int))), [1, 2, 3])
+        yy, xx = np.mgrid[1:added.shape[0] + 1, 1:added.shape[1] + 1]
+        near = np.zeros(added.shape, bool)
+        for lens in truth[truth[:, 5] == 1]:
+            near |= np.hypot(xx - lens[1], yy - lens[2]) < 40
+        # The injected light (with its photon noise) lies around the lenses; elsewhere the
+        # pixels are the frame's own, up to the float32 rounding of its scaled 16-bit values
+        # (astropy and cfitsio round a few of them differently).
+        self.assertLess(np.abs(added[~near]).max(), 0.01)
+        self.assertGreater(added[near].sum(), 0)
+        # The lens galaxy's magnitude, at the zero point given: its flux is most of the light.
+        lens_flux = np.sum(10 ** (-0.4 * (truth[truth[:, 5] == 1][:, 6] - 34.2)))
+        self.assertGreater(added[near].sum(), 0.8 * lens_flux)
 
 
 class BadInput(WorkDirTest):

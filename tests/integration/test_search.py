@@ -374,6 +374,11 @@ class SearchBadInput(SearchFixture):
         r = self.search("-PIXEL_SCALE", "0.257", image=self.path("nowcs.fits"))
         self.assertIn("no celestial WCS", r.stderr)
         cand = self.candidates()
+        # The area from the pixel scale: every pixel of good weight, 0.257" square.
+        h = fits.getheader(self.path("out/candidates.fits"), "LDAC_OBJECTS")
+        good = int(np.sum(fits.getdata(self.weight) > 0))
+        self.assertEqual(h["SRCHPIX"], good)
+        self.assertAlmostEqual(h["SRCHAREA"], good * (0.257 / 3600) ** 2, delta=1e-12)
         self.assertGreater(len(cand), 0)
         self.assertTrue(np.all(np.isnan(cand["ALPHA_J2000"])))
         self.assertTrue(np.all(cand["CAND_FLAGS"] & 4))

@@ -88,7 +88,8 @@ struct SearchSummary {
   std::int64_t objectsSearched = 0;  // level-1 objects inside it
   std::int64_t rowsSelected = 0;     // rows that passed every cut
   std::int64_t candidates = 0;
-  double searchedAreaDeg2 = std::numeric_limits<double>::quiet_NaN();  // NaN without WCS
+  // From the WCS, pixel block by block; without one, from the pixel scale.
+  double searchedAreaDeg2 = std::numeric_limits<double>::quiet_NaN();
   std::int64_t searchedPixels = 0;
   std::vector<SpaceCount> spaces;  // the report spaces, in order
   // Candidates per square degree (NaN without area) and the fraction of searched rows rejected.

@@ -60,19 +60,21 @@ constexpr std::int64_t kNoiseBandRows = 64;
 
 // Lens centres: uniform, at least `margin` pixels inside the edges, `separation` apart and off
 // the chip gap.
-std::vector<Vec2> drawLensPositions(const FieldSimulationSettings& s, int gapX0, int gapX1) {
-  const double margin = std::max(48.0, 0.06 * s.sizePix);
+std::vector<Vec2> drawLensPositions(const FieldSimulationSettings& s, std::int64_t width,
+                                    std::int64_t height, int gapX0, int gapX1) {
+  const double margin = std::max(48.0, 0.06 * double(std::min(width, height)));
   const double separation = 30.0 / s.pixelScaleArcsec;
-  if (s.lensCount > 0 && !(s.sizePix - 1 - margin > margin)) {
-    throw ConfigError("--lenses: a " + std::to_string(s.sizePix) + " x " +
-                      std::to_string(s.sizePix) + " pixel field is too small for lens systems (" +
-                      formatNumber(margin) + " pixels from every edge)");
+  if (s.lensCount > 0 && !(double(std::min(width, height)) - 1 - margin > margin)) {
+    throw ConfigError("--lenses: a " + std::to_string(width) + " x " + std::to_string(height) +
+                      " pixel field is too small for lens systems (" + formatNumber(margin) +
+                      " pixels from every edge)");
   }
   std::mt19937_64 rng = streamRng(s.seed, kStreamLensPositions, 0);
-  std::uniform_real_distribution<double> u(margin, s.sizePix - 1 - margin);
+  std::uniform_real_distribution<double> ux(margin, double(width) - 1 - margin);
+  std::uniform_real_distribution<double> uy(margin, double(height) - 1 - margin);
   std::vector<Vec2> positions;
   for (int attempt = 0; attempt < 200000 && int(positions.size()) < s.lensCount; ++attempt) {
-    const Vec2 p{u(rng), u(rng)};
+    const Vec2 p{ux(rng), uy(rng)};
     if (p[0] > gapX0 - 0.5 * separation && p[0] < gapX1 + 0.5 * separation) continue;
     bool clear = true;
     for (const Vec2& q : positions) {
@@ -82,8 +84,8 @@ std::vector<Vec2> drawLensPositions(const FieldSimulationSettings& s, int gapX0,
   }
   if (int(positions.size()) < s.lensCount) {
     throw ConfigError("--lenses: " + std::to_string(s.lensCount) +
-                      " lens systems do not fit in a " + std::to_string(s.sizePix) + " x " +
-                      std::to_string(s.sizePix) +
+                      " lens systems do not fit in a " + std::to_string(width) + " x " +
+                      std::to_string(height) +
                       " pixel field (30\" apart, away from the edges); only " +
                       std::to_string(positions.size()) + " placed");
   }
@@ -159,7 +161,7 @@ void addNoise(const FieldSimulationSettings& s, const ImageD& sky, int threads,
 void addTruthRows(const std::vector<FieldLens>& lenses, const std::vector<FieldObject>& objects,
                   const std::vector<std::size_t>& galaxies, const std::vector<std::size_t>& stars,
                   const std::vector<double>& usedX, const std::vector<double>& usedY,
-                  const Wcs& wcs, SimulatedField& field) {
+                  const Wcs* wcs, SimulatedField& field) {
   std::int64_t id = 0;
   auto addRow = [&](double x0, double y0, FieldObjectKind kind, double mag, double thetaE,
                     int system) {
@@ -167,7 +169,9 @@ void addTruthRows(const std::vector<FieldLens>& lenses, const std::vector<FieldO
     r.id = ++id;
     r.xFits = toFitsPixel(x0);
     r.yFits = toFitsPixel(y0);
-    const std::array<double, 2> world = wcs.pixelToWorld(r.xFits, r.yFits);
+    const std::array<double, 2> world = wcs != nullptr
+                                            ? wcs->pixelToWorld(r.xFits, r.yFits)
+                                            : std::array<double, 2>{std::nan(""), std::nan("")};
     r.raDeg = world[0];
     r.decDeg = world[1];
     r.kind = kind;
@@ -266,7 +270,7 @@ SimulatedField simulateField(const FieldSimulationSettings& s, const ProgressFn&
 
   // Lens systems: drawn by the lens-simulation engine's population draw (one stream per
   // system), rendered here noise-free and before the PSF.
-  const std::vector<Vec2> lensPositions = drawLensPositions(s, field.gapX0, field.gapX1);
+  const std::vector<Vec2> lensPositions = drawLensPositions(s, n, n, field.gapX0, field.gapX1);
   std::vector<FieldLens> lenses = renderLenses(s, lensPositions, threads);
   // Field objects, kept away from the lenses when bright.
   std::mt19937_64 populationRng = streamRng(s.seed, kStreamPopulation, 0);
@@ -323,10 +327,63 @@ SimulatedField simulateField(const FieldSimulationSettings& s, const ProgressFn&
   sky = ImageD();
   report(1);  // the noise
 
-  addTruthRows(lenses, objects, galaxies, stars, usedX, usedY, *wcs, field);
+  addTruthRows(lenses, objects, galaxies, stars, usedX, usedY, &*wcs, field);
   field.lenses = std::move(lenses);
 
   setHeaderCards(s, field.header);
+  field.weightHeader = tanWcsHeader(n, n, s.pixelScaleArcsec, s.raDeg, s.decDeg);
+  field.weightHeader.set("BUNIT", quoteFitsString("ADU**-2"), "Inverse variance");
+  field.weightHeader.set("WGHTTYPE", quoteFitsString("MAP_WEIGHT"), "SExtractor WEIGHT_TYPE");
+  return field;
+}
+
+SimulatedField injectLenses(const ImageHdu& image, const ImageHdu* weight,
+                            const FieldSimulationSettings& s) {
+  constexpr double kNoInjectedLightAdu = 1e-6;
+  s.validate();
+  if (weight != nullptr && (weight->pixels.width() != image.pixels.width() ||
+                            weight->pixels.height() != image.pixels.height())) {
+    throw ConfigError("--into-weight: the weight map is " + std::to_string(weight->pixels.width()) +
+                      " x " + std::to_string(weight->pixels.height()) + ", the image " +
+                      std::to_string(image.pixels.width()) + " x " +
+                      std::to_string(image.pixels.height()));
+  }
+  const int threads = resolveThreads(s.threads);
+  const std::int64_t w = image.pixels.width(), h = image.pixels.height();
+  SimulatedField field;
+  field.header = image.header;
+  field.gapX0 = field.gapX1 = -1000000;  // no chip gap
+  const std::optional<Wcs> wcs = Wcs::fromHeader(image.header, "the image");
+  const std::vector<Vec2> lensPositions = drawLensPositions(s, w, h, field.gapX0, field.gapX1);
+  std::vector<FieldLens> lenses = renderLenses(s, lensPositions, threads);
+  ImageD added(w, h);
+  for (FieldLens& l : lenses) {
+    addStamp(added, l.stamp);
+    l.stamp = Stamp{};
+  }
+  added = applyGaussianSeeing(added, s.seeingFwhmArcsec, s.pixelScaleArcsec);
+  // The injected light with its own photon noise (the image already holds the sky's).
+  field.image = image.pixels;
+  std::mt19937_64 rng = streamRng(s.seed, kStreamNoise, 0);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  for (std::int64_t k = 0; k < added.size(); ++k) {
+    const double flux = added[k];
+    // The PSF convolution leaves round-off far from every stamp: no light there.
+    if (std::abs(flux) < kNoInjectedLightAdu) continue;
+    const double noise = s.gainElectronsPerAdu > 0
+                             ? std::sqrt(std::max(flux, 0.0) / s.gainElectronsPerAdu) * unit(rng)
+                             : 0.0;
+    field.image[k] = float(double(field.image[k]) + flux + noise);
+  }
+  // No saturation clip: the real image has its own level, and its pixels stay as they are.
+  if (weight != nullptr) {
+    field.weight = weight->pixels;
+    field.weightHeader = weight->header;
+  }
+  addTruthRows(lenses, {}, {}, {}, {}, {}, wcs ? &*wcs : nullptr, field);
+  field.lenses = std::move(lenses);
+  field.header.set("NLENSES", std::to_string(s.lensCount), "Lens systems injected by octarc");
+  field.header.set("SIMSEED", std::to_string(s.seed), "octarc injection master seed");
   return field;
 }
 
@@ -358,11 +415,12 @@ void writeSimulatedField(const SimulatedField& field, const FieldSimulationSetti
     writeImageFile(path, {image});
   });
   outputs.write(first + 1, [&](const std::string& path) {
+    // An image injected into without a weight map gets a uniform one (weights 1).
+    const ImageF uniform =
+        field.weight.empty() ? ImageF(field.image.width(), field.image.height(), 1.0f) : ImageF();
     OutputImageHdu weight;
-    weight.header = tanWcsHeader(s.sizePix, s.sizePix, s.pixelScaleArcsec, s.raDeg, s.decDeg);
-    weight.header.set("BUNIT", quoteFitsString("ADU**-2"), "Inverse variance");
-    weight.header.set("WGHTTYPE", quoteFitsString("MAP_WEIGHT"), "SExtractor WEIGHT_TYPE");
-    weight.floatPixels = &field.weight;
+    weight.header = field.weightHeader;
+    weight.floatPixels = field.weight.empty() ? &uniform : &field.weight;
     writeImageFile(path, {weight});
   });
   outputs.write(first + 2, [&](const std::string& path) {
@@ -370,8 +428,8 @@ void writeSimulatedField(const SimulatedField& field, const FieldSimulationSetti
       std::ofstream f(path);
       if (!f) throw IoError(paths.truth + ": cannot create the truth list");
       f << "# octarc simulate field truth list (SExtractor ASSOC list): " << paths.image << "\n"
-        << "# seed " << s.seed << ", " << s.sizePix << "x" << s.sizePix << " px of "
-        << s.pixelScaleArcsec << "\", " << s.lensCount << " lens systems\n"
+        << "# seed " << s.seed << ", " << field.image.width() << "x" << field.image.height()
+        << " px of " << s.pixelScaleArcsec << "\", " << s.lensCount << " lens systems\n"
         << "# kind: 1 = lens galaxy, 2 = lensed image (arc), 3 = galaxy, 4 = star\n"
         << "# ASSOC_PARAMS " << kTruthColumnX << "," << kTruthColumnY << " ASSOC_DATA "
         << kTruthColumnId << "," << kTruthColumnKind << "," << kTruthColumnMag << ","

@@ -1,6 +1,7 @@
 #include "octarc/simulation/engine/InjectedField.h"
 
 #include <fstream>
+#include <optional>
 
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/DataFiles.h"
@@ -57,12 +58,20 @@ std::vector<std::pair<std::string, std::string>> recoveryDetectionKeys(
 }
 
 SimulatedField writeInjectedField(const FieldSimulationSettings& s, const InjectedFieldFiles& paths,
-                                  const ProgressFn& progress) {
+                                  const ProgressFn& progress, const RealImageInput& real) {
   const std::string shippedParam = dataFile("octarc.param");
   OutputFiles outputs;
   addFieldOutputs(outputs, paths.field);
   outputs.add(paths.param);
-  SimulatedField field = simulateField(s, progress);
+  SimulatedField field;
+  if (real.imagePath.empty()) {
+    field = simulateField(s, progress);
+  } else {
+    const ImageHdu image = readImage(real.imagePath);
+    std::optional<ImageHdu> weight;
+    if (!real.weightPath.empty()) weight = readImage(real.weightPath);
+    field = injectLenses(image, weight ? &*weight : nullptr, s);
+  }
   writeSimulatedField(field, s, paths.field, outputs);
   outputs.write(3, [&](const std::string& path) {
     std::ifstream in(shippedParam);

@@ -97,7 +97,8 @@ TEST(Search, EveryCutMergeAndLensByHand) {
   EXPECT_EQ(r.summary.objectsSearched, 9);
   EXPECT_EQ(r.summary.rowsSelected, 3);
   EXPECT_EQ(r.summary.searchedPixels, 400 * 400 - 40 * 40);
-  EXPECT_TRUE(std::isnan(r.summary.searchedAreaDeg2));
+  // No WCS: the area from the pixel scale.
+  EXPECT_DOUBLE_EQ(r.summary.searchedAreaDeg2, (400.0 * 400 - 40 * 40) * std::pow(0.25 / 3600, 2));
   EXPECT_DOUBLE_EQ(r.summary.rejectedFraction(), 1.0 - 3.0 / 11.0);
   ASSERT_EQ(r.candidates.size(), 2U);
 

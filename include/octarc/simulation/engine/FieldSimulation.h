@@ -16,6 +16,7 @@
 #include "octarc/core/Image.h"
 #include "octarc/core/Progress.h"
 #include "octarc/io/FitsHeader.h"
+#include "octarc/io/FitsImage.h"
 #include "octarc/simulation/FieldPopulation.h"
 
 namespace octarc {
@@ -59,8 +60,9 @@ struct TruthRow {
 
 struct SimulatedField {
   ImageF image;   // ADU, sky subtracted
-  ImageF weight;  // 1 / variance (ADU^-2)
+  ImageF weight;  // 1 / variance (ADU^-2); empty for an image injected into without one
   FitsHeader header;
+  FitsHeader weightHeader;
   std::vector<TruthRow> truth;  // lens systems first (lens, then its images), galaxies, stars
   double skySigmaAdu = 0.0;
   int gapX0 = 0, gapX1 = 0;  // chip-gap columns [gapX0, gapX1), 0-based: half the exposure
@@ -72,6 +74,16 @@ struct SimulatedField {
 // the thread count.
 SimulatedField simulateField(const FieldSimulationSettings& settings,
                              const ProgressFn& progress = {});
+
+// Injects settings.lensCount lens systems into a real image (`octarc demo --into`): the systems
+// of simulateField (same draws and rendering, placed at least 30" apart and away from the
+// edges), convolved with the Gaussian PSF of settings.seeingFwhmArcsec at
+// settings.pixelScaleArcsec, with the photon noise of their own flux (settings gain), added to
+// the image's pixels as read (background and all). The image's header and, when given, its
+// weight map are kept; the truth list holds the lens systems only (RA, Dec NaN without a
+// celestial WCS). ConfigError for a weight map of another size.
+SimulatedField injectLenses(const ImageHdu& image, const ImageHdu* weight,
+                            const FieldSimulationSettings& settings);
 
 // The three output names of `octarc simulate field -o IMAGE`: IMAGE, IMAGE minus its .fits/.fit
 // suffix + ".weight.fits" and + ".truth.txt".

@@ -29,10 +29,18 @@ struct InjectedFieldFiles {
 // field.ldac), making the directory when it does not exist; IoError when it cannot be made.
 InjectedFieldFiles makeInjectedFieldDirectory(const std::filesystem::path& dir);
 
-// Simulates the field, writes the image, its weight map, the truth list and the column list;
-// they appear together (or not at all).
+// A real image to inject the lenses into instead of simulating a field (`octarc demo --into`):
+// its path and, optionally, its MAP_WEIGHT weight map.
+struct RealImageInput {
+  std::string imagePath;   // "" = simulate a field
+  std::string weightPath;  // "" = none (a uniform weight map is written)
+};
+
+// Simulates the field (or injects the lenses into `real`), writes the image, its weight map,
+// the truth list and the column list; they appear together (or not at all).
 SimulatedField writeInjectedField(const FieldSimulationSettings& settings,
-                                  const InjectedFieldFiles& files, const ProgressFn& progress);
+                                  const InjectedFieldFiles& files, const ProgressFn& progress,
+                                  const RealImageInput& real = {});
 
 // The configuration keys (KEY, value) of the recovery run on top of a survey .sex file: the
 // column list, catalog name, MAP_WEIGHT with the weight map, ASSOC with the truth list (nearest
