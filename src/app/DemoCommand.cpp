@@ -262,10 +262,12 @@ int runDemo(const std::vector<std::string>& args) {
   RealImageInput real;
   if (vm->count("into")) {
     real.imagePath = (*vm)["into"].as<std::string>();
-    if (!vm->count("pixel-scale")) {
-      throw ConfigError(
-          "--into: give the image's --pixel-scale (and --seeing, --mag-zero, "
-          "--gain for the injected lenses)");
+    // A real image's instrument is not the simulated survey's: nothing is assumed.
+    for (const char* option : {"pixel-scale", "seeing", "mag-zero", "gain"}) {
+      if (!vm->count(option)) {
+        throw ConfigError(std::string("--into: give the image's --") + option +
+                          " (all of --pixel-scale, --seeing, --mag-zero and --gain)");
+      }
     }
   }
   if (vm->count("into-weight")) {
@@ -279,7 +281,14 @@ int runDemo(const std::vector<std::string>& args) {
   const std::string gridPath =
       vm->count("grid") ? (*vm)["grid"].as<std::string>() : dataFile("demo.grid.fits");
 
+  // The grid is read and the inputs checked against the outputs before anything is made.
+  (void)loadGrid(gridPath);
   const InjectedFieldFiles paths = makeInjectedFieldDirectory((*vm)["out"].as<std::string>());
+  for (const std::string& output : paths.files()) {
+    refuseOutputOverInput(output, "--out", real.imagePath, "--into image");
+    refuseOutputOverInput(output, "--out", real.weightPath, "--into-weight map");
+    refuseOutputOverInput(output, "--out", gridPath, "--grid");
+  }
   // Until the last step is done the outputs are provisional: a failure or an interrupt
   // (core/Interrupt.h) removes them all, and the directory if the demo made it.
   std::vector<int> provisional;

@@ -82,26 +82,29 @@ void writePng(cairo_surface_t* surface, const std::string& path) {
   png_infop info = png != nullptr ? png_create_info_struct(png) : nullptr;
   std::vector<png_byte> row(std::size_t(width) * 3);
   bool ok = png != nullptr && info != nullptr;
-  if (ok && setjmp(png_jmpbuf(png)) != 0) ok = false;  // libpng's error path lands here
   if (ok) {
-    png_init_io(png, file);
-    png_set_compression_level(png, 1);
-    // One filter (left neighbour) instead of libpng's per-row trial of all five: the stamp's
-    // pixels repeat along rows, which it turns into runs of zeros.
-    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
-    png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), 8, PNG_COLOR_TYPE_RGB,
-                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    png_write_info(png, info);
-    for (int y = 0; y < height; ++y) {
-      const auto* pixel = reinterpret_cast<const std::uint32_t*>(data + std::size_t(y) * stride);
-      for (int x = 0; x < width; ++x) {
-        row[std::size_t(x) * 3 + 0] = png_byte((pixel[x] >> 16) & 0xff);
-        row[std::size_t(x) * 3 + 1] = png_byte((pixel[x] >> 8) & 0xff);
-        row[std::size_t(x) * 3 + 2] = png_byte(pixel[x] & 0xff);
+    if (setjmp(png_jmpbuf(png))) {  // libpng's error path lands here
+      ok = false;
+    } else {
+      png_init_io(png, file);
+      png_set_compression_level(png, 1);
+      // One filter (left neighbour) instead of libpng's per-row trial of all five: the stamp's
+      // pixels repeat along rows, which it turns into runs of zeros.
+      png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
+      png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), 8, PNG_COLOR_TYPE_RGB,
+                   PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+      png_write_info(png, info);
+      for (int y = 0; y < height; ++y) {
+        const auto* pixel = reinterpret_cast<const std::uint32_t*>(data + std::size_t(y) * stride);
+        for (int x = 0; x < width; ++x) {
+          row[std::size_t(x) * 3 + 0] = png_byte((pixel[x] >> 16) & 0xff);
+          row[std::size_t(x) * 3 + 1] = png_byte((pixel[x] >> 8) & 0xff);
+          row[std::size_t(x) * 3 + 2] = png_byte(pixel[x] & 0xff);
+        }
+        png_write_row(png, row.data());
       }
-      png_write_row(png, row.data());
+      png_write_end(png, nullptr);
     }
-    png_write_end(png, nullptr);
   }
   png_destroy_write_struct(png != nullptr ? &png : nullptr, info != nullptr ? &info : nullptr);
   ok = std::fclose(file) == 0 && ok;
@@ -121,6 +124,10 @@ void writeStampPng(const std::string& path, const Stamp& stamp) {
   }
   // The grey levels, top row first as a PNG holds them.
   Surface image(cairo_image_surface_create(CAIRO_FORMAT_RGB24, int(nx), int(ny)));
+  if (cairo_surface_status(image.get()) != CAIRO_STATUS_SUCCESS) {
+    throw IoError(path + ": cannot draw the stamp (" +
+                  cairo_status_to_string(cairo_surface_status(image.get())) + ")");
+  }
   const int stride = cairo_image_surface_get_stride(image.get());
   unsigned char* data = cairo_image_surface_get_data(image.get());
   for (std::int64_t j = 0; j < ny; ++j) {
@@ -135,6 +142,10 @@ void writeStampPng(const std::string& path, const Stamp& stamp) {
 
   const double side = double(stamp.sizePix);
   Surface png(cairo_image_surface_create(CAIRO_FORMAT_RGB24, stamp.sizePix, stamp.sizePix));
+  if (cairo_surface_status(png.get()) != CAIRO_STATUS_SUCCESS) {
+    throw IoError(path + ": cannot draw the stamp (" +
+                  cairo_status_to_string(cairo_surface_status(png.get())) + ")");
+  }
   Context owner(cairo_create(png.get()));
   cairo_t* cr = owner.get();
   cairo_set_source_rgb(cr, 0.094, 0.094, 0.094);

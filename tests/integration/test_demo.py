@@ -168,6 +168,21 @@ class IntoRealImage(WorkDirTest):
         lens_flux = np.sum(10 ** (-0.4 * (truth[truth[:, 5] == 1][:, 6] - 34.2)))
         self.assertGreater(added[near].sum(), 0.8 * lens_flux)
 
+        # The injected image itself as --into with the same --out: refused, nothing touched.
+        field = os.path.join(out, "field.fits")
+        before = fits.getdata(field).copy()
+        r = run_octarc("demo", "--into", field, "--pixel-scale", 0.35, "--seeing", 1.2,
+                       "--gain", 1.7, "--mag-zero", 34.2, "--out", out, "--quiet", check=False)
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("octarc never writes over its inputs", r.stderr)
+        np.testing.assert_array_equal(fits.getdata(field), before)
+        # A real image's instrument is never assumed.
+        r = run_octarc("demo", "--into", real, "--pixel-scale", 0.35, "--seeing", 1.2,
+                       "--mag-zero", 34.2, "--out", self.path("x"), "--quiet", check=False)
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("--gain", r.stderr)
+        self.assertFalse(os.path.exists(self.path("x")))
+
 
 class BadInput(WorkDirTest):
 

@@ -12,7 +12,8 @@ namespace octarc {
 // The q quantiles (0 <= q <= 1) of the finite values, by linear interpolation between order
 // statistics: with the n sorted values v_0..v_{n-1}, h = q (n - 1) and the quantile is
 // v_floor(h) + (h - floor(h)) (v_floor(h)+1 - v_floor(h)) (numpy's default, "type 7" of
-// Hyndman & Fan 1996). NaN when no value is finite. One sort for all of `qs`.
+// Hyndman & Fan 1996). NaN when no value is finite. One sort for all of `qs` (a selection each
+// for up to four).
 inline std::vector<double> sampleQuantiles(std::vector<double> values,
                                            const std::vector<double>& qs) {
   values.erase(

@@ -368,7 +368,7 @@ SimulatedField injectLenses(const ImageHdu& image, const ImageHdu* weight,
   std::normal_distribution<double> unit(0.0, 1.0);
   for (std::int64_t k = 0; k < added.size(); ++k) {
     const double flux = added[k];
-    // The PSF convolution leaves round-off far from every stamp: no light there.
+    // Only where light was added (the rest of the image stays exactly as it was).
     if (std::abs(flux) < kNoInjectedLightAdu) continue;
     const double noise = s.gainElectronsPerAdu > 0
                              ? std::sqrt(std::max(flux, 0.0) / s.gainElectronsPerAdu) * unit(rng)
