@@ -1,5 +1,6 @@
 #include "octarc/core/Format.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -102,6 +103,41 @@ bool hasControlCharacter(std::string_view text) {
     if (isControl(static_cast<unsigned char>(c))) return true;
   }
   return false;
+}
+
+std::string escapeHtml(std::string_view text) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+std::string lowercase(std::string_view text) {
+  std::string out(text);
+  for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+std::string uppercase(std::string_view text) {
+  std::string out(text);
+  for (char& c : out) c = char(std::toupper(static_cast<unsigned char>(c)));
+  return out;
 }
 
 std::string formatNumber(double value, const char* printfFormat, bool dashIfNotFinite) {

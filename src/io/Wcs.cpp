@@ -298,6 +298,19 @@ bool Wcs::isJ2000Equatorial() const {
   return frame == "ICRS" || (frame == "FK5" && equinox() == 2000.0);
 }
 
+double Wcs::pixelAreaDeg2(double xFits, double yFits) const {
+  const double xy[6] = {xFits, yFits, xFits + 1.0, yFits, xFits, yFits + 1.0};
+  double world[6];
+  pixelsToWorld(xy, 3, world);
+  const auto dLng = [](double a, double b) { return std::remainder(a - b, 360.0); };
+  const double cosLat = std::cos(world[1] * kRadPerDeg);
+  const double j11 = dLng(world[2], world[0]) * cosLat;
+  const double j12 = dLng(world[4], world[0]) * cosLat;
+  const double j21 = world[3] - world[1];
+  const double j22 = world[5] - world[1];
+  return std::fabs(j11 * j22 - j12 * j21);
+}
+
 std::array<double, 2> Wcs::pixelToJ2000(double xFits, double yFits) const {
   const std::array<double, 2> world = pixelToWorld(xFits, yFits);
   return worldToJ2000(world[0], world[1]);

@@ -59,29 +59,6 @@ std::optional<std::array<double, 2>> skyDirection(const Wcs& wcs, double x, doub
   return std::array<double, 2>{dx / len, dy / len};
 }
 
-std::string escapeHtml(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
 // A number for a data-* attribute (sortable: NaN sorts last through "NaN").
 std::string dataNumber(double v) {
   return std::isfinite(v) ? formatNumber(v, "%.8g") : "NaN";

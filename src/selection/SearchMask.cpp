@@ -87,32 +87,28 @@ bool SearchMask::searched(double xFits, double yFits) const {
   return searchedPixel(static_cast<std::int64_t>(x), static_cast<std::int64_t>(y));
 }
 
-double SearchMask::searchedAreaDeg2(const Wcs& wcs) const {
-  // The pixel area changes slowly across an image: one Jacobian per block is exact enough.
-  constexpr std::int64_t kBlock = 64;
+Image<std::int32_t> SearchMask::blockCounts(std::int64_t blockPix) const {
+  const std::int64_t nx = (width() + blockPix - 1) / blockPix;
+  const std::int64_t ny = (height() + blockPix - 1) / blockPix;
+  Image<std::int32_t> counts(nx, ny);
+  for (std::int64_t y = 0; y < height(); ++y) {
+    const std::uint8_t* row = &searched_(0, y);
+    std::int32_t* out = &counts(0, y / blockPix);
+    for (std::int64_t x = 0; x < width(); ++x) out[x / blockPix] += row[x];
+  }
+  return counts;
+}
+
+double searchedAreaDeg2(const Image<std::int32_t>& blockCounts, std::int64_t blockPix,
+                        std::int64_t width, std::int64_t height, const Wcs& wcs) {
   double areaDeg2 = 0.0;
-  for (std::int64_t y0 = 0; y0 < height(); y0 += kBlock) {
-    for (std::int64_t x0 = 0; x0 < width(); x0 += kBlock) {
-      const std::int64_t x1 = std::min(x0 + kBlock, width());
-      const std::int64_t y1 = std::min(y0 + kBlock, height());
-      std::int64_t count = 0;
-      for (std::int64_t y = y0; y < y1; ++y) {
-        for (std::int64_t x = x0; x < x1; ++x) count += searched_(x, y);
-      }
+  for (std::int64_t by = 0; by < blockCounts.height(); ++by) {
+    for (std::int64_t bx = 0; bx < blockCounts.width(); ++bx) {
+      const std::int32_t count = blockCounts(bx, by);
       if (count == 0) continue;
-      const double xc = toFitsPixel(0.5 * double(x0 + x1 - 1));
-      const double yc = toFitsPixel(0.5 * double(y0 + y1 - 1));
-      const auto c = wcs.pixelToWorld(xc, yc);
-      const auto px = wcs.pixelToWorld(xc + 1.0, yc);
-      const auto py = wcs.pixelToWorld(xc, yc + 1.0);
-      // Longitude differences wrap at 0 / 360 and shrink by cos(latitude).
-      const auto dLng = [](double a, double b) { return std::remainder(a - b, 360.0); };
-      const double cosLat = std::cos(c[1] * kRadPerDeg);
-      const double j11 = dLng(px[0], c[0]) * cosLat;
-      const double j12 = dLng(py[0], c[0]) * cosLat;
-      const double j21 = px[1] - c[1];
-      const double j22 = py[1] - c[1];
-      const double pixelAreaDeg2 = std::fabs(j11 * j22 - j12 * j21);
+      const double xc = blockCentreFits(bx, blockPix, width);
+      const double yc = blockCentreFits(by, blockPix, height);
+      const double pixelAreaDeg2 = wcs.pixelAreaDeg2(xc, yc);
       if (!std::isfinite(pixelAreaDeg2)) {
         throw ConfigError("the WCS gives no pixel area at pixel (" + std::to_string(xc) + ", " +
                           std::to_string(yc) + ") of the searched area");
@@ -121,6 +117,17 @@ double SearchMask::searchedAreaDeg2(const Wcs& wcs) const {
     }
   }
   return areaDeg2;
+}
+
+double blockCentreFits(std::int64_t block, std::int64_t blockPix, std::int64_t size) {
+  const std::int64_t first = block * blockPix;
+  const std::int64_t last = std::min(first + blockPix, size) - 1;
+  return toFitsPixel(0.5 * double(first + last));
+}
+
+double SearchMask::searchedAreaDeg2(const Wcs& wcs) const {
+  return octarc::searchedAreaDeg2(blockCounts(kAreaBlockPix), kAreaBlockPix, width(), height(),
+                                  wcs);
 }
 
 }  // namespace octarc

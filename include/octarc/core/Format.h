@@ -30,6 +30,13 @@ std::string printableMessage(std::string_view text, std::size_t maxChars = kMess
 // True when `text` holds a control byte (0x00-0x1F or 0x7F).
 bool hasControlCharacter(std::string_view text);
 
+// Text for an HTML page: &, <, > and " as entities.
+std::string escapeHtml(std::string_view text);
+
+// ASCII case conversions (configuration values, FITS keywords, region shapes, file fields).
+std::string lowercase(std::string_view text);
+std::string uppercase(std::string_view text);
+
 // `value` through one printf conversion of a double (e.g. "%g", "%.3f", "%.10G"); with
 // `dashIfNotFinite`, "-" for NaN and infinities (report tables).
 std::string formatNumber(double value, const char* printfFormat = "%g",

@@ -51,6 +51,10 @@ class Wcs {
   // True when world coordinates are J2000 RA and Dec already: ICRS, or FK5 at equinox 2000
   // (DS9's fk5 and icrs, SExtractor's ALPHA_J2000 without precession).
   bool isJ2000Equatorial() const;
+  // The sky area of one pixel at a 1-based position, in square degrees: the determinant of the
+  // pixel-to-world Jacobian (longitude steps shrunk by cos latitude, wrapped at 0/360); NaN
+  // where the transform fails.
+  double pixelAreaDeg2(double xFits, double yFits) const;
 
  private:
   struct Impl;

@@ -47,6 +47,28 @@ TEST(SearchMask, BorderMarginLeavesTheInnerRectangle) {
 
 // A circle of radius 3 centred on a pixel holds the 29 pixel centres with dx^2 + dy^2 <= 9
 // (Gauss's circle problem for r = 3).
+TEST(SearchMask, BlockCountsAddUpTheSearchedPixelsOfEachBlock) {
+  // 130 x 70 pixels, a 5-pixel border: searched x in [5, 124], y in [5, 64] (0-based). Blocks
+  // of 64: columns [0, 63], [64, 127], [128, 129]; rows [0, 63], [64, 69].
+  SearchMaskSettings settings;
+  settings.borderPix = 5;
+  const SearchMask mask(130, 70, settings);
+  const Image<std::int32_t> blocks = mask.blockCounts(64);
+  ASSERT_EQ(blocks.width(), 3);
+  ASSERT_EQ(blocks.height(), 2);
+  EXPECT_EQ(blocks(0, 0), 59 * 59);
+  EXPECT_EQ(blocks(1, 0), 61 * 59);
+  EXPECT_EQ(blocks(2, 0), 0);
+  EXPECT_EQ(blocks(0, 1), 59);  // the row y = 64 only
+  EXPECT_EQ(blocks(1, 1), 61);
+  EXPECT_EQ(blocks(2, 1), 0);
+  EXPECT_EQ(mask.searchedPixelCount(), 120 * 60);
+  // Block centres, 1-based: the first block [0, 63] is centred on 32.5; the cut last one
+  // [128, 129] on 129.5.
+  EXPECT_DOUBLE_EQ(blockCentreFits(0, 64, 130), 32.5);
+  EXPECT_DOUBLE_EQ(blockCentreFits(2, 64, 130), 129.5);
+}
+
 TEST(SearchMask, CircleHoldsTheLatticePointsOfGausssCircle) {
   SearchMaskSettings settings;
   settings.regions = regions("image; circle(10,10,3)\n");
