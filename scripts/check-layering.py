@@ -14,7 +14,8 @@ from .cpp files of the io and catalog stages: public headers never expose fitsio
     .cpp files, and private headers in src/io, src/catalog that only those .cpp files can reach);
   - <fitsio.h>, <longnam.h> and <wcslib/...> only from the io and catalog stages, and from no
     public header other than those of include/octarc/io/detail/;
-  - a private header in src/<stage>/ only from files of that stage.
+  - a private header in src/<stage>/ only from files of that stage;
+  - <mpi.h> only from the .cpp files of the cluster stage.
 
 Usage: /usr/bin/python3 scripts/check-layering.py [SOURCE_DIR]
 Output: one line per violation, "file:line: <stage> includes <stage> (why)", and exit status 1;
@@ -30,6 +31,7 @@ import sys
 # and src/<name>.
 STAGES = [
     ("core", "octarc_core", None),
+    ("cluster", "octarc_cluster", None),
     ("io", "octarc_io", None),
     ("plot", "octarc_plot", None),
     ("background", "octarc_background", None),
@@ -43,6 +45,7 @@ STAGES = [
     ("simulation/engine", "octarc_simulation_engine", None),
     ("calibration", "octarc_calibration", None),
     ("search", "octarc_search", None),
+    ("batch", "octarc_batch", None),
     ("app", "octarc_app", None),
 ]
 CHECKED_FOLDERS = ["include/octarc", "src", "sextractor_compat"]
@@ -53,6 +56,7 @@ DETAIL_PREFIX = "octarc/io/detail/"
 
 INCLUDE = re.compile(r'^\s*#\s*include\s*([<"])([^>"]+)[>"]')
 WRAPPED_LIBRARY = re.compile(r"^(fitsio2?\.h|longnam\.h|wcslib/.*|wcslib\.h)$")
+MPI_HEADER = re.compile(r"^mpi\.h$")  # MPI: only in the .cpp files of the cluster stage
 
 
 def stage_folders(name, folders):
@@ -148,6 +152,9 @@ def check_file(source_dir, relpath, order, target_of, visible):
             problems.append("%s includes %s (the file is in no stage: add its folder to STAGES "
                             "in scripts/check-layering.py)" % (where, header))
             continue
+        if MPI_HEADER.match(header) and (stage != "cluster" or relpath.startswith("include/")):
+            problems.append("%s includes %s (MPI is used only by the .cpp files of the cluster "
+                            "stage)" % (where, header))
         if WRAPPED_LIBRARY.match(header):
             if stage not in WRAPPING_STAGES:
                 problems.append("%s includes %s (cfitsio and wcslib are used only by the io and "

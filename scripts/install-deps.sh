@@ -29,6 +29,9 @@ packages=(
   libceres-dev
   libgtest-dev
   googletest
+  # Cluster runs (octarc batch, simulate lenses under mpirun or srun): Open MPI
+  libopenmpi-dev
+  openmpi-bin
 
   # Packaging: dpkg-shlibdeps finds the Debian package's runtime dependencies (cpack -G DEB)
   dpkg-dev

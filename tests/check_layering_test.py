@@ -127,6 +127,21 @@ class CheckLayeringTest(unittest.TestCase):
                             "octarc_run does not link octarc_io")
         self.assertEqual(len(lines), 3, lines)
 
+    def test_mpi_outside_the_cluster_stage(self):
+        write_tree(self.root, {
+            "src/cluster/CMakeLists.txt":
+                "target_link_libraries(octarc_cluster PUBLIC octarc_core PRIVATE MPI::MPI_CXX)\n",
+            "src/cluster/ClusterMpi.cpp": "#include <mpi.h>\n",  # the one place: fine
+            "include/octarc/cluster/Cluster.h": "#include <mpi.h>\n",
+            "src/run/Batch.cpp": "#include <mpi.h>\n",
+        })
+        status, lines = run_checker(self.root)
+        self.assertEqual(status, 1)
+        self.assertReported(lines, "include/octarc/cluster/Cluster.h:1: cluster includes mpi.h",
+                            "only by the .cpp files of the cluster stage")
+        self.assertReported(lines, "src/run/Batch.cpp:1: run includes mpi.h", "cluster stage")
+        self.assertEqual(len(lines), 2, lines)
+
     def test_cfitsio_outside_io(self):
         write_tree(self.root, {
             "src/simulation/Table.cpp": "#include <fitsio.h>\n",

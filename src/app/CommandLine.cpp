@@ -139,11 +139,12 @@ std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std
 std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std::string& command,
                                  const std::vector<sexcompat::KeySpec>& schema,
                                  const std::function<void()>& printUsage,
-                                 const std::function<void()>& printColumnList) {
+                                 const std::function<void()>& printColumnList,
+                                 const std::string& argumentName, bool weightMapsElsewhere) {
   std::optional<LoadedConfig> loaded =
-      loadConfig(args, command, schema, printUsage, printColumnList, true, "image name");
+      loadConfig(args, command, schema, printUsage, printColumnList, true, argumentName);
   if (!loaded) return std::nullopt;
-  RunSettings settings = settingsFromConfig(loaded->config);
+  RunSettings settings = settingsFromConfig(loaded->config, weightMapsElsewhere);
   settings.imagePaths = loaded->positional;
   settings.configPath = loaded->configFile;
   settings.parametersPath = resolveParametersFile(

@@ -14,6 +14,8 @@
 
 #include "octarc/app/Commands.h"
 #include "octarc/app/Options.h"
+#include "octarc/batch/ClusterLenses.h"
+#include "octarc/cluster/Cluster.h"
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Parallel.h"
@@ -39,7 +41,9 @@ void printUsage(const po::options_description& options) {
          "the arc rules. OUT.fits (FITS-LDAC) holds one row per system (truth and the chosen\n"
          "arc's measurements, LDAC_OBJECTS) and every arc row at every level (ARCS).\n"
          "Survey settings come from built-in Deep Lens Survey defaults, then --config,\n"
-         "then the options below. The output depends only on the seed, never on --threads.\n"
+         "then the options below. The output depends only on the seed, never on --threads,\n"
+         "nor on the number of ranks when launched by mpirun or srun (the systems are then\n"
+         "shared between the ranks, and the first rank writes OUT.fits).\n"
          "\n"
       << options << "\n";
 }
@@ -157,27 +161,37 @@ int runSimulateLenses(const std::vector<std::string>& args) {
   if (stampsPath && vm["stamp-count"].as<int>() < 1) {
     throw ConfigError("--stamp-count must be at least 1");
   }
-  // The output names are checked before any system is simulated.
-  OutputFiles outputs;
-  outputs.add(outPath);
-  if (stampsPath) outputs.add(*stampsPath);
-  for (const char* input : {"config", "database", "population"}) {
-    if (!vm.count(input)) continue;
-    for (std::size_t i = 0; i < outputs.size(); ++i) {
-      refuseOutputOverInput(outputs[i].finalPath(), i == 0 ? "-o" : "--stamps",
-                            vm[input].as<std::string>(), std::string("--") + input + " file");
-    }
-  }
-
+  // Under mpirun or srun the systems are shared between the ranks; the root writes.
+  const Cluster cluster;
   const SourceDatabase sources = sourceDatabase(vm);
+  OutputFiles outputs;
+  std::string error;
+  try {
+    // The output names are checked before any system is simulated.
+    if (cluster.isRoot()) {
+      outputs.add(outPath);
+      if (stampsPath) outputs.add(*stampsPath);
+      for (const char* input : {"config", "database", "population"}) {
+        if (!vm.count(input)) continue;
+        for (std::size_t i = 0; i < outputs.size(); ++i) {
+          refuseOutputOverInput(outputs[i].finalPath(), i == 0 ? "-o" : "--stamps",
+                                vm[input].as<std::string>(), std::string("--") + input + " file");
+        }
+      }
+    }
+    // System 0 on this thread first: bad settings (e.g. a sigma range giving no lenses) fail
+    // here with one message, before any thread starts.
+    (void)drawLensSystem(setup, sources, seed, 0);
+  } catch (const Error& e) {
+    error = e.what();
+  }
+  cluster.raiseIfAnyFailed(error, [](const std::string& m) { throw ConfigError(m); });
 
-  // System 0 on this thread first: bad settings (e.g. a sigma range giving no lenses) fail here
-  // with one message, before any thread starts.
-  (void)drawLensSystem(setup, sources, seed, 0);
-
-  const LensRun lensRun =
-      runLensSimulation(setup, sources, seed, count, resolveThreads(vm["threads"].as<int>()),
-                        stampCount, terminalProgress("simulating", "systems", quiet));
+  const int threads = cluster.threadsPerRank(vm["threads"].as<int>());
+  const LensRun lensRun = runLensSimulationOnCluster(
+      cluster, setup, sources, seed, count, threads, stampCount,
+      terminalProgress("simulating", "systems", quiet || !cluster.isRoot()));
+  if (!cluster.isRoot()) return 0;
   // Both files are complete before either appears.
   outputs.write(0, [&](const std::string& path) {
     writeLensCatalog(path, lensRun, lensRunCards(lensRun, setup, sources, seed));
@@ -190,23 +204,23 @@ int runSimulateLenses(const std::vector<std::string>& args) {
   outputs.commit();
 
   const StageTimings& total = lensRun.timings;
-  const int threads = resolveThreads(vm["threads"].as<int>());
   const double wallSec =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!quiet || vm.count("timing")) {
     const double n = double(count);
-    std::fprintf(stderr,
-                 "> %lld systems, %lld with an arc, %lld arc rows -> %s\n"
-                 "> %lld lens-source pairs redrawn (the relations gave no source redshift)\n"
-                 "> wall %.1f s on %d thread(s); CPU %.1f s = %.2f ms/system: draw %.3f, ray "
-                 "trace %.3f, lens light %.3f, PSF %.3f, noise %.3f, detection and "
-                 "measurement %.3f, arc rules %.3f ms/system\n",
-                 static_cast<long long>(count), static_cast<long long>(lensRun.systemsWithArc),
-                 static_cast<long long>(lensRun.arcs.rows()), outPath.c_str(),
-                 static_cast<long long>(lensRun.redraws), wallSec, threads, total.totalSec(),
-                 1e3 * total.totalSec() / n, 1e3 * total.drawSec / n, 1e3 * total.rayTraceSec / n,
-                 1e3 * total.lensLightSec / n, 1e3 * total.psfSec / n, 1e3 * total.noiseSec / n,
-                 1e3 * total.detectionSec / n, 1e3 * total.arcRulesSec / n);
+    std::fprintf(
+        stderr,
+        "> %lld systems, %lld with an arc, %lld arc rows -> %s\n"
+        "> %lld lens-source pairs redrawn (the relations gave no source redshift)\n"
+        "> wall %.1f s on %d rank(s) of %d thread(s); CPU %.1f s = %.2f ms/system: draw %.3f, ray "
+        "trace %.3f, lens light %.3f, PSF %.3f, noise %.3f, detection and "
+        "measurement %.3f, arc rules %.3f ms/system\n",
+        static_cast<long long>(count), static_cast<long long>(lensRun.systemsWithArc),
+        static_cast<long long>(lensRun.arcs.rows()), outPath.c_str(),
+        static_cast<long long>(lensRun.redraws), wallSec, cluster.size(), threads, total.totalSec(),
+        1e3 * total.totalSec() / n, 1e3 * total.drawSec / n, 1e3 * total.rayTraceSec / n,
+        1e3 * total.lensLightSec / n, 1e3 * total.psfSec / n, 1e3 * total.noiseSec / n,
+        1e3 * total.detectionSec / n, 1e3 * total.arcRulesSec / n);
   }
   return 0;
 }

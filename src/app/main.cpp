@@ -7,6 +7,7 @@
 
 #include "octarc/app/CommandLine.h"
 #include "octarc/app/Commands.h"
+#include "octarc/cluster/Cluster.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
 #include "octarc/core/Interrupt.h"
@@ -32,6 +33,9 @@ void printUsage() {
                "      grid of simulated arcs, with check-plots\n"
                "  search IMAGE [-c file] [-KEY value ...]\n"
                "      ranked lens candidates: catalog, DS9 regions, stamps and a contact sheet\n"
+               "  batch MANIFEST [-c file] [-KEY value ...]\n"
+               "      search every tile of a survey (resumable; under mpirun or srun on many\n"
+               "      ranks, or as a job array), and the survey's candidates\n"
                "  demo [options]\n"
                "      simulate a field with lenses, detect them and report\n"
                "\n"
@@ -63,6 +67,7 @@ int main(int argc, char** argv) {
     if (command == "demo") return octarc::runDemo(args);
     if (command == "calibrate") return octarc::runCalibrate(args);
     if (command == "search") return octarc::runSearch(args);
+    if (command == "batch") return octarc::runBatch(args);
     if (command == "simulate") {
       const std::string what = args.empty() ? "" : args[0];
       if (!args.empty()) args.erase(args.begin());
@@ -75,6 +80,8 @@ int main(int argc, char** argv) {
     }
     std::cerr << "octarc: unknown command '" << shown << "' (try octarc -h)\n";
     return 2;
+  } catch (const octarc::PeerFailed&) {
+    return 1;  // another rank of the MPI job failed first and said why
   } catch (const octarc::Error& e) {
     // The last guard: whatever a message quotes from a file, it reaches the terminal as one
     // printable line of reasonable length.

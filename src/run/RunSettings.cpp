@@ -28,7 +28,7 @@ std::string secondOrFirst(const sexcompat::Config& config, const char* key) {
 
 }  // namespace
 
-RunSettings settingsFromConfig(const sexcompat::Config& config) {
+RunSettings settingsFromConfig(const sexcompat::Config& config, bool weightMapsElsewhere) {
   RunSettings s;
   s.catalogType = upper(config.getString("CATALOG_TYPE"));
   s.catalogNames = config.getStrings("CATALOG_NAME");
@@ -81,7 +81,7 @@ RunSettings settingsFromConfig(const sexcompat::Config& config) {
                  : weightType == "MAP_RMS"  ? WeightType::MapRms
                  : weightType == "MAP_VAR"  ? WeightType::MapVariance
                                             : WeightType::None;
-  if (s.weightType != WeightType::None) {
+  if (s.weightType != WeightType::None && !weightMapsElsewhere) {
     if (!config.isExplicit("WEIGHT_IMAGE")) {
       throw ConfigError("WEIGHT_IMAGE: WEIGHT_TYPE " + weightType + " needs a weight map file");
     }

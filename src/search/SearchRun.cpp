@@ -277,6 +277,7 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
   if (!run.image.variance.empty()) maskSettings.varianceAdu2 = &run.image.variance;
   maskSettings.borderPix = settings.borderPix;
   const SearchMask mask(run.image.hdu.pixels.width(), run.image.hdu.pixels.height(), maskSettings);
+  run.searchedBlocks = mask.blockCounts();
 
   SearchSettings search = settings.search;
   search.pixelScaleArcsec = run.pixelScaleArcsec;
@@ -324,15 +325,17 @@ std::vector<std::string> searchSummaryLines(const SearchRun& run,
 
 namespace {
 void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings,
-                         const std::string& tempPath, const ProgressFn& progress);
+                         const std::string& tempPath, const ProgressFn& progress,
+                         const std::function<void(const std::string& dir)>& addFiles);
 }  // namespace
 
 void writeSearchOutputs(const SearchRun& run, const SearchRunSettings& settings,
-                        const ProgressFn& progress, const RunLog& log) {
+                        const ProgressFn& progress, const RunLog& log,
+                        const std::function<void(const std::string& dir)>& addFiles) {
   checkOutputDirectory(settings);
   AtomicDirectory dir(settings.outputDir, kSearchMarkerFile, kSearchMarkerText);
   try {
-    fillOutputDirectory(run, settings, dir.tempPath(), progress);
+    fillOutputDirectory(run, settings, dir.tempPath(), progress, addFiles);
   } catch (const IoError& e) {
     // Messages name the directory the user knows, not its temporary name.
     std::string message = e.what();
@@ -348,7 +351,8 @@ void writeSearchOutputs(const SearchRun& run, const SearchRunSettings& settings,
 namespace {
 
 void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings,
-                         const std::string& tempPath, const ProgressFn& progress) {
+                         const std::string& tempPath, const ProgressFn& progress,
+                         const std::function<void(const std::string& dir)>& addFiles) {
   const fs::path root = tempPath;
   SearchSettings search = settings.search;
   search.pixelScaleArcsec = run.pixelScaleArcsec;
@@ -395,6 +399,7 @@ void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings
   writeFitsTables((root / "candidates.fits").string(),
                   {ldacImheadTable(run.image.hdu.header, run.runCards),
                    candidateObjectsTable(catalog, run.result, search)});
+  if (addFiles) addFiles(tempPath);
   // The marker last: it says the directory is complete.
   writeText(kSearchMarkerFile, kSearchMarkerText);
 }

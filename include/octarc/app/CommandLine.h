@@ -46,11 +46,15 @@ struct LoadedRun {
 // printed on stdout). Configuration warnings go to stderr unless VERBOSE_TYPE is QUIET.
 std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std::string& command,
                                  const std::function<void()>& printUsage);
-// The same with another key table (detect's keys and a command's own) and -dp listing.
+// The same with another key table (detect's keys and a command's own) and -dp listing;
+// `argumentName` names the positional arguments in messages, and `weightMapsElsewhere` lets
+// WEIGHT_TYPE stand without WEIGHT_IMAGE (a batch's manifest gives the maps).
 std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std::string& command,
                                  const std::vector<sexcompat::KeySpec>& schema,
                                  const std::function<void()>& printUsage,
-                                 const std::function<void()>& printColumnList);
+                                 const std::function<void()>& printColumnList,
+                                 const std::string& argumentName = "image name",
+                                 bool weightMapsElsewhere = false);
 
 // The single image of a detect/measure run (settings.imagePaths[0]). ConfigError when none or
 // several are given; SExtractor's dual-image syntax (IMAGE_DETECT,IMAGE_MEASURE or two images)

@@ -34,6 +34,7 @@ int runCalibrate(const std::vector<std::string>& args);
 // `octarc search IMAGE`: lens candidates with stamps and a contact sheet
 // (src/app/SearchCommand.cpp).
 int runSearch(const std::vector<std::string>& args);
+int runBatch(const std::vector<std::string>& args);
 
 // `octarc demo`: simulate a field with lenses, detect, measure, and report
 // (src/app/DemoCommand.cpp).

@@ -78,7 +78,9 @@ struct RunSettings {
 };
 
 // Reads every key octarc uses from a loaded configuration; ConfigError on inconsistent values.
-RunSettings settingsFromConfig(const sexcompat::Config& config);
+// `weightMapsElsewhere`: the weight maps come from elsewhere (a batch's manifest), so that
+// WEIGHT_TYPE without WEIGHT_IMAGE is no error (weightImagePath is left empty).
+RunSettings settingsFromConfig(const sexcompat::Config& config, bool weightMapsElsewhere = false);
 
 // One input file of a run and the option that names it ("the image", "WEIGHT_IMAGE", ...).
 struct NamedInput {

@@ -70,6 +70,8 @@ struct SearchRun {
   std::vector<std::string> warnings;       // grid made for another setup, no WCS, ...
   std::vector<std::string> runCards;       // the detection run's LDAC_IMHEAD cards
   std::vector<std::int64_t> catalogOrder;  // rows in catalog order (empty: as stored)
+  // Searched pixels per SearchMask::kAreaBlockPix block (the union of a batch's tiles).
+  Image<std::int32_t> searchedBlocks;
 };
 
 // Runs the search. Before any pixel is read: the grid and the region file are read, OUTPUT_DIR
@@ -82,9 +84,11 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log);
 std::vector<std::string> searchSummaryLines(const SearchRun& run,
                                             const SearchRunSettings& settings);
 
-// Writes OUTPUT_DIR whole (see above); `progress` is told of each stamp. IoError naming the
-// directory on failure, which leaves no partial directory.
+// Writes OUTPUT_DIR whole (see above); `progress` is told of each stamp. `addFiles`, when given,
+// writes files of the caller's into the directory (its temporary path) before it is marked
+// complete. IoError naming the directory on failure, which leaves no partial directory.
 void writeSearchOutputs(const SearchRun& run, const SearchRunSettings& settings,
-                        const ProgressFn& progress, const RunLog& log);
+                        const ProgressFn& progress, const RunLog& log,
+                        const std::function<void(const std::string& dir)>& addFiles = {});
 
 }  // namespace octarc

@@ -86,13 +86,14 @@ std::vector<ColumnSpec> lensArcColumns() {
 
 LensRun runLensSimulation(const SimulationSetup& setup, const SourceDatabase& sources,
                           std::uint64_t seed, std::int64_t count, int threads, int stampCount,
-                          const ProgressFn& progress) {
+                          const ProgressFn& progress, std::int64_t firstIndex) {
   std::vector<SystemResult> results(static_cast<std::size_t>(count));
   parallelForDynamic(
       count, threads,
       [&](std::int64_t i) {
         SystemResult& r = results[std::size_t(i)];
-        SimulatedSystem s = simulateSystem(setup, sources, seed, i, i < stampCount, &r.timings);
+        SimulatedSystem s =
+            simulateSystem(setup, sources, seed, firstIndex + i, i < stampCount, &r.timings);
         r.draw = std::move(s.draw);
         r.magnification = s.magnification;
         r.objectCount = s.objects.rows();

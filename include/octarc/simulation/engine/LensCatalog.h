@@ -35,10 +35,11 @@ struct LensRun {
   std::vector<ImageF> stamps;   // the first `stampCount` systems' stamps
 };
 
-// Simulates systems 0..count-1 of `seed` on `threads` threads; `progress` gets the number done.
+// Simulates systems firstIndex..firstIndex+count-1 of `seed` on `threads` threads (the stamps
+// kept are those of the first `stampCount` of them); `progress` gets the number done.
 LensRun runLensSimulation(const SimulationSetup& setup, const SourceDatabase& sources,
                           std::uint64_t seed, std::int64_t count, int threads, int stampCount,
-                          const ProgressFn& progress);
+                          const ProgressFn& progress, std::int64_t firstIndex = 0);
 
 // The OCT* header cards of the systems file: seed, counts, survey, levels, source database.
 std::vector<std::string> lensRunCards(const LensRun& run, const SimulationSetup& setup,

@@ -1,0 +1,79 @@
+// `octarc batch` as a library: the search of every tile of a survey, on one machine or on the
+// ranks of an MPI job, resumable, and the survey-level outputs.
+//
+//   manifest (batch/Manifest.h) --> tiles still to do (batch/Journal.h)
+//     --> each tile searched (search/SearchRun.h) into OUTPUT_DIR/tiles/NAME, written whole,
+//         then journaled; the ranks take tiles as they become free (cluster/Cluster.h)
+//     --> once every tile is done or failed: OUTPUT_DIR/candidates.fits (batch/SurveyMerge.h),
+//         summary.txt and index.html (the survey index), written together.
+//
+// OUTPUT_DIR:
+//   .octarc-batch      marks the directory as a batch's (an other non-empty one is refused)
+//   journal.txt        what each run did (batch/Journal.h)
+//   tiles/NAME/        the tile's search output (candidates, regions, stamps, contact sheet)
+//                      and area.fits, its searched area per block
+//   candidates.fits    the survey's candidates (FITS-LDAC), duplicates of overlaps removed
+//   summary.txt        tiles done / failed / done earlier, area, candidates per search space
+//   index.html         the survey index: every tile, its status and its contact sheet
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "octarc/batch/Manifest.h"
+#include "octarc/batch/SurveyMerge.h"
+#include "octarc/cluster/Cluster.h"
+#include "octarc/core/Progress.h"
+#include "octarc/search/SearchRun.h"
+#include "octarc/sexcompat/Config.h"
+
+namespace octarc {
+
+// The keys of `octarc batch`: those of search (OUTPUT_DIR names the survey's folder, "survey"
+// by default), MATCH_RADIUS and ARRAY_TASK.
+std::vector<sexcompat::KeySpec> batchKeys();
+
+inline constexpr const char* kBatchMarkerFile = ".octarc-batch";
+inline constexpr const char* kBatchMarkerText = "octarc batch output directory\n";
+
+struct BatchSettings {
+  std::string manifest;            // a manifest file or a glob of images
+  SearchRunSettings tile;          // every tile's search; image, weight, mask, catalog per tile
+  std::string outputDir;           // OUTPUT_DIR
+  double matchRadiusArcsec = 1.0;  // MATCH_RADIUS: one object in two tiles' overlap
+  // ARRAY_TASK: this task's share of a job array, the tiles k (0-based) with k % tasks == task.
+  int arrayTask = 0, arrayTasks = 1;
+  int requestedThreads = 0;  // NTHREADS (0: the machine's cores shared between its ranks)
+};
+
+// ConfigError on bad values. `run` is the detection part as the command line resolved it; its
+// imagePaths hold the manifest. ARRAY_TASK AUTO takes Slurm's SLURM_ARRAY_TASK_ID (less
+// SLURM_ARRAY_TASK_MIN) of SLURM_ARRAY_TASK_COUNT when set, else the whole manifest.
+BatchSettings batchSettingsFromConfig(const sexcompat::Config& config, RunSettings run);
+
+enum class TileState { Done, Failed, DoneEarlier, OtherTask };
+
+struct TileReport {
+  TileState state = TileState::OtherTask;
+  std::string message;  // the error of a failed tile
+  std::int64_t candidates = 0;
+  double seconds = 0.0;
+  int rank = 0;
+};
+
+struct BatchReport {
+  std::vector<Tile> tiles;
+  std::vector<TileReport> reports;  // per tile, as this run left it
+  int run = 0;                      // the journal's run number
+  bool merged = false;              // the survey outputs were written by this run
+  SurveyCandidates survey;          // when merged
+  std::vector<std::string> summaryLines;
+  std::int64_t failed() const;
+};
+
+// Runs the batch on `cluster` (every rank calls it). ConfigError / IoError for a bad manifest,
+// configuration or OUTPUT_DIR, before any tile is searched; a tile's own trouble makes it
+// failed, and the others go on. The report is complete on the root only.
+BatchReport runBatch(const BatchSettings& settings, const Cluster& cluster, const RunLog& log);
+
+}  // namespace octarc

@@ -1,0 +1,38 @@
+// The tiles of a survey: a manifest file, or a glob of images.
+//
+// A manifest is a text file of one tile per line:
+//
+//   IMAGE [WEIGHT [MASK [CATALOG]]]
+//
+// fields separated by commas (CSV) or blanks; '-' or an empty field for none; '#' starts a
+// comment; a first line whose first field is "image" is a CSV header. WEIGHT is the tile's
+// weight map (of the configuration's WEIGHT_TYPE), MASK a DS9 region file of its searched area
+// (MASK_NAME), CATALOG an earlier detection run of it (INPUT_CATALOG). Relative paths are taken
+// from the manifest's folder. A tile is named by its image's file name without the .fits (.fit,
+// .fts, .fz) ending; names must differ.
+//
+// Instead of a manifest, a glob pattern of images ('tiles/*.fits', quoted so that the shell
+// leaves it alone), in sorted order, with no weight, mask or catalog.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace octarc {
+
+struct Tile {
+  std::string name;  // from the image's file name
+  std::string imagePath;
+  std::string weightPath;   // "" for none
+  std::string maskPath;     // "" for none
+  std::string catalogPath;  // "" for none
+  int line = 0;             // 1-based line of the manifest (0 for a glob)
+};
+
+// The tiles of `manifestOrGlob`. ConfigError naming the manifest and line ("survey.txt:4: ...")
+// for a missing or unreadable file, a repeated image or tile name, too many fields, or a
+// manifest (or glob) of no tile; IoError when the manifest itself cannot be read. Masks are
+// only opened here; they are parsed when the tile is searched.
+std::vector<Tile> readManifest(const std::string& manifestOrGlob);
+
+}  // namespace octarc

@@ -1,0 +1,74 @@
+// The processes of a run: one process, or the ranks of an MPI job (mpirun, srun). MPI is used
+// here and nowhere else; a build without it (OCTARC_MPI=OFF) has the one-process cluster only.
+//
+// A process is an MPI rank when its launcher says so in the environment (OMPI_COMM_WORLD_SIZE,
+// PMIX_RANK, PMI_SIZE): `octarc batch` run by hand starts no MPI at all.
+//
+// Everything that crosses between ranks is bytes (std::string): the callers serialise their
+// own results, so that the MPI calls stay a handful of well-known ones.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace octarc {
+
+// Thrown on the ranks that stop because another one failed first (that one prints the error):
+// main() ends such a rank with status 1 and no message of its own.
+class PeerFailed : public std::runtime_error {
+ public:
+  PeerFailed() : std::runtime_error("another rank failed") {}
+};
+
+class Cluster {
+ public:
+  // Starts MPI when the process was launched as a rank (see above), else a cluster of one.
+  // ConfigError when launched as a rank by a build without MPI. MPI ends with the object.
+  Cluster();
+  ~Cluster();
+  Cluster(const Cluster&) = delete;
+  Cluster& operator=(const Cluster&) = delete;
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  bool isRoot() const { return rank_ == 0; }
+  bool usesMpi() const { return usesMpi_; }
+  // Ranks of this job on this machine (1 without MPI).
+  int ranksOnThisNode() const { return ranksOnNode_; }
+  // Worker threads for one rank: `requested` when positive; else the CPUs the launcher bound
+  // the rank to, or, unbound, the machine's cores shared between its ranks (at least 1).
+  int threadsPerRank(int requested) const;
+
+  // Dynamic scheduling of tasks 0..count-1: each rank, the root included, asks for the next
+  // task as soon as it is free (tasks differ in cost). work(i) runs on the rank that got i and
+  // returns a report; collect(i, report) runs on the root's calling thread, once per task, as
+  // reports arrive. work must not throw (a failed task is a report). On the root, work runs on
+  // a thread of its own while the calling thread serves the other ranks; without MPI, tasks
+  // run in order on the calling thread.
+  void distribute(std::int64_t count, const std::function<std::string(std::int64_t)>& work,
+                  const std::function<void(std::int64_t, const std::string&)>& collect) const;
+
+  // The root's bytes on every rank (the root's `bytes`; the others' are ignored).
+  std::string broadcast(const std::string& bytes) const;
+  // Every rank's bytes at the root, in rank order (one element per rank); empty elsewhere.
+  std::vector<std::string> gather(const std::string& local) const;
+  // After a step every rank ran: when any rank's `error` is not empty, the lowest such rank
+  // calls throwError(error) (which throws) and every other rank throws PeerFailed; otherwise
+  // returns. Without MPI: throwError(error) when `error` is not empty.
+  void raiseIfAnyFailed(const std::string& error,
+                        const std::function<void(const std::string&)>& throwError) const;
+
+ private:
+  int rank_ = 0;
+  int size_ = 1;
+  int ranksOnNode_ = 1;
+  bool usesMpi_ = false;
+};
+
+// True when the environment says this process is an MPI rank.
+bool launchedAsMpiRank();
+
+}  // namespace octarc

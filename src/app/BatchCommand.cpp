@@ -1,0 +1,86 @@
+// `octarc batch`: the search of every tile of a survey, on one machine, on the ranks of an MPI
+// job or as the tasks of a job array; resumable; the survey's candidates at the end.
+//
+//   manifest --> tiles not yet done (journal) --> each searched as `octarc search` does it
+//   --> OUTPUT_DIR/tiles/NAME --> survey candidates, summary, index (batch/BatchRun.h)
+
+#include <iostream>
+
+#include "octarc/app/CommandLine.h"
+#include "octarc/app/Commands.h"
+#include "octarc/batch/BatchRun.h"
+#include "octarc/cluster/Cluster.h"
+#include "octarc/core/Error.h"
+
+namespace octarc {
+
+namespace {
+
+// clang-format off
+void printUsage() {
+  std::cout <<
+      "Usage: octarc batch MANIFEST [-c survey.sex] [-KEY value ...]\n"
+      "       mpirun -np N octarc batch MANIFEST ...     (or srun octarc batch ...)\n"
+      "\n"
+      "Searches every tile of MANIFEST as octarc search does (detection, selection,\n"
+      "candidates, stamps), then merges the tiles' candidates into the survey's.\n"
+      "\n"
+      "MANIFEST: one tile per line, IMAGE [WEIGHT [MASK [CATALOG]]], separated by commas or\n"
+      "blanks ('-' for none, '#' for comments, relative paths from the manifest's folder);\n"
+      "WEIGHT is of the configuration's WEIGHT_TYPE, MASK a DS9 region file (MASK_NAME),\n"
+      "CATALOG an earlier detection run (INPUT_CATALOG). Or a quoted glob of images:\n"
+      "'tiles/*.fits'. Tiles are named by their image file.\n"
+      "\n"
+      "Launched by mpirun or srun, the tiles are shared between the ranks as each becomes\n"
+      "free; the first rank writes the journal and the survey outputs. As a job array\n"
+      "(sbatch --array=0-N-1), task I takes the tiles k with k % N == I (ARRAY_TASK AUTO reads\n"
+      "Slurm's variables) and the last task to finish writes the survey outputs.\n"
+      "\n"
+      "Resumable: a tile's folder is written whole, then journaled; running the same command\n"
+      "again searches only the tiles not done (after a crash, a killed rank or a cancelled\n"
+      "job), and retries those that failed. A tile that fails does not stop the others; the\n"
+      "exit status is then 1.\n"
+      "\n"
+      "OUTPUT_DIR (default survey):\n"
+      "  journal.txt       what each run did: start, done, failed, finished lines\n"
+      "  tiles/NAME/       the tile's search output (see octarc search -h) and area.fits\n"
+      "  candidates.fits   the survey's candidates (FITS-LDAC): TILE, TILE_NUMBER and the\n"
+      "                    tiles' columns; copies closer than MATCH_RADIUS arcsec in two tiles'\n"
+      "                    overlap kept once (the one nearest its tile's centre)\n"
+      "  summary.txt       tiles done, failed, skipped; the union of the searched areas;\n"
+      "                    candidates per search space and per deg2\n"
+      "  index.html        the survey index: every tile, its status, its contact sheet\n"
+      "\n"
+      "Options:\n"
+      "  -c FILE      configuration file (the keys of octarc search, and MATCH_RADIUS,\n"
+      "               ARRAY_TASK)\n"
+      "  -KEY value   override a configuration key (e.g. -ARRAY_TASK 3/16)\n"
+      "  -d, -dd      print the default configuration (-dd: every key)\n"
+      "  -h           this help;  -v  version\n";
+}
+// clang-format on
+
+}  // namespace
+
+int runBatch(const std::vector<std::string>& args) {
+  const Cluster cluster;
+  std::optional<LoadedRun> loaded =
+      loadRun(args, "batch", batchKeys(), printUsage, {}, "manifest", true);
+  if (!loaded) return 0;
+  const BatchSettings settings = batchSettingsFromConfig(loaded->config, loaded->settings);
+  const bool quiet = loaded->settings.quiet;
+  const RunLog log = quiet ? RunLog() : [](const std::string& line) { std::cerr << line << "\n"; };
+
+  const BatchReport report = runBatch(settings, cluster, log);
+  if (!cluster.isRoot()) return 0;
+  for (const std::string& line : report.summaryLines) std::cout << line << "\n";
+  if (report.merged) std::cout << "Open " << settings.outputDir << "/index.html for the tiles\n";
+  if (report.failed() > 0) {
+    std::cerr << "octarc batch: " << report.failed()
+              << " tile(s) failed (see above); run the same command again to retry them\n";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace octarc

@@ -1,0 +1,547 @@
+#include "octarc/batch/BatchRun.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "octarc/batch/Journal.h"
+#include "octarc/catalog/Catalog.h"
+#include "octarc/catalog/FitsCard.h"
+#include "octarc/core/AtomicFile.h"
+#include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
+#include "octarc/io/Ds9Region.h"
+#include "octarc/io/FitsImage.h"
+#include "octarc/io/FitsTable.h"
+#include "octarc/selection/SearchMask.h"
+#include "octarc/sexcompat/KeyRow.h"
+
+namespace octarc {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using sexcompat::KeySpec;
+using Kind = KeySpec::Kind;
+
+constexpr const char* kAreaFile = "area.fits";
+
+std::string tileFolder(const BatchSettings& s, const Tile& t) {
+  return (fs::path(s.outputDir) / "tiles" / t.name).string();
+}
+
+std::string where(const BatchSettings& s, const Tile& t) {
+  return t.line > 0 ? s.manifest + ":" + std::to_string(t.line) + ": " : t.imagePath + ": ";
+}
+
+// The search settings of one tile: the configuration's, with the tile's own files.
+SearchRunSettings tileSettings(const BatchSettings& s, const Tile& t, int threads) {
+  SearchRunSettings tile = s.tile;
+  tile.run.imagePaths = {t.imagePath};
+  tile.run.weightImagePath = t.weightPath;
+  tile.maskPath = t.maskPath;
+  tile.inputCatalogPath = t.catalogPath;
+  tile.outputDir = tileFolder(s, t);
+  tile.run.threads = threads;
+  tile.run.quiet = true;
+  return tile;
+}
+
+// What can be checked before any tile is searched: weight maps against WEIGHT_TYPE, and every
+// mask parsed against its image's header.
+void checkTiles(const BatchSettings& s, const std::vector<Tile>& tiles) {
+  const bool weighted = s.tile.run.weightType != WeightType::None;
+  for (const Tile& t : tiles) {
+    if (weighted && t.weightPath.empty()) {
+      throw ConfigError(where(s, t) +
+                        "no weight map, and WEIGHT_TYPE is not NONE: give one for "
+                        "every tile");
+    }
+    if (!weighted && !t.weightPath.empty()) {
+      throw ConfigError(where(s, t) +
+                        "a weight map, but WEIGHT_TYPE is NONE: set WEIGHT_TYPE "
+                        "MAP_WEIGHT, MAP_RMS or MAP_VAR");
+    }
+    if (t.maskPath.empty()) continue;
+    try {
+      (void)readDs9Regions(t.maskPath, readImageHeader(t.imagePath).header, t.imagePath);
+    } catch (const Error& e) {
+      throw ConfigError(where(s, t) + "mask " + t.maskPath + ": " + e.what());
+    }
+  }
+}
+
+// OUTPUT_DIR is made, or must be a batch's own (or empty).
+void prepareOutputDirectory(const BatchSettings& s) {
+  std::error_code ec;
+  const fs::path out = s.outputDir;
+  const fs::path marker = out / kBatchMarkerFile;
+  if (fs::exists(out, ec)) {
+    if (!fs::is_directory(out, ec)) {
+      throw ConfigError("OUTPUT_DIR " + s.outputDir + ": exists and is not a directory");
+    }
+    std::ifstream in(marker, std::ios::binary);
+    std::stringstream text;
+    text << in.rdbuf();
+    if (!in || text.str() != kBatchMarkerText) {
+      if (!fs::is_empty(out, ec)) {
+        throw ConfigError("OUTPUT_DIR " + s.outputDir +
+                          ": is not the output of an octarc batch (it has no " + kBatchMarkerFile +
+                          "); choose a new or empty directory");
+      }
+    } else {
+      fs::create_directories(out / "tiles", ec);
+      if (ec) throw IoError(s.outputDir + "/tiles: cannot create (" + ec.message() + ")");
+      return;
+    }
+  }
+  fs::create_directories(out / "tiles", ec);
+  if (ec) throw IoError("OUTPUT_DIR " + s.outputDir + ": cannot create (" + ec.message() + ")");
+  std::ofstream m(marker, std::ios::binary);
+  m << kBatchMarkerText;
+  m.close();
+  if (!m) throw IoError(marker.string() + ": cannot write");
+}
+
+bool tileFolderComplete(const BatchSettings& s, const Tile& t) {
+  std::ifstream in(fs::path(tileFolder(s, t)) / kSearchMarkerFile, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::error_code ec;
+  return in && text.str() == kSearchMarkerText &&
+         fs::exists(fs::path(tileFolder(s, t)) / kAreaFile, ec);
+}
+
+// The searched area of a tile at block resolution, in its folder.
+void writeAreaFile(const std::string& path, const SearchRun& run) {
+  FitsTable t;
+  t.name = "SEARCHED_AREA";
+  std::vector<std::int32_t> bx, by, n;
+  const Image<std::int32_t>& blocks = run.searchedBlocks;
+  for (std::int64_t y = 0; y < blocks.height(); ++y) {
+    for (std::int64_t x = 0; x < blocks.width(); ++x) {
+      if (blocks(x, y) == 0) continue;
+      bx.push_back(std::int32_t(x));
+      by.push_back(std::int32_t(y));
+      n.push_back(blocks(x, y));
+    }
+  }
+  t.columns = {{"BLOCK_X", "Block column (0-based)", "", "", 1, bx, "", ""},
+               {"BLOCK_Y", "Block row (0-based)", "", "", 1, by, "", ""},
+               {"NPIX", "Searched pixels in the block", "pixel", "", 1, n, "", ""}};
+  t.keywords = {
+      FitsKeyword::integer("BLOCKPIX", SearchMask::kAreaBlockPix, "block side, pixels"),
+      FitsKeyword::integer("IMWIDTH", run.image.hdu.pixels.width(), "image width, pixels"),
+      FitsKeyword::integer("IMHEIGHT", run.image.hdu.pixels.height(), "image height, pixels"),
+      FitsKeyword::real("PIXSCALE", run.pixelScaleArcsec, "pixel scale, arcsec")};
+  writeFitsTables(path, {t});
+}
+
+TileCandidates loadTile(const BatchSettings& s, const Tile& t) {
+  const std::string folder = tileFolder(s, t);
+  TileCandidates c;
+  c.name = t.name;
+  c.candidates = readFitsTable(folder + "/candidates.fits", "LDAC_OBJECTS");
+  const FitsTable area = readFitsTable(folder + "/" + kAreaFile, "SEARCHED_AREA");
+  c.blockPix = area.integer("BLOCKPIX");
+  c.widthPix = area.integer("IMWIDTH");
+  c.heightPix = area.integer("IMHEIGHT");
+  c.pixelScaleArcsec = area.number("PIXSCALE");
+  if (c.blockPix < 1 || c.widthPix < 1 || c.heightPix < 1) {
+    throw IoError(folder + "/" + kAreaFile + ": bad block or image size");
+  }
+  c.searchedBlocks = Image<std::int32_t>((c.widthPix + c.blockPix - 1) / c.blockPix,
+                                         (c.heightPix + c.blockPix - 1) / c.blockPix);
+  const std::vector<std::int64_t> bx = area.integers("BLOCK_X"), by = area.integers("BLOCK_Y"),
+                                  n = area.integers("NPIX");
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    if (bx[i] < 0 || by[i] < 0 || bx[i] >= c.searchedBlocks.width() ||
+        by[i] >= c.searchedBlocks.height()) {
+      throw IoError(folder + "/" + kAreaFile + ": a block outside the image");
+    }
+    c.searchedBlocks(bx[i], by[i]) = std::int32_t(n[i]);
+  }
+  c.wcs = Wcs::fromHeader(readImageHeader(t.imagePath).header, t.imagePath);
+  return c;
+}
+
+std::string shareText(const BatchSettings& s) {
+  return s.arrayTasks > 1
+             ? "array task " + std::to_string(s.arrayTask) + "/" + std::to_string(s.arrayTasks)
+             : std::string("whole manifest");
+}
+
+std::string perDeg2(std::int64_t n, double areaDeg2) {
+  return areaDeg2 > 0 ? ", " + formatNumber(double(n) / areaDeg2, "%.1f") + " per deg2" : "";
+}
+
+std::vector<std::string> summaryLines(const BatchSettings& s, const BatchReport& r, int ranks) {
+  std::int64_t counts[4] = {0, 0, 0, 0};
+  for (const TileReport& t : r.reports) ++counts[int(t.state)];
+  std::vector<std::string> lines;
+  lines.push_back("Survey " + s.manifest + ": " + std::to_string(r.tiles.size()) + " tiles");
+  lines.push_back("Run " + std::to_string(r.run) + " (" + std::to_string(ranks) + " rank(s), " +
+                  shareText(s) + "): " + std::to_string(counts[0]) + " done, " +
+                  std::to_string(counts[1]) + " failed, " + std::to_string(counts[2]) +
+                  " skipped (done earlier or by other tasks)" +
+                  (counts[3] > 0 ? ", " + std::to_string(counts[3]) + " left to other tasks" : ""));
+  for (std::size_t i = 0; i < r.tiles.size(); ++i) {
+    if (r.reports[i].state != TileState::Failed) continue;
+    lines.push_back("  failed: " + r.tiles[i].name +
+                    (r.tiles[i].line > 0 ? " (line " + std::to_string(r.tiles[i].line) + ")" : "") +
+                    ": " + r.reports[i].message);
+  }
+  if (!r.merged) {
+    lines.push_back("The survey catalog waits for the tiles of the other tasks");
+    return lines;
+  }
+  const SurveyCandidates& sv = r.survey;
+  lines.push_back("Searched area " + formatNumber(sv.areaDeg2, "%.5f") +
+                  " deg2 (the union of the tiles' searched areas)");
+  lines.push_back(std::to_string(sv.table.rows()) + " candidate(s)" +
+                  perDeg2(sv.table.rows(), sv.areaDeg2) + "; " + std::to_string(sv.tileCandidates) +
+                  " in the tiles, " + std::to_string(sv.duplicatesRemoved) +
+                  " duplicate(s) in overlaps removed");
+  for (const SpaceTotal& space : sv.spaces) {
+    lines.push_back("  " + space.name + " (" + space.expression +
+                    "): " + std::to_string(space.candidates) + " candidate(s)" +
+                    perDeg2(space.candidates, sv.areaDeg2));
+  }
+  return lines;
+}
+
+std::string surveyIndexHtml(const BatchSettings& s, const BatchReport& r) {
+  std::ostringstream html;
+  html << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\">\n<title>octarc batch: "
+       << escapeHtml(fs::path(s.manifest).filename().string()) << "</title>\n"
+       << "<style>body{font-family:sans-serif;margin:1em}table{border-collapse:collapse}"
+          "td,th{border:1px solid #bbb;padding:2px 8px;text-align:left}"
+          ".failed{color:#b00}</style></head><body>\n"
+       << "<h1>octarc batch: " << escapeHtml(s.manifest) << "</h1>\n<pre>";
+  for (const std::string& l : r.summaryLines) html << escapeHtml(l) << "\n";
+  html << "</pre>\n<p><a href=\"candidates.fits\">candidates.fits</a> (the survey's candidates)"
+       << "</p>\n<table id=\"tiles\">\n<tr><th>tile</th><th>status</th><th>candidates kept</th>"
+       << "<th>contact sheet</th><th>regions</th></tr>\n";
+  for (std::size_t i = 0; i < r.tiles.size(); ++i) {
+    const Tile& t = r.tiles[i];
+    const TileReport& tr = r.reports[i];
+    const std::string folder = "tiles/" + t.name + "/";
+    const bool failed = tr.state == TileState::Failed;
+    const char* status = failed ? "failed" : tr.state == TileState::OtherTask ? "not done" : "done";
+    html << "<tr class=\"" << status << "\"><td>" << escapeHtml(t.name) << "</td><td>" << status;
+    if (failed) html << ": " << escapeHtml(tr.message);
+    html << "</td><td>" << (failed ? 0 : r.survey.keptPerTile.at(i)) << "</td><td>";
+    if (!failed) {
+      html << "<a href=\"" << escapeHtml(folder) << "index.html\">index.html</a></td><td><a href=\""
+           << escapeHtml(folder) << "candidates.reg\">candidates.reg</a>";
+    } else {
+      html << "</td><td>";
+    }
+    html << "</td></tr>\n";
+  }
+  html << "</table>\n</body></html>\n";
+  return html.str();
+}
+
+void writeSurveyOutputs(const BatchSettings& s, const BatchReport& r) {
+  OutputFiles outputs;
+  outputs.add((fs::path(s.outputDir) / "candidates.fits").string());
+  outputs.add((fs::path(s.outputDir) / "summary.txt").string());
+  outputs.add((fs::path(s.outputDir) / "index.html").string());
+  FitsTable objects = r.survey.table;
+  const SurveyCandidates& sv = r.survey;
+  objects.keywords = {
+      FitsKeyword::integer("NTILES", std::int64_t(r.tiles.size()), "tiles in the manifest"),
+      FitsKeyword::integer("NCANDID", sv.table.rows(), "candidates in the survey"),
+      FitsKeyword::integer("NTILECND", sv.tileCandidates, "candidates in the tiles"),
+      FitsKeyword::integer("NDUPLIC", sv.duplicatesRemoved, "duplicates in overlaps removed"),
+      FitsKeyword::real("SRCHAREA", sv.areaDeg2, "[deg2] union of searched areas"),
+      FitsKeyword::real("MATCHRAD", s.matchRadiusArcsec, "[arcsec] duplicate match radius")};
+  for (std::size_t i = 0; i < sv.spaces.size(); ++i) {
+    const std::string n = std::to_string(i + 1);
+    objects.keywords.push_back(FitsKeyword::text("SPNAME" + n, sv.spaces[i].name));
+    objects.keywords.push_back(FitsKeyword::text("SPEXPR" + n, sv.spaces[i].expression));
+    objects.keywords.push_back(
+        FitsKeyword::integer("SPCAND" + n, sv.spaces[i].candidates, "candidates in the space"));
+  }
+  const std::vector<std::string> cards = {
+      formatCard("OCTBATCH", std::string(fs::path(s.manifest).filename().string()),
+                 "manifest of the survey"),
+      formatCard("NTILES", std::int64_t(r.tiles.size()), "tiles")};
+  outputs.write(0, [&](const std::string& path) {
+    writeFitsTables(path, {ldacImheadTable(FitsHeader(), cards), objects});
+  });
+  auto text = [](const std::string& path, const std::string& body) {
+    std::ofstream out(path, std::ios::binary);
+    out << body;
+    out.close();
+    if (!out) throw IoError(path + ": cannot write");
+  };
+  std::string summary;
+  for (const std::string& l : r.summaryLines) summary += l + "\n";
+  outputs.write(1, [&](const std::string& path) { text(path, summary); });
+  outputs.write(2, [&](const std::string& path) { text(path, surveyIndexHtml(s, r)); });
+  outputs.commit();
+}
+
+// A tile's report as it crosses between ranks: "done\tN\tSECONDS\tRANK" or "failed\tMESSAGE".
+TileReport parseReport(const std::string& text) {
+  std::vector<std::string> f;
+  std::stringstream in(text);
+  for (std::string field; std::getline(in, field, '\t');) f.push_back(field);
+  TileReport r;
+  if (f.size() == 4 && f[0] == "done") {
+    r.state = TileState::Done;
+    r.candidates = std::stoll(f[1]);
+    r.seconds = std::stod(f[2]);
+    r.rank = std::stoi(f[3]);
+  } else {
+    r.state = TileState::Failed;
+    r.message = f.size() >= 2 ? text.substr(text.find('\t') + 1) : text;
+  }
+  return r;
+}
+
+}  // namespace
+
+std::vector<KeySpec> batchKeys() {
+  std::vector<KeySpec> keys = searchKeys();
+  for (KeySpec& k : keys) {
+    if (k.name == "OUTPUT_DIR") {
+      k.defaults = {"survey"};
+      k.comment = "directory of the survey: journal, tiles/, candidates";
+    }
+  }
+  // clang-format off
+  const std::vector<KeySpec> own = {
+    sexcompat::KeyRow("MATCH_RADIUS", Kind::Float, {"1.0"}, "candidates of two tiles closer than "
+        "this are one\n(arcsec)").range(0, 60),
+    sexcompat::KeyRow("ARRAY_TASK", Kind::String, {"AUTO"}, "this job-array task's share: I/N "
+        "(tiles k with\nk % N == I), AUTO (Slurm's SLURM_ARRAY_TASK_ID)"),
+  };
+  // clang-format on
+  keys.insert(keys.end(), own.begin(), own.end());
+  return keys;
+}
+
+BatchSettings batchSettingsFromConfig(const sexcompat::Config& c, RunSettings run) {
+  BatchSettings s;
+  if (run.imagePaths.size() != 1) {
+    throw ConfigError("batch: give one manifest (or one quoted glob of images); see -h");
+  }
+  s.manifest = run.imagePaths.front();
+  s.requestedThreads = run.threads;
+  for (const char* key : {"MASK_NAME", "INPUT_CATALOG", "WEIGHT_IMAGE"}) {
+    if (c.isExplicit(key)) {
+      throw ConfigError(std::string(key) + ": a batch takes each tile's files from the manifest " +
+                        "(IMAGE WEIGHT MASK CATALOG per line)");
+    }
+  }
+  if (c.isExplicit("CHECKIMAGE_TYPE") && uppercase(c.getString("CHECKIMAGE_TYPE")) != "NONE") {
+    throw ConfigError("CHECKIMAGE_TYPE: a batch writes no check-images");
+  }
+  s.tile = searchSettingsFromConfig(c, std::move(run));
+  s.outputDir = s.tile.outputDir;
+  s.matchRadiusArcsec = c.getDouble("MATCH_RADIUS");
+  std::string share = uppercase(c.getString("ARRAY_TASK"));
+  if (share == "AUTO") {
+    const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
+    const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
+    const char* first = std::getenv("SLURM_ARRAY_TASK_MIN");
+    if (id && count) {
+      try {
+        share = std::to_string(std::stoll(id) - (first ? std::stoll(first) : 0)) + "/" + count;
+      } catch (const std::exception&) {
+        throw ConfigError(std::string("ARRAY_TASK AUTO: SLURM_ARRAY_TASK_ID ") + id +
+                          " / SLURM_ARRAY_TASK_COUNT " + count + " are not numbers");
+      }
+    } else {
+      share = "0/1";
+    }
+  }
+  const std::size_t slash = share.find('/');
+  try {
+    std::size_t used = 0;
+    if (slash == std::string::npos) throw std::invalid_argument(share);
+    s.arrayTask = std::stoi(share.substr(0, slash), &used);
+    if (used != slash) throw std::invalid_argument(share);
+    s.arrayTasks = std::stoi(share.substr(slash + 1), &used);
+    if (used != share.size() - slash - 1) throw std::invalid_argument(share);
+  } catch (const std::exception&) {
+    throw ConfigError("ARRAY_TASK " + quoteForMessage(share) + ": give I/N (0 <= I < N) or AUTO");
+  }
+  if (s.arrayTasks < 1 || s.arrayTask < 0 || s.arrayTask >= s.arrayTasks) {
+    throw ConfigError("ARRAY_TASK " + share + ": give I/N with 0 <= I < N");
+  }
+  return s;
+}
+
+std::int64_t BatchReport::failed() const {
+  return std::count_if(reports.begin(), reports.end(),
+                       [](const TileReport& r) { return r.state == TileState::Failed; });
+}
+
+BatchReport runBatch(const BatchSettings& s, const Cluster& cluster, const RunLog& log) {
+  BatchReport report;
+  // Every rank reads the manifest; the root alone checks the tiles' files and OUTPUT_DIR.
+  std::string error;
+  try {
+    report.tiles = readManifest(s.manifest);
+    if (cluster.isRoot()) {
+      checkTiles(s, report.tiles);
+      prepareOutputDirectory(s);
+    }
+  } catch (const Error& e) {
+    error = e.what();
+  }
+  cluster.raiseIfAnyFailed(error, [](const std::string& m) { throw ConfigError(m); });
+  const std::vector<Tile>& tiles = report.tiles;
+  report.reports.assign(tiles.size(), TileReport());
+  const Journal journal((fs::path(s.outputDir) / "journal.txt").string());
+
+  // The root picks the tiles to do: this task's share, less those complete (a `done` line and
+  // the folder in place), largest images first (the ranks then end together).
+  std::vector<std::size_t> todo;
+  std::string plan;
+  if (cluster.isRoot()) {
+    try {
+      const std::set<std::string> done = completedTiles(journal.read());
+      report.run = journal.startRun(std::to_string(tiles.size()) + " tiles, " +
+                                    std::to_string(cluster.size()) + " rank(s), " + shareText(s));
+      std::vector<std::pair<std::uintmax_t, std::size_t>> bySize;
+      for (std::size_t i = 0; i < tiles.size(); ++i) {
+        if (int(i % std::size_t(s.arrayTasks)) != s.arrayTask) continue;
+        if (done.count(tiles[i].name) && tileFolderComplete(s, tiles[i])) {
+          report.reports[i].state = TileState::DoneEarlier;
+          continue;
+        }
+        std::error_code ec;
+        const std::uintmax_t bytes = fs::file_size(tiles[i].imagePath, ec);
+        bySize.push_back({ec ? 0 : bytes, i});
+      }
+      std::stable_sort(bySize.begin(), bySize.end(),
+                       [](const auto& a, const auto& b) { return a.first > b.first; });
+      plan = std::to_string(report.run);
+      for (const auto& [bytes, i] : bySize) plan += " " + std::to_string(i);
+    } catch (const Error& e) {
+      error = e.what();
+    }
+  }
+  cluster.raiseIfAnyFailed(error, [](const std::string& m) { throw IoError(m); });
+  {
+    std::istringstream in(cluster.broadcast(plan));
+    in >> report.run;
+    for (std::size_t i; in >> i;) todo.push_back(i);
+  }
+  const int threads = cluster.threadsPerRank(s.requestedThreads);
+  if (log && cluster.isRoot()) {
+    log("> Batch run " + std::to_string(report.run) + ": " + std::to_string(tiles.size()) +
+        " tiles, " + std::to_string(todo.size()) + " to search (" + shareText(s) + ") on " +
+        std::to_string(cluster.size()) + " rank(s) of " + std::to_string(threads) + " thread(s)");
+  }
+
+  std::int64_t finished = 0;
+  cluster.distribute(
+      std::int64_t(todo.size()),
+      [&](std::int64_t k) -> std::string {
+        const Tile& tile = tiles[todo[std::size_t(k)]];
+        const auto start = std::chrono::steady_clock::now();
+        try {
+          const SearchRunSettings settings = tileSettings(s, tile, threads);
+          const RunLog tileLog = [&](const std::string& line) {
+            if (log && line.rfind("WARNING", 0) == 0) log("tile " + tile.name + ": " + line);
+          };
+          const SearchRun run = searchImage(settings, tileLog);
+          writeSearchOutputs(run, settings, {}, {}, [&](const std::string& dir) {
+            writeAreaFile(dir + "/" + kAreaFile, run);
+          });
+          const double seconds =
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+          return "done\t" + std::to_string(run.result.candidates.size()) + "\t" +
+                 formatNumber(seconds, "%.2f") + "\t" + std::to_string(cluster.rank());
+        } catch (const std::exception& e) {
+          // A message naming a tile's temporary folder names the folder the user knows.
+          return "failed\t" + printableMessage(e.what());
+        }
+      },
+      [&](std::int64_t k, const std::string& text) {
+        const std::size_t i = todo[std::size_t(k)];
+        TileReport r = parseReport(text);
+        ++finished;
+        if (r.state == TileState::Done) {
+          journal.append(report.run, "done", tiles[i].name,
+                         std::to_string(r.candidates) + " candidates, " +
+                             formatNumber(r.seconds, "%.2f") + " s, rank " +
+                             std::to_string(r.rank));
+          if (log) {
+            log("[" + std::to_string(finished) + "/" + std::to_string(todo.size()) + "] " +
+                tiles[i].name + ": " + std::to_string(r.candidates) + " candidate(s), " +
+                formatNumber(r.seconds, "%.1f") + " s (rank " + std::to_string(r.rank) + ")");
+          }
+        } else {
+          journal.append(report.run, "failed", tiles[i].name, r.message);
+          if (log) {
+            log("[" + std::to_string(finished) + "/" + std::to_string(todo.size()) + "] " +
+                tiles[i].name + " FAILED: " + r.message);
+          }
+        }
+        report.reports[i] = std::move(r);
+      });
+  if (!cluster.isRoot()) return report;
+
+  // The survey outputs, once every tile is done or failed (in a job array: by the task that
+  // finishes last, which sees every other task's lines).
+  const std::vector<JournalEntry> entries =
+      journal.appendAndRead(report.run, "finished", "-", shareText(s));
+  std::map<std::string, std::string> latest;
+  for (const JournalEntry& e : entries) {
+    if (e.event == "done" || e.event == "failed") latest[e.tile] = e.event;
+  }
+  report.merged = true;
+  std::vector<TileCandidates> merged;
+  std::vector<std::size_t> mergedIndex;
+  for (std::size_t i = 0; i < tiles.size(); ++i) {
+    const auto it = latest.find(tiles[i].name);
+    TileReport& r = report.reports[i];
+    if (it == latest.end()) {
+      report.merged = false;
+      continue;
+    }
+    if (r.state == TileState::OtherTask) {
+      r.state = it->second == "done" ? TileState::DoneEarlier : TileState::Failed;
+      if (r.state == TileState::Failed) r.message = "(failed in another task; see journal.txt)";
+    }
+    if (it->second == "done" && r.state != TileState::Failed) mergedIndex.push_back(i);
+  }
+  if (report.merged) {
+    const auto start = std::chrono::steady_clock::now();
+    for (const std::size_t i : mergedIndex) merged.push_back(loadTile(s, tiles[i]));
+    report.survey = mergeTiles(merged, s.matchRadiusArcsec);
+    if (log) {
+      log("> Merged " + std::to_string(mergedIndex.size()) + " tiles in " +
+          formatNumber(
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+              "%.2f") +
+          " s");
+    }
+    std::vector<std::int64_t> kept(tiles.size(), 0);
+    for (std::size_t k = 0; k < mergedIndex.size(); ++k) {
+      kept[mergedIndex[k]] = report.survey.keptPerTile[k];
+    }
+    report.survey.keptPerTile = kept;
+  }
+  report.summaryLines = summaryLines(s, report, cluster.size());
+  if (report.merged) {
+    writeSurveyOutputs(s, report);
+    if (log) log("> Wrote " + s.outputDir);
+  }
+  return report;
+}
+
+}  // namespace octarc

@@ -1,0 +1,163 @@
+#include "octarc/batch/Journal.h"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <ctime>
+#include <fstream>
+#include <sstream>
+
+#include "octarc/core/Error.h"
+
+namespace octarc {
+
+namespace {
+
+std::string utcNow() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%S", &tm);
+  return text;
+}
+
+std::string oneField(std::string s) {
+  for (char& c : s) {
+    if (c == '\t' || c == '\n' || c == '\r') c = ' ';
+  }
+  return s.empty() ? "-" : s;
+}
+
+std::vector<JournalEntry> parseJournal(const std::string& text) {
+  std::vector<JournalEntry> entries;
+  std::size_t at = 0;
+  for (std::size_t end; (end = text.find('\n', at)) != std::string::npos; at = end + 1) {
+    std::vector<std::string> f;
+    std::stringstream line(text.substr(at, end - at));
+    for (std::string field; std::getline(line, field, '\t');) f.push_back(field);
+    if (f.size() != 5) continue;
+    JournalEntry e;
+    try {
+      e.run = std::stoi(f[0]);
+    } catch (const std::exception&) {
+      continue;
+    }
+    e.timeUtc = f[1];
+    e.event = f[2];
+    e.tile = f[3];
+    e.detail = f[4];
+    entries.push_back(std::move(e));
+  }
+  return entries;  // text after the last line break: a line cut short, ignored
+}
+
+// An open journal, locked for as long as it lives.
+class LockedJournal {
+ public:
+  explicit LockedJournal(const std::string& path) : path_(path) {
+    fd_ = ::open(path.c_str(), O_RDWR | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0) throw IoError(path + ": cannot open the journal (" + std::strerror(errno) + ")");
+    while (::flock(fd_, LOCK_EX) != 0) {
+      if (errno != EINTR) {
+        const int e = errno;
+        ::close(fd_);
+        throw IoError(path + ": cannot lock the journal (" + std::strerror(e) + ")");
+      }
+    }
+  }
+  ~LockedJournal() { ::close(fd_); }  // closing releases the lock
+  LockedJournal(const LockedJournal&) = delete;
+  LockedJournal& operator=(const LockedJournal&) = delete;
+
+  void append(std::string line) {
+    // After a crash mid-line the file may end inside a line: start on a line of our own.
+    const off_t size = ::lseek(fd_, 0, SEEK_END);
+    char last = '\n';
+    if (size > 0 && ::pread(fd_, &last, 1, size - 1) == 1 && last != '\n') line.insert(0, "\n");
+    std::size_t done = 0;
+    while (done < line.size()) {
+      const ssize_t n = ::write(fd_, line.data() + done, line.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0)
+        throw IoError(path_ + ": cannot write the journal (" + std::strerror(errno) + ")");
+      done += std::size_t(n);
+    }
+    if (::fsync(fd_) != 0 && errno != EINVAL) {
+      throw IoError(path_ + ": cannot sync the journal (" + std::strerror(errno) + ")");
+    }
+  }
+  std::string readAll() {
+    std::string text;
+    char buffer[65536];
+    for (off_t at = 0;;) {
+      const ssize_t n = ::pread(fd_, buffer, sizeof buffer, at);
+      if (n < 0 && errno == EINTR) continue;
+      if (n < 0) throw IoError(path_ + ": cannot read the journal (" + std::strerror(errno) + ")");
+      if (n == 0) break;
+      text.append(buffer, std::size_t(n));
+      at += n;
+    }
+    return text;
+  }
+
+ private:
+  std::string path_;
+  int fd_ = -1;
+};
+
+std::string lineOf(int run, const std::string& event, const std::string& tile,
+                   const std::string& detail) {
+  return std::to_string(run) + "\t" + utcNow() + "\t" + oneField(event) + "\t" + oneField(tile) +
+         "\t" + oneField(detail) + "\n";
+}
+
+}  // namespace
+
+Journal::Journal(std::string path) : path_(std::move(path)) {}
+
+std::vector<JournalEntry> Journal::read() const {
+  std::ifstream in(path_, std::ios::binary);
+  if (!in) {
+    if (::access(path_.c_str(), F_OK) != 0) return {};
+    throw IoError(path_ + ": cannot read the journal");
+  }
+  std::stringstream text;
+  text << in.rdbuf();
+  return parseJournal(text.str());
+}
+
+int Journal::startRun(const std::string& detail) const {
+  LockedJournal journal(path_);
+  int last = 0;
+  for (const JournalEntry& e : parseJournal(journal.readAll())) last = std::max(last, e.run);
+  journal.append(lineOf(last + 1, "start", "-", detail));
+  return last + 1;
+}
+
+void Journal::append(int run, const std::string& event, const std::string& tile,
+                     const std::string& detail) const {
+  LockedJournal journal(path_);
+  journal.append(lineOf(run, event, tile, detail));
+}
+
+std::vector<JournalEntry> Journal::appendAndRead(int run, const std::string& event,
+                                                 const std::string& tile,
+                                                 const std::string& detail) const {
+  LockedJournal journal(path_);
+  journal.append(lineOf(run, event, tile, detail));
+  return parseJournal(journal.readAll());
+}
+
+std::set<std::string> completedTiles(const std::vector<JournalEntry>& entries) {
+  std::set<std::string> done;
+  for (const JournalEntry& e : entries) {
+    if (e.event == "done") done.insert(e.tile);
+  }
+  return done;
+}
+
+}  // namespace octarc

@@ -1,0 +1,155 @@
+#include "octarc/batch/Manifest.h"
+
+#include <glob.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
+
+namespace octarc {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+bool isGlobPattern(const std::string& s) {
+  return s.find_first_of("*?[") != std::string::npos;
+}
+
+std::string tileNameOf(const std::string& imagePath) {
+  std::string name = fs::path(imagePath).filename().string();
+  const auto strip = [&](const char* suffix) {
+    const std::size_t n = std::char_traits<char>::length(suffix);
+    if (name.size() > n && name.compare(name.size() - n, n, suffix) == 0) {
+      name.resize(name.size() - n);
+      return true;
+    }
+    return false;
+  };
+  strip(".fz") || strip(".gz");
+  strip(".fits") || strip(".fit") || strip(".fts");
+  return name;
+}
+
+// Fields of one line: commas separate when there is one, else blanks.
+std::vector<std::string> splitFields(const std::string& line) {
+  std::vector<std::string> fields;
+  const bool csv = line.find(',') != std::string::npos;
+  std::string field;
+  auto flush = [&](bool always) {
+    const std::size_t a = field.find_first_not_of(" \t\r");
+    const std::size_t b = field.find_last_not_of(" \t\r");
+    std::string trimmed = a == std::string::npos ? "" : field.substr(a, b - a + 1);
+    if (always || !trimmed.empty()) fields.push_back(trimmed);
+    field.clear();
+  };
+  for (const char c : line) {
+    if (csv ? c == ',' : (c == ' ' || c == '\t')) {
+      flush(csv);
+    } else {
+      field += c;
+    }
+  }
+  flush(csv);
+  return fields;
+}
+
+bool readable(const std::string& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return false;
+  std::ifstream in(path, std::ios::binary);
+  return bool(in);
+}
+
+}  // namespace
+
+std::vector<Tile> readManifest(const std::string& manifestOrGlob) {
+  std::vector<Tile> tiles;
+  std::error_code ec;
+  std::string where = manifestOrGlob;
+  if (!fs::exists(manifestOrGlob, ec) && isGlobPattern(manifestOrGlob)) {
+    glob_t found{};
+    const int status = ::glob(manifestOrGlob.c_str(), 0, nullptr, &found);
+    for (std::size_t i = 0; status == 0 && i < found.gl_pathc; ++i) {
+      Tile t;
+      t.imagePath = found.gl_pathv[i];
+      t.name = tileNameOf(t.imagePath);
+      tiles.push_back(std::move(t));
+    }
+    ::globfree(&found);
+    std::sort(tiles.begin(), tiles.end(),
+              [](const Tile& a, const Tile& b) { return a.imagePath < b.imagePath; });
+    if (tiles.empty()) throw ConfigError(manifestOrGlob + ": no file matches the pattern");
+  } else {
+    std::ifstream in(manifestOrGlob);
+    if (!in) throw IoError(manifestOrGlob + ": cannot read the manifest");
+    const fs::path base = fs::path(manifestOrGlob).parent_path();
+    auto resolve = [&](const std::string& p) {
+      if (p.empty() || p == "-") return std::string();
+      return fs::path(p).is_absolute() || base.empty() ? p : (base / p).string();
+    };
+    std::string line;
+    for (int n = 1; std::getline(in, line); ++n) {
+      const std::size_t hash = line.find('#');
+      if (hash != std::string::npos) line.resize(hash);
+      const std::vector<std::string> f = splitFields(line);
+      if (f.empty() || (f.size() == 1 && f[0].empty())) continue;
+      const std::string at = manifestOrGlob + ":" + std::to_string(n) + ": ";
+      for (const std::string& field : f) {
+        if (hasControlCharacter(field)) throw ConfigError(at + "holds a control character");
+      }
+      if (tiles.empty() && lowercase(f[0]) == "image") continue;  // a CSV header
+      if (f.size() > 4) {
+        throw ConfigError(at + "too many fields (" + std::to_string(f.size()) +
+                          "): give IMAGE [WEIGHT [MASK [CATALOG]]]");
+      }
+      if (f[0].empty() || f[0] == "-") throw ConfigError(at + "no image");
+      Tile t;
+      t.line = n;
+      t.imagePath = resolve(f[0]);
+      t.weightPath = f.size() > 1 ? resolve(f[1]) : "";
+      t.maskPath = f.size() > 2 ? resolve(f[2]) : "";
+      t.catalogPath = f.size() > 3 ? resolve(f[3]) : "";
+      t.name = tileNameOf(t.imagePath);
+      const std::pair<const char*, const std::string*> files[] = {{"image", &t.imagePath},
+                                                                  {"weight map", &t.weightPath},
+                                                                  {"mask", &t.maskPath},
+                                                                  {"catalog", &t.catalogPath}};
+      for (const auto& [what, path] : files) {
+        if (path->empty()) continue;
+        if (!fs::exists(*path, ec)) throw ConfigError(at + what + " " + *path + ": no such file");
+        if (!readable(*path)) throw ConfigError(at + what + " " + *path + ": cannot be read");
+      }
+      tiles.push_back(std::move(t));
+    }
+    if (tiles.empty()) throw ConfigError(manifestOrGlob + ": the manifest lists no tile");
+  }
+  // Tiles are told apart by name (their output folders) and must not repeat.
+  std::map<std::string, const Tile*> byName, byImage;
+  for (const Tile& t : tiles) {
+    const std::string at =
+        t.line > 0 ? manifestOrGlob + ":" + std::to_string(t.line) + ": " : manifestOrGlob + ": ";
+    const auto lineOf = [&](const Tile* other) {
+      return other->line > 0 ? "line " + std::to_string(other->line) : other->imagePath;
+    };
+    const fs::path canonical = fs::weakly_canonical(t.imagePath, ec);
+    const std::string key = ec ? t.imagePath : canonical.string();
+    if (const auto it = byImage.find(key); it != byImage.end()) {
+      throw ConfigError(at + "duplicate tile: " + t.imagePath + " is already " +
+                        lineOf(it->second));
+    }
+    if (const auto it = byName.find(t.name); it != byName.end()) {
+      throw ConfigError(at + "duplicate tile name " + t.name + " (" + lineOf(it->second) +
+                        "): tiles are named by their image file, which must differ");
+    }
+    byImage[key] = &t;
+    byName[t.name] = &t;
+  }
+  return tiles;
+}
+
+}  // namespace octarc

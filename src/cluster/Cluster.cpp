@@ -1,0 +1,34 @@
+// The parts of the cluster that do not depend on MPI.
+#include "octarc/cluster/Cluster.h"
+
+#include <sched.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <thread>
+
+namespace octarc {
+
+bool launchedAsMpiRank() {
+  // Open MPI's mpirun, PMIx launchers (srun --mpi=pmix, prterun) and PMI-1/2 (srun, MPICH).
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_SIZE"}) {
+    if (std::getenv(name) != nullptr) return true;
+  }
+  return false;
+}
+
+int Cluster::threadsPerRank(int requested) const {
+  if (requested > 0) return requested;
+  const int cores = std::max(1, int(std::thread::hardware_concurrency()));
+  // A launcher that binds its ranks (srun --cpus-per-task, mpirun --bind-to) gives each the
+  // CPUs it may use; an unbound rank shares the machine with the node's other ranks.
+  cpu_set_t allowed;
+  CPU_ZERO(&allowed);
+  if (sched_getaffinity(0, sizeof allowed, &allowed) == 0) {
+    const int bound = CPU_COUNT(&allowed);
+    if (bound > 0 && bound < cores) return bound;
+  }
+  return std::max(1, cores / std::max(1, ranksOnNode_));
+}
+
+}  // namespace octarc

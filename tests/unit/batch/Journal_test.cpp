@@ -1,0 +1,62 @@
+#include "octarc/batch/Journal.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "TestFiles.h"
+
+namespace octarc {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path scratch(const char* name) {
+  const fs::path p = fs::temp_directory_path() / (std::string("octarc-journal-") + name);
+  fs::remove(p);
+  return p;
+}
+
+TEST(Journal, RunsAreNumberedAndLinesReadBack) {
+  const fs::path path = scratch("runs");
+  const Journal journal(path.string());
+  EXPECT_TRUE(journal.read().empty());  // no file yet
+  EXPECT_EQ(journal.startRun("8 tiles"), 1);
+  journal.append(1, "done", "t1", "3 candidates");
+  journal.append(1, "failed", "t2", "t2.fits: not a FITS file\twith a tab\nand a line break");
+  EXPECT_EQ(journal.startRun("8 tiles"), 2);
+  const std::vector<JournalEntry> entries = journal.appendAndRead(2, "done", "t2", "");
+  ASSERT_EQ(entries.size(), 5u);
+  EXPECT_EQ(entries[0].event, "start");
+  EXPECT_EQ(entries[0].tile, "-");
+  EXPECT_EQ(entries[1].run, 1);
+  EXPECT_EQ(entries[1].tile, "t1");
+  EXPECT_EQ(entries[1].detail, "3 candidates");
+  EXPECT_EQ(entries[2].detail, "t2.fits: not a FITS file with a tab and a line break");
+  EXPECT_EQ(entries[3].run, 2);
+  EXPECT_EQ(entries[4].detail, "-");          // an empty field
+  EXPECT_EQ(entries[1].timeUtc.size(), 19u);  // 2026-12-02T18:42:07
+  EXPECT_EQ(completedTiles(entries), (std::set<std::string>{"t1", "t2"}));
+  fs::remove(path);
+}
+
+TEST(Journal, ALineCutShortByACrashIsIgnored) {
+  const fs::path path = scratch("cut");
+  const Journal journal(path.string());
+  journal.startRun("2 tiles");
+  {
+    std::ofstream out(path, std::ios::app);
+    out << "1\t2026-12-02T00:00:00\tdone\tt9";  // killed in the middle of the line
+  }
+  EXPECT_EQ(journal.read().size(), 1u);
+  journal.append(1, "done", "t1", "ok");  // starts on a line of its own
+  const std::vector<JournalEntry> entries = journal.read();
+  ASSERT_EQ(entries.size(), 2u);
+  EXPECT_EQ(entries[1].tile, "t1");
+  EXPECT_EQ(completedTiles(entries), (std::set<std::string>{"t1"}));
+  fs::remove(path);
+}
+
+}  // namespace
+}  // namespace octarc

@@ -1,0 +1,102 @@
+#include "octarc/batch/Manifest.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "ExpectError.h"
+#include "TestFiles.h"
+
+namespace octarc {
+namespace {
+
+namespace fs = std::filesystem;
+using test::writeTextFile;
+
+class ManifestTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("octarc-manifest-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+            "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_ / "tiles");
+    for (const char* f : {"tiles/a.fits", "tiles/a.weight.fits", "tiles/b.fits.fz", "tiles/c.fit",
+                          "tiles/a.reg", "tiles/a.ldac", "other.fits"}) {
+      writeTextFile(dir_ / f, "x");
+    }
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string manifest(const std::string& text) { return writeTextFile(dir_ / "survey.txt", text); }
+  fs::path dir_;
+};
+
+TEST_F(ManifestTest, CsvWithHeaderCommentsAndEmptyFields) {
+  const std::string m = manifest(
+      "image,weight,mask,catalog\n"
+      "# the first tile\n"
+      "tiles/a.fits, tiles/a.weight.fits, tiles/a.reg, tiles/a.ldac\n"
+      "\n"
+      "tiles/b.fits.fz,-,,\n");
+  const std::vector<Tile> tiles = readManifest(m);
+  ASSERT_EQ(tiles.size(), 2u);
+  EXPECT_EQ(tiles[0].name, "a");
+  EXPECT_EQ(tiles[0].line, 3);
+  // Relative paths are taken from the manifest's folder.
+  EXPECT_EQ(tiles[0].imagePath, (dir_ / "tiles/a.fits").string());
+  EXPECT_EQ(tiles[0].weightPath, (dir_ / "tiles/a.weight.fits").string());
+  EXPECT_EQ(tiles[0].maskPath, (dir_ / "tiles/a.reg").string());
+  EXPECT_EQ(tiles[0].catalogPath, (dir_ / "tiles/a.ldac").string());
+  EXPECT_EQ(tiles[1].name, "b");  // .fits.fz stripped
+  EXPECT_EQ(tiles[1].line, 5);
+  EXPECT_EQ(tiles[1].weightPath, "");
+  EXPECT_EQ(tiles[1].maskPath, "");
+}
+
+TEST_F(ManifestTest, BlankSeparatedFieldsAndAbsolutePaths) {
+  const std::string abs = (dir_ / "other.fits").string();
+  const std::vector<Tile> tiles = readManifest(manifest("tiles/c.fit\t- \n" + abs + "\n"));
+  ASSERT_EQ(tiles.size(), 2u);
+  EXPECT_EQ(tiles[0].name, "c");
+  EXPECT_EQ(tiles[1].imagePath, abs);
+  EXPECT_EQ(tiles[1].name, "other");
+}
+
+TEST_F(ManifestTest, GlobOfImagesInSortedOrder) {
+  const std::vector<Tile> tiles = readManifest((dir_ / "tiles" / "*.fit*").string());
+  ASSERT_EQ(tiles.size(), 4u);  // a.fits, a.weight.fits, b.fits.fz, c.fit
+  EXPECT_EQ(tiles[0].name, "a");
+  EXPECT_EQ(tiles[1].name, "a.weight");
+  EXPECT_EQ(tiles[2].name, "b");
+  EXPECT_EQ(tiles[3].name, "c");
+  EXPECT_EQ(tiles[0].line, 0);
+  test::expectError<ConfigError>([&] { readManifest((dir_ / "none" / "*.fits").string()); },
+                                 {"no file matches"});
+}
+
+TEST_F(ManifestTest, BadLinesAreNamedByLine) {
+  test::expectError<ConfigError>(
+      [&] { readManifest(manifest("tiles/a.fits\ntiles/a.fits,tiles/missing.fits\n")); },
+      {"survey.txt:2: ", "weight map", "missing.fits", "no such file"});
+  test::expectError<ConfigError>(
+      [&] { readManifest(manifest("tiles/a.fits\n# c\ntiles/./a.fits\n")); },
+      {"survey.txt:3: ", "duplicate tile", "line 1"});
+  fs::create_directories(dir_ / "b");
+  writeTextFile(dir_ / "b" / "a.fits", "x");
+  test::expectError<ConfigError>([&] { readManifest(manifest("tiles/a.fits\nb/a.fits\n")); },
+                                 {"survey.txt:2: ", "duplicate tile name a", "line 1"});
+  test::expectError<ConfigError>([&] { readManifest(manifest("tiles/a.fits,-,-,-,extra\n")); },
+                                 {"survey.txt:1: ", "too many fields (5)"});
+  // A mask that is a folder cannot be read.
+  test::expectError<ConfigError>([&] { readManifest(manifest("tiles/a.fits,-,tiles\n")); },
+                                 {"survey.txt:1: ", "mask", "cannot be read"});
+  test::expectError<ConfigError>([&] { readManifest(manifest("# nothing\n\n")); },
+                                 {"survey.txt", "lists no tile"});
+  test::expectError<ConfigError>([&] { readManifest(manifest("image,weight\n")); },
+                                 {"lists no tile"});
+  test::expectIoError([&] { readManifest((dir_ / "absent.txt").string()); },
+                      {"absent.txt", "cannot read the manifest"});
+}
+
+}  // namespace
+}  // namespace octarc

@@ -1,0 +1,132 @@
+#include "octarc/batch/SurveyMerge.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "ExpectError.h"
+#include "octarc/selection/SearchMask.h"
+
+namespace octarc {
+namespace {
+
+constexpr int kWidth = 200, kHeight = 100;
+constexpr double kScaleDeg = 1.0 / 3600.0;  // 1 arcsec per pixel
+
+// A TAN WCS at (150, 2) whose reference pixel is at x = crpix1: tile B, with crpix1 150 pixels
+// lower, shows at its pixel x the sky of tile A's pixel x + 150.
+Wcs tanWcs(double crpix1) {
+  FitsHeader h;
+  const std::vector<std::pair<std::string, std::string>> cards = {
+      {"SIMPLE", "T"},
+      {"BITPIX", "-32"},
+      {"NAXIS", "2"},
+      {"NAXIS1", "200"},
+      {"NAXIS2", "100"},
+      {"CTYPE1", "'RA---TAN'"},
+      {"CTYPE2", "'DEC--TAN'"},
+      {"CRPIX1", std::to_string(crpix1)},
+      {"CRPIX2", "50.5"},
+      {"CRVAL1", "150.0"},
+      {"CRVAL2", "2.0"},
+      {"CD1_1", "-2.777777777777778E-04"},
+      {"CD2_2", "2.777777777777778E-04"},
+      {"RADESYS", "'ICRS'"}};
+  for (const auto& [k, v] : cards) h.set(k, v);
+  return *Wcs::fromHeader(h, "tile.fits");
+}
+
+struct Row {
+  double x, y, prob;
+  int spaces;
+};
+
+// A tile of candidates at 1-based pixel positions, its whole area searched.
+TileCandidates tile(const std::string& name, double crpix1, const std::vector<Row>& rows) {
+  TileCandidates t;
+  t.name = name;
+  t.wcs = tanWcs(crpix1);
+  t.widthPix = kWidth;
+  t.heightPix = kHeight;
+  t.blockPix = SearchMask::kAreaBlockPix;
+  t.searchedBlocks = SearchMask(kWidth, kHeight, {}).blockCounts();
+  t.pixelScaleArcsec = 1.0;
+  std::vector<std::int32_t> number, spaces;
+  std::vector<std::string> names;
+  std::vector<double> ra, dec, prob;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto sky = t.wcs->pixelToJ2000(rows[i].x, rows[i].y);
+    number.push_back(std::int32_t(i + 1));
+    names.push_back(name + "-" + std::to_string(i + 1));
+    ra.push_back(sky[0]);
+    dec.push_back(sky[1]);
+    prob.push_back(rows[i].prob);
+    spaces.push_back(rows[i].spaces);
+  }
+  t.candidates.name = "LDAC_OBJECTS";
+  t.candidates.columns = {
+      {"NUMBER", "", "", "", 1, number, "", ""},     {"NAME", "", "", "", 0, names, "", ""},
+      {"ALPHA_J2000", "", "deg", "", 1, ra, "", ""}, {"DELTA_J2000", "", "deg", "", 1, dec, "", ""},
+      {"PROB", "", "", "", 1, prob, "", ""},         {"SPACES", "", "", "", 1, spaces, "", ""}};
+  t.candidates.keywords = {FitsKeyword::integer("NSPACES", 1), FitsKeyword::text("SPNAME1", "A015"),
+                           FitsKeyword::text("SPEXPR1", "ARCNESS > 0.15")};
+  return t;
+}
+
+TEST(SurveyMerge, OverlapCopiesKeptOnceAndTheUnionArea) {
+  // A#1 at (180, 50) and B#1 at (30.2, 50), i.e. A's (180.2, 50): 0.2" apart, one object. A#1
+  // is 79.5 px from A's centre (100.5, 50.5), B#1 70.3 px from B's: B's copy is kept. A#2 and
+  // A#3 are 0.1" apart in the same tile: two candidates. C lies beyond B, 50" from it.
+  const std::vector<TileCandidates> tiles = {
+      tile("A", 100.5, {{180.0, 50.0, 0.9, 1}, {20.0, 50.0, 0.5, 0}, {20.1, 50.0, 0.4, 1}}),
+      tile("B", 100.5 - 150.0, {{30.2, 50.0, 0.9, 1}, {100.0, 50.0, 0.1, 0}}),
+      tile("C", 100.5 - 400.0, {{50.0, 50.0, 0.7, 1}})};
+  const SurveyCandidates merged = mergeTiles(tiles, 1.0);
+  EXPECT_EQ(merged.tileCandidates, 6);
+  EXPECT_EQ(merged.duplicatesRemoved, 1);
+  ASSERT_EQ(merged.table.rows(), 5);
+  // By probability: B#1 (0.9), C#1 (0.7), A#2 (0.5), A#3 (0.4), B#2 (0.1).
+  EXPECT_EQ(merged.table.strings("TILE"), (std::vector<std::string>{"B", "C", "A", "A", "B"}));
+  EXPECT_EQ(merged.table.integers("TILE_NUMBER"), (std::vector<std::int64_t>{1, 1, 2, 3, 2}));
+  EXPECT_EQ(merged.table.integers("NUMBER"), (std::vector<std::int64_t>{1, 2, 3, 4, 5}));
+  EXPECT_EQ(merged.table.strings("NAME")[0], "B-1");
+  EXPECT_EQ(merged.keptPerTile, (std::vector<std::int64_t>{2, 2, 1}));
+  ASSERT_EQ(merged.spaces.size(), 1u);
+  EXPECT_EQ(merged.spaces[0].name, "A015");
+  EXPECT_EQ(merged.spaces[0].candidates, 3);  // B#1, C#1, A#3
+
+  // The union: A and B share 50 of their 200 columns, C stands alone: (350 + 200) x 100 pixels
+  // of 1 arcsec^2 (TAN within 10 arcmin of its tangent point: within 1e-5). The overlap's edge
+  // crosses a column of B's blocks, followed to the pixel.
+  const double pixelDeg2 = kScaleDeg * kScaleDeg;
+  const double exact = 550.0 * 100.0 * pixelDeg2;
+  EXPECT_NEAR(merged.areaDeg2, exact, 1e-5 * exact);
+  EXPECT_LT(merged.areaDeg2, 600.0 * 100.0 * pixelDeg2 * 0.95);  // not the plain sum
+}
+
+TEST(SurveyMerge, TilesWithoutWcsAreAddedAsTheyAre) {
+  TileCandidates a = tile("A", 100.5, {{20.0, 50.0, 0.5, 0}});
+  TileCandidates b = tile("B", 100.5, {{20.0, 50.0, 0.6, 0}});  // same sky as A#1
+  a.wcs.reset();
+  b.wcs.reset();
+  b.pixelScaleArcsec = 2.0;
+  const SurveyCandidates merged = mergeTiles({a, b}, 1.0);
+  EXPECT_EQ(merged.table.rows(), 2);
+  EXPECT_EQ(merged.duplicatesRemoved, 0);
+  const double pixelDeg2 = kScaleDeg * kScaleDeg;
+  EXPECT_NEAR(merged.areaDeg2, 20000.0 * pixelDeg2 * (1.0 + 4.0), 1e-12);
+}
+
+TEST(SurveyMerge, TablesOfOtherColumnsAreRefused) {
+  TileCandidates a = tile("A", 100.5, {});
+  TileCandidates b = tile("B", 100.5, {});
+  b.candidates.columns.pop_back();
+  test::expectError<ConfigError>(
+      [&] {
+        mergeTiles({a, b}, 1.0);
+      },
+      {"tile B", "other columns", "tile A"});
+}
+
+}  // namespace
+}  // namespace octarc
