@@ -1,0 +1,445 @@
+"""`octarc batch` end to end on eight overlapping tiles cut from one simulated field: the survey
+catalog is the same on 1, 2 and 4 MPI ranks and as a job array; its duplicates and its area are
+worked out again here (astropy) from the tiles' own catalogs and the whole field's search; a
+rank killed with SIGKILL, then the same command again, gives the uninterrupted run's outputs;
+a corrupt tile fails alone; bad manifests are refused naming the line. `simulate lenses` gives
+the same data on 1 and 4 ranks."""
+import os
+import shutil
+import signal
+import subprocess
+import tempfile
+import time
+import unittest
+
+import numpy as np
+from astropy.coordinates import SkyCoord
+from astropy.io import fits
+from astropy.wcs import WCS
+import astropy.units as u
+
+from octarc_testlib import (OCTARC, SOURCE_DIR, WorkDirTest, fitsverify_errors, require_program,
+                            run_octarc)
+
+SEX = os.path.join(SOURCE_DIR, "params", "octarc.sex")
+GRID = os.path.join(SOURCE_DIR, "params", "demo.grid.fits")
+FIELD_SIZE = 2400
+# Four columns and two rows of tiles, 700 x 1300 pixels, overlapping by 133 to 200 pixels.
+TILE_X0 = (0, 567, 1133, 1700)
+TILE_Y0 = (0, 1100)
+TILE_W, TILE_H = 700, 1300
+
+
+def mpi_env():
+    env = dict(os.environ)
+    # Open MPI refuses to run as root without these (CLIENTS.md); a container has no CMA.
+    env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_btl_vader_single_copy_mechanism="none")
+    return env
+
+
+def mpi_command(ranks, *args):
+    return ["mpirun", "--oversubscribe", "-np", str(ranks), OCTARC] + [str(a) for a in args]
+
+
+def run_mpi(ranks, *args, check=True, cwd=None):
+    require_program("mpirun")
+    proc = subprocess.run(mpi_command(ranks, *args), capture_output=True, text=True, cwd=cwd,
+                          env=mpi_env())
+    if check and proc.returncode != 0:
+        raise AssertionError("mpirun -np %d octarc %s failed (%d):\n%s\n%s"
+                             % (ranks, " ".join(map(str, args)), proc.returncode, proc.stdout,
+                                proc.stderr))
+    return proc
+
+
+def table_data(path, hdu="LDAC_OBJECTS"):
+    with fits.open(path) as f:
+        return {c.name: np.array(f[hdu].data[c.name]) for c in f[hdu].columns}, f[hdu].header.copy()
+
+
+def assert_same_tables(test, a, b):
+    da, ha = table_data(a)
+    db, hb = table_data(b)
+    test.assertEqual(list(da), list(db))
+    for name in da:
+        x, y = da[name], db[name]
+        if x.dtype.kind == "f":
+            test.assertTrue(np.array_equal(x, y, equal_nan=True), name)
+        else:
+            test.assertTrue(np.array_equal(x, y), name)
+    for key in ("NCANDID", "NTILECND", "NDUPLIC", "SRCHAREA"):
+        if key in ha:
+            test.assertEqual(ha[key], hb[key], key)
+
+
+def read_text(path):
+    with open(path) as f:
+        return f.read()
+
+
+def temporaries(root):
+    found = []
+    for dirpath, dirnames, filenames in os.walk(root):
+        found += [os.path.join(dirpath, n) for n in dirnames + filenames if ".tmp." in n]
+    return found
+
+
+def journal(path):
+    lines = []
+    with open(os.path.join(path, "journal.txt")) as f:
+        for line in f:
+            fields = line.rstrip("\n").split("\t")
+            if len(fields) == 5:
+                lines.append(fields)
+    return lines
+
+
+def make_tiles(directory):
+    """The field, its eight tiles (image and weight, WCS shifted) and their manifest."""
+    field = os.path.join(directory, "field.fits")
+    run_octarc("simulate", "field", "-o", field, "--size", FIELD_SIZE, "--lenses", "40",
+               "--min-einstein-radius", "1.5", "--seed", "21", "--quiet")
+    with fits.open(field) as f, fits.open(os.path.join(directory, "field.weight.fits")) as g:
+        write_tiles(directory, f[0], g[0])
+    return field
+
+
+def write_tiles(directory, image, weight):
+    lines = ["image,weight"]
+    k = 0
+    for y0 in TILE_Y0:
+        for x0 in TILE_X0:
+            k += 1
+            for hdu, suffix in ((image, ""), (weight, ".weight")):
+                header = hdu.header.copy()
+                header["CRPIX1"] -= x0
+                header["CRPIX2"] -= y0
+                data = hdu.data[y0:y0 + TILE_H, x0:x0 + TILE_W]
+                fits.PrimaryHDU(data, header).writeto(
+                    os.path.join(directory, "tile%d%s.fits" % (k, suffix)))
+            lines.append("tile%d.fits,tile%d.weight.fits" % (k, k))
+    with open(os.path.join(directory, "survey.csv"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+class BatchFixture(WorkDirTest):
+    """The tiles, made once, and the uninterrupted one-process run of them."""
+
+    @classmethod
+    def setUpClass(cls):
+        require_program("mpirun")
+        cls.data = tempfile.mkdtemp(prefix="octarc-batch-")
+        cls.field = make_tiles(cls.data)
+        cls.manifest = os.path.join(cls.data, "survey.csv")
+        cls.reference = os.path.join(cls.data, "reference")
+        proc = run_octarc("batch", cls.manifest, *cls.config(cls.reference))
+        cls.reference_stdout = proc.stdout
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.data, ignore_errors=True)
+
+    @staticmethod
+    def config(out, *more):
+        return ["-c", SEX, "-GRID_NAME", GRID, "-WEIGHT_TYPE", "MAP_WEIGHT", "-OUTPUT_DIR", out,
+                *more]
+
+
+class BatchRanks(BatchFixture):
+    def test_one_two_and_four_ranks_give_the_same_survey_catalog(self):
+        ref = os.path.join(self.reference, "candidates.fits")
+        self.assertEqual(fitsverify_errors(ref)[0], 0)
+        for ranks in (1, 2, 4):
+            out = self.path("ranks%d" % ranks)
+            proc = run_mpi(ranks, "batch", self.manifest, *self.config(out, "-NTHREADS", "1"))
+            self.assertIn("(%d rank(s), whole manifest): 8 done, 0 failed" % ranks, proc.stdout)
+            assert_same_tables(self, ref, os.path.join(out, "candidates.fits"))
+            events = journal(out)
+            ranks_seen = {int(d.split("rank ")[1]) for _, _, e, _, d in events if e == "done"}
+            self.assertEqual(len([e for e in events if e[2] == "done"]), 8)
+            self.assertEqual(len(ranks_seen), ranks)  # every rank took tiles
+            self.assertEqual(temporaries(out), [])
+
+    def test_duplicates_and_area_worked_out_again(self):
+        # The tiles' own catalogs, matched here with astropy: copies of two tiles closer than 1"
+        # are one object, kept from the tile whose centre is nearest.
+        copies = []  # (tile index, tile name, NUMBER, ra, dec, distance to its tile's centre)
+        for k in range(1, 9):
+            name = "tile%d" % k
+            data, _ = table_data(os.path.join(self.reference, "tiles", name, "candidates.fits"))
+            w = WCS(fits.getheader(os.path.join(self.data, name + ".fits")))
+            centre = w.pixel_to_world((TILE_W - 1) / 2, (TILE_H - 1) / 2)
+            sky = SkyCoord(data["ALPHA_J2000"] * u.deg, data["DELTA_J2000"] * u.deg)
+            for number, c, d in zip(data["NUMBER"], sky, sky.separation(centre).deg):
+                copies.append((k, name, int(number), c.ra.deg, c.dec.deg, d))
+        sky = SkyCoord([c[3] for c in copies] * u.deg, [c[4] for c in copies] * u.deg)
+        i, j, _, _ = sky.search_around_sky(sky, 1.0 * u.arcsec)
+        parent = list(range(len(copies)))
+
+        def root(a):
+            while parent[a] != a:
+                a = parent[a]
+            return a
+
+        for a, b in zip(i, j):
+            if a < b and copies[a][0] != copies[b][0]:
+                parent[root(b)] = root(a)
+        best = {}
+        for n, c in enumerate(copies):
+            g = root(n)
+            if g not in best or (c[5], c[0], c[2]) < (copies[best[g]][5], copies[best[g]][0],
+                                                       copies[best[g]][2]):
+                best[g] = n
+        expected = sorted((copies[n][1], copies[n][2]) for n in best.values())
+        data, header = table_data(os.path.join(self.reference, "candidates.fits"))
+        got = sorted(zip(data["TILE"], data["TILE_NUMBER"].tolist()))
+        self.assertEqual(got, expected)
+        self.assertEqual(header["NTILECND"], len(copies))
+        self.assertEqual(header["NDUPLIC"], len(copies) - len(best))
+        self.assertGreater(header["NDUPLIC"], 0)  # the overlaps hold objects seen twice
+        self.assertTrue(np.all(np.diff(data["PROB"]) <= 0))  # ranked by probability
+
+        # The union of the tiles' searched areas is the whole field's, as its own search has it.
+        run_octarc("search", self.field, "-c", SEX, "-GRID_NAME", GRID, "-WEIGHT_TYPE",
+                   "MAP_WEIGHT", "-WEIGHT_IMAGE", os.path.join(self.data, "field.weight.fits"),
+                   "-OUTPUT_DIR", self.path("whole"), "-STAMPS", "N")
+        whole = fits.getheader(self.path("whole/candidates.fits"), "LDAC_OBJECTS")["SRCHAREA"]
+        self.assertAlmostEqual(header["SRCHAREA"] / whole, 1.0, delta=1e-4)
+        summary = read_text(os.path.join(self.reference, "summary.txt"))
+        self.assertIn("8 done, 0 failed, 0 skipped", summary)
+        self.assertIn("%d duplicate(s) in overlaps removed" % header["NDUPLIC"], summary)
+
+    def test_survey_index_links_every_tile(self):
+        html = read_text(os.path.join(self.reference, "index.html"))
+        for k in range(1, 9):
+            self.assertIn('href="tiles/tile%d/index.html"' % k, html)
+            self.assertTrue(os.path.exists(
+                os.path.join(self.reference, "tiles", "tile%d" % k, "candidates.reg")))
+
+    def test_job_array_tasks_share_one_journal(self):
+        out = self.path("array")
+        for task in (0, 1):
+            proc = run_octarc("batch", self.manifest,
+                              *self.config(out, "-ARRAY_TASK", "%d/3" % task))
+            self.assertIn("waits for the tiles of the other tasks", proc.stdout)
+            self.assertFalse(os.path.exists(os.path.join(out, "candidates.fits")))
+        # The last task, as Slurm would start it (--array=5-7: task ids 5, 6, 7).
+        env = dict(os.environ, SLURM_ARRAY_TASK_ID="7", SLURM_ARRAY_TASK_MIN="5",
+                   SLURM_ARRAY_TASK_COUNT="3")
+        proc = subprocess.run([OCTARC, "batch", self.manifest, *self.config(out)],
+                              capture_output=True, text=True, env=env)
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        self.assertIn("array task 2/3", proc.stdout)
+        assert_same_tables(self, os.path.join(self.reference, "candidates.fits"),
+                           os.path.join(out, "candidates.fits"))
+        done = [e[3] for e in journal(out) if e[2] == "done"]
+        self.assertEqual(sorted(done), sorted("tile%d" % k for k in range(1, 9)))
+
+
+class BatchResume(BatchFixture):
+    def test_killed_rank_then_rerun_gives_the_uninterrupted_outputs(self):
+        out = self.path("killed")
+        args = ["batch", self.manifest, *self.config(out, "-NTHREADS", "1")]
+        require_program("mpirun")
+        proc = subprocess.Popen(mpi_command(2, *args), stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE, env=mpi_env())
+        killed = None
+        deadline = time.time() + 120
+        while time.time() < deadline and proc.poll() is None and killed is None:
+            done = [e for e in journal(out) if e[2] == "done"] if os.path.exists(
+                os.path.join(out, "journal.txt")) else []
+            if done:
+                killed = rank_process(out, 1)
+                if killed:
+                    os.kill(killed, signal.SIGKILL)
+            time.sleep(0.01)
+        proc.communicate(timeout=120)
+        self.assertIsNotNone(killed, "rank 1 was not found running")
+        self.assertNotEqual(proc.returncode, 0)  # the job ends with its rank
+        first = {e[3] for e in journal(out) if e[2] == "done"}
+        self.assertLess(len(first), 8, "every tile was done before the kill: tiles too fast")
+        self.assertFalse(os.path.exists(os.path.join(out, "candidates.fits")))
+
+        rerun = run_mpi(2, *args)
+        self.assertIn("%d done, 0 failed, %d skipped" % (8 - len(first), len(first)),
+                      rerun.stdout)
+        events = journal(out)
+        second = {e[3] for e in events if e[2] == "done" and e[0] == "2"}
+        self.assertEqual(second, {"tile%d" % k for k in range(1, 9)} - first)  # only the rest
+        self.assertEqual(len([e for e in events if e[2] == "done"]), 8)
+        self.assertEqual(temporaries(out), [])
+        assert_same_tables(self, os.path.join(self.reference, "candidates.fits"),
+                           os.path.join(out, "candidates.fits"))
+        for k in range(1, 9):
+            tile = os.path.join("tiles", "tile%d" % k, "candidates.fits")
+            assert_same_tables(self, os.path.join(self.reference, tile), os.path.join(out, tile))
+
+    def test_interrupted_batch_leaves_no_temporary_and_resumes(self):
+        out = self.path("interrupted")
+        args = [OCTARC, "batch", self.manifest, *self.config(out, "-NTHREADS", "1")]
+        with subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE) as proc:
+            deadline = time.time() + 120
+            while time.time() < deadline and proc.poll() is None:
+                if os.path.exists(os.path.join(out, "journal.txt")) and any(
+                        e[2] == "done" for e in journal(out)):
+                    proc.send_signal(signal.SIGINT)
+                    break
+                time.sleep(0.01)
+            _, err = proc.communicate(timeout=120)
+        self.assertEqual(proc.returncode, 128 + signal.SIGINT, err)
+        self.assertEqual(temporaries(out), [])
+        first = {e[3] for e in journal(out) if e[2] == "done"}
+        self.assertLess(len(first), 8)
+        proc = run_octarc("batch", self.manifest, *self.config(out))
+        self.assertIn("%d done, 0 failed, %d skipped" % (8 - len(first), len(first)), proc.stdout)
+        assert_same_tables(self, os.path.join(self.reference, "candidates.fits"),
+                           os.path.join(out, "candidates.fits"))
+
+    def test_corrupt_tile_is_reported_and_the_others_complete(self):
+        d = self.path("bad")
+        os.mkdir(d)
+        lines = read_text(self.manifest).splitlines()
+        for k in range(1, 9):
+            for suffix in ("", ".weight"):
+                os.symlink(os.path.join(self.data, "tile%d%s.fits" % (k, suffix)),
+                           os.path.join(d, "tile%d%s.fits" % (k, suffix)))
+        os.remove(os.path.join(d, "tile3.fits"))
+        with open(os.path.join(self.data, "tile3.fits"), "rb") as f:
+            head = f.read(2880 * 3)
+        with open(os.path.join(d, "tile3.fits"), "wb") as f:
+            f.write(head)  # the header and a part of the data
+        with open(os.path.join(d, "survey.csv"), "w") as f:
+            f.write("\n".join(lines) + "\n")
+        out = self.path("bad-out")
+        for attempt in (1, 2):
+            proc = run_octarc("batch", os.path.join(d, "survey.csv"), *self.config(out),
+                              check=False)
+            self.assertEqual(proc.returncode, 1, proc.stderr)
+            self.assertIn("failed: tile3 (line 4): ", proc.stdout)
+            self.assertIn("tile3.fits", proc.stdout)
+            if attempt == 1:
+                self.assertIn("7 done, 1 failed, 0 skipped", proc.stdout)
+            else:
+                self.assertIn("0 done, 1 failed, 7 skipped", proc.stdout)
+            self.assertIn("1 tile(s) failed", proc.stderr)
+            self.assertEqual(fitsverify_errors(os.path.join(out, "candidates.fits"))[0], 0)
+            data, _ = table_data(os.path.join(out, "candidates.fits"))
+            self.assertNotIn("tile3", set(data["TILE"]))
+            self.assertGreater(len(data["TILE"]), 0)
+        failed = [e for e in journal(out) if e[2] == "failed"]
+        self.assertEqual([e[3] for e in failed], ["tile3", "tile3"])
+
+
+def rank_process(out, rank):
+    """The pid of the octarc process that is MPI rank `rank` of the batch writing `out`."""
+    for pid in os.listdir("/proc"):
+        if not pid.isdigit():
+            continue
+        try:
+            with open("/proc/%s/cmdline" % pid, "rb") as f:
+                cmdline = f.read().split(b"\0")
+            if os.fsencode(OCTARC) != cmdline[0] or os.fsencode(out) not in cmdline:
+                continue
+            with open("/proc/%s/environ" % pid, "rb") as f:
+                environ = f.read().split(b"\0")
+        except OSError:
+            continue
+        if b"OMPI_COMM_WORLD_RANK=%d" % rank in environ:
+            return int(pid)
+    return None
+
+
+class BatchBadInput(WorkDirTest):
+    def batch(self, manifest, *more):
+        return run_octarc("batch", manifest, "-c", SEX, "-GRID_NAME", GRID, "-OUTPUT_DIR",
+                          self.path("out"), *more, check=False, cwd=self.work)
+
+    def write(self, name, text):
+        with open(self.path(name), "w") as f:
+            f.write(text)
+        return self.path(name)
+
+    def assert_refused(self, proc, *fragments):
+        self.assertNotEqual(proc.returncode, 0)
+        lines = proc.stderr.strip().splitlines()
+        self.assertEqual(len(lines), 1, proc.stderr)
+        for fragment in fragments:
+            self.assertIn(fragment, lines[0])
+        self.assertFalse(os.path.exists(self.path("out")))
+
+    def test_bad_manifest_lines_are_named(self):
+        for name in ("a.fits", "b.fits"):
+            fits.PrimaryHDU(np.zeros((20, 20), np.float32)).writeto(self.path(name))
+        m = self.write("m.txt", "a.fits\n# comment\nmissing.fits\n")
+        self.assert_refused(self.batch(m), "m.txt:3:", "missing.fits", "no such file")
+        m = self.write("m.txt", "a.fits\nb.fits\n./a.fits\n")
+        self.assert_refused(self.batch(m), "m.txt:3:", "duplicate tile", "line 1")
+        self.write("bad.reg", "image\ncircle(10,10\n")
+        m = self.write("m.txt", "a.fits,-,bad.reg\n")
+        self.assert_refused(self.batch(m), "m.txt:1:", "mask", "bad.reg:2")
+        os.mkdir(self.path("folder.reg"))
+        m = self.write("m.txt", "b.fits,-,folder.reg\n")
+        self.assert_refused(self.batch(m), "m.txt:1:", "mask", "cannot be read")
+        m = self.write("m.txt", "a.fits,b.fits\n")
+        self.assert_refused(self.batch(m), "m.txt:1:", "WEIGHT_TYPE is NONE")
+        m = self.write("m.txt", "a.fits\n")
+        self.assert_refused(self.batch(m, "-WEIGHT_TYPE", "MAP_WEIGHT"), "m.txt:1:",
+                            "no weight map")
+
+    def test_zero_tiles_and_other_refusals(self):
+        self.assert_refused(self.batch(self.write("m.txt", "# no tile yet\n")), "m.txt",
+                            "lists no tile")
+        self.assert_refused(self.batch(self.path("none-*.fits")), "no file matches")
+        fits.PrimaryHDU(np.zeros((20, 20), np.float32)).writeto(self.path("a.fits"))
+        m = self.write("m.txt", "a.fits\n")
+        self.assert_refused(self.batch(m, "-MASK_NAME", "x.reg"), "MASK_NAME", "manifest")
+        self.assert_refused(self.batch(m, "-ARRAY_TASK", "3/3"), "ARRAY_TASK")
+        os.mkdir(self.path("out"))
+        self.write("out/notes.txt", "mine")
+        proc = self.batch(m)
+        self.assertNotEqual(proc.returncode, 0)
+        self.assertIn("is not the output of an octarc batch", proc.stderr)
+        self.assertEqual(os.listdir(self.path("out")), ["notes.txt"])
+
+
+class ClusterLenses(WorkDirTest):
+    def lenses(self, ranks, n, out, *more):
+        args = ["simulate", "lenses", "-n", n, "--seed", "17", "-o", self.path(out), "--quiet",
+                *more]
+        if ranks == 1:
+            return run_octarc(*args)
+        return run_mpi(ranks, *args, "--threads", "1")
+
+    def assert_same_data(self, a, b):
+        with fits.open(self.path(a)) as fa, fits.open(self.path(b)) as fb:
+            self.assertEqual(len(fa), len(fb))
+            for ha, hb in zip(fa, fb):
+                if ha.data is None:
+                    continue
+                if isinstance(ha, fits.BinTableHDU):
+                    self.assertEqual(ha.data.tobytes(), hb.data.tobytes(), ha.name)
+                else:
+                    self.assertTrue(np.array_equal(ha.data, hb.data), ha.name)
+
+    def test_twenty_thousand_systems_on_one_and_four_ranks(self):
+        self.lenses(1, 20000, "one.fits")
+        self.lenses(4, 20000, "four.fits")
+        self.assert_same_data("one.fits", "four.fits")
+        with fits.open(self.path("one.fits")) as f:
+            self.assertEqual(len(f["LDAC_OBJECTS"].data), 20000)
+            self.assertGreater(len(f["ARCS"].data), 0)
+
+    def test_stamps_beyond_the_first_rank_share(self):
+        # 40 systems on 4 ranks: the first rank makes 10; stamps of 25 are asked for.
+        self.lenses(1, 40, "one.fits", "--stamps", self.path("one.stamps.fits"),
+                    "--stamp-count", "25")
+        self.lenses(4, 40, "four.fits", "--stamps", self.path("four.stamps.fits"),
+                    "--stamp-count", "25")
+        self.assert_same_data("one.fits", "four.fits")
+        self.assert_same_data("one.stamps.fits", "four.stamps.fits")
+        self.assertEqual(fits.getdata(self.path("four.stamps.fits")).shape[0], 25)
+
+
+if __name__ == "__main__":
+    unittest.main()
