@@ -18,12 +18,6 @@ namespace {
 // SExtractor's token separators in .sex lines (prefs.c): blank, tab, '=', ',', ';', '"'.
 constexpr std::string_view kSeparators = " \t=,;\"\r\n";
 
-std::string upper(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return out;
-}
-
 std::vector<std::string> tokenize(std::string_view line) {
   std::vector<std::string> tokens;
   std::size_t pos = 0;
@@ -113,7 +107,7 @@ std::string canonicalValue(const KeySpec& spec, const std::string& raw, const st
       return raw;
     }
     case KeySpec::Kind::Keyword: {
-      const std::string u = upper(raw);
+      const std::string u = uppercase(raw);
       if (std::find(spec.keywords.begin(), spec.keywords.end(), u) == spec.keywords.end()) {
         std::string allowed;
         for (const auto& k : spec.keywords) allowed += (allowed.empty() ? "" : ", ") + k;
@@ -189,7 +183,7 @@ Config Config::load(const std::vector<KeySpec>& schema, const std::string& sexFi
       ++lineNo;
       std::vector<std::string> tokens = tokenize(line);
       if (tokens.empty() || tokens[0][0] == '#') continue;
-      const std::string key = upper(tokens[0]);
+      const std::string key = uppercase(tokens[0]);
       const std::string where = sexFile + ":" + std::to_string(lineNo);
       const KeySpec* spec = findSpec(schema, key);
       if (!spec) {
@@ -207,7 +201,7 @@ Config Config::load(const std::vector<KeySpec>& schema, const std::string& sexFi
   }
 
   for (const auto& [rawKey, rawValue] : overrides) {
-    std::string key = upper(rawKey);
+    std::string key = uppercase(rawKey);
     if (!key.empty() && key[0] == '-') key.erase(0, 1);
     const KeySpec* spec = findSpec(schema, key);
     if (!spec)
@@ -221,7 +215,7 @@ Config Config::load(const std::vector<KeySpec>& schema, const std::string& sexFi
 }
 
 const Config::Value& Config::find(std::string_view key) const {
-  auto it = values_.find(upper(key));
+  auto it = values_.find(uppercase(key));
   if (it == values_.end()) throw ConfigError(std::string(key) + ": unknown configuration keyword");
   read_.insert(it->first);
   return it->second;
@@ -284,7 +278,7 @@ int Config::count(std::string_view key) const {
 }
 
 bool Config::has(std::string_view key) const {
-  return values_.count(upper(key)) != 0;
+  return values_.count(uppercase(key)) != 0;
 }
 
 bool Config::isExplicit(std::string_view key) const {

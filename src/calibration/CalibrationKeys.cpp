@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/run/PreparedImage.h"
 #include "octarc/selection/ColumnExpression.h"
 #include "octarc/selection/GridBinning.h"
@@ -20,11 +21,6 @@ using Kind = KeySpec::Kind;
 
 using Row = sexcompat::KeyRow;
 
-std::string lower(std::string s) {
-  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
 // The count of a numeric list key (its third value): a whole number from 1 to 1000.
 int wholeCount(double value, const char* key) {
   if (!(value >= 1 && value <= 1000 && std::floor(value) == value)) {
@@ -39,7 +35,7 @@ int wholeCount(double value, const char* key) {
 std::vector<KeySpec> calibrationKeys() {
   std::vector<std::string> types = calibrationPlotTypes();
   std::vector<std::string> names;
-  for (const std::string& t : types) names.push_back(lower(t));
+  for (const std::string& t : types) names.push_back(lowercase(t));
   KeySpec plotType = Row("CHECKPLOT_TYPE", Kind::Keyword, types,
                          "ARCNESS, ANTIARCNESS, SKEW_MAJOR, SKEW_MINOR, E_IMAGE,\nSNR_ISO, "
                          "LENSING_FRACTION, NOISE_THRESHOLD, THRESHOLD_COUNT,\nSNR_FLOOR, "
@@ -224,7 +220,7 @@ CalibrationRun calibrationRunFromConfig(const sexcompat::Config& c,
   if (c.isExplicit("CHECKPLOT_NAME")) {
     names = c.getStrings("CHECKPLOT_NAME");
   } else {
-    for (const std::string& t : types) names.push_back(lower(t));
+    for (const std::string& t : types) names.push_back(lowercase(t));
   }
   const bool none = std::find(types.begin(), types.end(), "NONE") != types.end();
   if (!none) {

@@ -12,6 +12,7 @@
 #include "octarc/catalog/FitsCard.h"
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/io/detail/Cfitsio.h"
 
 namespace octarc {
@@ -47,11 +48,6 @@ bool parsePrintf(const std::string& format, PrintfSpec& out) {
   if (i + 1 != format.size()) return false;
   out.conversion = format[i];
   return std::strchr("dieEfgG", out.conversion) != nullptr;
-}
-
-std::string upper(std::string s) {
-  for (char& c : s) c = char(std::toupper(static_cast<unsigned char>(c)));
-  return s;
 }
 
 // One column's ASCII conversion, parsed once: the printf format rebuilt without length
@@ -358,7 +354,7 @@ void writeAscii(const std::string& path, bool withHeader, const std::vector<Cata
 }  // namespace
 
 CatalogType parseCatalogType(const std::string& keyword) {
-  const std::string k = upper(keyword);
+  const std::string k = uppercase(keyword);
   if (k == "FITS_LDAC") return CatalogType::FitsLdac;
   if (k == "FITS_1.0") return CatalogType::Fits10;
   if (k == "ASCII_HEAD") return CatalogType::AsciiHead;

@@ -10,6 +10,7 @@
 
 #include "octarc/core/Conventions.h"
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/io/Wcs.h"
 
 namespace octarc {
@@ -19,12 +20,6 @@ namespace {
 constexpr double kArcsecPerDeg = 3600.0;
 
 enum class RegionSystem { Image, Physical, SkyJ2000 };
-
-std::string lower(std::string_view text) {
-  std::string out(text);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
 
 std::string_view trim(std::string_view text) {
   const auto first = text.find_first_not_of(" \t\r\n");
@@ -96,7 +91,7 @@ std::optional<double> sexagesimal(std::string_view text) {
 }
 
 double skyLongitudeDeg(const ParseContext& context, std::string_view text) {
-  const std::string t = lower(trim(text));
+  const std::string t = lowercase(trim(text));
   std::optional<double> deg;
   if (t.find(':') != std::string::npos || t.find('h') != std::string::npos) {
     const auto hours = sexagesimal(t);
@@ -111,7 +106,7 @@ double skyLongitudeDeg(const ParseContext& context, std::string_view text) {
 }
 
 double skyLatitudeDeg(const ParseContext& context, std::string_view text) {
-  const std::string t = lower(trim(text));
+  const std::string t = lowercase(trim(text));
   std::optional<double> deg;
   if (t.find(':') != std::string::npos || t.find('m') != std::string::npos) {
     deg = sexagesimal(t);
@@ -359,7 +354,7 @@ void parsePart(const ParseContext& context, std::string_view part, RegionSystem&
                bool& systemSet, int lineNumber, std::vector<RegionShape>& shapes) {
   part = trim(part);
   if (part.empty()) return;
-  const std::string word = lower(part);
+  const std::string word = lowercase(part);
   if (word.starts_with("global")) return;
   if (const auto named = coordinateSystem(context, word)) {
     system = *named;
@@ -378,7 +373,7 @@ void parsePart(const ParseContext& context, std::string_view part, RegionSystem&
       !trim(body.substr(close + 1)).empty()) {
     fail(context, "cannot read '" + std::string(part) + "' as a region shape");
   }
-  const std::string name = lower(trim(body.substr(0, open)));
+  const std::string name = lowercase(trim(body.substr(0, open)));
   const auto args = splitArguments(context, body.substr(open + 1, close - open - 1));
   if (isAreaLessShape(name)) return;
   if (isUnsupportedShape(name)) fail(context, "shape '" + name + "' is not supported");

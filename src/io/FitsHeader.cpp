@@ -7,6 +7,7 @@
 #include <string>
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 
 namespace octarc {
 
@@ -14,12 +15,6 @@ namespace {
 
 constexpr std::size_t kCardLength = 80;
 constexpr std::size_t kKeywordLength = 8;
-
-std::string upper(std::string_view text) {
-  std::string out(text);
-  for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return out;
-}
 
 std::string_view trimRight(std::string_view text) {
   while (!text.empty() && text.back() == ' ') text.remove_suffix(1);
@@ -105,7 +100,7 @@ std::string padCard(std::string card) {
 }  // namespace
 
 std::optional<std::string> FitsHeader::value(std::string_view keyword) const {
-  const std::string key = upper(trim(keyword));
+  const std::string key = uppercase(trim(keyword));
   if (isCommentary(key)) return std::nullopt;
   for (const std::string& card : cards) {
     if (cardKeyword(card) == key && hasValueIndicator(card)) {
@@ -129,7 +124,7 @@ std::optional<double> FitsHeader::number(std::string_view keyword) const {
 
 void FitsHeader::set(std::string_view keyword, std::string_view rawValue,
                      std::string_view comment) {
-  const std::string key = upper(trim(keyword));
+  const std::string key = uppercase(trim(keyword));
   if (key.size() > kKeywordLength) {
     throw IoError("FITS keyword '" + key + "' is longer than 8 characters");
   }

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/io/detail/Cfitsio.h"
 
 namespace octarc {
@@ -26,14 +27,8 @@ constexpr std::size_t kMaxShortString = 68;
 // Rows of a string column read per cfitsio call (bounds the temporary buffers).
 constexpr std::int64_t kStringChunkRows = 4096;
 
-std::string upper(std::string_view text) {
-  std::string out(text);
-  for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return out;
-}
-
 bool sameName(std::string_view a, std::string_view b) {
-  return upper(a) == upper(b);
+  return uppercase(a) == uppercase(b);
 }
 
 std::string where(const std::string& path, std::string_view hdu) {

@@ -4,19 +4,15 @@
 #include <cctype>
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/sexcompat/Config.h"
 
 namespace octarc {
 
 namespace {
 
-std::string upper(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::toupper(c); });
-  return s;
-}
-
 ThresholdType thresholdType(const std::string& keyword) {
-  return upper(keyword) == "ABSOLUTE" ? ThresholdType::Absolute : ThresholdType::Relative;
+  return uppercase(keyword) == "ABSOLUTE" ? ThresholdType::Absolute : ThresholdType::Relative;
 }
 
 // The second value of a key that takes (detection, measurement) pairs like SExtractor's
@@ -30,7 +26,7 @@ std::string secondOrFirst(const sexcompat::Config& config, const char* key) {
 
 RunSettings settingsFromConfig(const sexcompat::Config& config, bool weightMapsElsewhere) {
   RunSettings s;
-  s.catalogType = upper(config.getString("CATALOG_TYPE"));
+  s.catalogType = uppercase(config.getString("CATALOG_TYPE"));
   s.catalogNames = config.getStrings("CATALOG_NAME");
   s.parametersPath = config.getString("PARAMETERS_NAME");
 
@@ -52,7 +48,7 @@ RunSettings settingsFromConfig(const sexcompat::Config& config, bool weightMapsE
   s.filter = config.getBool("FILTER");
   s.filterPath = config.getString("FILTER_NAME");
 
-  const std::string backType = upper(config.getString("BACK_TYPE", 0));
+  const std::string backType = uppercase(config.getString("BACK_TYPE", 0));
   s.backgroundType = backType == "MANUAL"   ? BackgroundType::Manual
                      : backType == "GLOBAL" ? BackgroundType::Global
                                             : BackgroundType::Auto;
@@ -72,7 +68,7 @@ RunSettings settingsFromConfig(const sexcompat::Config& config, bool weightMapsE
   }
 
   // A bare WEIGHT_TYPE keeps the default, NONE (Config: an empty list is "not given").
-  const std::string weightType = upper(config.getString("WEIGHT_TYPE", 0));
+  const std::string weightType = uppercase(config.getString("WEIGHT_TYPE", 0));
   if (weightType == "BACKGROUND") {
     throw ConfigError(
         "WEIGHT_TYPE BACKGROUND is not supported; give a map with MAP_WEIGHT, MAP_RMS or MAP_VAR");
@@ -111,7 +107,7 @@ RunSettings settingsFromConfig(const sexcompat::Config& config, bool weightMapsE
   s.replaceInputCatalog = config.getBool("REPLACE_INPUT_CATALOG");
 
   for (const std::string& t : config.getStrings("CHECKIMAGE_TYPE")) {
-    if (upper(t) != "NONE") s.checkImageTypes.push_back(upper(t));
+    if (uppercase(t) != "NONE") s.checkImageTypes.push_back(uppercase(t));
   }
   if (!s.checkImageTypes.empty()) s.checkImageNames = config.getStrings("CHECKIMAGE_NAME");
   if (s.checkImageTypes.size() != s.checkImageNames.size()) {
@@ -124,8 +120,8 @@ RunSettings settingsFromConfig(const sexcompat::Config& config, bool weightMapsE
         "the FITS standard (and SExtractor's default N) do");
   }
 
-  s.quiet = upper(config.getString("VERBOSE_TYPE")) == "QUIET";
-  s.verboseFull = upper(config.getString("VERBOSE_TYPE")) == "FULL";
+  s.quiet = uppercase(config.getString("VERBOSE_TYPE")) == "QUIET";
+  s.verboseFull = uppercase(config.getString("VERBOSE_TYPE")) == "FULL";
   s.threads = config.getInt("NTHREADS");
   return s;
 }
