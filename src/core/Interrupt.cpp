@@ -156,7 +156,10 @@ void installInterruptCleanup(const std::string& messagePrefix) {
   gStderrIsTerminal = ::isatty(STDERR_FILENO) == 1;
   struct sigaction action {};
   action.sa_handler = onInterrupt;
+  // A second signal during the cleanup must not interrupt it on the same thread: that handler
+  // would wait (pause) for the first, which could then never finish.
   sigemptyset(&action.sa_mask);
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&action.sa_mask, sig);
   action.sa_flags = SA_RESTART;
   for (int sig : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(sig, &action, nullptr);
 }
