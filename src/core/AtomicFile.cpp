@@ -163,18 +163,26 @@ void OutputFiles::commit() {
   markOutputsComplete();
 }
 
+void AtomicDirectory::checkReplaceable(const std::string& finalPath, const std::string& markerFile,
+                                       const std::string& markerText) {
+  if (finalPath.empty()) throw ConfigError("an output directory name is empty");
+  std::string path = finalPath;
+  while (path.size() > 1 && path.back() == '/') path.pop_back();
+  std::error_code ec;
+  if (fs::exists(path, ec) && !holdsMarker(path, markerFile, markerText)) {
+    throw ConfigError(path + ": exists and is not an earlier output of this command (no " +
+                      markerFile + " in it); give a new directory name or remove it");
+  }
+}
+
 AtomicDirectory::AtomicDirectory(std::string finalPath, std::string markerFile,
                                  std::string markerText)
     : finalPath_(std::move(finalPath)),
       markerFile_(std::move(markerFile)),
       markerText_(std::move(markerText)) {
-  if (finalPath_.empty()) throw ConfigError("an output directory name is empty");
+  checkReplaceable(finalPath_, markerFile_, markerText_);
   while (finalPath_.size() > 1 && finalPath_.back() == '/') finalPath_.pop_back();
   std::error_code ec;
-  if (fs::exists(finalPath_, ec) && !holdsMarker(finalPath_, markerFile_, markerText_)) {
-    throw ConfigError(finalPath_ + ": exists and is not an earlier output of this command (no " +
-                      markerFile_ + " in it); give a new directory name or remove it");
-  }
   const fs::path p = fs::path(finalPath_).lexically_normal();
   const fs::path parent = p.parent_path();
   if (!parent.empty() && !fs::is_directory(parent, ec)) {

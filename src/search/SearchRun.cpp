@@ -127,8 +127,8 @@ void checkOutputDirectory(const SearchRunSettings& s) {
                         ", and is replaced whole by the search; choose another OUTPUT_DIR");
     }
   }
-  // The same test AtomicDirectory makes, before any work rather than after it.
-  { AtomicDirectory probe(s.outputDir, kSearchMarkerFile, kSearchMarkerText); }
+  // The test AtomicDirectory makes again when the outputs are written, before any work.
+  AtomicDirectory::checkReplaceable(s.outputDir, kSearchMarkerFile, kSearchMarkerText);
 }
 
 }  // namespace
@@ -332,7 +332,6 @@ void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings
 void writeSearchOutputs(const SearchRun& run, const SearchRunSettings& settings,
                         const ProgressFn& progress, const RunLog& log,
                         const std::function<void(const std::string& dir)>& addFiles) {
-  checkOutputDirectory(settings);
   AtomicDirectory dir(settings.outputDir, kSearchMarkerFile, kSearchMarkerText);
   try {
     fillOutputDirectory(run, settings, dir.tempPath(), progress, addFiles);

@@ -75,6 +75,10 @@ class AtomicDirectory {
   // ConfigError when `finalPath` is empty, or exists and is not a directory holding the
   // marker; IoError when the temporary directory cannot be made.
   AtomicDirectory(std::string finalPath, std::string markerFile, std::string markerText);
+  // The constructor's test alone, for a check before any work: ConfigError when `finalPath` is
+  // empty, or exists and is not a directory holding the marker.
+  static void checkReplaceable(const std::string& finalPath, const std::string& markerFile,
+                               const std::string& markerText);
   AtomicDirectory(const AtomicDirectory&) = delete;
   AtomicDirectory& operator=(const AtomicDirectory&) = delete;
   ~AtomicDirectory();
