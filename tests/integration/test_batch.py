@@ -403,7 +403,9 @@ class BatchBadInput(WorkDirTest):
         self.assertEqual(os.listdir(self.path("out")), ["notes.txt"])
 
 
-class ClusterLenses(WorkDirTest):
+class LensRuns(WorkDirTest):
+    """`simulate lenses` on one process or on MPI ranks, and the comparison of two outputs."""
+
     def lenses(self, ranks, n, out, *more):
         args = ["simulate", "lenses", "-n", n, "--seed", "17", "-o", self.path(out), "--quiet",
                 *more]
@@ -422,6 +424,9 @@ class ClusterLenses(WorkDirTest):
                 else:
                     self.assertTrue(np.array_equal(ha.data, hb.data), ha.name)
 
+
+
+class ClusterLenses(LensRuns):
     def test_twenty_thousand_systems_on_one_and_four_ranks(self):
         self.lenses(1, 20000, "one.fits")
         self.lenses(4, 20000, "four.fits")
@@ -429,6 +434,9 @@ class ClusterLenses(WorkDirTest):
         with fits.open(self.path("one.fits")) as f:
             self.assertEqual(len(f["LDAC_OBJECTS"].data), 20000)
             self.assertGreater(len(f["ARCS"].data), 0)
+
+class ClusterLensStamps(LensRuns):
+    """A small run, also for the sanitizer pass (MPI under ASan)."""
 
     def test_stamps_beyond_the_first_rank_share(self):
         # 40 systems on 4 ranks: the first rank makes 10; stamps of 25 are asked for.
