@@ -29,9 +29,11 @@ packages=(
   libceres-dev
   libgtest-dev
   googletest
-  # Cluster runs (octarc batch, simulate lenses under mpirun or srun): Open MPI
+  # Cluster runs (octarc batch, simulate lenses under mpirun or srun): Open MPI; its mpirun
+  # refuses to start without an ssh client (how it reaches other machines), even for one
   libopenmpi-dev
   openmpi-bin
+  openssh-client
 
   # Packaging: dpkg-shlibdeps finds the Debian package's runtime dependencies (cpack -G DEB)
   dpkg-dev

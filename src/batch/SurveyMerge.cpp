@@ -165,16 +165,13 @@ void appendValue(FitsColumn& to, const FitsColumn& from, std::int64_t row) {
       from.values);
 }
 
+// A column of the same name, description, unit, display and type as `c`, with no rows.
 FitsColumn emptyLike(const FitsColumn& c) {
-  FitsColumn out;
-  out.name = c.name;
-  out.comment = c.comment;
-  out.unit = c.unit;
-  out.display = c.display;
-  out.dimensions = c.dimensions;
-  out.repeat = c.type() == FitsColumnType::String ? 0 : c.repeat;
+  FitsColumn out = c;
   out.values = std::visit(
       [](const auto& v) -> FitsColumnValues { return std::decay_t<decltype(v)>(); }, c.values);
+  out.tform.clear();
+  if (c.type() == FitsColumnType::String) out.repeat = 0;  // as wide as the longest value
   return out;
 }
 
