@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <set>
 #include <tuple>
 
 #include "octarc/core/Conventions.h"
@@ -229,61 +230,52 @@ SurveyCandidates mergeTiles(const std::vector<TileCandidates>& tiles, double mat
   }
   out.tileCandidates = std::int64_t(copies.size());
 
-  // Copies closer than the radius, of different tiles, are one object (grouped with a
-  // union-find over the pairs a grid of cells of the radius's size finds).
-  std::vector<std::size_t> parent(copies.size());
-  std::iota(parent.begin(), parent.end(), std::size_t(0));
-  const auto root = [&](std::size_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
+  // Copies are taken best first (nearest their tile's centre, then the earlier tile, then the
+  // row). A copy closer than the radius to a kept copy of another tile is that object seen
+  // again, unless that kept copy already holds a copy from this copy's tile: two candidates of
+  // one tile are two objects, even when another tile's copy lies between them. Near copies are
+  // found through a grid of cells of the radius's size.
+  std::vector<std::size_t> order(copies.size());
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return std::tie(centreChord[a], copies[a].tile, copies[a].row) <
+           std::tie(centreChord[b], copies[b].tile, copies[b].row);
+  });
   const double radiusChord = chordOf(matchRadiusArcsec / 3600.0);
-  if (radiusChord > 0) {
-    std::map<std::array<std::int64_t, 3>, std::vector<std::size_t>> cells;
-    const auto cellOf = [&](const Vec3& v) {
-      return std::array<std::int64_t, 3>{std::int64_t(std::floor(v[0] / radiusChord)),
-                                         std::int64_t(std::floor(v[1] / radiusChord)),
-                                         std::int64_t(std::floor(v[2] / radiusChord))};
-    };
-    for (std::size_t i = 0; i < copies.size(); ++i) {
-      if (onSky[i]) cells[cellOf(where[i])].push_back(i);
-    }
-    for (std::size_t i = 0; i < copies.size(); ++i) {
-      if (!onSky[i]) continue;
+  const auto cellOf = [&](const Vec3& v) {
+    return std::array<std::int64_t, 3>{std::int64_t(std::floor(v[0] / radiusChord)),
+                                       std::int64_t(std::floor(v[1] / radiusChord)),
+                                       std::int64_t(std::floor(v[2] / radiusChord))};
+  };
+  std::map<std::array<std::int64_t, 3>, std::vector<std::size_t>> keptCells;
+  std::vector<std::set<std::size_t>> tilesHeld(copies.size());  // per kept copy
+  std::vector<std::size_t> kept;
+  for (const std::size_t i : order) {
+    bool duplicate = false;
+    if (onSky[i] && radiusChord > 0) {
       const auto c = cellOf(where[i]);
-      for (std::int64_t dx = -1; dx <= 1; ++dx) {
-        for (std::int64_t dy = -1; dy <= 1; ++dy) {
-          for (std::int64_t dz = -1; dz <= 1; ++dz) {
-            const auto it = cells.find({c[0] + dx, c[1] + dy, c[2] + dz});
-            if (it == cells.end()) continue;
-            for (const std::size_t j : it->second) {
-              if (j <= i || copies[j].tile == copies[i].tile) continue;
-              if (chord2(where[i], where[j]) <= radiusChord * radiusChord) {
-                parent[root(j)] = root(i);
+      for (std::int64_t dx = -1; dx <= 1 && !duplicate; ++dx) {
+        for (std::int64_t dy = -1; dy <= 1 && !duplicate; ++dy) {
+          for (std::int64_t dz = -1; dz <= 1 && !duplicate; ++dz) {
+            const auto it = keptCells.find({c[0] + dx, c[1] + dy, c[2] + dz});
+            if (it == keptCells.end()) continue;
+            for (const std::size_t k : it->second) {
+              if (copies[k].tile == copies[i].tile || tilesHeld[k].count(copies[i].tile)) continue;
+              if (chord2(where[i], where[k]) <= radiusChord * radiusChord) {
+                tilesHeld[k].insert(copies[i].tile);
+                duplicate = true;
+                break;
               }
             }
           }
         }
       }
     }
+    if (duplicate) continue;
+    kept.push_back(i);
+    tilesHeld[i].insert(copies[i].tile);
+    if (onSky[i] && radiusChord > 0) keptCells[cellOf(where[i])].push_back(i);
   }
-  // The copy kept per object: nearest its tile's centre, then the earlier tile, then the row.
-  std::map<std::size_t, std::size_t> best;  // group root -> copy
-  for (std::size_t i = 0; i < copies.size(); ++i) {
-    const std::size_t g = root(i);
-    const auto it = best.find(g);
-    if (it == best.end()) {
-      best[g] = i;
-      continue;
-    }
-    const std::size_t k = it->second;
-    if (std::tie(centreChord[i], copies[i].tile, copies[i].row) <
-        std::tie(centreChord[k], copies[k].tile, copies[k].row)) {
-      it->second = i;
-    }
-  }
-  std::vector<std::size_t> kept;
-  for (const auto& [g, i] : best) kept.push_back(i);
   out.duplicatesRemoved = out.tileCandidates - std::int64_t(kept.size());
   // Survey order: by probability (NaN last), then tile, then the tile's own order.
   std::sort(kept.begin(), kept.end(), [&](std::size_t a, std::size_t b) {

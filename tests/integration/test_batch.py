@@ -175,23 +175,23 @@ class BatchRanks(BatchFixture):
                 copies.append((k, name, int(number), c.ra.deg, c.dec.deg, d))
         sky = SkyCoord([c[3] for c in copies] * u.deg, [c[4] for c in copies] * u.deg)
         i, j, _, _ = sky.search_around_sky(sky, 1.0 * u.arcsec)
-        parent = list(range(len(copies)))
-
-        def root(a):
-            while parent[a] != a:
-                a = parent[a]
-            return a
-
+        near = {}
         for a, b in zip(i, j):
-            if a < b and copies[a][0] != copies[b][0]:
-                parent[root(b)] = root(a)
-        best = {}
-        for n, c in enumerate(copies):
-            g = root(n)
-            if g not in best or (c[5], c[0], c[2]) < (copies[best[g]][5], copies[best[g]][0],
-                                                       copies[best[g]][2]):
-                best[g] = n
-        expected = sorted((copies[n][1], copies[n][2]) for n in best.values())
+            if copies[a][0] != copies[b][0]:
+                near.setdefault(int(a), []).append(int(b))
+        # Best first; a copy near a kept copy of another tile is that object again, unless the
+        # kept copy already stands for a copy of this tile.
+        held = {}
+        best = []
+        for n in sorted(range(len(copies)), key=lambda n: (copies[n][5], copies[n][0],
+                                                           copies[n][2])):
+            match = [k for k in near.get(n, []) if k in held and copies[n][0] not in held[k]]
+            if match:
+                held[match[0]].add(copies[n][0])
+            else:
+                held[n] = {copies[n][0]}
+                best.append(n)
+        expected = sorted((copies[n][1], copies[n][2]) for n in best)
         data, header = table_data(os.path.join(self.reference, "candidates.fits"))
         got = sorted(zip(data["TILE"], data["TILE_NUMBER"].tolist()))
         self.assertEqual(got, expected)

@@ -104,6 +104,19 @@ TEST(SurveyMerge, OverlapCopiesKeptOnceAndTheUnionArea) {
   EXPECT_LT(merged.areaDeg2, 600.0 * 100.0 * pixelDeg2 * 0.95);  // not the plain sum
 }
 
+TEST(SurveyMerge, TwoObjectsOfOneTileStayTwoWhenAnotherTilesCopyLiesBetween) {
+  // A#1 and A#2 are 0.8" apart; B#1 is 0.4" from each. B#1 (70 px from B's centre) is kept
+  // first and is A#1 seen again; A#2 is another object, though B#1 is within 1" of it too.
+  const std::vector<TileCandidates> tiles = {
+      tile("A", 100.5, {{180.0, 50.0, 0.5, 0}, {180.8, 50.0, 0.4, 0}}),
+      tile("B", 100.5 - 150.0, {{30.4, 50.0, 0.9, 0}})};
+  const SurveyCandidates merged = mergeTiles(tiles, 1.0);
+  EXPECT_EQ(merged.duplicatesRemoved, 1);
+  ASSERT_EQ(merged.table.rows(), 2);
+  EXPECT_EQ(merged.table.strings("TILE"), (std::vector<std::string>{"B", "A"}));
+  EXPECT_EQ(merged.table.integers("TILE_NUMBER"), (std::vector<std::int64_t>{1, 2}));
+}
+
 TEST(SurveyMerge, TilesWithoutWcsAreAddedAsTheyAre) {
   TileCandidates a = tile("A", 100.5, {{20.0, 50.0, 0.5, 0}});
   TileCandidates b = tile("B", 100.5, {{20.0, 50.0, 0.6, 0}});  // same sky as A#1
