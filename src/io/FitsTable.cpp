@@ -260,9 +260,26 @@ void writeColumnValues(fitsfile* f, int colnum, const FitsColumn& column, const 
         if constexpr (std::is_same_v<V, std::monostate>) {
           return;
         } else if constexpr (std::is_same_v<V, std::vector<std::string>>) {
+          // A TDIM "(w, n)" makes cfitsio take each cell for n strings of w characters (an
+          // LDAC_IMHEAD cell of 80-character cards): the cells are handed to it so, cut up.
+          std::vector<std::string> pieces;
+          const std::vector<std::string>* strings = &v;
+          if (const std::size_t open = column.dimensions.find('('); open != std::string::npos) {
+            const long width = std::strtol(column.dimensions.c_str() + open + 1, nullptr, 10);
+            const std::size_t cell = std::size_t(stringWidth(column));
+            if (width > 0 && cell % std::size_t(width) == 0) {
+              for (std::string s : v) {
+                s.resize(cell, ' ');
+                for (std::size_t at = 0; at < cell; at += std::size_t(width)) {
+                  pieces.push_back(s.substr(at, std::size_t(width)));
+                }
+              }
+              strings = &pieces;
+            }
+          }
           std::vector<char*> pointers;
-          pointers.reserve(v.size());
-          for (const std::string& s : v) pointers.push_back(const_cast<char*>(s.c_str()));
+          pointers.reserve(strings->size());
+          for (const std::string& s : *strings) pointers.push_back(const_cast<char*>(s.c_str()));
           if (!pointers.empty()) {
             fits_write_col(f, TSTRING, colnum, 1, 1, LONGLONG(pointers.size()), pointers.data(),
                            &status);

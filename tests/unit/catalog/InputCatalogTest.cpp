@@ -8,12 +8,15 @@
 #include <map>
 
 #include "CatalogTestSupport.h"
+#include "FitsHeaders.h"
 #include "TestCommands.h"
 #include "TestPaths.h"
 #include "octarc/catalog/AppendedCatalog.h"
 #include "octarc/catalog/Catalog.h"
+#include "octarc/catalog/FitsCard.h"
 #include "octarc/catalog/InputCatalog.h"
 #include "octarc/core/Error.h"
+#include "octarc/io/FitsTable.h"
 #include "octarc/io/detail/Cfitsio.h"
 
 namespace octarc {
@@ -388,6 +391,28 @@ TEST_F(InputCatalog, ImheadCellMustHoldCardsCfitsioCanParse) {
                 {"LDAC_IMHEAD (HDU 1)", "no END card"});
   // The same cards are read when nothing is wrong: 8 image cards and 46 SEx* cards.
   EXPECT_EQ(readInputCatalog(cat.string())[0].imageHeader.cards.size(), 54u);
+}
+
+}  // namespace
+}  // namespace octarc
+
+namespace octarc {
+namespace {
+
+// The LDAC_IMHEAD a FitsTable writer makes (a search's candidates.fits) holds every card of the
+// image header and the run's, not only the first: cfitsio takes the cell, TDIM (80, n), for n
+// strings of 80 characters.
+TEST(LdacImheadTable, EveryCardReadsBack) {
+  const std::filesystem::path dir = test::scratchDir();
+  const FitsHeader image =
+      test::imageHeader(100, 50, {{"CTYPE1", "'RA---TAN'"}, {"CRVAL1", "150.25"}});
+  const std::string path = (dir / "imhead.fits").string();
+  writeFitsTables(path, {ldacImheadTable(image, {formatCard("OCTVERS", std::string("0.1.0"))})});
+  const FitsHeader back = readLdacImageHeader(path);
+  EXPECT_EQ(back.number("NAXIS1"), 100.0);
+  EXPECT_EQ(back.number("CRVAL1"), 150.25);
+  EXPECT_EQ(back.value("CTYPE1"), "RA---TAN");
+  EXPECT_EQ(back.value("OCTVERS"), "0.1.0");
 }
 
 }  // namespace

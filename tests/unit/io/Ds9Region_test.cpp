@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "ExpectError.h"
+#include "FitsHeaders.h"
 #include "TestCommands.h"
 #include "TestPaths.h"
 #include "octarc/core/Conventions.h"
@@ -28,17 +29,11 @@ std::string num(double v) {
   return text;
 }
 
-using Cards = std::vector<std::pair<std::string, std::string>>;
+using test::Cards;
 
+// A 400 x 300 image with these cards.
 FitsHeader makeHeader(const Cards& cards) {
-  FitsHeader h;
-  h.set("SIMPLE", "T");
-  h.set("BITPIX", "-32");
-  h.set("NAXIS", "2");
-  h.set("NAXIS1", "400");
-  h.set("NAXIS2", "300");
-  for (const auto& [key, value] : cards) h.set(key, value);
-  return h;
+  return test::imageHeader(400, 300, cards);
 }
 
 // A TAN WCS at 0.2 arcsec per pixel, North rotated 30 degrees from +y, East to the left.

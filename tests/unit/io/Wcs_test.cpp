@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "FitsHeaders.h"
 #include "TestCommands.h"
 #include "TestPaths.h"
 #include "octarc/core/Conventions.h"
@@ -28,15 +29,9 @@ std::string num(double v) {
   return text;
 }
 
-FitsHeader makeHeader(const std::vector<std::pair<std::string, std::string>>& cards) {
-  FitsHeader h;
-  h.set("SIMPLE", "T");
-  h.set("BITPIX", "-32");
-  h.set("NAXIS", "2");
-  h.set("NAXIS1", "800");
-  h.set("NAXIS2", "600");
-  for (const auto& [key, value] : cards) h.set(key, value);
-  return h;
+// An 800 x 600 image with these cards.
+FitsHeader makeHeader(const test::Cards& cards) {
+  return test::imageHeader(800, 600, cards);
 }
 
 // A rotated, flipped CD matrix (degrees per pixel) shared by the projection tests.

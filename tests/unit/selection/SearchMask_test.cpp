@@ -7,20 +7,13 @@
 #include <string>
 
 #include "ExpectError.h"
+#include "FitsHeaders.h"
 #include "octarc/io/FitsHeader.h"
 
 namespace octarc {
 namespace {
 
-FitsHeader imageHeader(int width, int height) {
-  FitsHeader h;
-  h.set("SIMPLE", "T");
-  h.set("BITPIX", "-32");
-  h.set("NAXIS", "2");
-  h.set("NAXIS1", std::to_string(width));
-  h.set("NAXIS2", std::to_string(height));
-  return h;
-}
+using test::imageHeader;
 
 std::vector<RegionShape> regions(const std::string& text) {
   return parseDs9Regions(text, "mask.reg", imageHeader(20, 20), "image.fits");
@@ -53,7 +46,8 @@ TEST(SearchMask, BlockCountsAddUpTheSearchedPixelsOfEachBlock) {
   SearchMaskSettings settings;
   settings.borderPix = 5;
   const SearchMask mask(130, 70, settings);
-  const Image<std::int32_t> blocks = mask.blockCounts(64);
+  ASSERT_EQ(SearchMask::kAreaBlockPix, 64);
+  const Image<std::int32_t>& blocks = mask.blockCounts();
   ASSERT_EQ(blocks.width(), 3);
   ASSERT_EQ(blocks.height(), 2);
   EXPECT_EQ(blocks(0, 0), 59 * 59);
