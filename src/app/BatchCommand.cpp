@@ -64,17 +64,33 @@ void printUsage() {
 
 int runBatch(const std::vector<std::string>& args) {
   const Cluster cluster;
-  std::optional<LoadedRun> loaded =
-      loadRun(args, "batch", batchKeys(), printUsage, {}, "manifest", true);
+  // Every rank reads the command line alike; a bad one is said once, by the first rank.
+  std::optional<LoadedRun> loaded;
+  std::optional<BatchSettings> settings;
+  std::exception_ptr error;
+  try {
+    loaded = loadRun(args, "batch", batchKeys(), printUsage, {}, "manifest", true);
+    if (loaded) settings = batchSettingsFromConfig(loaded->config, loaded->settings);
+  } catch (const Error&) {
+    error = std::current_exception();
+  }
+  cluster.raiseIfAnyFailed(error);
   if (!loaded) return 0;
-  const BatchSettings settings = batchSettingsFromConfig(loaded->config, loaded->settings);
   const bool quiet = loaded->settings.quiet;
   const RunLog log = quiet ? RunLog() : [](const std::string& line) { std::cerr << line << "\n"; };
 
-  const BatchReport report = runBatch(settings, cluster, log);
+  BatchReport report;
+  try {
+    report = runBatch(*settings, cluster, log);
+  } catch (const PeerFailed&) {
+    throw;
+  } catch (const std::exception& e) {
+    cluster.abortIfFailedAlone(e.what());
+    throw;
+  }
   if (!cluster.isRoot()) return 0;
   for (const std::string& line : report.summaryLines) std::cout << line << "\n";
-  if (report.merged) std::cout << "Open " << settings.outputDir << "/index.html for the tiles\n";
+  if (report.merged) std::cout << "Open " << settings->outputDir << "/index.html for the tiles\n";
   if (report.failed() > 0) {
     std::cerr << "octarc batch: " << report.failed()
               << " tile(s) failed (see above); run the same command again to retry them\n";

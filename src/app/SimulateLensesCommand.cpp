@@ -163,10 +163,11 @@ int runSimulateLenses(const std::vector<std::string>& args) {
   }
   // Under mpirun or srun the systems are shared between the ranks; the root writes.
   const Cluster cluster;
-  const SourceDatabase sources = sourceDatabase(vm);
+  std::optional<SourceDatabase> sources;
   OutputFiles outputs;
-  std::string error;
+  std::exception_ptr error;
   try {
+    sources = sourceDatabase(vm);
     // The output names are checked before any system is simulated.
     if (cluster.isRoot()) {
       outputs.add(outPath);
@@ -181,27 +182,33 @@ int runSimulateLenses(const std::vector<std::string>& args) {
     }
     // System 0 on this thread first: bad settings (e.g. a sigma range giving no lenses) fail
     // here with one message, before any thread starts.
-    (void)drawLensSystem(setup, sources, seed, 0);
-  } catch (const Error& e) {
-    error = e.what();
+    (void)drawLensSystem(setup, *sources, seed, 0);
+  } catch (const Error&) {
+    error = std::current_exception();
   }
-  cluster.raiseIfAnyFailed(error, [](const std::string& m) { throw ConfigError(m); });
+  cluster.raiseIfAnyFailed(error);
 
   const int threads = cluster.threadsPerRank(vm["threads"].as<int>());
-  const LensRun lensRun = runLensSimulationOnCluster(
-      cluster, setup, sources, seed, count, threads, stampCount,
-      terminalProgress("simulating", "systems", quiet || !cluster.isRoot()));
-  if (!cluster.isRoot()) return 0;
-  // Both files are complete before either appears.
-  outputs.write(0, [&](const std::string& path) {
-    writeLensCatalog(path, lensRun, lensRunCards(lensRun, setup, sources, seed));
-  });
-  if (stampsPath) {
-    outputs.write(1, [&](const std::string& path) {
-      writeLensStamps(path, lensRun, setup.observing.grid.pixelScaleArcsec);
+  LensRun lensRun;
+  try {
+    lensRun = runLensSimulationOnCluster(
+        cluster, setup, *sources, seed, count, threads, stampCount,
+        terminalProgress("simulating", "systems", quiet || !cluster.isRoot()));
+    if (!cluster.isRoot()) return 0;
+    // Both files are complete before either appears.
+    outputs.write(0, [&](const std::string& path) {
+      writeLensCatalog(path, lensRun, lensRunCards(lensRun, setup, *sources, seed));
     });
+    if (stampsPath) {
+      outputs.write(1, [&](const std::string& path) {
+        writeLensStamps(path, lensRun, setup.observing.grid.pixelScaleArcsec);
+      });
+    }
+    outputs.commit();
+  } catch (const std::exception& e) {
+    cluster.abortIfFailedAlone(e.what());  // the other ranks would wait for this one
+    throw;
   }
-  outputs.commit();
 
   const StageTimings& total = lensRun.timings;
   const double wallSec =

@@ -12,6 +12,7 @@
 #include "octarc/batch/Journal.h"
 #include "octarc/catalog/Catalog.h"
 #include "octarc/catalog/FitsCard.h"
+#include "octarc/catalog/InputCatalog.h"
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
@@ -86,35 +87,25 @@ void prepareOutputDirectory(const BatchSettings& s) {
     if (!fs::is_directory(out, ec)) {
       throw ConfigError("OUTPUT_DIR " + s.outputDir + ": exists and is not a directory");
     }
-    std::ifstream in(marker, std::ios::binary);
-    std::stringstream text;
-    text << in.rdbuf();
-    if (!in || text.str() != kBatchMarkerText) {
-      if (!fs::is_empty(out, ec)) {
-        throw ConfigError("OUTPUT_DIR " + s.outputDir +
-                          ": is not the output of an octarc batch (it has no " + kBatchMarkerFile +
-                          "); choose a new or empty directory");
-      }
-    } else {
+    if (holdsMarker(s.outputDir, kBatchMarkerFile, kBatchMarkerText)) {
       fs::create_directories(out / "tiles", ec);
       if (ec) throw IoError(s.outputDir + "/tiles: cannot create (" + ec.message() + ")");
       return;
     }
+    if (!fs::is_empty(out, ec)) {
+      throw ConfigError("OUTPUT_DIR " + s.outputDir +
+                        ": is not the output of an octarc batch (it has no " + kBatchMarkerFile +
+                        "); choose a new or empty directory");
+    }
   }
   fs::create_directories(out / "tiles", ec);
   if (ec) throw IoError("OUTPUT_DIR " + s.outputDir + ": cannot create (" + ec.message() + ")");
-  std::ofstream m(marker, std::ios::binary);
-  m << kBatchMarkerText;
-  m.close();
-  if (!m) throw IoError(marker.string() + ": cannot write");
+  writeTextFile(marker.string(), kBatchMarkerText);
 }
 
 bool tileFolderComplete(const BatchSettings& s, const Tile& t) {
-  std::ifstream in(fs::path(tileFolder(s, t)) / kSearchMarkerFile, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
   std::error_code ec;
-  return in && text.str() == kSearchMarkerText &&
+  return holdsMarker(tileFolder(s, t), kSearchMarkerFile, kSearchMarkerText) &&
          fs::exists(fs::path(tileFolder(s, t)) / kAreaFile, ec);
 }
 
@@ -167,18 +158,44 @@ TileCandidates loadTile(const BatchSettings& s, const Tile& t) {
     }
     c.searchedBlocks(bx[i], by[i]) = std::int32_t(n[i]);
   }
-  c.wcs = Wcs::fromHeader(readImageHeader(t.imagePath).header, t.imagePath);
+  // The WCS from the image header the tile's catalog holds: the image is not read again.
+  const std::string catalog = folder + "/candidates.fits";
+  c.wcs = Wcs::fromHeader(readLdacImageHeader(catalog), catalog);
   return c;
+}
+
+// Tiles as bytes for the other ranks: six fields per tile, each ended by a NUL byte (the
+// manifest refuses control characters in its fields).
+std::string serialiseTiles(const std::vector<Tile>& tiles) {
+  std::string out;
+  for (const Tile& t : tiles) {
+    for (const std::string* f :
+         {&t.name, &t.imagePath, &t.weightPath, &t.maskPath, &t.catalogPath}) {
+      out += *f;
+      out += '\0';
+    }
+    out += std::to_string(t.line);
+    out += '\0';
+  }
+  return out;
+}
+
+std::vector<Tile> parseTiles(const std::string& bytes) {
+  std::vector<std::string> f;
+  for (std::size_t at = 0, end; (end = bytes.find('\0', at)) != std::string::npos; at = end + 1) {
+    f.push_back(bytes.substr(at, end - at));
+  }
+  std::vector<Tile> tiles;
+  for (std::size_t k = 0; k + 6 <= f.size(); k += 6) {
+    tiles.push_back({f[k], f[k + 1], f[k + 2], f[k + 3], f[k + 4], std::stoi(f[k + 5])});
+  }
+  return tiles;
 }
 
 std::string shareText(const BatchSettings& s) {
   return s.arrayTasks > 1
              ? "array task " + std::to_string(s.arrayTask) + "/" + std::to_string(s.arrayTasks)
              : std::string("whole manifest");
-}
-
-std::string perDeg2(std::int64_t n, double areaDeg2) {
-  return areaDeg2 > 0 ? ", " + formatNumber(double(n) / areaDeg2, "%.1f") + " per deg2" : "";
 }
 
 std::vector<std::string> summaryLines(const BatchSettings& s, const BatchReport& r, int ranks) {
@@ -204,14 +221,14 @@ std::vector<std::string> summaryLines(const BatchSettings& s, const BatchReport&
   const SurveyCandidates& sv = r.survey;
   lines.push_back("Searched area " + formatNumber(sv.areaDeg2, "%.5f") +
                   " deg2 (the union of the tiles' searched areas)");
-  lines.push_back(std::to_string(sv.table.rows()) + " candidate(s)" +
-                  perDeg2(sv.table.rows(), sv.areaDeg2) + "; " + std::to_string(sv.tileCandidates) +
-                  " in the tiles, " + std::to_string(sv.duplicatesRemoved) +
-                  " duplicate(s) in overlaps removed");
+  std::string candidates = std::to_string(sv.table.rows()) + " candidate(s)";
+  if (sv.areaDeg2 > 0) {
+    candidates += ", " + formatNumber(double(sv.table.rows()) / sv.areaDeg2, "%.1f") + " per deg2";
+  }
+  lines.push_back(candidates + "; " + std::to_string(sv.tileCandidates) + " in the tiles, " +
+                  std::to_string(sv.duplicatesRemoved) + " duplicate(s) in overlaps removed");
   for (const SpaceTotal& space : sv.spaces) {
-    lines.push_back("  " + space.name + " (" + space.expression +
-                    "): " + std::to_string(space.candidates) + " candidate(s)" +
-                    perDeg2(space.candidates, sv.areaDeg2));
+    lines.push_back(reportSpaceLine(space.name, space.expression, space.candidates, sv.areaDeg2));
   }
   return lines;
 }
@@ -277,16 +294,10 @@ void writeSurveyOutputs(const BatchSettings& s, const BatchReport& r) {
   outputs.write(0, [&](const std::string& path) {
     writeFitsTables(path, {ldacImheadTable(FitsHeader(), cards), objects});
   });
-  auto text = [](const std::string& path, const std::string& body) {
-    std::ofstream out(path, std::ios::binary);
-    out << body;
-    out.close();
-    if (!out) throw IoError(path + ": cannot write");
-  };
   std::string summary;
   for (const std::string& l : r.summaryLines) summary += l + "\n";
-  outputs.write(1, [&](const std::string& path) { text(path, summary); });
-  outputs.write(2, [&](const std::string& path) { text(path, surveyIndexHtml(s, r)); });
+  outputs.write(1, [&](const std::string& path) { writeTextFile(path, summary); });
+  outputs.write(2, [&](const std::string& path) { writeTextFile(path, surveyIndexHtml(s, r)); });
   outputs.commit();
 }
 
@@ -389,53 +400,51 @@ std::int64_t BatchReport::failed() const {
 
 BatchReport runBatch(const BatchSettings& s, const Cluster& cluster, const RunLog& log) {
   BatchReport report;
-  // Every rank reads the manifest; the root alone checks the tiles' files and OUTPUT_DIR.
-  std::string error;
-  try {
-    report.tiles = readManifest(s.manifest);
-    if (cluster.isRoot()) {
-      checkTiles(s, report.tiles);
-      prepareOutputDirectory(s);
-    }
-  } catch (const Error& e) {
-    error = e.what();
-  }
-  cluster.raiseIfAnyFailed(error, [](const std::string& m) { throw ConfigError(m); });
-  const std::vector<Tile>& tiles = report.tiles;
-  report.reports.assign(tiles.size(), TileReport());
   const Journal journal((fs::path(s.outputDir) / "journal.txt").string());
-
-  // The root picks the tiles to do: this task's share, less those complete (a `done` line and
-  // the folder in place), largest images first (the ranks then end together).
-  std::vector<std::size_t> todo;
+  // The root alone reads the manifest, checks the tiles' files and OUTPUT_DIR, and picks the
+  // tiles to do: this task's share, less those complete (a `done` line and the folder in
+  // place), largest images first (the ranks then end together). The other ranks get the tiles
+  // and the plan from it.
+  std::exception_ptr error;
   std::string plan;
   if (cluster.isRoot()) {
     try {
+      report.tiles = readManifest(s.manifest);
+      checkTiles(s, report.tiles);
+      prepareOutputDirectory(s);
       const std::set<std::string> done = completedTiles(journal.read());
-      report.run = journal.startRun(std::to_string(tiles.size()) + " tiles, " +
+      report.run = journal.startRun(std::to_string(report.tiles.size()) + " tiles, " +
                                     std::to_string(cluster.size()) + " rank(s), " + shareText(s));
+      report.reports.assign(report.tiles.size(), TileReport());
       std::vector<std::pair<std::uintmax_t, std::size_t>> bySize;
-      for (std::size_t i = 0; i < tiles.size(); ++i) {
+      for (std::size_t i = 0; i < report.tiles.size(); ++i) {
         if (int(i % std::size_t(s.arrayTasks)) != s.arrayTask) continue;
-        if (done.count(tiles[i].name) && tileFolderComplete(s, tiles[i])) {
+        if (done.count(report.tiles[i].name) && tileFolderComplete(s, report.tiles[i])) {
           report.reports[i].state = TileState::DoneEarlier;
           continue;
         }
         std::error_code ec;
-        const std::uintmax_t bytes = fs::file_size(tiles[i].imagePath, ec);
+        const std::uintmax_t bytes = fs::file_size(report.tiles[i].imagePath, ec);
         bySize.push_back({ec ? 0 : bytes, i});
       }
       std::stable_sort(bySize.begin(), bySize.end(),
                        [](const auto& a, const auto& b) { return a.first > b.first; });
       plan = std::to_string(report.run);
       for (const auto& [bytes, i] : bySize) plan += " " + std::to_string(i);
-    } catch (const Error& e) {
-      error = e.what();
+    } catch (const Error&) {
+      error = std::current_exception();
     }
   }
-  cluster.raiseIfAnyFailed(error, [](const std::string& m) { throw IoError(m); });
+  cluster.raiseIfAnyFailed(error);
+  if (cluster.size() > 1) {
+    const std::string tiles = cluster.broadcast(serialiseTiles(report.tiles));
+    if (!cluster.isRoot()) report.tiles = parseTiles(tiles);
+    plan = cluster.broadcast(plan);
+  }
+  const std::vector<Tile>& tiles = report.tiles;
+  std::vector<std::size_t> todo;
   {
-    std::istringstream in(cluster.broadcast(plan));
+    std::istringstream in(plan);
     in >> report.run;
     for (std::size_t i; in >> i;) todo.push_back(i);
   }
@@ -466,7 +475,7 @@ BatchReport runBatch(const BatchSettings& s, const Cluster& cluster, const RunLo
           return "done\t" + std::to_string(run.result.candidates.size()) + "\t" +
                  formatNumber(seconds, "%.2f") + "\t" + std::to_string(cluster.rank());
         } catch (const std::exception& e) {
-          // A message naming a tile's temporary folder names the folder the user knows.
+          // A tile's trouble is its own: reported and journaled, the others go on.
           return "failed\t" + printableMessage(e.what());
         }
       },
@@ -495,52 +504,59 @@ BatchReport runBatch(const BatchSettings& s, const Cluster& cluster, const RunLo
       });
   if (!cluster.isRoot()) return report;
 
-  // The survey outputs, once every tile is done or failed (in a job array: by the task that
-  // finishes last, which sees every other task's lines).
-  const std::vector<JournalEntry> entries =
-      journal.appendAndRead(report.run, "finished", "-", shareText(s));
-  std::map<std::string, std::string> latest;
-  for (const JournalEntry& e : entries) {
-    if (e.event == "done" || e.event == "failed") latest[e.tile] = e.event;
-  }
-  report.merged = true;
-  std::vector<TileCandidates> merged;
-  std::vector<std::size_t> mergedIndex;
-  for (std::size_t i = 0; i < tiles.size(); ++i) {
-    const auto it = latest.find(tiles[i].name);
-    TileReport& r = report.reports[i];
-    if (it == latest.end()) {
-      report.merged = false;
-      continue;
-    }
-    if (r.state == TileState::OtherTask) {
-      r.state = it->second == "done" ? TileState::DoneEarlier : TileState::Failed;
-      if (r.state == TileState::Failed) r.message = "(failed in another task; see journal.txt)";
-    }
-    if (it->second == "done" && r.state != TileState::Failed) mergedIndex.push_back(i);
-  }
-  if (report.merged) {
-    const auto start = std::chrono::steady_clock::now();
-    for (const std::size_t i : mergedIndex) merged.push_back(loadTile(s, tiles[i]));
-    report.survey = mergeTiles(merged, s.matchRadiusArcsec);
-    if (log) {
-      log("> Merged " + std::to_string(mergedIndex.size()) + " tiles in " +
-          formatNumber(
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
-              "%.2f") +
-          " s");
-    }
-    std::vector<std::int64_t> kept(tiles.size(), 0);
-    for (std::size_t k = 0; k < mergedIndex.size(); ++k) {
-      kept[mergedIndex[k]] = report.survey.keptPerTile[k];
-    }
-    report.survey.keptPerTile = kept;
-  }
-  report.summaryLines = summaryLines(s, report, cluster.size());
-  if (report.merged) {
-    writeSurveyOutputs(s, report);
-    if (log) log("> Wrote " + s.outputDir);
-  }
+  // The survey outputs, once every tile is done or failed. The journal stays locked from this
+  // run's last line to the survey's last file: of a job array's tasks, the one that appends
+  // last sees every other task's lines, and two tasks never write the survey at once.
+  journal.appendWhileLocked(
+      report.run, "finished", "-", shareText(s), [&](const std::vector<JournalEntry>& entries) {
+        std::map<std::string, std::string> latest;
+        for (const JournalEntry& e : entries) {
+          if (e.event == "done" || e.event == "failed") latest[e.tile] = e.event;
+        }
+        report.merged = true;
+        std::vector<TileCandidates> merged;
+        std::vector<std::size_t> mergedIndex;
+        for (std::size_t i = 0; i < tiles.size(); ++i) {
+          const auto it = latest.find(tiles[i].name);
+          TileReport& r = report.reports[i];
+          if (it == latest.end()) {
+            report.merged = false;
+            continue;
+          }
+          if (r.state == TileState::OtherTask) {
+            r.state = it->second == "done" ? TileState::DoneEarlier : TileState::Failed;
+            if (r.state == TileState::Failed)
+              r.message = "(failed in another task; see journal.txt)";
+          }
+          if (it->second == "done" && r.state != TileState::Failed) {
+            // A folder that another task is redoing is not there yet: the survey waits for it.
+            if (!tileFolderComplete(s, tiles[i])) report.merged = false;
+            mergedIndex.push_back(i);
+          }
+        }
+        if (report.merged) {
+          const auto start = std::chrono::steady_clock::now();
+          for (const std::size_t i : mergedIndex) merged.push_back(loadTile(s, tiles[i]));
+          report.survey = mergeTiles(merged, s.matchRadiusArcsec);
+          if (log) {
+            log("> Merged " + std::to_string(mergedIndex.size()) + " tiles in " +
+                formatNumber(
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                    "%.2f") +
+                " s");
+          }
+          std::vector<std::int64_t> kept(tiles.size(), 0);
+          for (std::size_t k = 0; k < mergedIndex.size(); ++k) {
+            kept[mergedIndex[k]] = report.survey.keptPerTile[k];
+          }
+          report.survey.keptPerTile = kept;
+        }
+        report.summaryLines = summaryLines(s, report, cluster.size());
+        if (report.merged) {
+          writeSurveyOutputs(s, report);
+          if (log) log("> Wrote " + s.outputDir);
+        }
+      });
   return report;
 }
 

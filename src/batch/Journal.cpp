@@ -144,12 +144,12 @@ void Journal::append(int run, const std::string& event, const std::string& tile,
   journal.append(lineOf(run, event, tile, detail));
 }
 
-std::vector<JournalEntry> Journal::appendAndRead(int run, const std::string& event,
-                                                 const std::string& tile,
-                                                 const std::string& detail) const {
+void Journal::appendWhileLocked(
+    int run, const std::string& event, const std::string& tile, const std::string& detail,
+    const std::function<void(const std::vector<JournalEntry>&)>& whileLocked) const {
   LockedJournal journal(path_);
   journal.append(lineOf(run, event, tile, detail));
-  return parseJournal(journal.readAll());
+  whileLocked(parseJournal(journal.readAll()));
 }
 
 std::set<std::string> completedTiles(const std::vector<JournalEntry>& entries) {

@@ -81,6 +81,14 @@ std::vector<Tile> readManifest(const std::string& manifestOrGlob) {
       tiles.push_back(std::move(t));
     }
     ::globfree(&found);
+    for (const Tile& t : tiles) {
+      // Names go into the journal's fields and the other ranks' tile lists whole.
+      if (hasControlCharacter(t.imagePath)) {
+        throw ConfigError(manifestOrGlob + ": " + quoteForMessage(t.imagePath) +
+                          " holds a control character");
+      }
+      if (!readable(t.imagePath)) throw ConfigError(t.imagePath + ": cannot be read");
+    }
     std::sort(tiles.begin(), tiles.end(),
               [](const Tile& a, const Tile& b) { return a.imagePath < b.imagePath; });
     if (tiles.empty()) throw ConfigError(manifestOrGlob + ": no file matches the pattern");

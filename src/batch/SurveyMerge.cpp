@@ -123,26 +123,17 @@ double unionAreaDeg2(const std::vector<TileCandidates>& tiles,
       const double reach = footprints[t].radiusChord + footprints[u].radiusChord;
       if (chord2(footprints[t].centre, footprints[u].centre) <= reach * reach) earlier.push_back(u);
     }
-    const Image<std::int32_t>& blocks = tile.searchedBlocks;
-    for (std::int64_t by = 0; by < blocks.height(); ++by) {
-      for (std::int64_t bx = 0; bx < blocks.width(); ++bx) {
-        const std::int32_t count = blocks(bx, by);
-        if (count == 0) continue;
-        const double xc = blockCentreFits(bx, tile.blockPix, tile.widthPix);
-        const double yc = blockCentreFits(by, tile.blockPix, tile.heightPix);
-        double fraction = 1.0;  // of the block's sky that no earlier tile searched
-        if (!earlier.empty()) {
-          const double x0 = double(bx * tile.blockPix) + 0.5;  // 1-based edges of the block
-          const double y0 = double(by * tile.blockPix) + 0.5;
-          const double x1 = double(std::min((bx + 1) * tile.blockPix, tile.widthPix)) + 0.5;
-          const double y1 = double(std::min((by + 1) * tile.blockPix, tile.heightPix)) + 0.5;
-          fraction = uncoveredFraction(tiles, earlier, tile, x0, y0, x1, y1);
-        }
-        if (fraction == 0.0) continue;
-        const double pixelArea = tile.wcs->pixelAreaDeg2(xc, yc);
-        if (std::isfinite(pixelArea)) area += fraction * pixelArea * double(count);
-      }
-    }
+    // The part of each block that no earlier tile searched.
+    const auto share = [&](std::int64_t bx, std::int64_t by) {
+      if (earlier.empty()) return 1.0;
+      const double x0 = double(bx * tile.blockPix) + 0.5;  // 1-based edges of the block
+      const double y0 = double(by * tile.blockPix) + 0.5;
+      const double x1 = double(std::min((bx + 1) * tile.blockPix, tile.widthPix)) + 0.5;
+      const double y1 = double(std::min((by + 1) * tile.blockPix, tile.heightPix)) + 0.5;
+      return uncoveredFraction(tiles, earlier, tile, x0, y0, x1, y1);
+    };
+    area += searchedAreaDeg2(tile.searchedBlocks, tile.blockPix, tile.widthPix, tile.heightPix,
+                             *tile.wcs, share);
   }
   return area;
 }

@@ -28,9 +28,10 @@ std::vector<std::string> Cluster::gather(const std::string& local) const {
   return {local};
 }
 
-void Cluster::raiseIfAnyFailed(const std::string& error,
-                               const std::function<void(const std::string&)>& throwError) const {
-  if (!error.empty()) throwError(error);
+void Cluster::abortIfFailedAlone(const std::string&) const {}
+
+void Cluster::raiseIfAnyFailed(const std::exception_ptr& error) const {
+  if (error) std::rethrow_exception(error);
 }
 
 }  // namespace octarc

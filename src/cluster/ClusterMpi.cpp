@@ -175,18 +175,24 @@ std::vector<std::string> Cluster::gather(const std::string& local) const {
   return all;
 }
 
-void Cluster::raiseIfAnyFailed(const std::string& error,
-                               const std::function<void(const std::string&)>& throwError) const {
+void Cluster::abortIfFailedAlone(const std::string& message) const {
+  if (size_ == 1 || failureShared_) return;
+  std::cerr << "octarc (rank " << rank_ << "): error: " << message << "\n";
+  MPI_Abort(MPI_COMM_WORLD, 1);
+}
+
+void Cluster::raiseIfAnyFailed(const std::exception_ptr& error) const {
   if (size_ == 1) {
-    if (!error.empty()) throwError(error);
+    if (error) std::rethrow_exception(error);
     return;
   }
-  const int mine = error.empty() ? 0 : 1;
+  const int mine = error ? 1 : 0;
   std::vector<int> failed(std::size_t(size_), 0);
   MPI_Allgather(&mine, 1, MPI_INT, failed.data(), 1, MPI_INT, MPI_COMM_WORLD);
   const auto first = std::find(failed.begin(), failed.end(), 1);
   if (first == failed.end()) return;
-  if (int(first - failed.begin()) == rank_) throwError(error);
+  failureShared_ = true;
+  if (int(first - failed.begin()) == rank_) std::rethrow_exception(error);
   throw PeerFailed();
 }
 

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 
 #include "octarc/core/Error.h"
 #include "octarc/core/Interrupt.h"
@@ -61,7 +62,15 @@ void removeStaleTemporaries(const fs::path& dir, const std::string& name) {
   }
 }
 
-// True when `dir` is a directory holding the file `marker` whose content is exactly `text`.
+}  // namespace
+
+void writeTextFile(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << text;
+  out.close();
+  if (!out) throw IoError(path + ": cannot write");
+}
+
 bool holdsMarker(const std::string& dir, const std::string& marker, const std::string& text) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return false;
@@ -72,8 +81,6 @@ bool holdsMarker(const std::string& dir, const std::string& marker, const std::s
   std::fclose(f);
   return n == text.size() && content.compare(0, n, text) == 0;
 }
-
-}  // namespace
 
 AtomicFile::AtomicFile(std::string finalPath) : finalPath_(std::move(finalPath)) {
   const fs::path p(finalPath_);

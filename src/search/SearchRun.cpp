@@ -94,15 +94,6 @@ void requireColumns(const Table& catalog, const std::vector<std::string>& names,
   }
 }
 
-std::string spaceSummary(const SpaceCount& s, double areaDeg2) {
-  std::string line =
-      "  " + s.name + " (" + s.expression + "): " + std::to_string(s.candidates) + " candidate(s)";
-  if (areaDeg2 > 0) {
-    line += ", " + formatNumber(double(s.candidates) / areaDeg2, "%.1f") + " per deg2";
-  }
-  return line;
-}
-
 // Every file the search reads, for the check that none lies inside OUTPUT_DIR.
 std::vector<NamedInput> searchInputs(const SearchRunSettings& s) {
   std::vector<NamedInput> inputs = runInputs(s.run, s.assoc ? s.assoc->listPath : std::string());
@@ -296,6 +287,15 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
   return run;
 }
 
+std::string reportSpaceLine(const std::string& name, const std::string& expression,
+                            std::int64_t candidates, double areaDeg2) {
+  std::string line =
+      "  " + name + " (" + expression + "): " + std::to_string(candidates) + " candidate(s)";
+  if (areaDeg2 > 0)
+    line += ", " + formatNumber(double(candidates) / areaDeg2, "%.1f") + " per deg2";
+  return line;
+}
+
 std::vector<std::string> searchSummaryLines(const SearchRun& run,
                                             const SearchRunSettings& settings) {
   const SearchSummary& s = run.result.summary;
@@ -318,7 +318,8 @@ std::vector<std::string> searchSummaryLines(const SearchRun& run,
   cands += "; " + std::to_string(dark) + " without a visible lens";
   lines.push_back(cands);
   for (const SpaceCount& space : s.spaces) {
-    lines.push_back(spaceSummary(space, s.searchedAreaDeg2));
+    lines.push_back(
+        reportSpaceLine(space.name, space.expression, space.candidates, s.searchedAreaDeg2));
   }
   return lines;
 }
@@ -357,11 +358,9 @@ void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings
   search.pixelScaleArcsec = run.pixelScaleArcsec;
   const Table& catalog = run.catalog;
   const Wcs* wcs = run.image.wcs ? &*run.image.wcs : nullptr;
+  // An error names the temporary folder; writeSearchOutputs puts OUTPUT_DIR in its place.
   auto writeText = [&](const std::string& name, const std::string& text) {
-    std::ofstream out(root / name, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out) throw IoError(settings.outputDir + "/" + name + ": cannot write");
+    writeTextFile((root / name).string(), text);
   };
   const std::vector<std::string> summary = searchSummaryLines(run, settings);
   std::string summaryText;

@@ -45,7 +45,9 @@ void paint(Image<std::uint8_t>& image, const RegionShape& shape, std::uint8_t va
 }  // namespace
 
 SearchMask::SearchMask(std::int64_t width, std::int64_t height, const SearchMaskSettings& settings)
-    : searched_(width, height, 0) {
+    : searched_(width, height, 0),
+      blockCounts_((width + kAreaBlockPix - 1) / kAreaBlockPix,
+                   (height + kAreaBlockPix - 1) / kAreaBlockPix, 0) {
   if (settings.borderPix < 0) {
     throw ConfigError("border margin " + std::to_string(settings.borderPix) + " is negative");
   }
@@ -66,15 +68,18 @@ SearchMask::SearchMask(std::int64_t width, std::int64_t height, const SearchMask
   for (const RegionShape& shape : settings.regions) {
     if (shape.exclude) paint(searched_, shape, 0);
   }
+  // One pass: the border, bad weights, and the counts (all, and per block for the area).
   const std::int64_t border = settings.borderPix;
   for (std::int64_t y = 0; y < height; ++y) {
     const bool rowInBorder = y < border || y >= height - border;
+    std::int32_t* blockRow = width > 0 ? &blockCounts_(0, y / kAreaBlockPix) : nullptr;
     for (std::int64_t x = 0; x < width; ++x) {
       std::uint8_t& pixel = searched_(x, y);
       if (rowInBorder || x < border || x >= width - border) pixel = 0;
       // +Inf marks a bad weight; NaN (never made by prepareImage) is treated the same.
       if (variance != nullptr && !std::isfinite((*variance)(x, y))) pixel = 0;
       searchedCount_ += pixel;
+      blockRow[x / kAreaBlockPix] += pixel;
     }
   }
 }
@@ -87,25 +92,16 @@ bool SearchMask::searched(double xFits, double yFits) const {
   return searchedPixel(static_cast<std::int64_t>(x), static_cast<std::int64_t>(y));
 }
 
-Image<std::int32_t> SearchMask::blockCounts(std::int64_t blockPix) const {
-  const std::int64_t nx = (width() + blockPix - 1) / blockPix;
-  const std::int64_t ny = (height() + blockPix - 1) / blockPix;
-  Image<std::int32_t> counts(nx, ny);
-  for (std::int64_t y = 0; y < height(); ++y) {
-    const std::uint8_t* row = &searched_(0, y);
-    std::int32_t* out = &counts(0, y / blockPix);
-    for (std::int64_t x = 0; x < width(); ++x) out[x / blockPix] += row[x];
-  }
-  return counts;
-}
-
 double searchedAreaDeg2(const Image<std::int32_t>& blockCounts, std::int64_t blockPix,
-                        std::int64_t width, std::int64_t height, const Wcs& wcs) {
+                        std::int64_t width, std::int64_t height, const Wcs& wcs,
+                        const std::function<double(std::int64_t, std::int64_t)>& share) {
   double areaDeg2 = 0.0;
   for (std::int64_t by = 0; by < blockCounts.height(); ++by) {
     for (std::int64_t bx = 0; bx < blockCounts.width(); ++bx) {
       const std::int32_t count = blockCounts(bx, by);
       if (count == 0) continue;
+      const double fraction = share ? share(bx, by) : 1.0;
+      if (fraction == 0.0) continue;
       const double xc = blockCentreFits(bx, blockPix, width);
       const double yc = blockCentreFits(by, blockPix, height);
       const double pixelAreaDeg2 = wcs.pixelAreaDeg2(xc, yc);
@@ -113,7 +109,7 @@ double searchedAreaDeg2(const Image<std::int32_t>& blockCounts, std::int64_t blo
         throw ConfigError("the WCS gives no pixel area at pixel (" + std::to_string(xc) + ", " +
                           std::to_string(yc) + ") of the searched area");
       }
-      areaDeg2 += pixelAreaDeg2 * double(count);
+      areaDeg2 += fraction * pixelAreaDeg2 * double(count);
     }
   }
   return areaDeg2;
@@ -126,8 +122,7 @@ double blockCentreFits(std::int64_t block, std::int64_t blockPix, std::int64_t s
 }
 
 double SearchMask::searchedAreaDeg2(const Wcs& wcs) const {
-  return octarc::searchedAreaDeg2(blockCounts(kAreaBlockPix), kAreaBlockPix, width(), height(),
-                                  wcs);
+  return octarc::searchedAreaDeg2(blockCounts_, kAreaBlockPix, width(), height(), wcs);
 }
 
 }  // namespace octarc

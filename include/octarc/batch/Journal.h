@@ -3,15 +3,17 @@
 //   RUN <tab> UTC time <tab> EVENT <tab> TILE <tab> DETAIL
 //
 // EVENT is `start` (TILE "-", DETAIL: tiles, ranks, array share), `done` (DETAIL: candidates,
-// seconds, rank) or `failed` (DETAIL: the error). A `done` line is written only after the
-// tile's folder is complete and in place, so a tile is complete exactly when a `done` line
-// names it; a rerun redoes every other tile. RUN counts the batch runs into this directory
-// (1, 2, ...), so the journal shows which tiles each run did.
+// seconds, rank), `failed` (DETAIL: the error) or `finished` (TILE "-": the run, or the array
+// task, is over). A `done` line is written only after the tile's folder is complete and in
+// place; a rerun redoes every tile without one (or whose folder has gone). RUN counts the batch
+// runs into this directory (1, 2, ...; each task of a job array is a run of its own), so the
+// journal shows which tiles each run did.
 //
 // Lines are appended with O_APPEND under an exclusive flock and synced, so that the tasks of a
 // job array can share one journal. A line cut short by a crash is ignored when reading.
 #pragma once
 
+#include <functional>
 #include <set>
 #include <string>
 #include <vector>
@@ -39,10 +41,12 @@ class Journal {
   // Appends one line (tabs and line breaks in the fields become blanks); IoError on failure.
   void append(int run, const std::string& event, const std::string& tile,
               const std::string& detail) const;
-  // The same, and returns every line (this one included) read under the same lock: of the job
-  // array's tasks, the one that appends the last line sees every other line.
-  std::vector<JournalEntry> appendAndRead(int run, const std::string& event,
-                                          const std::string& tile, const std::string& detail) const;
+  // The same, then whileLocked(every line, this one included) with the journal still locked:
+  // of a job array's tasks, the one that appends the last line sees every other line, and what
+  // it does then (the survey outputs) no other task does at the same time.
+  void appendWhileLocked(
+      int run, const std::string& event, const std::string& tile, const std::string& detail,
+      const std::function<void(const std::vector<JournalEntry>&)>& whileLocked) const;
 
  private:
   std::string path_;

@@ -32,7 +32,7 @@ struct Tile {
 // The tiles of `manifestOrGlob`. ConfigError naming the manifest and line ("survey.txt:4: ...")
 // for a missing or unreadable file, a repeated image or tile name, too many fields, or a
 // manifest (or glob) of no tile; IoError when the manifest itself cannot be read. Masks are
-// only opened here; they are parsed when the tile is searched.
+// only opened here; the batch parses them against their images before any tile is searched.
 std::vector<Tile> readManifest(const std::string& manifestOrGlob);
 
 }  // namespace octarc

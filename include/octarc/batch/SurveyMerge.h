@@ -5,9 +5,9 @@
 // Duplicates: candidates of different tiles closer on the sky than the match radius are one
 // object; the copy kept is the one nearest its own tile's centre (the tile that saw it best,
 // far from an edge), ties going to the earlier tile. A kept copy stands for at most one copy of
-// each other tile: two candidates of one tile stay two objects. Union: each block of searched pixels
-// (SearchMask::kAreaBlockPix on a side) counts for the part of it that no earlier tile searched
-// (the block of the earlier tile holding that sky position has searched pixels); where an
+// each other tile: two candidates of one tile stay two objects. Union: each block of searched
+// pixels (SearchMask::kAreaBlockPix on a side) counts for the part of it that no earlier tile
+// searched (the block of the earlier tile holding that sky position has searched pixels); where an
 // earlier tile's edge crosses a block, the block is divided down to the pixels along the edge.
 // Tiles without a celestial WCS cannot be matched on the sky: their candidates are all kept and
 // their area (from the pixel scale) added.

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <exception>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -55,17 +56,21 @@ class Cluster {
   std::string broadcast(const std::string& bytes) const;
   // Every rank's bytes at the root, in rank order (one element per rank); empty elsewhere.
   std::vector<std::string> gather(const std::string& local) const;
-  // After a step every rank ran: when any rank's `error` is not empty, the lowest such rank
-  // calls throwError(error) (which throws) and every other rank throws PeerFailed; otherwise
-  // returns. Without MPI: throwError(error) when `error` is not empty.
-  void raiseIfAnyFailed(const std::string& error,
-                        const std::function<void(const std::string&)>& throwError) const;
+  // For a command's last catch: an error that only this rank met (not one raiseIfAnyFailed
+  // shared) leaves the other ranks waiting for it, so the whole job ends here, after `message`
+  // is printed. Does nothing without MPI, on one rank, or for an error every rank knows of.
+  void abortIfFailedAlone(const std::string& message) const;
+  // After a step every rank ran: when any rank's `error` is set (the exception it caught), the
+  // lowest such rank rethrows its own and every other rank throws PeerFailed; otherwise
+  // returns. Without MPI: rethrows `error` when set.
+  void raiseIfAnyFailed(const std::exception_ptr& error) const;
 
  private:
   int rank_ = 0;
   int size_ = 1;
   int ranksOnNode_ = 1;
   bool usesMpi_ = false;
+  mutable bool failureShared_ = false;  // raiseIfAnyFailed threw on every rank
 };
 
 // True when the environment says this process is an MPI rank.

@@ -99,6 +99,14 @@ class AtomicDirectory {
   bool committed_ = false;
 };
 
+// Writes `text` to the file `path` (an output's temporary path, say), replacing it; IoError
+// naming the path when it cannot be written whole.
+void writeTextFile(const std::string& path, const std::string& text);
+
+// True when `dir` is a directory holding the file `marker` whose content is exactly `text`: an
+// output directory of a known kind (an AtomicDirectory's, a batch's).
+bool holdsMarker(const std::string& dir, const std::string& marker, const std::string& text);
+
 // Throws ConfigError when `outputPath` names the same file as `inputPath` (same path, or the same
 // file through a link): `outputKey` and `inputKey` name the options in the message, e.g.
 // "CATALOG_NAME x.ldac is also INPUT_CATALOG: ...".

@@ -80,6 +80,11 @@ struct SearchRun {
 // is written.
 SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log);
 
+// One report space's line of a summary: "  NAME (cut): N candidate(s), D per deg2" (without the
+// density when there is no area).
+std::string reportSpaceLine(const std::string& name, const std::string& expression,
+                            std::int64_t candidates, double areaDeg2);
+
 // The summary lines (printed, in summary.txt and on the contact sheet).
 std::vector<std::string> searchSummaryLines(const SearchRun& run,
                                             const SearchRunSettings& settings);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -37,24 +38,26 @@ class SearchMask {
   // area of the WCS at its centre (the Jacobian determinant). Throws ConfigError where the WCS
   // gives no area for a block holding searched pixels.
   double searchedAreaDeg2(const Wcs& wcs) const;
-  // Searched pixels per block of blockPix x blockPix pixels (the last row and column of blocks
-  // may be cut by the image's edge): the searched area at block resolution, as a batch keeps it
-  // for the union of overlapping tiles.
-  Image<std::int32_t> blockCounts(std::int64_t blockPix = kAreaBlockPix) const;
+  // Searched pixels per block of kAreaBlockPix x kAreaBlockPix pixels (the last row and column
+  // of blocks may be cut by the image's edge), counted with the mask: the searched area at
+  // block resolution, as a batch keeps it for the union of overlapping tiles.
+  const Image<std::int32_t>& blockCounts() const { return blockCounts_; }
 
-  // The pixel area changes slowly across an image: one Jacobian per block is exact enough.
   static constexpr std::int64_t kAreaBlockPix = 64;
 
  private:
   Image<std::uint8_t> searched_;
+  Image<std::int32_t> blockCounts_;
   std::int64_t searchedCount_ = 0;
 };
 
 // The area of searched pixels counted per block (SearchMask::blockCounts), each block weighted
-// by the pixel area of the WCS at its centre. ConfigError where the WCS gives no area for a
-// block holding searched pixels.
+// by the pixel area of the WCS at its centre, and by share(bx, by) when given (the part of block
+// (bx, by) to count: a batch's union leaves out what an earlier tile searched). ConfigError
+// where the WCS gives no area for a block holding searched pixels.
 double searchedAreaDeg2(const Image<std::int32_t>& blockCounts, std::int64_t blockPix,
-                        std::int64_t width, std::int64_t height, const Wcs& wcs);
+                        std::int64_t width, std::int64_t height, const Wcs& wcs,
+                        const std::function<double(std::int64_t, std::int64_t)>& share = {});
 
 // The 1-based pixel coordinate of the centre of block `block` along an axis of `size` pixels.
 double blockCentreFits(std::int64_t block, std::int64_t blockPix, std::int64_t size);

@@ -4,6 +4,8 @@
 
 #include <stdexcept>
 
+#include "octarc/core/Error.h"
+
 namespace octarc {
 namespace {
 
@@ -24,10 +26,9 @@ TEST(Cluster, OneProcessRunsEveryTaskInOrder) {
   EXPECT_EQ(cluster.broadcast("plan"), "plan");
   EXPECT_EQ(cluster.threadsPerRank(3), 3);
   EXPECT_GE(cluster.threadsPerRank(0), 1);
-  EXPECT_NO_THROW(cluster.raiseIfAnyFailed("", [](const std::string&) {}));
-  EXPECT_THROW(
-      cluster.raiseIfAnyFailed("bad", [](const std::string& m) { throw std::runtime_error(m); }),
-      std::runtime_error);
+  EXPECT_NO_THROW(cluster.raiseIfAnyFailed(nullptr));
+  // The error itself, of its own type.
+  EXPECT_THROW(cluster.raiseIfAnyFailed(std::make_exception_ptr(IoError("x.fits: gone"))), IoError);
 }
 
 }  // namespace

@@ -1,6 +1,9 @@
 #include "octarc/batch/Journal.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -26,7 +29,14 @@ TEST(Journal, RunsAreNumberedAndLinesReadBack) {
   journal.append(1, "done", "t1", "3 candidates");
   journal.append(1, "failed", "t2", "t2.fits: not a FITS file\twith a tab\nand a line break");
   EXPECT_EQ(journal.startRun("8 tiles"), 2);
-  const std::vector<JournalEntry> entries = journal.appendAndRead(2, "done", "t2", "");
+  std::vector<JournalEntry> entries;
+  journal.appendWhileLocked(2, "done", "t2", "", [&](const std::vector<JournalEntry>& lines) {
+    entries = lines;
+    // Locked meanwhile: another open description of the file cannot take the lock.
+    const int fd = ::open(path.c_str(), O_RDONLY);
+    EXPECT_NE(::flock(fd, LOCK_EX | LOCK_NB), 0);
+    ::close(fd);
+  });
   ASSERT_EQ(entries.size(), 5u);
   EXPECT_EQ(entries[0].event, "start");
   EXPECT_EQ(entries[0].tile, "-");

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "ExpectError.h"
+#include "FitsHeaders.h"
 #include "octarc/selection/SearchMask.h"
 
 namespace octarc {
@@ -16,23 +17,16 @@ constexpr double kScaleDeg = 1.0 / 3600.0;  // 1 arcsec per pixel
 // A TAN WCS at (150, 2) whose reference pixel is at x = crpix1: tile B, with crpix1 150 pixels
 // lower, shows at its pixel x the sky of tile A's pixel x + 150.
 Wcs tanWcs(double crpix1) {
-  FitsHeader h;
-  const std::vector<std::pair<std::string, std::string>> cards = {
-      {"SIMPLE", "T"},
-      {"BITPIX", "-32"},
-      {"NAXIS", "2"},
-      {"NAXIS1", "200"},
-      {"NAXIS2", "100"},
-      {"CTYPE1", "'RA---TAN'"},
-      {"CTYPE2", "'DEC--TAN'"},
-      {"CRPIX1", std::to_string(crpix1)},
-      {"CRPIX2", "50.5"},
-      {"CRVAL1", "150.0"},
-      {"CRVAL2", "2.0"},
-      {"CD1_1", "-2.777777777777778E-04"},
-      {"CD2_2", "2.777777777777778E-04"},
-      {"RADESYS", "'ICRS'"}};
-  for (const auto& [k, v] : cards) h.set(k, v);
+  const FitsHeader h = test::imageHeader(kWidth, kHeight,
+                                         {{"CTYPE1", "'RA---TAN'"},
+                                          {"CTYPE2", "'DEC--TAN'"},
+                                          {"CRPIX1", std::to_string(crpix1)},
+                                          {"CRPIX2", "50.5"},
+                                          {"CRVAL1", "150.0"},
+                                          {"CRVAL2", "2.0"},
+                                          {"CD1_1", "-2.777777777777778E-04"},
+                                          {"CD2_2", "2.777777777777778E-04"},
+                                          {"RADESYS", "'ICRS'"}});
   return *Wcs::fromHeader(h, "tile.fits");
 }
 
