@@ -62,23 +62,24 @@ std::string resolveParametersFile(const std::string& path, bool given,
 
 }  // namespace
 
-const std::string& requireSingleImage(const RunSettings& s, const std::string& command) {
-  namespace fs = std::filesystem;
-  auto dualImage = [&](const std::string& shown) {
-    return ConfigError("dual-image mode (" + shown +
-                       ": detect on one image, measure on another) is not supported yet; give one "
-                       "image (see octarc " +
-                       command + " -h)");
-  };
-  if (s.imagePaths.size() == 2) throw dualImage(s.imagePaths[0] + " " + s.imagePaths[1]);
-  if (s.imagePaths.size() != 1) {
-    throw ConfigError("octarc " + command + " takes exactly one image (got " +
-                      std::to_string(s.imagePaths.size()) + "); see octarc " + command + " -h");
+void requireImages(RunSettings& s, const std::string& command, bool dualAllowed) {
+  if (s.imagePaths.empty() || s.imagePaths.size() > 2) {
+    throw ConfigError(
+        "octarc " + command + " takes " +
+        (dualAllowed ? "one image, or a detection and a measurement image" : "exactly one image") +
+        " (got " + std::to_string(s.imagePaths.size()) + "); see octarc " + command + " -h");
   }
-  const std::string& path = s.imagePaths[0];
-  std::error_code ec;
-  if (path.find(',') != std::string::npos && !fs::exists(path, ec)) throw dualImage(path);
-  return path;
+  try {
+    setImagePaths(s, s.imagePaths);
+  } catch (const ConfigError& e) {
+    throw ConfigError(std::string(e.what()) + "; see octarc " + command + " -h");
+  }
+  if (s.dualImage() && !dualAllowed) {
+    throw ConfigError("dual-image mode (" + s.detectionImagePath() + "," +
+                      s.measurementImagePath() + ": detect on one image, measure on another) is " +
+                      "for octarc detect and octarc search; octarc " + command +
+                      " takes one image (see octarc " + command + " -h)");
+  }
 }
 
 const char* octarcVersion() {

@@ -27,6 +27,7 @@ namespace {
 void printUsage() {
   std::cout <<
       "Usage: octarc detect IMAGE [-c config.sex] [-KEY value ...]\n"
+      "       octarc detect DETECT_IMAGE,MEASURE_IMAGE [-c config.sex] [-KEY value ...]\n"
       "\n"
       "Detects objects at many thresholds in one pass over IMAGE (pure thresholding: pixels\n"
       "strictly above the level, 8-connected, at least DETECT_MINAREA of them, no deblending,\n"
@@ -41,6 +42,12 @@ void printUsage() {
       "Weight maps: WEIGHT_TYPE MAP_WEIGHT, MAP_RMS or MAP_VAR with WEIGHT_IMAGE (and\n"
       "WEIGHT_THRESH, RESCALE_WEIGHTS) as in SExtractor: RELATIVE levels become t * sqrt(var)\n"
       "per pixel, bad weight pixels never join an object, FLUXERR_ISO uses the variances.\n"
+      "\n"
+      "Dual-image mode (DETECT_IMAGE,MEASURE_IMAGE, or the two names apart), as SExtractor's:\n"
+      "footprints, positions and shapes from the first image, photometry and the octopole\n"
+      "moments from the second, each with its own background and noise; both on one pixel grid.\n"
+      "BACK_TYPE, BACK_VALUE, WEIGHT_TYPE, WEIGHT_IMAGE and WEIGHT_THRESH take a second value\n"
+      "for the measurement image (e.g. -WEIGHT_IMAGE det.weight.fits,meas.weight.fits).\n"
       "A constant image gives no object: as SExtractor, the noise sigma is set to 1 with a\n"
       "warning. An image without any finite pixel is an error.\n"
       "\n"
@@ -59,8 +66,8 @@ int runDetect(const std::vector<std::string>& args) {
   const auto start = std::chrono::steady_clock::now();
   std::optional<LoadedRun> run = loadRun(args, "detect", printUsage);
   if (!run) return 0;
+  requireImages(run->settings, "detect", true);
   const RunSettings& s = run->settings;
-  requireSingleImage(s, "detect");
   if (s.catalogNames.size() != 1) throw ConfigError("CATALOG_NAME must be one file name");
   const std::vector<std::string>& supported = detectCheckImageTypes();
   for (const std::string& t : s.checkImageTypes) {

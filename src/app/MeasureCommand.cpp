@@ -54,8 +54,8 @@ void printUsage() {
 int runMeasure(const std::vector<std::string>& args) {
   std::optional<LoadedRun> run = loadRun(args, "measure", printUsage);
   if (!run) return 0;
+  requireImages(run->settings, "measure", false);
   const RunSettings& s = run->settings;
-  requireSingleImage(s, "measure");
   if (s.segmentationPaths.empty()) {
     throw ConfigError("SEGMENTATION_NAME is required: the SExtractor segmentation check-image(s)");
   }

@@ -21,9 +21,11 @@ namespace {
 void printUsage() {
   std::cout <<
       "Usage: octarc search IMAGE [-c survey.sex] [-KEY value ...]\n"
+      "       octarc search DETECT_IMAGE,MEASURE_IMAGE [-c survey.sex] [-KEY value ...]\n"
       "\n"
       "Detects and measures IMAGE at every level of the configuration, as octarc detect does\n"
-      "(or reads the rows of an earlier run: INPUT_CATALOG), and keeps the rows that are\n"
+      "(or reads the rows of an earlier run: INPUT_CATALOG; dual-image mode as in octarc detect\n"
+      "-h, the stamps from the measurement image), and keeps the rows that are\n"
       "  - inside the searched area: the DS9 region file MASK_NAME (include and '-' exclude\n"
       "    shapes), good weight pixels (WEIGHT_IMAGE, WEIGHT_THRESH), MASK_BORDER from the edges;\n"
       "  - above the S/N floor (SNR_ISO > SNR_MIN) and resolved (sqrt(2) SIZE_IMAGE >\n"
@@ -73,7 +75,7 @@ int runSearch(const std::vector<std::string>& args) {
   std::optional<LoadedRun> loaded =
       loadRun(args, "search", searchKeys(), printUsage, printCandidateColumns);
   if (!loaded) return 0;
-  requireSingleImage(loaded->settings, "search");
+  requireImages(loaded->settings, "search", true);
   SearchRunSettings settings = searchSettingsFromConfig(loaded->config, loaded->settings);
   const bool quiet = settings.run.quiet;
   const RunLog log = quiet ? RunLog() : [](const std::string& line) { std::cerr << line << "\n"; };

@@ -269,6 +269,11 @@ std::vector<std::string> octarcRunCards(const PreparedImage& image,
   cards.push_back(
       formatCard("OCTBKSRC", image.origin.background, "Origin of the background level"));
   cards.push_back(formatCard("OCTSGSRC", image.origin.sigma, "Origin of the noise sigma SEXBKDEV"));
+  if (image.separateDetection) {
+    // Dual-image mode: SEXBKDEV is the measurement image's noise, the thresholds follow this one.
+    cards.push_back(formatCard("OCTDTDEV", RealValue(image.detectionSigmaAdu),
+                               "Noise sigma of the detection image (ADU)"));
+  }
   return cards;
 }
 

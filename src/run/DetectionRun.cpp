@@ -71,21 +71,30 @@ DetectedExtension detectExtension(const RunSettings& s, const ColumnPlan& column
   const bool checkImages = !s.checkImageTypes.empty() || keep;
   const bool keepMaps = wants(s, "BACKGROUND") || wants(s, "BACKGROUND_RMS");
   const bool relative = s.detectThresholdType == ThresholdType::Relative;
-  if (log) log("> Reading " + path);
   const RunSettings extensionSettings = settingsForExtension(s, e, count);
-  PreparedImage image = prepareImage(path, extensionSettings, {}, keepMaps, relative);
+  if (log) {
+    log(s.dualImage()
+            ? "> Reading " + extensionSettings.detectionImagePath() + " (detection) and " +
+                  extensionSettings.measurementImagePath() + " (measurement)"
+            : "> Reading " + path);
+  }
+  PreparedImage image = prepareRunImage(s, e, count, keepMaps, relative);
   if (log) {
     for (const std::string& w : image.warnings) log("WARNING: " + w);
   }
   clock.lap("reading, background and filtering");
   DetectedExtension out;
-  out.levels = detectionLevels(s, image.sigmaAdu);
+  out.levels =
+      detectionLevels(s, image.detectionSigma(), image.separateDetection ? image.sigmaAdu : 0.0);
   const std::vector<ThresholdLevel>& levels = out.levels;
   if (log) {
     std::ostringstream line;
     line << "> Background " << image.backgroundAdu << " ADU (" << image.origin.background
-         << "), sigma " << image.sigmaAdu << " ADU (" << image.origin.sigma << "); "
-         << levels.size() << " level(s) from " << levels.front().thresholdAdu << " to "
+         << "), sigma " << image.sigmaAdu << " ADU (" << image.origin.sigma << "); ";
+    if (image.separateDetection) {
+      line << "detection image sigma " << image.detectionSigma() << " ADU; ";
+    }
+    line << levels.size() << " level(s) from " << levels.front().thresholdAdu << " to "
          << levels.back().thresholdAdu << " ADU";
     log(line.str());
   }
@@ -123,7 +132,7 @@ DetectedExtension detectExtension(const RunSettings& s, const ColumnPlan& column
   out.header = image.hdu.header;
 
   RunFacts facts;
-  facts.imagePath = s.imagePaths[0];
+  facts.imagePath = s.measurementImagePath();  // FITSFILE: the measured image, as SExtractor
   facts.extension = e;
   facts.extensionCount = count;
   facts.detectedCount = detected;
@@ -131,7 +140,11 @@ DetectedExtension detectExtension(const RunSettings& s, const ColumnPlan& column
   facts.parameterCount = int(columns.outputColumns.size());
   facts.elapsedSec = secondsSince(start);
   RunSummary summary = runSummary(s, image, levels, facts);
-  if (!image.variance.empty()) {
+  if (image.separateDetection) {
+    const bool detectionWeights = s.weightType != WeightType::None;
+    if (detectionWeights) summary.detectWeightScale = image.detectionWeightScale;
+    if (!image.variance.empty()) summary.measureWeightScale = image.weightScale;
+  } else if (!image.variance.empty()) {
     summary.detectWeightScale = image.weightScale;
     summary.measureWeightScale = image.weightScale;
   }
@@ -165,7 +178,7 @@ DetectionRunResult runDetection(const RunSettings& s, const ColumnPlan& columns,
                                 const std::optional<sexcompat::AssocSettings>& assoc,
                                 const RunLog& log, bool keepImageAndFootprints) {
   const auto start = std::chrono::steady_clock::now();
-  const std::vector<std::string> extensions = listImageHdus(s.imagePaths[0]);
+  const std::vector<std::string> extensions = listImageHdus(s.detectionImagePath());
   const int count = int(extensions.size());
   if (!s.checkImageTypes.empty() && count > 1) {
     throw ConfigError("CHECKIMAGE_TYPE: check-images of multi-extension images are not supported");

@@ -74,18 +74,21 @@ ImageRunResult detectAndMeasure(PreparedImage& image, const MeasurementPlan& pla
   // f_i > t_k sqrt(var_i) (SEXTRACTOR.md section 4); ABSOLUTE levels stay in ADU. Bad weight
   // pixels (+Inf variance) and NaN weights never pass either way.
   const bool relative = !request.levelsInSigma.empty();
+  // In dual-image mode the thresholds follow the detection image's own variance, a buffer of
+  // its own that no measurement reads: it needs no restoring.
+  ImageF& scale = image.thresholdVariance();
   bool scaleIsVariance = true;
-  if (!image.variance.empty() && relative) {
-    varianceToRms(image.variance);
-    detection.thresholdScale = &image.variance;
+  if (!scale.empty() && relative) {
+    varianceToRms(scale);
+    detection.thresholdScale = &scale;
     detection.thresholdsAdu = request.levelsInSigma;
-    scaleIsVariance = false;
-  } else if (!image.variance.empty()) {
+    scaleIsVariance = image.separateDetection;
+  } else if (!scale.empty()) {
     // ABSOLUTE levels stay in ADU; bad weight pixels are kept out by blanking them in the
     // detection image (NaN never joins an object).
     ImageF& det = image.filtered.empty() ? image.hdu.pixels : image.filtered;
     for (std::int64_t i = 0; i < det.size(); ++i) {
-      if (!(image.variance[i] < std::numeric_limits<float>::infinity())) {
+      if (!(scale[i] < std::numeric_limits<float>::infinity())) {
         det[i] = std::numeric_limits<float>::quiet_NaN();
       }
     }
@@ -123,6 +126,7 @@ ImageRunResult detectAndMeasure(PreparedImage& image, const MeasurementPlan& pla
           }
         });
     restoreVariance();
+    if (image.separateDetection) image.detectionVariance = ImageF();  // no longer needed
     queue.finish();
   }
   out.catalogOrder.reserve(std::size_t(out.rows.rows()));

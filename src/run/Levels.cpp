@@ -35,8 +35,10 @@ std::vector<double> levelValues(const RunSettings& s) {
   return logSpacedLevels(s.detectThreshold, s.detectThresholdMax, s.detectLevelCount);
 }
 
-std::vector<ThresholdLevel> detectionLevels(const RunSettings& s, double sigmaAdu) {
+std::vector<ThresholdLevel> detectionLevels(const RunSettings& s, double sigmaAdu,
+                                            double measurementSigmaAdu) {
   const bool relative = s.detectThresholdType == ThresholdType::Relative;
+  const double analysisSigmaAdu = measurementSigmaAdu > 0 ? measurementSigmaAdu : sigmaAdu;
   const std::vector<double> values = levelValues(s);
   std::vector<ThresholdLevel> levels;
   for (std::size_t k = 0; k < values.size(); ++k) {
@@ -52,8 +54,8 @@ std::vector<ThresholdLevel> detectionLevels(const RunSettings& s, double sigmaAd
     l.analysisThresholdAdu =
         values.size() == 1
             ? thresholdToAdu(s.analysisThreshold,
-                             s.analysisThresholdType == ThresholdType::Relative, sigmaAdu)
-            : l.thresholdAdu;
+                             s.analysisThresholdType == ThresholdType::Relative, analysisSigmaAdu)
+            : thresholdToAdu(values[k], relative, analysisSigmaAdu);
     l.thresholdSigma = sigmaAdu > 0 ? l.thresholdAdu / sigmaAdu : std::nan("");
     if (!(l.thresholdAdu > 0) || !std::isfinite(l.thresholdAdu)) {
       throw ConfigError("detection threshold of level " + std::to_string(l.level) + " is " +

@@ -1,6 +1,7 @@
 #include "octarc/run/PreparedImage.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -119,6 +120,15 @@ std::string extensionPath(const std::string& path, int e, int count, const char*
 
 RunSettings settingsForExtension(const RunSettings& settings, int e, int count) {
   RunSettings out = settings;
+  // The images themselves by their HDU (a single image may sit in an extension: file.fits[1]).
+  for (std::string& image : out.imagePaths) {
+    const std::vector<std::string> hdus = listImageHdus(image);
+    if (int(hdus.size()) != count) {
+      throw IoError(image + ": has " + std::to_string(hdus.size()) +
+                    " image extensions but the detection image has " + std::to_string(count));
+    }
+    image = hdus[std::size_t(e)];
+  }
   if (!out.backgroundMapPath.empty()) {
     out.backgroundMapPath = extensionPath(out.backgroundMapPath, e, count, "BACKGROUND map");
   }
@@ -128,6 +138,10 @@ RunSettings settingsForExtension(const RunSettings& settings, int e, int count) 
   }
   if (!out.weightImagePath.empty()) {
     out.weightImagePath = extensionPath(out.weightImagePath, e, count, "weight map");
+  }
+  if (out.dualImage() && !out.measurement.weightImagePath.empty()) {
+    out.measurement.weightImagePath =
+        extensionPath(out.measurement.weightImagePath, e, count, "measurement weight map");
   }
   return out;
 }
@@ -354,6 +368,65 @@ PreparedImage prepareImage(const std::string& imagePath, const RunSettings& sett
   varianceAndFilter(out, settings, weightPixels, weights.pixels != nullptr, filterVariance);
   out.wcs = Wcs::fromHeader(out.hdu.header, imagePath);
   return out;
+}
+
+namespace {
+
+// True when every corner pixel of the image lands within `tolerancePix` of itself when taken to
+// the sky by `from` and back by `to` (a different world frame fails: its numbers differ).
+bool sameGrid(const Wcs& from, const Wcs& to, std::int64_t width, std::int64_t height,
+              double tolerancePix) {
+  const double corners[4][2] = {
+      {1.0, 1.0}, {double(width), 1.0}, {1.0, double(height)}, {double(width), double(height)}};
+  for (const auto& c : corners) {
+    const std::array<double, 2> world = from.pixelToWorld(c[0], c[1]);
+    const std::array<double, 2> back = to.worldToPixel(world[0], world[1]);
+    if (!(std::hypot(back[0] - c[0], back[1] - c[1]) <= tolerancePix)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+PreparedImage prepareDualImage(const std::string& detectionPath, const std::string& measurementPath,
+                               const RunSettings& settings, bool keepCheckMaps,
+                               bool filterVariance) {
+  PreparedImage detection = prepareImage(detectionPath, settings, {}, false, filterVariance);
+  PreparedImage out =
+      prepareImage(measurementPath, measurementImageSettings(settings), {}, keepCheckMaps, false);
+  const ImageF& d = detection.hdu.pixels;
+  const ImageF& m = out.hdu.pixels;
+  const std::string pair = detectionPath + " and " + measurementPath;
+  if (d.width() != m.width() || d.height() != m.height()) {
+    throw IoError(pair + ": the detection and measurement images must share one pixel grid (" +
+                  std::to_string(d.width()) + "x" + std::to_string(d.height()) + " and " +
+                  std::to_string(m.width()) + "x" + std::to_string(m.height()) + " pixels)");
+  }
+  if (detection.wcs && out.wcs && !sameGrid(*detection.wcs, *out.wcs, d.width(), d.height(), 0.1)) {
+    throw IoError(pair +
+                  ": the detection and measurement images must share one pixel grid (their "
+                  "WCS put a corner more than 0.1 pixel apart)");
+  }
+  out.separateDetection = true;
+  out.detectionSigmaAdu = detection.sigmaAdu;
+  out.detectionWeightScale = detection.weightScale;
+  out.detectionVariance = std::move(detection.variance);
+  out.filtered =
+      detection.filtered.empty() ? std::move(detection.hdu.pixels) : std::move(detection.filtered);
+  std::vector<std::string> warnings = std::move(detection.warnings);
+  warnings.insert(warnings.end(), out.warnings.begin(), out.warnings.end());
+  out.warnings = std::move(warnings);
+  return out;
+}
+
+PreparedImage prepareRunImage(const RunSettings& settings, int e, int count, bool keepCheckMaps,
+                              bool filterVariance) {
+  const RunSettings s = settingsForExtension(settings, e, count);
+  if (s.dualImage()) {
+    return prepareDualImage(s.detectionImagePath(), s.measurementImagePath(), s, keepCheckMaps,
+                            filterVariance);
+  }
+  return prepareImage(s.imagePaths.front(), s, {}, keepCheckMaps, filterVariance);
 }
 
 std::vector<std::int64_t> findSaturatedPixels(const ImageF& raw, double levelAdu, int threads) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
@@ -20,6 +21,30 @@ ThresholdType thresholdType(const std::string& keyword) {
 // the Config getters, which report a missing value as a ConfigError naming the key.
 std::string secondOrFirst(const sexcompat::Config& config, const char* key) {
   return config.getString(key, config.count(key) > 1 ? 1 : 0);
+}
+
+BackgroundType backgroundType(const std::string& keyword) {
+  const std::string type = uppercase(keyword);
+  return type == "MANUAL"   ? BackgroundType::Manual
+         : type == "GLOBAL" ? BackgroundType::Global
+                            : BackgroundType::Auto;
+}
+
+// WEIGHT_TYPE value `index` (ConfigError for the unsupported BACKGROUND).
+WeightType weightType(const sexcompat::Config& config, std::size_t index, std::string& name) {
+  name = uppercase(config.getString("WEIGHT_TYPE", index));
+  if (name == "BACKGROUND") {
+    throw ConfigError(
+        "WEIGHT_TYPE BACKGROUND is not supported; give a map with MAP_WEIGHT, MAP_RMS or MAP_VAR");
+  }
+  return name == "MAP_WEIGHT" ? WeightType::MapWeight
+         : name == "MAP_RMS"  ? WeightType::MapRms
+         : name == "MAP_VAR"  ? WeightType::MapVariance
+                              : WeightType::None;
+}
+
+std::size_t secondIndex(const sexcompat::Config& config, const char* key) {
+  return config.count(key) > 1 ? 1 : 0;
 }
 
 }  // namespace
@@ -48,11 +73,11 @@ RunSettings settingsFromConfig(const sexcompat::Config& config, bool weightMapsE
   s.filter = config.getBool("FILTER");
   s.filterPath = config.getString("FILTER_NAME");
 
-  const std::string backType = uppercase(config.getString("BACK_TYPE", 0));
-  s.backgroundType = backType == "MANUAL"   ? BackgroundType::Manual
-                     : backType == "GLOBAL" ? BackgroundType::Global
-                                            : BackgroundType::Auto;
+  s.backgroundType = backgroundType(config.getString("BACK_TYPE", 0));
   s.backgroundValueAdu = config.getDouble("BACK_VALUE", 0);
+  s.measurement.backgroundType = backgroundType(secondOrFirst(config, "BACK_TYPE"));
+  s.measurement.backgroundValueAdu =
+      config.getDouble("BACK_VALUE", secondIndex(config, "BACK_VALUE"));
   s.backMeshWidthPix = config.getInt("BACK_SIZE", 0);
   s.backMeshHeightPix = config.getInt("BACK_SIZE", config.count("BACK_SIZE") > 1 ? 1 : 0);
   s.backFilterWidth = config.getInt("BACK_FILTERSIZE", 0);
@@ -68,25 +93,33 @@ RunSettings settingsFromConfig(const sexcompat::Config& config, bool weightMapsE
   }
 
   // A bare WEIGHT_TYPE keeps the default, NONE (Config: an empty list is "not given").
-  const std::string weightType = uppercase(config.getString("WEIGHT_TYPE", 0));
-  if (weightType == "BACKGROUND") {
-    throw ConfigError(
-        "WEIGHT_TYPE BACKGROUND is not supported; give a map with MAP_WEIGHT, MAP_RMS or MAP_VAR");
-  }
-  s.weightType = weightType == "MAP_WEIGHT" ? WeightType::MapWeight
-                 : weightType == "MAP_RMS"  ? WeightType::MapRms
-                 : weightType == "MAP_VAR"  ? WeightType::MapVariance
-                                            : WeightType::None;
-  if (s.weightType != WeightType::None && !weightMapsElsewhere) {
-    if (!config.isExplicit("WEIGHT_IMAGE")) {
-      throw ConfigError("WEIGHT_IMAGE: WEIGHT_TYPE " + weightType + " needs a weight map file");
+  std::string typeName, measurementTypeName;
+  s.weightType = weightType(config, 0, typeName);
+  s.measurement.weightType =
+      weightType(config, secondIndex(config, "WEIGHT_TYPE"), measurementTypeName);
+  if (!weightMapsElsewhere) {
+    const bool anyWeights =
+        s.weightType != WeightType::None || s.measurement.weightType != WeightType::None;
+    if (anyWeights && !config.isExplicit("WEIGHT_IMAGE")) {
+      throw ConfigError("WEIGHT_IMAGE: WEIGHT_TYPE " +
+                        (s.weightType != WeightType::None ? typeName : measurementTypeName) +
+                        " needs a weight map file");
     }
-    s.weightImagePath = config.getString("WEIGHT_IMAGE", 0);
+    if (s.weightType != WeightType::None) s.weightImagePath = config.getString("WEIGHT_IMAGE", 0);
+    if (s.measurement.weightType != WeightType::None) {
+      s.measurement.weightImagePath =
+          config.getString("WEIGHT_IMAGE", secondIndex(config, "WEIGHT_IMAGE"));
+    }
   }
-  if (config.isExplicit("WEIGHT_THRESH")) s.weightThreshold = config.getDouble("WEIGHT_THRESH", 0);
+  if (config.isExplicit("WEIGHT_THRESH")) {
+    s.weightThreshold = config.getDouble("WEIGHT_THRESH", 0);
+    s.measurement.weightThreshold =
+        config.getDouble("WEIGHT_THRESH", secondIndex(config, "WEIGHT_THRESH"));
+  }
   s.rescaleWeights = config.getBool("RESCALE_WEIGHTS");
   s.weightGain = config.getBool("WEIGHT_GAIN");
-  if (s.weightType != WeightType::None && !s.weightGain) {
+  if ((s.weightType != WeightType::None || s.measurement.weightType != WeightType::None) &&
+      !s.weightGain) {
     // The measurement module weights the Poisson term per pixel (SExtractor's WEIGHT_GAIN Y).
     throw ConfigError("WEIGHT_GAIN N is not supported; use WEIGHT_GAIN Y");
   }
@@ -126,6 +159,51 @@ RunSettings settingsFromConfig(const sexcompat::Config& config, bool weightMapsE
   return s;
 }
 
+void setImagePaths(RunSettings& s, const std::vector<std::string>& arguments) {
+  // SExtractor's DETECT,MEASURE: a comma in a name that is no file separates two images.
+  std::vector<std::string> paths;
+  for (const std::string& argument : arguments) {
+    std::error_code ec;
+    if (argument.find(',') == std::string::npos || std::filesystem::exists(argument, ec)) {
+      paths.push_back(argument);
+      continue;
+    }
+    std::size_t from = 0;
+    for (std::size_t comma; (comma = argument.find(',', from)) != std::string::npos;
+         from = comma + 1) {
+      paths.push_back(argument.substr(from, comma - from));
+    }
+    paths.push_back(argument.substr(from));
+    if (std::any_of(paths.begin(), paths.end(), [](const std::string& p) { return p.empty(); })) {
+      throw ConfigError("command line: " + quoteForMessage(argument) +
+                        " is neither a file nor DETECT_IMAGE,MEASURE_IMAGE");
+    }
+  }
+  if (paths.empty() || paths.size() > 2) {
+    throw ConfigError(
+        "give one image, or a detection and a measurement image (DETECT,MEASURE); "
+        "got " +
+        std::to_string(paths.size()));
+  }
+  s.imagePaths = paths;
+  if (s.dualImage() && (!s.backgroundMapPath.empty() || !s.backgroundRmsMapPath.empty())) {
+    throw ConfigError(
+        std::string(s.backgroundMapPath.empty() ? "BACKGROUND_RMS_NAME" : "BACKGROUND_NAME") +
+        ": background maps are for one image, not for a dual-image run");
+  }
+}
+
+RunSettings measurementImageSettings(const RunSettings& settings) {
+  RunSettings out = settings;
+  out.backgroundType = settings.measurement.backgroundType;
+  out.backgroundValueAdu = settings.measurement.backgroundValueAdu;
+  out.weightType = settings.measurement.weightType;
+  out.weightImagePath = settings.measurement.weightImagePath;
+  out.weightThreshold = settings.measurement.weightThreshold;
+  out.filter = false;
+  return out;
+}
+
 std::vector<NamedInput> runInputs(const RunSettings& s, const std::string& assocListPath) {
   std::vector<NamedInput> inputs;
   for (const std::string& p : s.imagePaths) inputs.push_back({"image", p});
@@ -133,6 +211,9 @@ std::vector<NamedInput> runInputs(const RunSettings& s, const std::string& assoc
   inputs.push_back({"PARAMETERS_NAME", s.parametersPath});
   if (s.filter) inputs.push_back({"FILTER_NAME", s.filterPath});
   if (!s.weightImagePath.empty()) inputs.push_back({"WEIGHT_IMAGE", s.weightImagePath});
+  if (s.dualImage() && !s.measurement.weightImagePath.empty()) {
+    inputs.push_back({"WEIGHT_IMAGE", s.measurement.weightImagePath});
+  }
   if (!s.backgroundMapPath.empty()) inputs.push_back({"BACKGROUND_NAME", s.backgroundMapPath});
   if (!s.backgroundRmsMapPath.empty()) {
     inputs.push_back({"BACKGROUND_RMS_NAME", s.backgroundRmsMapPath});

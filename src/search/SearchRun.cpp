@@ -190,7 +190,13 @@ SearchRunSettings searchSettingsFromConfig(const sexcompat::Config& c, RunSettin
 
 SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
   const RunSettings& rs = settings.run;
-  if (rs.imagePaths.size() != 1) throw ConfigError("search: give one image (see -h)");
+  if (rs.imagePaths.empty() || rs.imagePaths.size() > 2) {
+    throw ConfigError("search: give one image, or a detection and a measurement image (see -h)");
+  }
+  if (rs.dualImage() && !settings.inputCatalogPath.empty()) {
+    throw ConfigError("search: INPUT_CATALOG " + settings.inputCatalogPath +
+                      " already holds the measurements; give its one image, not two");
+  }
   SearchRun run;
   // Everything that can be checked is checked before any pixel is read.
   checkOutputDirectory(settings);
@@ -245,10 +251,11 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
                                                           run.image.hdu.pixels.height())
                                     : 0.0);
   if (!(run.pixelScaleArcsec > 0)) {
-    throw ConfigError(rs.imagePaths[0] + ": no WCS to take the pixel scale from; set PIXEL_SCALE");
+    throw ConfigError(rs.measurementImagePath() +
+                      ": no WCS to take the pixel scale from; set PIXEL_SCALE");
   }
   if (!wcs) {
-    run.warnings.push_back(rs.imagePaths[0] +
+    run.warnings.push_back(rs.measurementImagePath() +
                            " has no celestial WCS: candidates get pixel positions only (no RA, "
                            "Dec or name), the searched area comes from PIXEL_SCALE");
   }
@@ -300,7 +307,11 @@ std::vector<std::string> searchSummaryLines(const SearchRun& run,
                                             const SearchRunSettings& settings) {
   const SearchSummary& s = run.result.summary;
   std::vector<std::string> lines;
-  lines.push_back("Image " + settings.run.imagePaths.front() + ", grid " + settings.gridPath);
+  const RunSettings& rs = settings.run;
+  lines.push_back((rs.dualImage() ? "Images " + rs.detectionImagePath() + " (detection), " +
+                                        rs.measurementImagePath() + " (measurement)"
+                                  : "Image " + rs.imagePaths.front()) +
+                  ", grid " + settings.gridPath);
   std::string area = std::to_string(s.searchedPixels) + " pixels searched";
   area += " (" + formatNumber(s.searchedAreaDeg2, "%.5f") + " deg2" +
           (run.image.wcs ? std::string(")") : std::string(", from PIXEL_SCALE: no WCS)"));

@@ -122,10 +122,12 @@ class DetectBadInput(WorkDirTest):
                           "CHECKIMAGE_NAME", "WEIGHT_IMAGE")
         self.assertEqual((open(self.image, "rb").read(), open(weight, "rb").read()), before)
 
-    def test_dual_image_syntax_is_named(self):
-        for images in ([self.image + "," + self.image], [self.image, self.image]):
-            line = self.assert_fails(self.detect(*images), "dual-image")
-            self.assertIn("not supported yet", line)
+    def test_more_than_two_images(self):
+        # One image, or SExtractor's dual-image pair (test_detect_dual.py); never three.
+        for images in ([self.image] * 3, [self.image + "," + self.image, self.image]):
+            line = self.assert_fails(self.detect(*images), "one image, or a detection and a "
+                                     "measurement image")
+            self.assertIn("see octarc detect -h", line)
 
     def test_constant_image_gives_no_object_like_sextractor(self):
         path = self.path("constant.fits")

@@ -323,7 +323,7 @@ class BadInput(WorkDirTest):
         for images in ([IMAGE + "," + IMAGE], [IMAGE, IMAGE]):
             line = self.expect_error(*images, "-SEGMENTATION_NAME", SEGS.split(",")[0],
                                      "-PARAMETERS_NAME", self.param(), mentions="dual-image")
-            self.assertIn("not supported yet", line)
+            self.assertIn("for octarc detect and octarc search", line)
 
     def test_unknown_parameter_only_warns(self):
         param = write_param(self.path("w.param"), ["NUMBER", "NOT_A_COLUMN", "ARCNESS"])

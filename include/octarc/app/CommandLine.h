@@ -56,9 +56,9 @@ std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std
                                  const std::string& argumentName = "image name",
                                  bool weightMapsElsewhere = false);
 
-// The single image of a detect/measure run (settings.imagePaths[0]). ConfigError when none or
-// several are given; SExtractor's dual-image syntax (IMAGE_DETECT,IMAGE_MEASURE or two images)
-// is named as such: it is not supported yet.
-const std::string& requireSingleImage(const RunSettings& settings, const std::string& command);
+// The image(s) of a detect, search or measure run, from its arguments (setImagePaths): one
+// image, or with `dualAllowed` SExtractor's dual-image syntax (DETECT,MEASURE or two names).
+// ConfigError otherwise, naming the command.
+void requireImages(RunSettings& settings, const std::string& command, bool dualAllowed);
 
 }  // namespace octarc

@@ -71,7 +71,8 @@ Table rowsInOrder(const Table& table, const std::vector<std::int64_t>& order);
 // Detects `image` at every level of `request` in one pass and measures every object with
 // `plan` in `context` (image.context(), with the levels filled). A weight map's variance buffer
 // is used as the per-pixel threshold scale during the first scan and restored before the first
-// measurement (a filtered variance is read again from the weight map of `settings`).
+// measurement (a filtered variance is read again from the weight map of `settings`). In dual-image
+// mode the thresholds follow the detection image's variance instead, left as an RMS map.
 ImageRunResult detectAndMeasure(PreparedImage& image, const MeasurementPlan& plan,
                                 const MeasureContext& context, const DetectionRequest& request,
                                 const RunSettings* settings = nullptr);

@@ -24,7 +24,10 @@ std::vector<double> levelValues(const RunSettings& settings);
 // plain SExtractor run with its own ANALYSIS_THRESH; with several, each level's isophote is its
 // detection threshold. ConfigError when the levels do not increase strictly or one is not a
 // positive number of ADU. (With sigmaAdu 1 it checks the list before any image is read.)
-std::vector<ThresholdLevel> detectionLevels(const RunSettings& settings, double sigmaAdu);
+// Dual-image mode: `measurementSigmaAdu` > 0 is the measurement image's noise, in which the
+// analysis thresholds (the isophotes of ISOAREA_IMAGE) are counted, as in SExtractor.
+std::vector<ThresholdLevel> detectionLevels(const RunSettings& settings, double sigmaAdu,
+                                            double measurementSigmaAdu = 0.0);
 
 // Levels 1..n at `thresholdsAdu` (increasing), each its own analysis threshold: the levels of
 // an image whose noise sigma is known in advance (simulations).

@@ -63,7 +63,7 @@ struct PreparedImage {
   // True when `variance` holds the variance filtered by the detection filter (prepareImage
   // with filterVariance): what the detection thresholds follow, not what measurements use.
   bool varianceFiltered = false;
-  double weightScale = 1.0;    // SEXDWSCL: RESCALE_WEIGHTS factor (1 without weights)
+  double weightScale = 1.0;    // RESCALE_WEIGHTS factor of `variance` (1 without weights)
   double backgroundAdu = 0.0;  // constant (or global) background level
   double sigmaAdu = 0.0;       // global noise sigma
   double gain = 0.0;
@@ -73,7 +73,20 @@ struct PreparedImage {
   std::vector<std::string> warnings;  // non-fatal notes (constant image, bad meshes, ...)
   std::optional<Wcs> wcs;
 
+  // Dual-image mode (prepareDualImage): `filtered` holds the detection image (filtered or not)
+  // and `hdu`, `variance` and the values above are the measurement image's; the detection
+  // image's noise and variance, which set the thresholds, are kept apart here.
+  bool separateDetection = false;
+  double detectionSigmaAdu = 0.0;
+  double detectionWeightScale = 1.0;
+  // The detection image's variance (filtered with filterVariance); empty without its weights.
+  ImageF detectionVariance;
+
   const ImageF& detectionImage() const { return filtered.empty() ? hdu.pixels : filtered; }
+  // The noise sigma the RELATIVE thresholds are in units of.
+  double detectionSigma() const { return separateDetection ? detectionSigmaAdu : sigmaAdu; }
+  // The variance the per-pixel thresholds follow: the detection image's own in dual-image mode.
+  ImageF& thresholdVariance() { return separateDetection ? detectionVariance : variance; }
   // The BACKGROUND and BACKGROUND_RMS check images (SExtractor's: the interpolated mesh maps
   // for BACK_TYPE AUTO, constants otherwise). With a weight map, source-extractor 2.25 still
   // writes the interpolated mesh RMS (of the weighted mesh statistics), not sqrt(variance).
@@ -98,12 +111,27 @@ PreparedImage prepareImage(const std::string& imagePath, const RunSettings& sett
                            const CatalogRunValues& fromCatalog, bool keepCheckMaps,
                            bool filterVariance = false);
 
+// Dual-image mode: `detectionPath` prepared with `settings` (its filter, BACK_* and WEIGHT_*
+// first values) for detection, `measurementPath` with measurementImageSettings(settings) for the
+// measurements, both on the same pixel grid: an IoError naming both when their sizes differ, or
+// when both have a celestial WCS and a corner of one lands more than 0.1 pixel from the same
+// corner of the other. Gain, saturation, WCS and header come from the measurement image, as in
+// SExtractor.
+PreparedImage prepareDualImage(const std::string& detectionPath, const std::string& measurementPath,
+                               const RunSettings& settings, bool keepCheckMaps,
+                               bool filterVariance = false);
+
+// The image extension `e` of `count` of the run, prepared for detection and measurement: one
+// image (prepareImage) or, in dual-image mode, the detection and measurement pair.
+PreparedImage prepareRunImage(const RunSettings& settings, int e, int count, bool keepCheckMaps,
+                              bool filterVariance);
+
 // The path of extension `e` (0-based, among `count` image extensions) of a file that must have
 // as many image extensions as the measured image, like SExtractor's check-images and weight
 // maps of a multi-extension image; the path itself when count is 1. IoError naming `what`.
 std::string extensionPath(const std::string& path, int e, int count, const char* what);
 
-// The settings for extension `e` of `count`: the per-image inputs (BACKGROUND_NAME,
+// The settings for extension `e` of `count`: the per-image inputs (the images, BACKGROUND_NAME,
 // BACKGROUND_RMS_NAME, WEIGHT_IMAGE) point at their own extension `e`.
 RunSettings settingsForExtension(const RunSettings& settings, int e, int count);
 

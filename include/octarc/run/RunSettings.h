@@ -18,9 +18,25 @@ enum class ThresholdType { Relative, Absolute };
 // WEIGHT_TYPE; SExtractor's BACKGROUND (weights from the background RMS map) is not supported.
 enum class WeightType { None, MapWeight, MapRms, MapVariance };
 
+// The keys that, like SExtractor's, take a second value for the measurement image in dual-image
+// mode (`octarc detect DETECT.fits,MEASURE.fits`); each is the first value when only one is
+// given.
+struct MeasurementImageSettings {
+  BackgroundType backgroundType = BackgroundType::Auto;  // BACK_TYPE
+  double backgroundValueAdu = 0.0;                       // BACK_VALUE
+  WeightType weightType = WeightType::None;              // WEIGHT_TYPE
+  std::string weightImagePath;                           // WEIGHT_IMAGE
+  std::optional<double> weightThreshold;                 // WEIGHT_THRESH
+};
+
 struct RunSettings {
-  std::vector<std::string> imagePaths;  // positional arguments
-  std::string configPath;               // -c, or "" for the built-in defaults
+  // The image(s): one, or in dual-image mode the detection image then the measurement image
+  // (same pixel grid). Footprints come from the first, photometry from the second.
+  std::vector<std::string> imagePaths;
+  std::string configPath;  // -c, or "" for the built-in defaults
+  bool dualImage() const { return imagePaths.size() == 2; }
+  const std::string& detectionImagePath() const { return imagePaths.front(); }
+  const std::string& measurementImagePath() const { return imagePaths.back(); }
 
   std::string catalogType = "FITS_LDAC";
   std::vector<std::string> catalogNames{"test.cat"};
@@ -53,6 +69,8 @@ struct RunSettings {
   std::optional<double> weightThreshold;     // WEIGHT_THRESH in the map's units; unset = default
   bool rescaleWeights = true;                // RESCALE_WEIGHTS
   bool weightGain = true;                    // WEIGHT_GAIN
+  // The measurement image's BACK_* and WEIGHT_* values (dual-image mode only).
+  MeasurementImageSettings measurement;
 
   double magZeropoint = 0.0;
   double gainElectronPerAdu = 0.0;  // GAIN; 0 = infinite
@@ -81,6 +99,16 @@ struct RunSettings {
 // `weightMapsElsewhere`: the weight maps come from elsewhere (a batch's manifest), so that
 // WEIGHT_TYPE without WEIGHT_IMAGE is no error (weightImagePath is left empty).
 RunSettings settingsFromConfig(const sexcompat::Config& config, bool weightMapsElsewhere = false);
+
+// The image arguments of a command line: one image, SExtractor's `DETECT,MEASURE` (a comma in a
+// name that is not an existing file) or two names. Sets settings.imagePaths; a ConfigError when
+// there are none or more than two, or when a dual-image run names BACKGROUND_NAME or
+// BACKGROUND_RMS_NAME (those maps belong to one image).
+void setImagePaths(RunSettings& settings, const std::vector<std::string>& arguments);
+
+// The settings with which the measurement image of a dual-image run is read: its own BACK_* and
+// WEIGHT_* values, no filter (the filter belongs to detection).
+RunSettings measurementImageSettings(const RunSettings& settings);
 
 // One input file of a run and the option that names it ("the image", "WEIGHT_IMAGE", ...).
 struct NamedInput {

@@ -15,6 +15,7 @@
 #include "TestPaths.h"
 #include "octarc/catalog/Catalog.h"
 #include "octarc/catalog/InputCatalog.h"
+#include "octarc/core/Error.h"
 #include "octarc/run/CatalogAssembly.h"
 #include "octarc/run/DetectionRun.h"
 #include "octarc/run/Levels.h"
@@ -136,6 +137,76 @@ TEST(ImageRun, InMemoryRowsEqualTheCatalogsAndFindTheObjectsWherePut) {
     EXPECT_EQ(labels(50, 61), 1);
     EXPECT_EQ(labels(140, 90), 2);
     EXPECT_EQ(labels(5, 5), 0);
+  }
+}
+
+// Dual-image mode on a measurement image that is the detection image times two (exact in
+// floating point): the same footprints and shapes, FLUX_ISO and FLUXERR_ISO twice the
+// single-image values (the measurement image's noise is twice the detection image's), the same
+// ISOAREA_IMAGE (its analysis threshold is in the measurement image's sigma) and ARCNESS (scale
+// free). Images of different sizes are an IoError naming both.
+TEST(ImageRun, DualImageMeasuresOnTheSecondImage) {
+  const std::filesystem::path dir = test::scratchDir();
+  const std::vector<Blob> blobs = {{50.3, 60.7, 200.0, 2.0, 2.0}, {140.2, 90.4, 120.0, 4.0, 1.5}};
+  const ImageF pixels = syntheticImage(blobs);
+  ImageF doubled = pixels;
+  for (float& v : doubled.pixels()) v *= 2.0f;
+  const std::string detectionPath = (dir / "detect.fits").string();
+  const std::string measurementPath = (dir / "measure.fits").string();
+  test::writeFloatFits(detectionPath, pixels);
+  test::writeFloatFits(measurementPath, doubled);
+  const std::string paramPath = (dir / "dual.param").string();
+  {
+    std::ofstream f(paramPath);
+    for (const std::string& c : kColumns) f << c << "\n";
+    f << "FLUXERR_ISO\n";
+  }
+  RunSettings s;
+  s.parametersPath = paramPath;
+  s.backgroundType = BackgroundType::Manual;
+  s.measurement.backgroundType = BackgroundType::Manual;
+  s.filterPath = std::string(OCTARC_SOURCE_DIR) + "/params/default.conv";
+  s.detectThreshold = 3.0;
+  s.detectThresholdMax = 30.0;
+  s.detectLevelCount = 3;
+  s.threads = 1;
+  const ColumnPlan columns = planColumns(s, true, 3);
+  s.imagePaths = {detectionPath};
+  const DetectionRunResult single = runDetection(s, columns, std::nullopt, RunLog());
+  s.imagePaths = {detectionPath, measurementPath};
+  const DetectionRunResult dual = runDetection(s, columns, std::nullopt, RunLog());
+  const Table& one = single.extensions.front().table;
+  const Table& two = dual.extensions.front().table;
+  ASSERT_EQ(one.rows(), 6);
+  ASSERT_EQ(two.rows(), one.rows());
+  for (const char* name : {"NUMBER", "THRESH_LEVEL", "PARENT_NUMBER", "X_IMAGE", "Y_IMAGE",
+                           "A_IMAGE", "B_IMAGE", "SIZE_IMAGE", "FLAGS", "ISOAREA_IMAGE"}) {
+    const int c = one.findColumn(name);
+    for (std::int64_t r = 0; r < one.rows(); ++r) {
+      EXPECT_EQ(two.value(r, c), one.value(r, c)) << name << " row " << r;
+    }
+  }
+  for (const char* name : {"FLUX_ISO", "FLUXERR_ISO"}) {
+    const int c = one.findColumn(name);
+    for (std::int64_t r = 0; r < one.rows(); ++r) {
+      EXPECT_NEAR(two.value(r, c), 2.0 * one.value(r, c), 1e-6 * std::fabs(one.value(r, c)))
+          << name << " row " << r;
+    }
+  }
+  const int arcness = one.findColumn("ARCNESS");
+  for (std::int64_t r = 0; r < one.rows(); ++r) {
+    EXPECT_NEAR(two.value(r, arcness), one.value(r, arcness), 1e-9) << "row " << r;
+  }
+
+  test::writeFloatFits(measurementPath, ImageF(100, 150, 1.0f));
+  try {
+    runDetection(s, columns, std::nullopt, RunLog());
+    ADD_FAILURE() << "no IoError";
+  } catch (const IoError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              detectionPath + " and " + measurementPath +
+                  ": the detection and measurement images must share one pixel grid (200x150 "
+                  "and 100x150 pixels)");
   }
 }
 

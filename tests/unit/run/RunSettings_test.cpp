@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <fstream>
 #include <set>
 #include <string>
@@ -127,6 +128,69 @@ TEST(RunSettings, PairsTakeTheSecondValueWhenGiven) {
   EXPECT_EQ(two.backMeshHeightPix, 48);
   EXPECT_EQ(two.backFilterWidth, 3);
   EXPECT_EQ(two.backFilterHeight, 5);
+}
+
+// Dual-image mode: the second value of BACK_TYPE, BACK_VALUE, WEIGHT_TYPE, WEIGHT_IMAGE and
+// WEIGHT_THRESH is the measurement image's, the first value when only one is given.
+TEST(RunSettings, MeasurementImageTakesTheSecondValues) {
+  const RunSettings two = settingsFromFile(
+      "BACK_TYPE MANUAL,AUTO\nBACK_VALUE 10,20\nWEIGHT_TYPE MAP_RMS,MAP_WEIGHT\n"
+      "WEIGHT_IMAGE d.fits,m.fits\nWEIGHT_THRESH 100,0.5\nFILTER Y\n");
+  EXPECT_EQ(two.backgroundType, BackgroundType::Manual);
+  EXPECT_EQ(two.backgroundValueAdu, 10.0);
+  EXPECT_EQ(two.weightType, WeightType::MapRms);
+  EXPECT_EQ(two.weightImagePath, "d.fits");
+  EXPECT_EQ(two.weightThreshold, 100.0);
+  const RunSettings measured = measurementImageSettings(two);
+  EXPECT_EQ(measured.backgroundType, BackgroundType::Auto);
+  EXPECT_EQ(measured.backgroundValueAdu, 20.0);
+  EXPECT_EQ(measured.weightType, WeightType::MapWeight);
+  EXPECT_EQ(measured.weightImagePath, "m.fits");
+  EXPECT_EQ(measured.weightThreshold, 0.5);
+  EXPECT_FALSE(measured.filter);  // the filter belongs to detection
+  EXPECT_TRUE(two.filter);
+
+  const RunSettings one = settingsFromFile("WEIGHT_TYPE MAP_VAR\nWEIGHT_IMAGE w.fits\n");
+  EXPECT_EQ(one.measurement.weightType, WeightType::MapVariance);
+  EXPECT_EQ(one.measurement.weightImagePath, "w.fits");
+  // Weights for the measurement image alone.
+  const RunSettings second = settingsFromFile("WEIGHT_TYPE NONE,MAP_WEIGHT\nWEIGHT_IMAGE m.fits\n");
+  EXPECT_EQ(second.weightType, WeightType::None);
+  EXPECT_TRUE(second.weightImagePath.empty());
+  EXPECT_EQ(second.measurement.weightImagePath, "m.fits");
+}
+
+TEST(RunSettings, ImageArgumentsInSExtractorsSyntax) {
+  RunSettings s;
+  setImagePaths(s, {"det.fits,meas.fits"});
+  EXPECT_TRUE(s.dualImage());
+  EXPECT_EQ(s.detectionImagePath(), "det.fits");
+  EXPECT_EQ(s.measurementImagePath(), "meas.fits");
+  setImagePaths(s, {"det.fits", "meas.fits"});
+  EXPECT_EQ(s.imagePaths, (std::vector<std::string>{"det.fits", "meas.fits"}));
+  setImagePaths(s, {"one.fits"});
+  EXPECT_FALSE(s.dualImage());
+  EXPECT_EQ(s.detectionImagePath(), "one.fits");
+  EXPECT_EQ(s.measurementImagePath(), "one.fits");
+  // A file whose name holds a comma is that file.
+  const std::string comma = testing::TempDir() + "a,b.fits";
+  std::ofstream(comma) << "x";
+  setImagePaths(s, {comma});
+  EXPECT_EQ(s.imagePaths, std::vector<std::string>{comma});
+  std::remove(comma.c_str());
+  EXPECT_THROW(setImagePaths(s, {}), ConfigError);
+  EXPECT_THROW(setImagePaths(s, {"a", "b", "c"}), ConfigError);
+  EXPECT_THROW(setImagePaths(s, {"a,b,c"}), ConfigError);
+  EXPECT_THROW(setImagePaths(s, {"a,b", "c"}), ConfigError);
+  EXPECT_THROW(setImagePaths(s, {",b"}), ConfigError);
+  s.backgroundMapPath = "back.fits";
+  try {
+    setImagePaths(s, {"a,b"});
+    ADD_FAILURE() << "no ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "BACKGROUND_NAME: background maps are for one image, not for a dual-image run");
+  }
 }
 
 // Every catalog row holds the whole VECTOR_ASSOC: a size from a .param file could ask for
