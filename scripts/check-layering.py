@@ -43,6 +43,7 @@ STAGES = [
     ("simulation", "octarc_simulation", None),
     ("run", "octarc_run", None),
     ("simulation/engine", "octarc_simulation_engine", None),
+    ("lenslight", "octarc_lenslight", None),
     ("calibration", "octarc_calibration", None),
     ("search", "octarc_search", None),
     ("batch", "octarc_batch", None),

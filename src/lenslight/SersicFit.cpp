@@ -1,0 +1,224 @@
+#include "octarc/lenslight/SersicFit.h"
+
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace octarc::lenslight {
+
+namespace {
+
+// The fitted parameters: x, y, log flux, log radius, index, axis ratio, angle. Logarithms keep
+// flux and radius positive and their steps relative.
+constexpr int kParams = 7;
+
+SersicParams fromVector(const double* p) {
+  SersicParams s;
+  s.xPix = p[0];
+  s.yPix = p[1];
+  s.totalFluxAdu = std::exp(p[2]);
+  s.halfLightRadiusPix = std::exp(p[3]);
+  s.sersicIndex = p[4];
+  s.axisRatio = p[5];
+  s.positionAngleRad = p[6];
+  return s;
+}
+
+// All pixel residuals (stamp - model) / sigma in one block: the model is drawn and convolved as
+// a whole, so its derivatives are taken numerically (central differences).
+struct StampResiduals {
+  const ImageD* stamp;
+  std::vector<std::int64_t> pixels;  // the fitted pixels' linear indices
+  std::vector<double> inverseSigma;
+  double psfSigmaPix;
+
+  bool operator()(double const* const* parameters, double* residuals) const {
+    const SersicParams s = fromVector(parameters[0]);
+    if (!(s.axisRatio > 0.0 && s.axisRatio <= 1.0) || !(s.sersicIndex > 0.0)) return false;
+    const ImageD model = renderSersic(s, int(stamp->width()), int(stamp->height()), psfSigmaPix);
+    for (std::size_t i = 0; i < pixels.size(); ++i) {
+      const std::int64_t p = pixels[i];
+      residuals[i] = ((*stamp)[p] - model[p]) * inverseSigma[i];
+    }
+    return true;
+  }
+};
+
+double wrapAngle(double theta) {
+  // The major axis is a direction: angles modulo pi, in [0, pi).
+  theta = std::fmod(theta, std::numbers::pi);
+  return theta < 0 ? theta + std::numbers::pi : theta;
+}
+
+}  // namespace
+
+SersicParams momentsStart(const ImageD& stamp) {
+  double sum = 0, sx = 0, sy = 0;
+  for (std::int64_t y = 0; y < stamp.height(); ++y) {
+    for (std::int64_t x = 0; x < stamp.width(); ++x) {
+      const double v = stamp(x, y);
+      if (!(v > 0)) continue;
+      sum += v;
+      sx += v * double(x);
+      sy += v * double(y);
+    }
+  }
+  SersicParams s;
+  s.sersicIndex = 2.5;
+  if (!(sum > 0)) return s;
+  s.xPix = sx / sum;
+  s.yPix = sy / sum;
+  double xx = 0, yy = 0, xy = 0;
+  for (std::int64_t y = 0; y < stamp.height(); ++y) {
+    for (std::int64_t x = 0; x < stamp.width(); ++x) {
+      const double v = stamp(x, y);
+      if (!(v > 0)) continue;
+      const double dx = double(x) - s.xPix, dy = double(y) - s.yPix;
+      xx += v * dx * dx;
+      yy += v * dy * dy;
+      xy += v * dx * dy;
+    }
+  }
+  xx /= sum;
+  yy /= sum;
+  xy /= sum;
+  const double mean = 0.5 * (xx + yy), diff = 0.5 * (xx - yy);
+  const double root = std::sqrt(diff * diff + xy * xy);
+  const double a2 = mean + root, b2 = std::max(mean - root, 1e-6);
+  s.totalFluxAdu = sum;
+  s.axisRatio = std::clamp(std::sqrt(b2 / a2), 0.1, 1.0);
+  s.positionAngleRad = wrapAngle(0.5 * std::atan2(2.0 * xy, xx - yy));
+  // The moments of noisy wings overestimate the size; half of it is a safe start.
+  s.halfLightRadiusPix = std::max(0.5 * std::sqrt(a2), 0.5);
+  return s;
+}
+
+SersicFitResult fitSersic(const ImageD& stamp, const ImageD& varianceAdu2,
+                          const std::vector<std::uint8_t>& ignored, const SersicParams& start,
+                          const SersicFitSettings& settings) {
+  auto* residuals = new StampResiduals{&stamp, {}, {}, settings.psfSigmaPix};
+  for (std::int64_t p = 0; p < stamp.size(); ++p) {
+    const double var = varianceAdu2[p];
+    if (!ignored.empty() && ignored[std::size_t(p)] != 0) continue;
+    if (!(var > 0.0) || !std::isfinite(var) || !std::isfinite(stamp[p])) continue;
+    residuals->pixels.push_back(p);
+    residuals->inverseSigma.push_back(1.0 / std::sqrt(var));
+  }
+  SersicFitResult out;
+  const std::int64_t used = std::int64_t(residuals->pixels.size());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  out.errors = {nan, nan, nan, nan, nan, nan, nan};
+  if (used <= kParams) {
+    delete residuals;
+    out.params = start;
+    out.message = kTooFewPixelsMessage;
+    return out;
+  }
+  double p[kParams] = {start.xPix,
+                       start.yPix,
+                       std::log(start.totalFluxAdu),
+                       std::log(start.halfLightRadiusPix),
+                       std::clamp(start.sersicIndex, settings.minIndex, settings.maxIndex),
+                       std::clamp(start.axisRatio, settings.minAxisRatio, 1.0),
+                       start.positionAngleRad};
+  ceres::NumericDiffOptions diff;
+  diff.relative_step_size = 1e-5;
+  auto* cost = new ceres::DynamicNumericDiffCostFunction<StampResiduals, ceres::CENTRAL>(
+      residuals, ceres::TAKE_OWNERSHIP, diff);
+  cost->AddParameterBlock(kParams);
+  cost->SetNumResiduals(int(used));
+  ceres::Problem problem;
+  problem.AddResidualBlock(cost, nullptr, p);
+  const double size = double(std::max(stamp.width(), stamp.height()));
+  problem.SetParameterLowerBound(p, 3, std::log(0.2));
+  problem.SetParameterUpperBound(p, 3, std::log(2.0 * size));
+  problem.SetParameterLowerBound(p, 4, settings.minIndex);
+  problem.SetParameterUpperBound(p, 4, settings.maxIndex);
+  problem.SetParameterLowerBound(p, 5, settings.minAxisRatio);
+  problem.SetParameterUpperBound(p, 5, 1.0);
+
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = settings.maxIterations;
+  options.function_tolerance = 1e-12;
+  options.parameter_tolerance = 1e-12;
+  options.gradient_tolerance = 1e-14;
+  options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  out.converged = summary.termination_type == ceres::CONVERGENCE;
+  out.iterations = int(summary.iterations.size());
+  if (!out.converged) out.message = summary.BriefReport();
+  out.chi2 = 2.0 * summary.final_cost;
+  out.degreesOfFreedom = used - kParams;
+  p[6] = wrapAngle(p[6]);
+  out.params = fromVector(p);
+
+  ceres::Covariance::Options covarianceOptions;
+  covarianceOptions.algorithm_type = ceres::DENSE_SVD;
+  ceres::Covariance covariance(covarianceOptions);
+  const std::vector<std::pair<const double*, const double*>> blocks = {{p, p}};
+  double c[kParams * kParams];
+  if (covariance.Compute(blocks, &problem) && covariance.GetCovarianceBlock(p, p, c)) {
+    auto sigma = [&](int i) { return std::sqrt(c[i * kParams + i]); };
+    out.errors.xPix = sigma(0);
+    out.errors.yPix = sigma(1);
+    out.errors.totalFluxAdu = out.params.totalFluxAdu * sigma(2);
+    out.errors.halfLightRadiusPix = out.params.halfLightRadiusPix * sigma(3);
+    out.errors.sersicIndex = sigma(4);
+    out.errors.axisRatio = sigma(5);
+    out.errors.positionAngleRad = sigma(6);
+  }
+  return out;
+}
+
+LensLightModel fitLensLight(const ImageD& stamp, const ImageD& varianceAdu2,
+                            const LensLightSettings& settings) {
+  return fitLensLightFrom(stamp, varianceAdu2, momentsStart(stamp), settings);
+}
+
+LensLightModel fitLensLightFrom(const ImageD& stamp, const ImageD& varianceAdu2,
+                                const SersicParams& firstStart, const LensLightSettings& settings) {
+  LensLightModel out;
+  out.clipped.assign(std::size_t(stamp.size()), 0);
+  SersicParams start = firstStart;
+  const std::int64_t w = stamp.width(), h = stamp.height();
+  for (int round = 0;; ++round) {
+    out.fit = fitSersic(stamp, varianceAdu2, out.clipped, start, settings.fit);
+    out.model = renderSersic(out.fit.params, int(w), int(h), settings.fit.psfSigmaPix);
+    out.residual = stamp;
+    for (std::int64_t p = 0; p < stamp.size(); ++p) out.residual[p] -= out.model[p];
+    if (round == settings.clipRounds) break;
+    // Positive outliers, the residual over its noise averaged on 3 x 3 pixels (so that an arc's
+    // faint edges go with it, and single noise peaks stay).
+    std::vector<std::uint8_t> next(std::size_t(stamp.size()), 0);
+    for (std::int64_t y = 0; y < h; ++y) {
+      for (std::int64_t x = 0; x < w; ++x) {
+        double sum = 0, var = 0;
+        int count = 0;
+        for (std::int64_t v = std::max<std::int64_t>(y - 1, 0); v <= std::min(y + 1, h - 1); ++v) {
+          for (std::int64_t u = std::max<std::int64_t>(x - 1, 0); u <= std::min(x + 1, w - 1);
+               ++u) {
+            const double r = out.residual(u, v), s2 = varianceAdu2(u, v);
+            if (!std::isfinite(r) || !(s2 > 0)) continue;
+            sum += r;
+            var += s2;
+            ++count;
+          }
+        }
+        if (count > 0 && sum > settings.clipSigma * std::sqrt(var)) {
+          next[std::size_t(y * w + x)] = 1;
+        }
+      }
+    }
+    if (next == out.clipped) break;
+    out.clipped = std::move(next);
+    start = out.fit.params;
+  }
+  return out;
+}
+
+}  // namespace octarc::lenslight
