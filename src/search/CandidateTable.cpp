@@ -140,8 +140,8 @@ const std::vector<ColumnDef>& definitions() {
                return v.candidate.curvature ? v.candidate.curvature->radius : kNaN;
              }),
       copied("FLAGS", "Extraction flags of the best row", "", T::Int16, "%3d"),
-      number("CAND_FLAGS", "1 dark lens?, 2 no circle fit, 4 no WCS, 8 side unknown", "", T::Int16,
-             "%3d", [](const RowView& v) { return double(v.candidate.flags); }),
+      number("CAND_FLAGS", "1 dark lens?, 2 no circle fit, 4 no WCS, 8 side unknown, 16 residual",
+             "", T::Int16, "%3d", [](const RowView& v) { return double(v.candidate.flags); }),
   };
   return defs;
 }

@@ -94,7 +94,13 @@ std::optional<CircleFit> curvatureOf(const ImageF& pixels, const std::vector<Pix
   return fitCircle(xs, ys, ws);
 }
 
-// The circle fits of the objects' best rows, every level's footprints gathered in one pass.
+// The lens-light origin of row i (SearchInput::lensLightOf).
+std::int64_t lensLightOf(const SearchInput& in, std::size_t i) {
+  return in.lensLightOf != nullptr ? (*in.lensLightOf)[i] : kNotLensLightRow;
+}
+
+// The circle fits of the objects' best rows, every level's footprints gathered in one pass; a
+// row measured on the lens-light residual is fitted on the residual's pixels.
 std::vector<std::optional<CircleFit>> curvaturesOf(const SearchInput& in,
                                                    const std::vector<MergedObject>& objects,
                                                    const std::vector<TreeRow>& tree) {
@@ -109,10 +115,41 @@ std::vector<std::optional<CircleFit>> curvaturesOf(const SearchInput& in,
     for (const std::size_t k : members) numbers.push_back(tree[objects[k].bestRow].number);
     const std::vector<std::vector<PixelRun>> runs = in.footprints->footprints(level, numbers);
     for (std::size_t i = 0; i < members.size(); ++i) {
-      out[members[i]] = curvatureOf(*in.pixels, runs[i]);
+      const bool residual =
+          in.residualPixels != nullptr && lensLightOf(in, objects[members[i]].bestRow) >= 0;
+      out[members[i]] = curvatureOf(residual ? *in.residualPixels : *in.pixels, runs[i]);
     }
   }
   return out;
+}
+
+// LENS_LIGHT LOCAL: an object that separates in the image itself is found in the residual too.
+// The image's candidate stays (the residual only adds), the residual's copy within
+// kSameArcArcsec of it goes.
+void dropResidualDuplicates(const Table& catalog, const SearchColumns& c, const SearchSettings& s,
+                            std::vector<Candidate>& candidates) {
+  constexpr double kSameArcArcsec = 1.0;
+  const double samePix = kSameArcArcsec / s.pixelScaleArcsec;
+  auto position = [&](const Candidate& cand) {
+    return std::pair{catalog.value(std::int64_t(cand.row), c.x),
+                     catalog.value(std::int64_t(cand.row), c.y)};
+  };
+  auto isTwin = [&](const Candidate& cand) {
+    if (!(cand.flags & kCandidateLensLight)) return false;
+    const auto [x, y] = position(cand);
+    return std::any_of(candidates.begin(), candidates.end(), [&](const Candidate& o) {
+      if (o.flags & kCandidateLensLight) return false;
+      const auto [ox, oy] = position(o);
+      return std::hypot(ox - x, oy - y) < samePix;
+    });
+  };
+  std::vector<bool> twin(candidates.size());
+  for (std::size_t i = 0; i < candidates.size(); ++i) twin[i] = isTwin(candidates[i]);
+  std::vector<Candidate> kept;
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    if (!twin[i]) kept.push_back(std::move(candidates[i]));
+  }
+  candidates = std::move(kept);
 }
 
 }  // namespace
@@ -142,6 +179,9 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
   const Table& catalog = *in.catalog;
   const SearchColumns c(catalog);
   const std::int64_t n = catalog.rows();
+  if (in.lensLightOf != nullptr && std::int64_t(in.lensLightOf->size()) != n) {
+    throw ConfigError("search: the lens-light marks do not match the catalog's rows");
+  }
 
   // Every cut, row by row.
   const std::vector<RowScore> scores = scoreRows(in.grid->grid, in.grid->contour, catalog);
@@ -181,6 +221,7 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
     }
     tree[i] = {int(level), std::int32_t(number), std::int32_t(parent)};
     rowOf[treeKey(tree[i].level, tree[i].number)] = i;
+    if (lensLightOf(in, i) == kLensOnlyRow) continue;  // a fitted galaxy: a lens, never an arc
     if (!in.mask->searched(catalog.value(r, c.x), catalog.value(r, c.y))) continue;
     ++summary.rowsSearched;
     if (tree[i].level == 1) ++summary.objectsSearched;
@@ -217,7 +258,6 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
       for (const std::size_t r : object.rows) {
         if (spaceMasks[k][r]) cand.spaces |= 1u << k;
       }
-      if (cand.spaces & (1u << k)) ++summary.spaces[k].candidates;
     }
     const std::int64_t best = std::int64_t(object.bestRow);
     const TreeRow& id = tree[object.bestRow];
@@ -266,7 +306,13 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
     // Below LENS_SIDE_ARCNESS the octopole does not tell the concave side: the nearest galaxy.
     const double arcness = arcnessColumn >= 0 ? catalog.value(best, arcnessColumn) : kNaN;
     std::optional<LensMatch> match;
-    if (std::abs(arcness) < s.sideMinArcness) {
+    const std::int64_t fittedLens = lensLightOf(in, object.bestRow);
+    if (fittedLens >= 0) {
+      // Found in the residual of a fitted galaxy: that galaxy is the lens.
+      cand.flags |= kCandidateLensLight;
+      const double lx = catalog.value(fittedLens, c.x), ly = catalog.value(fittedLens, c.y);
+      match = LensMatch{std::size_t(fittedLens), std::hypot(lx - x, ly - y)};
+    } else if (std::abs(arcness) < s.sideMinArcness) {
       cand.flags |= kCandidateSideUnknown;
       for (const LensCandidateGalaxy& g : galaxies) {
         const double d = std::hypot(g.x - x, g.y - y);
@@ -291,6 +337,12 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
       cand.flags |= kCandidateDarkLens;
     }
     result.candidates.push_back(std::move(cand));
+  }
+  if (in.residualRowsAreExtra) dropResidualDuplicates(catalog, c, s, result.candidates);
+  for (const Candidate& cand : result.candidates) {
+    for (std::size_t k = 0; k < s.reportSpaces.size(); ++k) {
+      if (cand.spaces & (1u << k)) ++summary.spaces[k].candidates;
+    }
   }
   summary.candidates = std::int64_t(result.candidates.size());
   return result;

@@ -18,6 +18,8 @@
 #include "octarc/run/Levels.h"
 #include "octarc/run/RunKeys.h"
 #include "octarc/search/CandidateTable.h"
+#include "octarc/search/LensLightSearch.h"
+#include "octarc/selection/ColumnExpression.h"
 #include "octarc/selection/SurveySetup.h"
 #include "octarc/sexcompat/KeyRow.h"
 
@@ -81,6 +83,20 @@ double wcsPixelScaleArcsec(const Wcs& wcs, std::int64_t width, std::int64_t heig
   };
   const double scale = 0.5 * (separationArcsec(c, dx) + separationArcsec(c, dy));
   return std::isfinite(scale) ? scale : 0.0;
+}
+
+// PIXEL_SCALE, else the WCS's at the image centre; ConfigError when neither gives one.
+double runPixelScaleArcsec(const SearchRun& run, const RunSettings& rs) {
+  if (rs.pixelScaleArcsec > 0) return rs.pixelScaleArcsec;
+  const double scale = run.image.wcs
+                           ? wcsPixelScaleArcsec(*run.image.wcs, run.image.hdu.pixels.width(),
+                                                 run.image.hdu.pixels.height())
+                           : 0.0;
+  if (!(scale > 0)) {
+    throw ConfigError(rs.measurementImagePath() +
+                      ": no WCS to take the pixel scale from; set PIXEL_SCALE");
+  }
+  return scale;
 }
 
 void requireColumns(const Table& catalog, const std::vector<std::string>& names,
@@ -152,6 +168,14 @@ std::vector<KeySpec> searchKeys() {
         .range(64, 4096),
     Row("STAMPS", Kind::Bool, {"Y"}, "write the stamps and contact sheet"),
     Row("NAME_PREFIX", Kind::String, {"OCTARC"}, "prefix of the designations"),
+    Row("LENS_LIGHT", Kind::String, {"N"}, "subtract fitted Sersic models of bright galaxies:\n"
+        "N, LOCAL (also search the residual around each)\nor IMAGE (search the residual image)"),
+    Row("LENS_SELECT", Kind::String, {"MAG_ISO", "<", "20.5", "&&", "E_IMAGE", "<", "0.5"},
+        "which level-1 objects are fitted (an expression\non the catalog's columns)")
+        .list(1, 1024),
+    Row("LENS_CUTOUT", Kind::Float, {"20.0"}, "side of the square fitted around each (arcsec)")
+        .range(1, 600),
+    Row("LENS_CHECKIMAGES", Kind::Bool, {"Y"}, "write lensmodel.fits and lensresidual.fits"),
   };
   // clang-format on
   keys.insert(keys.end(), own.begin(), own.end());
@@ -185,6 +209,26 @@ SearchRunSettings searchSettingsFromConfig(const sexcompat::Config& c, RunSettin
   s.stamps.sideArcsec = c.getDouble("STAMP_SIZE");
   s.stamps.sizePix = c.getInt("STAMP_PIXELS");
   s.writeStamps = c.getBool("STAMPS");
+  s.lensLight.mode = lenslight::parseSubtractionMode(c.getString("LENS_LIGHT"));
+  s.lensLight.selectExpression.clear();
+  for (const std::string& w : c.getStrings("LENS_SELECT")) {
+    s.lensLight.selectExpression += (s.lensLight.selectExpression.empty() ? "" : " ") + w;
+  }
+  s.lensLight.cutoutArcsec = c.getDouble("LENS_CUTOUT");
+  s.lensCheckImages = c.getBool("LENS_CHECKIMAGES");
+  if (s.lensLight.mode != lenslight::SubtractionMode::Off) {
+    // Parsed now, so that a bad expression stops the run before any pixel is read.
+    ColumnExpression(s.lensLight.selectExpression, "LENS_SELECT");
+    if (!s.inputCatalogPath.empty()) {
+      throw ConfigError(
+          "LENS_LIGHT: the residual is detected here; it cannot be used with "
+          "INPUT_CATALOG " +
+          s.inputCatalogPath);
+    }
+    if (s.run.dualImage()) {
+      throw ConfigError("LENS_LIGHT: not available in dual-image mode (give one image)");
+    }
+  }
   return s;
 }
 
@@ -218,6 +262,10 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
     run.image = std::move(*detected.checkImage);
     run.footprints = std::move(detected.segmentation);
     requireColumns(run.catalog, searchRequiredColumns(), "PARAMETERS_NAME " + rs.parametersPath);
+    if (settings.lensLight.mode != lenslight::SubtractionMode::Off) {
+      run.pixelScaleArcsec = runPixelScaleArcsec(run, rs);
+      applyLensLight(run, settings, columns, log);
+    }
   } else {
     if (log) log("> Reading " + settings.inputCatalogPath);
     run.catalog = tableFromFits(readFitsTable(settings.inputCatalogPath, "LDAC_OBJECTS"));
@@ -245,15 +293,7 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
     }
   }
   const Wcs* wcs = run.image.wcs ? &*run.image.wcs : nullptr;
-  run.pixelScaleArcsec = rs.pixelScaleArcsec > 0
-                             ? rs.pixelScaleArcsec
-                             : (wcs ? wcsPixelScaleArcsec(*wcs, run.image.hdu.pixels.width(),
-                                                          run.image.hdu.pixels.height())
-                                    : 0.0);
-  if (!(run.pixelScaleArcsec > 0)) {
-    throw ConfigError(rs.measurementImagePath() +
-                      ": no WCS to take the pixel scale from; set PIXEL_SCALE");
-  }
+  run.pixelScaleArcsec = runPixelScaleArcsec(run, rs);
   if (!wcs) {
     run.warnings.push_back(rs.measurementImagePath() +
                            " has no celestial WCS: candidates get pixel positions only (no RA, "
@@ -286,6 +326,11 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
   input.wcs = wcs;
   input.footprints = run.footprints ? &*run.footprints : nullptr;
   input.pixels = &run.image.hdu.pixels;
+  if (run.lensLight) {
+    input.lensLightOf = &run.lensLightOf;
+    input.residualPixels = &run.lensLight->residual;
+    input.residualRowsAreExtra = settings.lensLight.mode == lenslight::SubtractionMode::Local;
+  }
   if (log) log("> Selecting candidates");
   run.result = searchCandidates(input, search);
   if (log) {
@@ -331,6 +376,20 @@ std::vector<std::string> searchSummaryLines(const SearchRun& run,
   for (const SpaceCount& space : s.spaces) {
     lines.push_back(
         reportSpaceLine(space.name, space.expression, space.candidates, s.searchedAreaDeg2));
+  }
+  if (run.lensLight) {
+    const lenslight::Subtraction& sub = *run.lensLight;
+    std::int64_t found = 0;
+    for (const Candidate& c : run.result.candidates) found += (c.flags & kCandidateLensLight) != 0;
+    const bool local = settings.lensLight.mode == lenslight::SubtractionMode::Local;
+    lines.push_back(std::string("Lens light (LENS_LIGHT ") + (local ? "LOCAL" : "IMAGE") +
+                    "): " + std::to_string(sub.galaxies.size()) + " galaxies fitted (" +
+                    settings.lensLight.selectExpression + "), " +
+                    std::to_string(sub.subtractedCount()) + " subtracted, " +
+                    std::to_string(std::int64_t(sub.galaxies.size()) - sub.subtractedCount()) +
+                    " left in (fit failed); " + std::to_string(run.lensLightRows) +
+                    " residual rows near them; " + std::to_string(found) +
+                    " candidate(s) from the residual");
   }
   return lines;
 }
@@ -390,9 +449,12 @@ void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings
     parallelForDynamic(
         n, resolveThreads(settings.run.threads),
         [&](std::int64_t i) {
-          const Stamp stamp =
-              candidateStamp(run.image.hdu.pixels, catalog, run.result, std::size_t(i), wcs,
-                             run.pixelScaleArcsec, settings.stamps);
+          // An arc found in the lens-light residual is shown there: the image hides it.
+          const bool residual =
+              run.lensLight && (run.result.candidates[std::size_t(i)].flags & kCandidateLensLight);
+          const Stamp stamp = candidateStamp(
+              residual ? run.lensLight->residual : run.image.hdu.pixels, catalog, run.result,
+              std::size_t(i), wcs, run.pixelScaleArcsec, settings.stamps);
           writeStampPng((root / stampFileName(std::size_t(i))).string(), stamp);
         },
         [&](std::int64_t done) {
@@ -408,6 +470,16 @@ void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings
   writeFitsTables((root / "candidates.fits").string(),
                   {ldacImheadTable(run.image.hdu.header, run.runCards),
                    candidateObjectsTable(catalog, run.result, search)});
+  if (run.lensLight) {
+    writeFitsTables((root / "lensfit.fits").string(), {lensFitTable(run)});
+    if (settings.lensCheckImages) {
+      // With the image's header (its WCS), so that DS9 overlays them on the image.
+      writeImageFile((root / "lensmodel.fits").string(),
+                     {{run.image.hdu.header, &run.lensLight->model, nullptr}});
+      writeImageFile((root / "lensresidual.fits").string(),
+                     {{run.image.hdu.header, &run.lensLight->residual, nullptr}});
+    }
+  }
   if (addFiles) addFiles(tempPath);
   // The marker last: it says the directory is complete.
   writeText(kSearchMarkerFile, kSearchMarkerText);

@@ -38,7 +38,12 @@ enum CandidateFlag : int {
   kCandidateNoCurvature = 2,  // no circle could be fitted to the arc's pixels (centroid used)
   kCandidateNoWcs = 4,        // the image has no celestial WCS: no RA, Dec or name
   kCandidateSideUnknown = 8,  // |ARCNESS| below LENS_SIDE_ARCNESS: the nearest galaxy, any side
+  kCandidateLensLight = 16,   // found in the lens-light residual: its lens is the fitted galaxy
 };
+
+// SearchInput::lensLightOf values other than a lens row.
+inline constexpr std::int64_t kNotLensLightRow = -1;  // a row of the image itself
+inline constexpr std::int64_t kLensOnlyRow = -2;      // a fitted galaxy kept as a lens only
 
 struct SearchSettings {
   double snrMin = 40.0;            // S/N floor: SNR_ISO above it
@@ -112,6 +117,15 @@ struct SearchInput {
   const Wcs* wcs = nullptr;  // null: pixel positions only
   const SegmentationRuns* footprints = nullptr;
   const ImageF* pixels = nullptr;
+  // Lens-light subtraction (search/LensLightSearch.h); empty: none. Per catalog row: the row of
+  // the fitted galaxy that is its lens when the row was measured on the residual, else
+  // kNotLensLightRow, or kLensOnlyRow for a galaxy's own row that is never selected. Residual
+  // rows' curvature is fitted on `residualPixels`.
+  const std::vector<std::int64_t>* lensLightOf = nullptr;
+  const ImageF* residualPixels = nullptr;
+  // LENS_LIGHT LOCAL: the residual's rows add to the image's, so a residual candidate within
+  // kMinLensArcArcsec of one of the image's is the same object, and is dropped.
+  bool residualRowsAreExtra = false;
 };
 
 // ConfigError for a missing column, a bad setting or inconsistent inputs.

@@ -6,8 +6,10 @@
 //     --> grid (GRID_NAME) checked against the image's setup (a warning when they differ)
 //     --> candidates (search/Search.h)
 //   --> writeSearchOutputs(): OUTPUT_DIR holding candidates.fits (FITS-LDAC), candidates.cat
-//       (ASCII_HEAD), candidates.reg (DS9), stamps/NNNN.png, index.html (the contact sheet) and
-//       summary.txt, written whole into a temporary directory and renamed into place.
+//       (ASCII_HEAD), candidates.reg (DS9), stamps/NNNN.png, index.html (the contact sheet),
+//       summary.txt and, with LENS_LIGHT, lensfit.fits (the fitted galaxies) and the
+//       check-images lensmodel.fits and lensresidual.fits, written whole into a temporary directory
+//       and renamed into place.
 #pragma once
 
 #include <functional>
@@ -17,6 +19,7 @@
 
 #include "octarc/core/Progress.h"
 #include "octarc/core/Table.h"
+#include "octarc/lenslight/LensSubtraction.h"
 #include "octarc/run/DetectionRun.h"
 #include "octarc/run/PreparedImage.h"
 #include "octarc/run/RunSettings.h"
@@ -30,7 +33,8 @@ namespace octarc {
 
 // The configuration keys of `octarc search`: those of detect (run/RunKeys.h) and GRID_NAME,
 // SEARCH_SPACE, MASK_NAME, MASK_BORDER, OUTPUT_DIR, SNR_MIN, RESOLVED_MIN, LENS_RADIUS,
-// LENS_SIDE_ARCNESS, STAMP_SIZE, STAMP_PIXELS, STAMPS, NAME_PREFIX.
+// LENS_SIDE_ARCNESS, STAMP_SIZE, STAMP_PIXELS, STAMPS, NAME_PREFIX, and the lens-light keys
+// LENS_LIGHT, LENS_SELECT, LENS_CUTOUT, LENS_CHECKIMAGES.
 std::vector<sexcompat::KeySpec> searchKeys();
 
 struct SearchRunSettings {
@@ -46,6 +50,10 @@ struct SearchRunSettings {
   // ASSOC, when PARAMETERS_NAME asks for its columns (rows are never removed: the search needs
   // the whole component tree, so ASSOCSELEC_TYPE must be ALL).
   std::optional<sexcompat::AssocSettings> assoc;
+  // LENS_LIGHT, LENS_SELECT, LENS_CUTOUT (search/LensLightSearch.h); the scale, seeing and
+  // threads are the run's.
+  lenslight::SubtractionSettings lensLight;
+  bool lensCheckImages = true;  // LENS_CHECKIMAGES: lensmodel.fits and lensresidual.fits
 };
 
 // The settings of a loaded configuration; `run` is the detection part as the command line
@@ -72,6 +80,11 @@ struct SearchRun {
   std::vector<std::int64_t> catalogOrder;  // rows in catalog order (empty: as stored)
   // Searched pixels per SearchMask::kAreaBlockPix block (the union of a batch's tiles).
   Image<std::int32_t> searchedBlocks;
+  // LENS_LIGHT: the fitted galaxies, model and residual images; per catalog row its lens-light
+  // origin (SearchInput::lensLightOf); the residual rows near a fitted galaxy.
+  std::optional<lenslight::Subtraction> lensLight;
+  std::vector<std::int64_t> lensLightOf;
+  std::int64_t lensLightRows = 0;
 };
 
 // Runs the search. Before any pixel is read: the grid and the region file are read, OUTPUT_DIR

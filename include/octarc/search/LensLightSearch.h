@@ -1,0 +1,33 @@
+// The lens-light part of a search (LENS_LIGHT, METHOD.md section 5), between detection and
+// selection:
+//
+//   the run's catalog --> bright smooth galaxies fitted and subtracted (lenslight/)
+//     --> the residual image detected and measured again, at the run's levels and columns
+//     --> LOCAL: the residual's rows near a fitted galaxy appended to the catalog (renumbered
+//         past the run's NUMBERs, their footprints added), each with that galaxy as its lens
+//     --> IMAGE: the residual's catalog replaces the run's, plus each fitted galaxy's own
+//         level-1 row, kept as a lens and never selected
+//
+// SearchRun::lensLightOf then tells the selection (search/Search.h) which rows came from the
+// residual and which galaxy is their lens.
+#pragma once
+
+#include "octarc/run/CatalogAssembly.h"
+#include "octarc/run/DetectionRun.h"
+#include "octarc/search/SearchRun.h"
+
+namespace octarc {
+
+// Applies settings.lensLight to `run` (its catalog, footprints, levels and prepared image, as
+// detected here), filling run.lensLight and run.lensLightOf. ConfigError for a bad LENS_SELECT.
+void applyLensLight(SearchRun& run, const SearchRunSettings& settings, const ColumnPlan& columns,
+                    const RunLog& log);
+
+// The FITS table of the fitted galaxies (EXTNAME LENSFIT), one row each, in catalog order:
+// NUMBER of the galaxy's level-1 row, X_IMAGE/Y_IMAGE (catalog), the fitted centre, flux,
+// half-light radius, index, axis ratio and angle with their errors, chi^2 per degree of
+// freedom, the solver's iterations and LENSFIT_FLAGS (lenslight::FitFailure bits; 0 =
+// subtracted).
+FitsTable lensFitTable(const SearchRun& run);
+
+}  // namespace octarc
