@@ -26,6 +26,7 @@
 #include "octarc/run/RunSettings.h"
 #include "octarc/search/InjectionMatch.h"
 #include "octarc/search/SearchRun.h"
+#include "octarc/simulation/Population.h"
 #include "octarc/simulation/engine/FieldSimulation.h"
 #include "octarc/simulation/engine/InjectedField.h"
 #include "octarc/simulation/engine/InjectionRecovery.h"
@@ -203,7 +204,7 @@ void writeInjectionCandidates(const std::string& path, const InjectionMatch& mat
 // (ASSOC), the shipped demo grid, the candidates into <out>/candidates.
 SearchRunSettings demoSearchSettings(const InjectedFieldFiles& paths, const std::string& shippedSex,
                                      const FieldSimulationSettings& s, const std::string& gridPath,
-                                     double snrMin) {
+                                     double snrMin, const std::string& lensLight) {
   std::vector<std::pair<std::string, std::string>> keys = recoveryDetectionKeys(paths, s.threads);
   keys.emplace_back("GRID_NAME", gridPath);
   // The survey the field was made for (a real image's without a celestial WCS needs the scale).
@@ -212,6 +213,7 @@ SearchRunSettings demoSearchSettings(const InjectedFieldFiles& paths, const std:
   keys.emplace_back("MAG_ZEROPOINT", formatNumber(s.magZeroPoint, "%.10g"));
   keys.emplace_back("GAIN", formatNumber(s.gainElectronsPerAdu, "%.10g"));
   keys.emplace_back("SNR_MIN", formatNumber(snrMin, "%.10g"));
+  keys.emplace_back("LENS_LIGHT", lensLight);
   keys.emplace_back("OUTPUT_DIR", (paths.dir / "candidates").string());
   std::vector<std::string> warnings;
   const sexcompat::Config config =
@@ -245,6 +247,14 @@ int runDemo(const std::vector<std::string>& args) {
   add("gain", po::value<double>(), "e-/ADU (default 54)");
   add("grid", po::value<std::string>(), "occupation grid (default: the shipped demo grid)");
   add("snr-min", po::value<double>()->default_value(40.0), "the search's S/N floor (SNR_MIN)");
+  add("lens-light", po::value<std::string>()->default_value("N"),
+      "the search's LENS_LIGHT: N, LOCAL or IMAGE");
+  add("population", po::value<std::string>(),
+      "lens population file of the injected lenses (default: the dls preset)");
+  add("min-einstein-radius", po::value<double>()->default_value(kDemoMinEinsteinRadiusArcsec),
+      "inject lenses of at least this theta_E, arcsec");
+  add("max-einstein-radius", po::value<double>()->default_value(0.0),
+      "and at most this one (0: no limit)");
   add("quiet", "no progress bar");
   const std::optional<po::variables_map> vm = parseOptions(args, options);
   if (!vm) return 0;
@@ -254,7 +264,11 @@ int runDemo(const std::vector<std::string>& args) {
   s.lensCount = (*vm)["lenses"].as<int>();
   s.seed = (*vm)["seed"].as<std::uint64_t>();
   s.threads = (*vm)["threads"].as<int>();
-  s.minEinsteinRadiusArcsec = kDemoMinEinsteinRadiusArcsec;
+  s.minEinsteinRadiusArcsec = (*vm)["min-einstein-radius"].as<double>();
+  s.maxEinsteinRadiusArcsec = (*vm)["max-einstein-radius"].as<double>();
+  if (vm->count("population")) s.populationPath = (*vm)["population"].as<std::string>();
+  const std::string lensLight = (*vm)["lens-light"].as<std::string>();
+  (void)lenslight::parseSubtractionMode(lensLight);  // checked before anything is made
   if (vm->count("pixel-scale")) s.pixelScaleArcsec = (*vm)["pixel-scale"].as<double>();
   if (vm->count("seeing")) s.seeingFwhmArcsec = (*vm)["seeing"].as<double>();
   if (vm->count("mag-zero")) s.magZeroPoint = (*vm)["mag-zero"].as<double>();
@@ -281,13 +295,16 @@ int runDemo(const std::vector<std::string>& args) {
   const std::string gridPath =
       vm->count("grid") ? (*vm)["grid"].as<std::string>() : dataFile("demo.grid.fits");
 
-  // The grid is read and the inputs checked against the outputs before anything is made.
+  // The grid and population are read and the inputs checked against the outputs before anything
+  // is made.
   (void)loadGrid(gridPath);
+  if (!s.populationPath.empty()) (void)simulation::readPopulationModel(s.populationPath);
   const InjectedFieldFiles paths = makeInjectedFieldDirectory((*vm)["out"].as<std::string>());
   for (const std::string& output : paths.files()) {
     refuseOutputOverInput(output, "--out", real.imagePath, "--into image");
     refuseOutputOverInput(output, "--out", real.weightPath, "--into-weight map");
     refuseOutputOverInput(output, "--out", gridPath, "--grid");
+    refuseOutputOverInput(output, "--out", s.populationPath, "--population");
   }
   // Until the last step is done the outputs are provisional: a failure or an interrupt
   // (core/Interrupt.h) removes them all, and the directory if the demo made it.
@@ -306,7 +323,8 @@ int runDemo(const std::vector<std::string>& args) {
     // 2. The search, detection and measurement included, in memory; the catalog and the
     // candidates are written from what it returns.
     if (!quiet) std::cerr << "> Searching at 15 levels with the demo grid (octarc search)\n";
-    search = demoSearchSettings(paths, shippedSex, s, gridPath, (*vm)["snr-min"].as<double>());
+    search = demoSearchSettings(paths, shippedSex, s, gridPath, (*vm)["snr-min"].as<double>(),
+                                lensLight);
     run = searchImage(search, RunLog());
     match = matchInjectedLenses(field.truth, run.catalog, run.result, run.pixelScaleArcsec,
                                 ArcRules(), kArcMatchArcsec, kLensMatchArcsec);

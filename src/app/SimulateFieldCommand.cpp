@@ -52,6 +52,8 @@ po::options_description fieldOptions() {
   add("lenses", po::value<int>()->default_value(0), "number of injected lens systems");
   add("min-einstein-radius", po::value<double>()->default_value(0.0),
       "redraw lens systems with a smaller Einstein radius, arcsec");
+  add("max-einstein-radius", po::value<double>()->default_value(0.0),
+      "redraw lens systems with a larger theta_E, arcsec (0: none)");
   add("seed", po::value<std::uint64_t>()->default_value(1), "master random seed");
   add("ra", po::value<double>()->default_value(150.0), "RA of the field centre, deg");
   add("dec", po::value<double>()->default_value(2.0), "Dec of the field centre, deg");
@@ -117,6 +119,7 @@ int runSimulateField(const std::vector<std::string>& args) {
   s.sizePix = vm["size"].as<int>();
   s.lensCount = vm["lenses"].as<int>();
   s.minEinsteinRadiusArcsec = vm["min-einstein-radius"].as<double>();
+  s.maxEinsteinRadiusArcsec = vm["max-einstein-radius"].as<double>();
   s.seed = vm["seed"].as<std::uint64_t>();
   s.raDeg = vm["ra"].as<double>();
   s.decDeg = vm["dec"].as<double>();

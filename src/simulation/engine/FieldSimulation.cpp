@@ -114,11 +114,18 @@ std::vector<FieldLens> renderLenses(const FieldSimulationSettings& s,
     // Systems below the minimum Einstein radius are redrawn from the same stream.
     std::mt19937_64 rng = systemRng(lensSeed, i);
     LensSystemDraw draw = drawLensSystem(setup, sources, std::int64_t(i), rng);
-    for (int tries = 1; draw.einsteinRadiusArcsec < s.minEinsteinRadiusArcsec; ++tries) {
+    auto outside = [&](double thetaE) {
+      return thetaE < s.minEinsteinRadiusArcsec ||
+             (s.maxEinsteinRadiusArcsec > 0 && thetaE > s.maxEinsteinRadiusArcsec);
+    };
+    for (int tries = 1; outside(draw.einsteinRadiusArcsec); ++tries) {
       if (tries == kMaxLensRedraws) {
-        throw ConfigError("--min-einstein-radius: no lens system with theta_E >= " +
-                          formatNumber(s.minEinsteinRadiusArcsec) + "\" in " +
-                          std::to_string(kMaxLensRedraws) + " draws of the population");
+        throw ConfigError("--min-einstein-radius, --max-einstein-radius: no lens system with " +
+                          formatNumber(s.minEinsteinRadiusArcsec) + "\" <= theta_E" +
+                          (s.maxEinsteinRadiusArcsec > 0
+                               ? " <= " + formatNumber(s.maxEinsteinRadiusArcsec) + "\""
+                               : std::string()) +
+                          " in " + std::to_string(kMaxLensRedraws) + " draws of the population");
       }
       draw = drawLensSystem(setup, sources, std::int64_t(i), rng);
     }
@@ -242,6 +249,11 @@ void FieldSimulationSettings::validate() const {
   require(minEinsteinRadiusArcsec >= 0.0 && minEinsteinRadiusArcsec < 10.0,
           "--min-einstein-radius: must be in [0, 10) arcsec, got " +
               formatNumber(minEinsteinRadiusArcsec));
+  require(maxEinsteinRadiusArcsec == 0.0 ||
+              (maxEinsteinRadiusArcsec > minEinsteinRadiusArcsec && maxEinsteinRadiusArcsec < 60.0),
+          "--max-einstein-radius: must be 0 (none) or above --min-einstein-radius and below 60 "
+          "arcsec, got " +
+              formatNumber(maxEinsteinRadiusArcsec));
   require(raDeg >= 0.0 && raDeg < 360.0,
           "--ra: must be in [0, 360) deg, got " + formatNumber(raDeg));
   require(decDeg > -90.0 && decDeg < 90.0,

@@ -33,6 +33,8 @@ struct FieldSimulationSettings {
   int lensCount = 0;
   // Lens systems with a smaller Einstein radius are redrawn (0 = the population as it is).
   double minEinsteinRadiusArcsec = 0.0;
+  // ... and so are those with a larger one (0 = no upper limit).
+  double maxEinsteinRadiusArcsec = 0.0;
   std::uint64_t seed = 1;
   double raDeg = 150.0;  // CRVAL1 / CRVAL2 at the field centre
   double decDeg = 2.0;
