@@ -37,6 +37,17 @@ void printUsage() {
       "curvature, within LENS_RADIUS; theta_E is the arc-lens distance; no lens: a possible\n"
       "dark lens. Candidates are counted in each SEARCH_SPACE (NAME: cut ...).\n"
       "\n"
+      "Colours (not with INPUT_CATALOG): COLOUR_IMAGE names images of other bands on the\n"
+      "measurement image's pixel grid (same size and WCS), COLOUR_BAND their names, and\n"
+      "COLOUR_ZEROPOINT their zero-points (default MAG_ZEROPOINT). Each is background-subtracted\n"
+      "like the measurement image and measured in the arc's and the lens's isophotal\n"
+      "footprints: MAG_B, LENS_MAG_B, ARC_COLOUR_B and LENS_COLOUR_B (B minus the measurement\n"
+      "band). COLOUR_CUT B,MAX removes candidates whose arc colour minus lens colour in B\n"
+      "exceeds MAX; candidates without a lens or a colour are kept. A primary arc with a\n"
+      "counter-image of the same colour (DARK_PAIR_COLOUR: N sigma, floor) inside its circle\n"
+      "of curvature on the far side of its centre, and no other object near that centre, is a\n"
+      "dark-lens pair: no lens, CAND_FLAGS 1 + 32, the counter-image in SEC_X, SEC_Y.\n"
+      "\n"
       "OUTPUT_DIR (written whole, replacing an earlier search output of that name):\n"
       "  candidates.fits  FITS-LDAC catalog, the summary in its header (-dp lists the columns)\n"
       "  candidates.cat   the same as ASCII_HEAD\n"
@@ -59,7 +70,8 @@ void printUsage() {
 // clang-format on
 
 void printCandidateColumns() {
-  for (const CandidateColumnSpec& c : candidateColumns()) {
+  // The colour columns as they are named for a band B (one set per COLOUR_BAND).
+  for (const CandidateColumnSpec& c : candidateColumns({"B"})) {
     char line[256];
     std::snprintf(line, sizeof line, "#%-24s %-57s", c.spec.name.c_str(),
                   c.spec.description.c_str());

@@ -354,6 +354,11 @@ BatchSettings batchSettingsFromConfig(const sexcompat::Config& c, RunSettings ru
                         "(IMAGE WEIGHT MASK CATALOG per line)");
     }
   }
+  if (c.count("COLOUR_IMAGE") > 0) {
+    throw ConfigError(
+        "COLOUR_IMAGE: a batch's manifest holds one image per tile; search the "
+        "tiles one by one (octarc search) to measure colours");
+  }
   if (c.isExplicit("CHECKIMAGE_TYPE") && uppercase(c.getString("CHECKIMAGE_TYPE")) != "NONE") {
     throw ConfigError("CHECKIMAGE_TYPE: a batch writes no check-images");
   }

@@ -388,6 +388,19 @@ bool sameGrid(const Wcs& from, const Wcs& to, std::int64_t width, std::int64_t h
 
 }  // namespace
 
+std::string pixelGridDifference(std::int64_t widthA, std::int64_t heightA,
+                                const std::optional<Wcs>& wcsA, std::int64_t widthB,
+                                std::int64_t heightB, const std::optional<Wcs>& wcsB) {
+  if (widthA != widthB || heightA != heightB) {
+    return std::to_string(widthA) + "x" + std::to_string(heightA) + " and " +
+           std::to_string(widthB) + "x" + std::to_string(heightB) + " pixels";
+  }
+  if (wcsA && wcsB && !sameGrid(*wcsA, *wcsB, widthA, heightA, 0.1)) {
+    return "their WCS put a corner more than 0.1 pixel apart";
+  }
+  return "";
+}
+
 PreparedImage prepareDualImage(const std::string& detectionPath, const std::string& measurementPath,
                                const RunSettings& settings, bool keepCheckMaps,
                                bool filterVariance) {
@@ -396,16 +409,12 @@ PreparedImage prepareDualImage(const std::string& detectionPath, const std::stri
       prepareImage(measurementPath, measurementImageSettings(settings), {}, keepCheckMaps, false);
   const ImageF& d = detection.hdu.pixels;
   const ImageF& m = out.hdu.pixels;
-  const std::string pair = detectionPath + " and " + measurementPath;
-  if (d.width() != m.width() || d.height() != m.height()) {
-    throw IoError(pair + ": the detection and measurement images must share one pixel grid (" +
-                  std::to_string(d.width()) + "x" + std::to_string(d.height()) + " and " +
-                  std::to_string(m.width()) + "x" + std::to_string(m.height()) + " pixels)");
-  }
-  if (detection.wcs && out.wcs && !sameGrid(*detection.wcs, *out.wcs, d.width(), d.height(), 0.1)) {
-    throw IoError(pair +
-                  ": the detection and measurement images must share one pixel grid (their "
-                  "WCS put a corner more than 0.1 pixel apart)");
+  const std::string difference =
+      pixelGridDifference(d.width(), d.height(), detection.wcs, m.width(), m.height(), out.wcs);
+  if (!difference.empty()) {
+    throw IoError(detectionPath + " and " + measurementPath +
+                  ": the detection and measurement images must share one pixel grid (" +
+                  difference + ")");
   }
   out.separateDetection = true;
   out.detectionSigmaAdu = detection.sigmaAdu;

@@ -66,9 +66,47 @@ std::string levelList(const std::vector<int>& levels) {
   return out;
 }
 
-const std::vector<ColumnDef>& definitions() {
+// The columns of colour band `band` (index 1 + k of the candidates' magnitudes).
+std::vector<ColumnDef> bandColumns(const std::string& band, std::size_t k) {
   using T = ColumnType;
-  static const std::vector<ColumnDef> defs = {
+  const std::size_t i = k + 1;
+  auto mag = [i](const std::vector<BandMagnitude>& m) {
+    return m.size() > i ? m[i] : BandMagnitude();
+  };
+  auto colour = [i](const std::vector<BandMagnitude>& m) {
+    return m.size() > i ? colourOf(m[i], m[0]) : Colour();
+  };
+  const std::string in = " in band " + band;
+  return {
+      number("MAG_" + band, "Isophotal magnitude of the arc" + in, "mag", T::Float32, "%8.4f",
+             [=](const RowView& v) { return mag(v.candidate.arcMags).mag; }),
+      number("MAGERR_" + band, "RMS error of MAG_" + band, "mag", T::Float32, "%8.4f",
+             [=](const RowView& v) { return mag(v.candidate.arcMags).magErr; }),
+      number("LENS_MAG_" + band, "Isophotal magnitude of the lens" + in, "mag", T::Float32, "%8.4f",
+             [=](const RowView& v) { return mag(v.candidate.lensMags).mag; }),
+      number("LENS_MAGERR_" + band, "RMS error of LENS_MAG_" + band, "mag", T::Float32, "%8.4f",
+             [=](const RowView& v) { return mag(v.candidate.lensMags).magErr; }),
+      number("ARC_COLOUR_" + band, "Arc colour: " + band + " minus the measurement band", "mag",
+             T::Float32, "%8.4f",
+             [=](const RowView& v) { return colour(v.candidate.arcMags).value; }),
+      number("ARC_COLOURERR_" + band, "RMS error of ARC_COLOUR_" + band, "mag", T::Float32, "%8.4f",
+             [=](const RowView& v) { return colour(v.candidate.arcMags).error; }),
+      number("LENS_COLOUR_" + band, "Lens colour: " + band + " minus the measurement band", "mag",
+             T::Float32, "%8.4f",
+             [=](const RowView& v) { return colour(v.candidate.lensMags).value; }),
+      number("LENS_COLOURERR_" + band, "RMS error of LENS_COLOUR_" + band, "mag", T::Float32,
+             "%8.4f", [=](const RowView& v) { return colour(v.candidate.lensMags).error; }),
+  };
+}
+
+double secondaryValue(const RowView& v, double CandidateImage::*field) {
+  return v.candidate.secondary ? (*v.candidate.secondary).*field : kNaN;
+}
+
+// Every column: the fixed ones, then those of each colour band.
+std::vector<ColumnDef> definitions(const std::vector<std::string>& bands) {
+  using T = ColumnType;
+  std::vector<ColumnDef> defs = {
       number("NUMBER", "Candidate number, by probability", "", T::Int32, "%6d",
              [](const RowView& v) { return double(v.number); }),
       text("NAME", "IAU-style designation (J2000, truncated)",
@@ -139,10 +177,21 @@ const std::vector<ColumnDef>& definitions() {
              [](const RowView& v) {
                return v.candidate.curvature ? v.candidate.curvature->radius : kNaN;
              }),
+      number("SEC_X", "Counter-image of a dark-lens pair: x (1-based)", "pixel", T::Float32,
+             "%10.3f", [](const RowView& v) { return secondaryValue(v, &CandidateImage::xPix); }),
+      number("SEC_Y", "Counter-image of a dark-lens pair: y (1-based)", "pixel", T::Float32,
+             "%10.3f", [](const RowView& v) { return secondaryValue(v, &CandidateImage::yPix); }),
+      number("SEC_ALPHA", "Right ascension of the counter-image (J2000)", "deg", T::Float64,
+             "%11.7f", [](const RowView& v) { return secondaryValue(v, &CandidateImage::raDeg); }),
+      number("SEC_DELTA", "Declination of the counter-image (J2000)", "deg", T::Float64, "%+11.7f",
+             [](const RowView& v) { return secondaryValue(v, &CandidateImage::decDeg); }),
       copied("FLAGS", "Extraction flags of the best row", "", T::Int16, "%3d"),
-      number("CAND_FLAGS", "1 dark lens?, 2 no circle fit, 4 no WCS, 8 side unknown, 16 residual",
-             "", T::Int16, "%3d", [](const RowView& v) { return double(v.candidate.flags); }),
+      number("CAND_FLAGS", "1 no lens 2 no circle 4 no WCS 8 side? 16 resid. 32 pair", "", T::Int16,
+             "%3d", [](const RowView& v) { return double(v.candidate.flags); }),
   };
+  for (std::size_t k = 0; k < bands.size(); ++k) {
+    for (ColumnDef& d : bandColumns(bands[k], k)) defs.push_back(std::move(d));
+  }
   return defs;
 }
 
@@ -187,20 +236,18 @@ void append(FitsColumnValues& values, const Value& v) {
 
 }  // namespace
 
-const std::vector<CandidateColumnSpec>& candidateColumns() {
-  static const std::vector<CandidateColumnSpec> columns = [] {
-    std::vector<CandidateColumnSpec> out;
-    for (const ColumnDef& d : definitions()) out.push_back(d.column);
-    return out;
-  }();
-  return columns;
+std::vector<CandidateColumnSpec> candidateColumns(const std::vector<std::string>& colourBands) {
+  std::vector<CandidateColumnSpec> out;
+  for (const ColumnDef& d : definitions(colourBands)) out.push_back(d.column);
+  return out;
 }
 
 FitsTable candidateObjectsTable(const Table& catalog, const SearchResult& result,
                                 const SearchSettings& settings) {
   FitsTable table;
   table.name = "LDAC_OBJECTS";
-  for (const ColumnDef& d : definitions()) {
+  const std::vector<ColumnDef> defs = definitions(settings.colourBands);
+  for (const ColumnDef& d : defs) {
     FitsColumn column;
     column.name = d.column.spec.name;
     column.comment = d.column.spec.description;
@@ -213,9 +260,8 @@ FitsTable candidateObjectsTable(const Table& catalog, const SearchResult& result
   }
   for (std::size_t i = 0; i < result.candidates.size(); ++i) {
     const RowView view{catalog, result.candidates[i], std::int64_t(i) + 1};
-    for (std::size_t c = 0; c < definitions().size(); ++c) {
-      append(table.columns[c].values, definitions()[c].value(view));
-    }
+    for (std::size_t c = 0; c < defs.size(); ++c)
+      append(table.columns[c].values, defs[c].value(view));
   }
   const SearchSummary& s = result.summary;
   auto& k = table.keywords;
@@ -234,6 +280,22 @@ FitsTable candidateObjectsTable(const Table& catalog, const SearchResult& result
                                 "[arcsec] resolved: sqrt(2) SIZE_IMAGE >"));
   k.push_back(
       FitsKeyword::real("LENSRAD", settings.lensRadiusArcsec, "[arcsec] lens search radius"));
+  std::int64_t pairs = 0;
+  for (const Candidate& c : result.candidates) pairs += (c.flags & kCandidateDarkLensPair) != 0;
+  k.push_back(FitsKeyword::integer("NDARKPR", pairs, "dark-lens pairs (CAND_FLAGS 32)"));
+  k.push_back(
+      FitsKeyword::integer("NCOLBAND", std::int64_t(settings.colourBands.size()), "colour bands"));
+  for (std::size_t i = 0; i < settings.colourBands.size(); ++i) {
+    k.push_back(FitsKeyword::text("COLBAND" + std::to_string(i + 1), settings.colourBands[i],
+                                  "colour band"));
+  }
+  if (settings.colourCut) {
+    k.push_back(FitsKeyword::text("COLCUTBD", settings.colourCut->band, "band of the colour cut"));
+    k.push_back(FitsKeyword::real("COLCUTMX", settings.colourCut->maxArcMinusLensMag,
+                                  "[mag] kept: arc minus lens colour <= this"));
+  }
+  k.push_back(FitsKeyword::integer("NCOLCUT", s.removedByColourCut,
+                                   "candidates removed by the colour cut"));
   k.push_back(FitsKeyword::integer("NSPACES", std::int64_t(s.spaces.size()), "report spaces"));
   for (std::size_t i = 0; i < s.spaces.size(); ++i) {
     const std::string n = std::to_string(i + 1);
@@ -249,11 +311,12 @@ FitsTable candidateObjectsTable(const Table& catalog, const SearchResult& result
 }
 
 std::string candidateAsciiText(const Table& catalog, const SearchResult& result,
-                               const SearchSettings&) {
+                               const SearchSettings& settings) {
   std::string out;
   char line[256];
   int index = 1;
-  for (const ColumnDef& d : definitions()) {
+  const std::vector<ColumnDef> defs = definitions(settings.colourBands);
+  for (const ColumnDef& d : defs) {
     const ColumnSpec& c = d.column.spec;
     std::snprintf(line, sizeof line, "# %3d %-22.22s %-58.58s", index++, c.name.c_str(),
                   c.description.c_str());
@@ -264,7 +327,7 @@ std::string candidateAsciiText(const Table& catalog, const SearchResult& result,
   for (std::size_t i = 0; i < result.candidates.size(); ++i) {
     const RowView view{catalog, result.candidates[i], std::int64_t(i) + 1};
     bool first = true;
-    for (const ColumnDef& d : definitions()) {
+    for (const ColumnDef& d : defs) {
       const Value v = d.value(view);
       if (!first) out += ' ';
       first = false;

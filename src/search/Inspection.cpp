@@ -173,6 +173,24 @@ Stamp candidateStamp(const ImageF& image, const Table& catalog, const SearchResu
   return stamp;
 }
 
+namespace {
+
+// "g 0.21 / 1.35": per band, the arc's and the lens's colour (minus the measurement band).
+std::string colourText(const Candidate& c, const std::vector<std::string>& bands) {
+  std::string text;
+  for (std::size_t k = 0; k < bands.size(); ++k) {
+    auto colour = [&](const std::vector<BandMagnitude>& mags) {
+      return mags.size() > k + 1 ? colourOf(mags[k + 1], mags[0]).value : std::nan("");
+    };
+    text += (text.empty() ? "" : "; ") + escapeHtml(bands[k]) + " " +
+            formatNumber(colour(c.arcMags), "%.2f", true) + " / " +
+            formatNumber(colour(c.lensMags), "%.2f", true);
+  }
+  return text;
+}
+
+}  // namespace
+
 std::string contactSheetHtml(const Table& catalog, const SearchResult& result,
                              const ContactSheetInfo& info) {
   std::ostringstream o;
@@ -227,12 +245,15 @@ std::string contactSheetHtml(const Table& catalog, const SearchResult& result,
       rows << (k ? "," : "") << c.passedLevels[k];
     }
     rows << "</td><td>"
-         << (c.lens ? formatNumber(c.lens->einsteinRadiusArcsec, "%.2f") : std::string("dark?"))
-         << "</td><td><a href=\"" << stamp << "\">stamp</a></td></tr>\n";
+         << (c.lens ? formatNumber(c.lens->einsteinRadiusArcsec, "%.2f")
+                    : std::string(c.flags & kCandidateDarkLensPair ? "dark pair" : "dark?"));
+    if (!info.colourBands.empty()) rows << "</td><td>" << colourText(c, info.colourBands);
+    rows << "</td><td><a href=\"" << stamp << "\">stamp</a></td></tr>\n";
   }
   o << "</div>\n<table>\n<tr><th>#</th><th>name</th><th>X_IMAGE</th><th>Y_IMAGE</th>"
        "<th>MAG_ISO</th><th>ARCNESS</th><th>E_IMAGE</th><th>SNR_ISO</th><th>PROB</th>"
-       "<th>CONTOUR</th><th>levels</th><th>&theta;<sub>E</sub> [\"]</th><th></th></tr>\n"
+       "<th>CONTOUR</th><th>levels</th><th>&theta;<sub>E</sub> [\"]</th>"
+    << (info.colourBands.empty() ? "" : "<th>colours arc / lens</th>") << "<th></th></tr>\n"
     << rows.str() << "</table>\n"
     << "<script>\n"
        "function sortCards(key, asc) {\n"

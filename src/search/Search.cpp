@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 #include <unordered_map>
 #include <utility>
 
@@ -152,6 +153,152 @@ void dropResidualDuplicates(const Table& catalog, const SearchColumns& c, const 
   candidates = std::move(kept);
 }
 
+// The parent links of the catalog, to tell the rows of one object at several levels.
+struct RowIndex {
+  const std::vector<TreeRow>& tree;
+  const std::unordered_map<std::int64_t, std::size_t>& rowOf;
+
+  // The row of `row`'s object at `level` (<= its own level), if every link down there exists.
+  std::optional<std::size_t> ancestorAt(std::size_t row, int level) const {
+    while (tree[row].level > level) {
+      const auto up = rowOf.find(treeKey(tree[row].level - 1, tree[row].parentNumber));
+      if (up == rowOf.end()) return std::nullopt;
+      row = up->second;
+    }
+    return tree[row].level == level ? std::optional<std::size_t>(row) : std::nullopt;
+  }
+  // True when one row's footprint holds the other's: one object seen at two levels.
+  bool related(std::size_t a, std::size_t b) const {
+    if (tree[a].level < tree[b].level) std::swap(a, b);
+    return ancestorAt(a, tree[b].level) == b;
+  }
+};
+
+// Where a candidate's counter-image may be: the rows placed as one, and the other objects near
+// the centre of curvature (which would be a visible lens).
+struct PairSearch {
+  std::vector<std::size_t> counterImages;
+  std::vector<LensCandidateGalaxy> nearCentre;
+};
+
+// The magnitudes of `rows` in the measurement band and each colour band, in the footprints of
+// those rows: one pass over each level's footprints.
+std::unordered_map<std::size_t, std::vector<BandMagnitude>> bandMagnitudes(
+    const SearchInput& in, const std::vector<TreeRow>& tree, const std::set<std::size_t>& rows) {
+  std::map<int, std::vector<std::size_t>> byLevel;
+  for (const std::size_t r : rows) byLevel[tree[r].level].push_back(r);
+  std::unordered_map<std::size_t, std::vector<BandMagnitude>> out;
+  for (const auto& [level, members] : byLevel) {
+    std::vector<std::int32_t> numbers;
+    for (const std::size_t r : members) numbers.push_back(tree[r].number);
+    const std::vector<std::vector<PixelRun>> runs = in.footprints->footprints(level, numbers);
+    for (std::size_t i = 0; i < members.size(); ++i) {
+      std::vector<BandMagnitude>& mags = out[members[i]];
+      mags.push_back(isoMagnitude(*in.measurementBand, runs[i]));
+      for (const BandImage& band : *in.bands) mags.push_back(isoMagnitude(band, runs[i]));
+    }
+  }
+  return out;
+}
+
+// True when every band's colour of `a` matches that of `b`.
+bool sameColours(const std::vector<BandMagnitude>& a, const std::vector<BandMagnitude>& b,
+                 const ColourMatch& match) {
+  for (std::size_t k = 1; k < a.size(); ++k) {
+    if (!sameColour(colourOf(a[k], a[0]), colourOf(b[k], b[0]), match)) return false;
+  }
+  return a.size() > 1;
+}
+
+// The arc's and the lens's magnitudes in every band, and the dark-lens pair criterion
+// (search/DarkLens.h): the counter-image is looked for from the arc's level down to level 1,
+// the most opposite one of the first level that has one of the arc's colour; the centre must
+// hold no object but the arc's and the counter-image's rows at level 1 and the arc's level.
+void addColours(const SearchInput& in, const SearchSettings& s, const SearchColumns& c,
+                const RowIndex& index, const RowCells& nearby, double lensRadiusPix,
+                std::vector<Candidate>& candidates) {
+  const Table& catalog = *in.catalog;
+  auto xOf = [&](std::size_t r) { return catalog.value(std::int64_t(r), c.x); };
+  auto yOf = [&](std::size_t r) { return catalog.value(std::int64_t(r), c.y); };
+  std::vector<PairSearch> pairs(candidates.size());
+  std::set<std::size_t> measured;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    const Candidate& cand = candidates[k];
+    measured.insert(cand.row);
+    if (cand.lens) measured.insert(cand.lens->row);
+    // Without a measurable concave side, or for a nearly straight arc, no centre to look from.
+    if (!cand.curvature || (cand.flags & kCandidateSideUnknown) ||
+        !(cand.curvature->radius <= lensRadiusPix)) {
+      continue;
+    }
+    const CircleFit& circle = *cand.curvature;
+    const int arcLevel = index.tree[cand.row].level;
+    for (int level = 1; level <= arcLevel; ++level) {
+      nearby.forEachNear(level, circle.xCentre, circle.yCentre, [&](std::size_t i) {
+        if (index.related(i, cand.row)) return;
+        if (counterImagePlace(circle, xOf(cand.row), yOf(cand.row), xOf(i), yOf(i))) {
+          pairs[k].counterImages.push_back(i);
+          measured.insert(i);
+        }
+        if (level == 1 || level == arcLevel) pairs[k].nearCentre.push_back({xOf(i), yOf(i), i});
+      });
+    }
+  }
+  const auto mags = bandMagnitudes(in, index.tree, measured);
+
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    Candidate& cand = candidates[k];
+    cand.arcMags = mags.at(cand.row);
+    if (cand.lens) cand.lensMags = mags.at(cand.lens->row);
+    if (pairs[k].counterImages.empty()) continue;
+    const CircleFit& circle = *cand.curvature;
+    // Highest level first, then the most opposite (smallest cosine of the angle at C).
+    auto cosAngle = [&](std::size_t r) {
+      const double ax = xOf(cand.row) - circle.xCentre, ay = yOf(cand.row) - circle.yCentre;
+      const double sx = xOf(r) - circle.xCentre, sy = yOf(r) - circle.yCentre;
+      return (ax * sx + ay * sy) / (std::hypot(ax, ay) * std::hypot(sx, sy));
+    };
+    std::vector<std::size_t>& order = pairs[k].counterImages;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      if (index.tree[a].level != index.tree[b].level) {
+        return index.tree[a].level > index.tree[b].level;
+      }
+      return cosAngle(a) < cosAngle(b);
+    });
+    const auto found = std::find_if(order.begin(), order.end(), [&](std::size_t r) {
+      return sameColours(cand.arcMags, mags.at(r), s.pairColourMatch);
+    });
+    if (found == order.end()) continue;
+    std::vector<LensCandidateGalaxy> others;
+    for (const LensCandidateGalaxy& g : pairs[k].nearCentre) {
+      if (!index.related(g.row, *found)) others.push_back(g);
+    }
+    if (!lensFreeCentre(circle, others)) continue;
+    // The counter-image is not the lens findLens may have taken it for.
+    cand.lens.reset();
+    cand.lensMags.clear();
+    cand.flags |= kCandidateDarkLens | kCandidateDarkLensPair;
+    CandidateImage image;
+    image.row = *found;
+    image.xPix = xOf(*found);
+    image.yPix = yOf(*found);
+    if (in.wcs != nullptr) {
+      const auto sky = in.wcs->pixelToJ2000(image.xPix, image.yPix);
+      image.raDeg = sky[0];
+      image.decDeg = sky[1];
+    }
+    cand.secondary = image;
+  }
+}
+
+// True when the colour cut removes the candidate (see ColourCut).
+bool failsColourCut(const Candidate& cand, std::size_t magIndex, double maxArcMinusLensMag) {
+  if (cand.arcMags.size() <= magIndex || cand.lensMags.size() <= magIndex) return false;
+  const Colour arc = colourOf(cand.arcMags[magIndex], cand.arcMags[0]);
+  const Colour lens = colourOf(cand.lensMags[magIndex], cand.lensMags[0]);
+  return arc.value - lens.value > maxArcMinusLensMag;  // false when either is NaN
+}
+
 }  // namespace
 
 const std::vector<std::string>& searchRequiredColumns() {
@@ -176,6 +323,14 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
   if (!(s.pixelScaleArcsec > 0.0)) throw ConfigError("search: the pixel scale must be positive");
   if (!(s.lensRadiusArcsec >= 0.0)) throw ConfigError("LENS_RADIUS: must not be negative");
   if (s.reportSpaces.size() > 30) throw ConfigError("SEARCH_SPACE: at most 30 spaces");
+  if (!s.colourBands.empty() && (in.bands == nullptr || in.bands->size() != s.colourBands.size() ||
+                                 in.measurementBand == nullptr || in.footprints == nullptr)) {
+    throw ConfigError("search: colours need the footprints and one image per colour band");
+  }
+  if (s.colourCut && std::find(s.colourBands.begin(), s.colourBands.end(), s.colourCut->band) ==
+                         s.colourBands.end()) {
+    throw ConfigError("COLOUR_CUT: band " + s.colourCut->band + " is not one of COLOUR_BAND");
+  }
   const Table& catalog = *in.catalog;
   const SearchColumns c(catalog);
   const std::int64_t n = catalog.rows();
@@ -339,6 +494,19 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
     result.candidates.push_back(std::move(cand));
   }
   if (in.residualRowsAreExtra) dropResidualDuplicates(catalog, c, s, result.candidates);
+  if (!s.colourBands.empty()) {
+    addColours(in, s, c, RowIndex{tree, rowOf}, nearby, lensRadiusPix, result.candidates);
+  }
+  if (s.colourCut) {
+    const auto band = std::find(s.colourBands.begin(), s.colourBands.end(), s.colourCut->band);
+    const std::size_t magIndex = std::size_t(band - s.colourBands.begin()) + 1;
+    const auto removed = std::remove_if(
+        result.candidates.begin(), result.candidates.end(), [&](const Candidate& cand) {
+          return failsColourCut(cand, magIndex, s.colourCut->maxArcMinusLensMag);
+        });
+    summary.removedByColourCut = std::int64_t(result.candidates.end() - removed);
+    result.candidates.erase(removed, result.candidates.end());
+  }
   for (const Candidate& cand : result.candidates) {
     for (std::size_t k = 0; k < s.reportSpaces.size(); ++k) {
       if (cand.spaces & (1u << k)) ++summary.spaces[k].candidates;

@@ -1,10 +1,13 @@
 #include "octarc/search/SearchRun.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <tuple>
 
 #include "octarc/catalog/Catalog.h"
 #include "octarc/core/AtomicFile.h"
@@ -116,7 +119,99 @@ std::vector<NamedInput> searchInputs(const SearchRunSettings& s) {
   inputs.push_back({"GRID_NAME", s.gridPath});
   if (!s.maskPath.empty()) inputs.push_back({"MASK_NAME", s.maskPath});
   if (!s.inputCatalogPath.empty()) inputs.push_back({"INPUT_CATALOG", s.inputCatalogPath});
+  for (const std::string& path : s.colourImagePaths) inputs.push_back({"COLOUR_IMAGE", path});
   return inputs;
+}
+
+// The colour keys, checked against each other.
+void readColourSettings(const sexcompat::Config& c, SearchRunSettings& s) {
+  if (c.count("COLOUR_IMAGE") > 0) s.colourImagePaths = c.getStrings("COLOUR_IMAGE");
+  if (c.count("COLOUR_BAND") > 0) s.search.colourBands = c.getStrings("COLOUR_BAND");
+  const std::size_t n = s.colourImagePaths.size();
+  if (s.search.colourBands.size() != n) {
+    throw ConfigError("COLOUR_BAND: " + std::to_string(s.search.colourBands.size()) +
+                      " band name(s) for " + std::to_string(n) +
+                      " COLOUR_IMAGE(s); give one name per image");
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::string& band = s.search.colourBands[k];
+    const bool word = !band.empty() && band.size() <= 16 &&
+                      std::all_of(band.begin(), band.end(),
+                                  [](unsigned char ch) { return std::isalnum(ch) || ch == '_'; });
+    if (!word) {
+      throw ConfigError("COLOUR_BAND: " + quoteForMessage(band) +
+                        " is not a band name for column names (1-16 letters, digits or _)");
+    }
+    if (std::find(s.search.colourBands.begin(), s.search.colourBands.begin() + std::ptrdiff_t(k),
+                  band) != s.search.colourBands.begin() + std::ptrdiff_t(k)) {
+      throw ConfigError("COLOUR_BAND: " + band + " is named twice");
+    }
+  }
+  const int zeropoints = c.count("COLOUR_ZEROPOINT");
+  if (zeropoints == 0) {
+    s.colourZeropoints.assign(n, s.run.magZeropoint);
+  } else if (std::size_t(zeropoints) == n) {
+    s.colourZeropoints = c.getDoubles("COLOUR_ZEROPOINT");
+  } else {
+    throw ConfigError("COLOUR_ZEROPOINT: " + std::to_string(zeropoints) + " value(s) for " +
+                      std::to_string(n) +
+                      " COLOUR_IMAGE(s); give one per image, or none for "
+                      "MAG_ZEROPOINT");
+  }
+  if (c.count("COLOUR_CUT") > 0) {
+    const std::vector<std::string> cut = c.getStrings("COLOUR_CUT");
+    char* end = nullptr;
+    const double maxMag = cut.size() == 2 ? std::strtod(cut[1].c_str(), &end) : std::nan("");
+    if (cut.size() != 2 || end == cut[1].c_str() || *end != '\0' || !std::isfinite(maxMag)) {
+      throw ConfigError(
+          "COLOUR_CUT: give a band and the largest arc minus lens colour, as in "
+          "'COLOUR_CUT g,-0.3'");
+    }
+    if (std::find(s.search.colourBands.begin(), s.search.colourBands.end(), cut[0]) ==
+        s.search.colourBands.end()) {
+      throw ConfigError("COLOUR_CUT: band " + quoteForMessage(cut[0]) +
+                        " is not one of COLOUR_BAND");
+    }
+    s.search.colourCut = ColourCut{cut[0], maxMag};
+  }
+  s.search.pairColourMatch.sigmas = c.getDouble("DARK_PAIR_COLOUR", 0);
+  s.search.pairColourMatch.floorMag = c.getDouble("DARK_PAIR_COLOUR", 1);
+}
+
+// Each COLOUR_IMAGE on the measurement image's pixel grid, from the headers alone.
+void checkColourImageGrids(const SearchRunSettings& s) {
+  if (s.colourImagePaths.empty()) return;
+  const std::string& measured = s.run.measurementImagePath();
+  auto grid = [](const std::string& path) {
+    const ImageHdu hdu = readImageHeader(path);
+    return std::make_tuple(std::int64_t(hdu.header.number("NAXIS1").value_or(0)),
+                           std::int64_t(hdu.header.number("NAXIS2").value_or(0)),
+                           Wcs::fromHeader(hdu.header, path));
+  };
+  const auto [width, height, wcs] = grid(measured);
+  for (const std::string& path : s.colourImagePaths) {
+    const auto [w, h, bandWcs] = grid(path);
+    const std::string difference = pixelGridDifference(width, height, wcs, w, h, bandWcs);
+    if (!difference.empty()) {
+      throw ConfigError("COLOUR_IMAGE " + path + " and the measurement image " + measured +
+                        " must share one pixel grid (" + difference + ")");
+    }
+  }
+}
+
+// The colour bands' images, background-subtracted as the measurement image is (its BACK_* and
+// GAIN settings, no weight map, no filter).
+std::vector<PreparedImage> prepareColourImages(const SearchRunSettings& s, const RunLog& log) {
+  RunSettings band = measurementImageSettings(s.run);
+  band.weightType = WeightType::None;
+  band.weightImagePath.clear();
+  band.filter = false;
+  std::vector<PreparedImage> images;
+  for (const std::string& path : s.colourImagePaths) {
+    if (log) log("> Reading " + path);
+    images.push_back(prepareImage(path, band, {}, false));
+  }
+  return images;
 }
 
 // OUTPUT_DIR is replaced whole: it must be new or an earlier search output, and hold no input.
@@ -176,6 +271,16 @@ std::vector<KeySpec> searchKeys() {
     Row("LENS_CUTOUT", Kind::Float, {"20.0"}, "side of the square fitted around each (arcsec)")
         .range(1, 600),
     Row("LENS_CHECKIMAGES", Kind::Bool, {"Y"}, "write lensmodel.fits and lensresidual.fits"),
+    Row("COLOUR_IMAGE", Kind::String, {}, "images of other bands on the measurement image's\n"
+        "pixel grid: colours of arcs and lenses").list(0, 16),
+    Row("COLOUR_BAND", Kind::String, {}, "their band names, one per image (in column names)")
+        .list(0, 16),
+    Row("COLOUR_ZEROPOINT", Kind::Float, {}, "their magnitude zero-points (none: MAG_ZEROPOINT)")
+        .list(0, 16),
+    Row("COLOUR_CUT", Kind::String, {}, "BAND,MAX: remove candidates whose arc minus lens\n"
+        "colour in BAND exceeds MAX (mag)").list(0, 2),
+    Row("DARK_PAIR_COLOUR", Kind::Float, {"2.0", "0.1"}, "a dark-lens pair's colours agree\n"
+        "within N sigma, with a floor (mag)").list(2, 2).range(0, 1e30),
   };
   // clang-format on
   keys.insert(keys.end(), own.begin(), own.end());
@@ -229,6 +334,13 @@ SearchRunSettings searchSettingsFromConfig(const sexcompat::Config& c, RunSettin
       throw ConfigError("LENS_LIGHT: not available in dual-image mode (give one image)");
     }
   }
+  readColourSettings(c, s);
+  if (!s.colourImagePaths.empty() && !s.inputCatalogPath.empty()) {
+    throw ConfigError(
+        "COLOUR_IMAGE: colours are measured in the detection footprints, which "
+        "INPUT_CATALOG " +
+        s.inputCatalogPath + " does not hold; leave one out");
+  }
   return s;
 }
 
@@ -244,6 +356,7 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
   SearchRun run;
   // Everything that can be checked is checked before any pixel is read.
   checkOutputDirectory(settings);
+  checkColourImageGrids(settings);
   run.grid = loadGrid(settings.gridPath);
   SearchMaskSettings maskSettings;
   if (!settings.maskPath.empty()) {
@@ -331,6 +444,25 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
     input.residualPixels = &run.lensLight->residual;
     input.residualRowsAreExtra = settings.lensLight.mode == lenslight::SubtractionMode::Local;
   }
+  // The colour bands' images are needed only here: freed when the candidates are made.
+  const std::vector<PreparedImage> colourImages = prepareColourImages(settings, log);
+  const auto bandOf = [](const PreparedImage& image, double magZeropoint) {
+    BandImage band;
+    band.pixels = &image.hdu.pixels;
+    band.variance = image.variance.empty() ? nullptr : &image.variance;
+    band.sigmaAdu = image.sigmaAdu;
+    band.gain = image.gain;
+    band.magZeropoint = magZeropoint;
+    return band;
+  };
+  const BandImage measurementBand = bandOf(run.image, rs.magZeropoint);
+  std::vector<BandImage> bands;
+  for (std::size_t k = 0; k < colourImages.size(); ++k) {
+    for (const std::string& w : colourImages[k].warnings) run.warnings.push_back(w);
+    bands.push_back(bandOf(colourImages[k], settings.colourZeropoints[k]));
+  }
+  input.measurementBand = &measurementBand;
+  input.bands = &bands;
   if (log) log("> Selecting candidates");
   run.result = searchCandidates(input, search);
   if (log) {
@@ -373,6 +505,23 @@ std::vector<std::string> searchSummaryLines(const SearchRun& run,
   for (const Candidate& c : run.result.candidates) dark += (c.flags & kCandidateDarkLens) != 0;
   cands += "; " + std::to_string(dark) + " without a visible lens";
   lines.push_back(cands);
+  const SearchSettings& search = settings.search;
+  if (!search.colourBands.empty()) {
+    std::string bands;
+    for (const std::string& b : search.colourBands) bands += (bands.empty() ? "" : ", ") + b;
+    std::int64_t pairs = 0;
+    for (const Candidate& c : run.result.candidates) {
+      pairs += (c.flags & kCandidateDarkLensPair) != 0;
+    }
+    lines.push_back("Colour band(s) " + bands + ": " + std::to_string(pairs) +
+                    " dark-lens pair(s) (a same-colour counter-image, no lens)");
+  }
+  if (search.colourCut) {
+    lines.push_back(std::to_string(s.removedByColourCut) +
+                    " candidate(s) removed by the colour cut (arc minus lens colour in " +
+                    search.colourCut->band + " above " +
+                    formatNumber(search.colourCut->maxArcMinusLensMag, "%g") + " mag)");
+  }
   for (const SpaceCount& space : s.spaces) {
     lines.push_back(
         reportSpaceLine(space.name, space.expression, space.candidates, s.searchedAreaDeg2));
@@ -465,6 +614,7 @@ void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings
     info.catalogFile = "candidates.fits";
     info.regionFile = "candidates.reg";
     info.summaryLines = summary;
+    info.colourBands = settings.search.colourBands;
     writeText("index.html", contactSheetHtml(catalog, run.result, info));
   }
   writeFitsTables((root / "candidates.fits").string(),

@@ -394,6 +394,8 @@ class BatchBadInput(WorkDirTest):
         fits.PrimaryHDU(np.zeros((20, 20), np.float32)).writeto(self.path("a.fits"))
         m = self.write("m.txt", "a.fits\n")
         self.assert_refused(self.batch(m, "-MASK_NAME", "x.reg"), "MASK_NAME", "manifest")
+        self.assert_refused(self.batch(m, "-COLOUR_IMAGE", "a.fits", "-COLOUR_BAND", "g"),
+                            "COLOUR_IMAGE", "manifest")
         self.assert_refused(self.batch(m, "-ARRAY_TASK", "3/3"), "ARRAY_TASK")
         os.mkdir(self.path("out"))
         self.write("out/notes.txt", "mine")

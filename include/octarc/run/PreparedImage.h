@@ -111,6 +111,13 @@ PreparedImage prepareImage(const std::string& imagePath, const RunSettings& sett
                            const CatalogRunValues& fromCatalog, bool keepCheckMaps,
                            bool filterVariance = false);
 
+// Why two images are not on one pixel grid, "" when they are: their sizes differ ("WxH and WxH
+// pixels"), or both have a celestial WCS and a corner pixel of one lands more than 0.1 pixel
+// from the same corner of the other.
+std::string pixelGridDifference(std::int64_t widthA, std::int64_t heightA,
+                                const std::optional<Wcs>& wcsA, std::int64_t widthB,
+                                std::int64_t heightB, const std::optional<Wcs>& wcsB);
+
 // Dual-image mode: `detectionPath` prepared with `settings` (its filter, BACK_* and WEIGHT_*
 // first values) for detection, `measurementPath` with measurementImageSettings(settings) for the
 // measurements, both on the same pixel grid: an IoError naming both when their sizes differ, or

@@ -23,12 +23,16 @@ struct CandidateColumnSpec {
   bool text = false;
 };
 
-// Every column, in table order (for -dp and the writers).
-const std::vector<CandidateColumnSpec>& candidateColumns();
+// Every column, in table order (for -dp and the writers): the fixed ones, then per colour band
+// B: MAG_B, MAGERR_B, LENS_MAG_B, LENS_MAGERR_B, ARC_COLOUR_B, ARC_COLOURERR_B, LENS_COLOUR_B,
+// LENS_COLOURERR_B (a colour is B minus the measurement band).
+std::vector<CandidateColumnSpec> candidateColumns(const std::vector<std::string>& colourBands);
 
 // The LDAC_OBJECTS table of the candidates, with the summary as keywords: NCANDID, NROWSRCH,
 // NOBJSRCH, NROWSEL, SRCHPIX, SRCHAREA (deg2, undefined without WCS), CANDDEG2, REJFRAC,
-// NSPACES, and per report space n: SPNAMEn, SPEXPRn, SPCANDn, SPDEG2n.
+// NDARKPR (dark-lens pairs), NCOLBAND and COLBANDn (the colour bands), COLCUTBD and COLCUTMX (the
+// colour cut, when set), NCOLCUT (candidates it removed), NSPACES, and per report space n:
+// SPNAMEn, SPEXPRn, SPCANDn, SPDEG2n.
 FitsTable candidateObjectsTable(const Table& catalog, const SearchResult& result,
                                 const SearchSettings& settings);
 

@@ -44,6 +44,7 @@ struct ContactSheetInfo {
   std::string catalogFile;  // the candidate catalog, relative to the sheet
   std::string regionFile;   // the region file, relative to the sheet
   std::vector<std::string> summaryLines;
+  std::vector<std::string> colourBands;  // SearchSettings::colourBands: a column of colours
 };
 
 // The contact sheet: one self-contained HTML page (no network, no external script) with the

@@ -6,6 +6,8 @@
 //         grid's own search space, in a selected bin of the grid (selection/GridScore.h)
 //     --> one candidate per physical object (search/LevelMerge.h)
 //     --> its lens and Einstein radius (search/LensFinder.h), its name (search/CandidateName.h)
+//     --> with colour bands: magnitudes of the arc and the lens (search/Colour.h), the
+//         dark-lens pair criterion (search/DarkLens.h), the colour cut
 //
 // The report spaces (e.g. the paper's "a > 0.15, e > 0.6, S/N > 40") only label candidates:
 // a candidate is in a space when one of its passing rows is. Nothing here reads or writes files.
@@ -21,6 +23,8 @@
 #include "octarc/core/Table.h"
 #include "octarc/detection/MultiThresholdDetector.h"
 #include "octarc/io/Wcs.h"
+#include "octarc/search/Colour.h"
+#include "octarc/search/DarkLens.h"
 #include "octarc/search/LensFinder.h"
 #include "octarc/selection/GridFile.h"
 #include "octarc/selection/SearchMask.h"
@@ -34,11 +38,20 @@ const std::vector<std::string>& searchRequiredColumns();
 
 // CANDIDATE_FLAGS bits.
 enum CandidateFlag : int {
-  kCandidateDarkLens = 1,     // no galaxy on the concave side within LENS_RADIUS
-  kCandidateNoCurvature = 2,  // no circle could be fitted to the arc's pixels (centroid used)
-  kCandidateNoWcs = 4,        // the image has no celestial WCS: no RA, Dec or name
-  kCandidateSideUnknown = 8,  // |ARCNESS| below LENS_SIDE_ARCNESS: the nearest galaxy, any side
-  kCandidateLensLight = 16,   // found in the lens-light residual: its lens is the fitted galaxy
+  kCandidateDarkLens = 1,       // no galaxy on the concave side within LENS_RADIUS
+  kCandidateNoCurvature = 2,    // no circle could be fitted to the arc's pixels (centroid used)
+  kCandidateNoWcs = 4,          // the image has no celestial WCS: no RA, Dec or name
+  kCandidateSideUnknown = 8,    // |ARCNESS| below LENS_SIDE_ARCNESS: the nearest galaxy, any side
+  kCandidateLensLight = 16,     // found in the lens-light residual: its lens is the fitted galaxy
+  kCandidateDarkLensPair = 32,  // a same-colour counter-image and no lens (search/DarkLens.h)
+};
+
+// Candidates are removed when, in `band`, the arc's colour minus the lens's exceeds
+// maxArcMinusLensMag (lensed sources are usually bluer than their early-type lens); those
+// without a lens or a colour are kept.
+struct ColourCut {
+  std::string band;  // one of SearchSettings::colourBands
+  double maxArcMinusLensMag = 0.0;
 };
 
 // SearchInput::lensLightOf values other than a lens row.
@@ -55,6 +68,10 @@ struct SearchSettings {
   double sideMinArcness = 0.05;
   std::vector<SearchSpace> reportSpaces;  // at most 30
   std::string namePrefix = "OCTARC";      // of the IAU-style designations
+  // The colour bands' names, in the order of SearchInput::bands (none: no colours).
+  std::vector<std::string> colourBands;
+  std::optional<ColourCut> colourCut;
+  ColourMatch pairColourMatch;  // same colour, for a dark-lens pair
 };
 
 // The lens of a candidate, when one was found.
@@ -64,6 +81,14 @@ struct CandidateLens {
   double raDeg = std::numeric_limits<double>::quiet_NaN();
   double decDeg = std::numeric_limits<double>::quiet_NaN();
   double einsteinRadiusArcsec = 0.0;
+};
+
+// A position of a candidate's other image.
+struct CandidateImage {
+  std::size_t row = 0;            // in the catalog
+  double xPix = 0.0, yPix = 0.0;  // 1-based
+  double raDeg = std::numeric_limits<double>::quiet_NaN();
+  double decDeg = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct Candidate {
@@ -79,6 +104,10 @@ struct Candidate {
   std::optional<CircleFit> curvature;  // in 1-based pixel coordinates
   std::optional<CandidateLens> lens;
   int flags = 0;  // CandidateFlag bits
+  // With colour bands: isophotal magnitudes in the footprints of the best row and of the lens
+  // row, [0] in the measurement band, [1 + b] in colour band b (lensMags empty without a lens).
+  std::vector<BandMagnitude> arcMags, lensMags;
+  std::optional<CandidateImage> secondary;  // the counter-image of a kCandidateDarkLensPair
 };
 
 struct SpaceCount {
@@ -93,6 +122,7 @@ struct SearchSummary {
   std::int64_t objectsSearched = 0;  // level-1 objects inside it
   std::int64_t rowsSelected = 0;     // rows that passed every cut
   std::int64_t candidates = 0;
+  std::int64_t removedByColourCut = 0;  // not among `candidates`
   // From the WCS, pixel block by block; without one, from the pixel scale.
   double searchedAreaDeg2 = std::numeric_limits<double>::quiet_NaN();
   std::int64_t searchedPixels = 0;
@@ -109,7 +139,8 @@ struct SearchResult {
 
 // What the search reads. `footprints` and `pixels` (the background-subtracted measurement image)
 // give the arcs' pixels for the curvature fit; without them the lens is looked for from the arc
-// centroid (kCandidateNoCurvature).
+// centroid (kCandidateNoCurvature). `bands` (one per SearchSettings::colourBands, on the pixel grid
+// of the footprints, which they need) and `measurementBand` (the image of `pixels`) give colours.
 struct SearchInput {
   const Table* catalog = nullptr;  // every level, searchRequiredColumns() and the grid's columns
   const SavedGrid* grid = nullptr;
@@ -126,6 +157,8 @@ struct SearchInput {
   // LENS_LIGHT LOCAL: the residual's rows add to the image's, so a residual candidate within
   // kMinLensArcArcsec of one of the image's is the same object, and is dropped.
   bool residualRowsAreExtra = false;
+  const BandImage* measurementBand = nullptr;
+  const std::vector<BandImage>* bands = nullptr;
 };
 
 // ConfigError for a missing column, a bad setting or inconsistent inputs.

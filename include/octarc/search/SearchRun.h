@@ -33,8 +33,9 @@ namespace octarc {
 
 // The configuration keys of `octarc search`: those of detect (run/RunKeys.h) and GRID_NAME,
 // SEARCH_SPACE, MASK_NAME, MASK_BORDER, OUTPUT_DIR, SNR_MIN, RESOLVED_MIN, LENS_RADIUS,
-// LENS_SIDE_ARCNESS, STAMP_SIZE, STAMP_PIXELS, STAMPS, NAME_PREFIX, and the lens-light keys
-// LENS_LIGHT, LENS_SELECT, LENS_CUTOUT, LENS_CHECKIMAGES.
+// LENS_SIDE_ARCNESS, STAMP_SIZE, STAMP_PIXELS, STAMPS, NAME_PREFIX, the lens-light keys
+// LENS_LIGHT, LENS_SELECT, LENS_CUTOUT, LENS_CHECKIMAGES, and the colour keys COLOUR_IMAGE,
+// COLOUR_BAND, COLOUR_ZEROPOINT, COLOUR_CUT, DARK_PAIR_COLOUR.
 std::vector<sexcompat::KeySpec> searchKeys();
 
 struct SearchRunSettings {
@@ -47,6 +48,11 @@ struct SearchRunSettings {
   SearchSettings search;         // pixelScaleArcsec set by the run (PIXEL_SCALE or the WCS)
   StampSettings stamps;
   bool writeStamps = true;  // STAMPS
+  // COLOUR_IMAGE: images of other bands on the measurement image's pixel grid, background-
+  // subtracted as it is (without its weight map), their names in search.colourBands and their
+  // zero-points (COLOUR_ZEROPOINT, else MAG_ZEROPOINT) here.
+  std::vector<std::string> colourImagePaths;
+  std::vector<double> colourZeropoints;
   // ASSOC, when PARAMETERS_NAME asks for its columns (rows are never removed: the search needs
   // the whole component tree, so ASSOCSELEC_TYPE must be ALL).
   std::optional<sexcompat::AssocSettings> assoc;
@@ -58,7 +64,7 @@ struct SearchRunSettings {
 
 // The settings of a loaded configuration; `run` is the detection part as the command line
 // resolved it (image paths, PARAMETERS_NAME found). ConfigError for bad values (a SEARCH_SPACE
-// without a name, ASSOCSELEC_TYPE other than ALL, ...).
+// without a name, ASSOCSELEC_TYPE other than ALL, as many COLOUR_BAND as COLOUR_IMAGE, ...).
 SearchRunSettings searchSettingsFromConfig(const sexcompat::Config& config, RunSettings run);
 
 // The file that marks a directory as a search output, written last: an existing OUTPUT_DIR is
@@ -88,8 +94,9 @@ struct SearchRun {
 };
 
 // Runs the search. Before any pixel is read: the grid and the region file are read, OUTPUT_DIR
-// is checked (a directory that is not an earlier search output is refused) and no input may
-// lie inside it (it is replaced whole). ConfigError / IoError on bad settings or input; nothing
+// is checked (a directory that is not an earlier search output is refused), no input may
+// lie inside it (it is replaced whole) and each COLOUR_IMAGE must be on the measurement image's
+// pixel grid (a ConfigError naming both). ConfigError / IoError on bad settings or input; nothing
 // is written.
 SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log);
 

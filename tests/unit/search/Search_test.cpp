@@ -142,7 +142,7 @@ TEST(Search, TheGridsOwnSpaceAndMissingColumns) {
   const SearchMask mask(100, 100, {});
   SearchSettings s;
   s.pixelScaleArcsec = kScale;
-  SearchInput in{&catalog, &grid, &mask, nullptr, nullptr, nullptr};
+  SearchInput in{&catalog, &grid, &mask, nullptr, nullptr, nullptr, nullptr, nullptr};
   const SearchResult r = searchCandidates(in, s);
   ASSERT_EQ(r.candidates.size(), 1U);
   EXPECT_EQ(r.candidates[0].row, 1U);
@@ -168,7 +168,7 @@ TEST(Search, NearestGalaxyWhenTheSideIsUnknown) {
   const SearchMask mask(200, 200, {});
   SearchSettings s;
   s.pixelScaleArcsec = kScale;
-  SearchInput in{&catalog, &grid, &mask, nullptr, nullptr, nullptr};
+  SearchInput in{&catalog, &grid, &mask, nullptr, nullptr, nullptr, nullptr, nullptr};
   // Rows 1 and 2 (ARCNESS 0.01) pass too; the first candidate is row 0 (ties: lower row).
   SearchResult r = searchCandidates(in, s);
   ASSERT_EQ(r.candidates.size(), 3U);
@@ -182,6 +182,158 @@ TEST(Search, NearestGalaxyWhenTheSideIsUnknown) {
   ASSERT_TRUE(r.candidates[0].lens);
   EXPECT_EQ(r.candidates[0].lens->row, 2U);
   EXPECT_EQ(r.candidates[0].flags & kCandidateSideUnknown, 0);
+}
+
+// Colours and the dark-lens pair on a hand-made scene (0-based pixels of a 100 x 100 image):
+// an arc of radius 10 about (50, 50) spanning +-40 degrees about +x, 10 ADU per pixel in the
+// measurement band and 5 in band g (colour g - r = 2.5 log10 2 = 0.7526); a 3 x 3 counter-image
+// on the far side at (45, 50), 40 and 20 ADU (the same colour) or 40 and 40 (colour 0); and, when
+// asked, a 3 x 3 red lens at the centre, 40 and 10 ADU (colour 2.5 log10 4 = 1.5051).
+struct ColourScene {
+  ImageF r{100, 100, 0.0f}, g{100, 100, 0.0f};
+  SegmentationRuns footprints{100, 100, 1};
+  std::vector<RowValues> rows;
+  std::size_t arcPixels = 0;
+
+  ColourScene(double counterG, bool lens) {
+    std::vector<Segment> segments(1);
+    double sx = 0, sy = 0;
+    for (int y = 35; y <= 65; ++y) {
+      for (int x = 50; x <= 65; ++x) {
+        const double dx = x - 50, dy = y - 50;
+        if (std::fabs(std::hypot(dx, dy) - 10.0) > 0.7 || std::fabs(std::atan2(dy, dx)) > 0.698) {
+          continue;
+        }
+        r(x, y) = 10;
+        g(x, y) = 5;
+        segments[0].pixels.push_back(y * 100 + x);
+        sx += x;
+        sy += y;
+      }
+    }
+    arcPixels = segments[0].pixels.size();
+    segments[0].number = 1;
+    // The arc: its centroid (1-based), major axis along y (e1 < 0), concave side -x (ARC_SIDE +1).
+    rows.push_back({sx / double(arcPixels) + 1, sy / double(arcPixels) + 1, 1, 1, 0, 90, 5.0, -0.5,
+                    0, 1, 0.15});
+    auto block = [&](int x0, int y0, int number, float rValue, float gValue) {
+      Segment seg;
+      seg.number = number;
+      for (int y = y0 - 1; y <= y0 + 1; ++y) {
+        for (int x = x0 - 1; x <= x0 + 1; ++x) {
+          r(x, y) = rValue;
+          g(x, y) = gValue;
+          seg.pixels.push_back(y * 100 + x);
+        }
+      }
+      segments.push_back(seg);
+      // Compact and faint in S/N: never a candidate itself.
+      rows.push_back({x0 + 1.0, y0 + 1.0, 1, number, 0, 10, 1.5, 0, 0, 0, 0.01});
+    };
+    block(45, 50, 2, 40, float(counterG));
+    if (lens) block(50, 50, 3, 40, 10);
+    footprints.add(segments);
+  }
+};
+
+SearchResult searchColours(const ColourScene& scene, const Table& catalog, SearchSettings s) {
+  static const SavedGrid grid = arcnessGrid();
+  static const SearchMask mask(100, 100, {});
+  BandImage r, g;
+  r.pixels = &scene.r;
+  g.pixels = &scene.g;
+  r.sigmaAdu = g.sigmaAdu = 1.0;
+  r.magZeropoint = g.magZeropoint = 30.0;
+  const std::vector<BandImage> bands = {g};
+  s.pixelScaleArcsec = kScale;
+  s.lensRadiusArcsec = 5.0;  // 20 px: the counter-image, 14 px from the arc, is within reach
+  s.colourBands = {"g"};
+  SearchInput in{&catalog, &grid, &mask, nullptr, &scene.footprints, &scene.r};
+  in.measurementBand = &r;
+  in.bands = &bands;
+  return searchCandidates(in, s);
+}
+
+TEST(Search, DarkLensPairOfTheSameColour) {
+  const ColourScene scene(20, false);
+  const Table catalog = catalogOf(scene.rows);
+  const SearchResult result = searchColours(scene, catalog, SearchSettings());
+  ASSERT_EQ(result.candidates.size(), 1U);
+  const Candidate& c = result.candidates[0];
+  ASSERT_TRUE(c.curvature);
+  // About the ring's centre (51, 51), 1-based; a thin, pixelised 80-degree arc pulls it by ~1 px.
+  EXPECT_NEAR(c.curvature->xCentre, 51.0, 1.5);
+  EXPECT_NEAR(c.curvature->yCentre, 51.0, 1.5);
+  EXPECT_NEAR(c.curvature->radius, 10.0, 1.5);
+  // The counter-image lies on the concave side within LENS_RADIUS, the lens findLens would take;
+  // the criterion holds: no lens, flags 1 and 32.
+  EXPECT_FALSE(c.lens);
+  EXPECT_TRUE(c.lensMags.empty());
+  EXPECT_EQ(c.flags & (kCandidateDarkLens | kCandidateDarkLensPair),
+            kCandidateDarkLens | kCandidateDarkLensPair);
+  ASSERT_TRUE(c.secondary);
+  EXPECT_EQ(c.secondary->row, 1U);
+  EXPECT_DOUBLE_EQ(c.secondary->xPix, 46.0);
+  EXPECT_DOUBLE_EQ(c.secondary->yPix, 51.0);
+  // The arc's magnitudes: n pixels of 10 and 5 ADU, noise 1 ADU per pixel.
+  const double n = double(scene.arcPixels);
+  ASSERT_EQ(c.arcMags.size(), 2U);
+  EXPECT_NEAR(c.arcMags[0].mag, 30.0 - 2.5 * std::log10(10 * n), 1e-9);
+  EXPECT_NEAR(c.arcMags[0].magErr, 1.086 * std::sqrt(n) / (10 * n), 1e-9);
+  EXPECT_NEAR(c.arcMags[1].mag, 30.0 - 2.5 * std::log10(5 * n), 1e-9);
+  EXPECT_NEAR(c.arcMags[1].mag - c.arcMags[0].mag, 0.7526, 1e-4);
+}
+
+TEST(Search, NoDarkLensPairWithAnotherColourOrALensAtTheCentre) {
+  // A counter-image of colour 0 against the arc's 0.75: findLens's choice stands.
+  const ColourScene blue(40, false);
+  const Table blueCatalog = catalogOf(blue.rows);
+  SearchResult result = searchColours(blue, blueCatalog, SearchSettings());
+  ASSERT_EQ(result.candidates.size(), 1U);
+  ASSERT_TRUE(result.candidates[0].lens);
+  EXPECT_EQ(result.candidates[0].lens->row, 1U);
+  EXPECT_EQ(result.candidates[0].flags & kCandidateDarkLensPair, 0);
+  EXPECT_FALSE(result.candidates[0].secondary);
+
+  // A red galaxy at the centre: it is the lens, and the pair is not dark.
+  const ColourScene lensed(20, true);
+  const Table catalog = catalogOf(lensed.rows);
+  result = searchColours(lensed, catalog, SearchSettings());
+  ASSERT_EQ(result.candidates.size(), 1U);
+  const Candidate& c = result.candidates[0];
+  ASSERT_TRUE(c.lens);
+  EXPECT_EQ(c.lens->row, 2U);
+  EXPECT_EQ(c.flags & (kCandidateDarkLens | kCandidateDarkLensPair), 0);
+  ASSERT_EQ(c.lensMags.size(), 2U);
+  EXPECT_NEAR(c.lensMags[0].mag, 30.0 - 2.5 * std::log10(360.0), 1e-9);
+  EXPECT_NEAR(c.lensMags[1].mag - c.lensMags[0].mag, 2.5 * std::log10(4.0), 1e-9);
+}
+
+TEST(Search, ColourCutOnArcMinusLensColour) {
+  // Arc minus lens colour: 2.5 log10 2 - 2.5 log10 4 = -0.7526.
+  const ColourScene lensed(20, true);
+  const Table catalog = catalogOf(lensed.rows);
+  SearchSettings s;
+  s.reportSpaces = {SearchSpace("any", "ARCNESS > 0")};
+  s.colourCut = ColourCut{"g", -0.7};
+  SearchResult result = searchColours(lensed, catalog, s);
+  EXPECT_EQ(result.candidates.size(), 1U);
+  EXPECT_EQ(result.summary.removedByColourCut, 0);
+  s.colourCut = ColourCut{"g", -0.8};
+  result = searchColours(lensed, catalog, s);
+  EXPECT_TRUE(result.candidates.empty());
+  EXPECT_EQ(result.summary.removedByColourCut, 1);
+  EXPECT_EQ(result.summary.candidates, 0);
+  EXPECT_EQ(result.summary.spaces[0].candidates, 0);
+  // Without a lens (the dark pair) there is no lens colour: kept.
+  const ColourScene dark(20, false);
+  const Table darkCatalog = catalogOf(dark.rows);
+  result = searchColours(dark, darkCatalog, s);
+  EXPECT_EQ(result.candidates.size(), 1U);
+  EXPECT_EQ(result.summary.removedByColourCut, 0);
+  // A band the search does not have is a configuration error.
+  s.colourCut = ColourCut{"i", 0.0};
+  EXPECT_THROW(searchColours(dark, darkCatalog, s), ConfigError);
 }
 
 }  // namespace

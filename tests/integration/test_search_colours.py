@@ -1,0 +1,192 @@
+"""`octarc search` with a colour band, on the two-band example of testdata/ (made by
+scripts/make-multiband-example.py, whose injected positions and colours are in
+testdata/multiband.truth.txt): the blue arc's lens and colours against the injected ones, the
+dark-lens pair (CAND_FLAGS 32, no lens, the counter-image's position), the colour cut and its
+count; and bad colour input."""
+import os
+import shutil
+import tempfile
+import unittest
+
+import numpy as np
+from astropy.io import fits
+from astropy.wcs import WCS
+
+from octarc_testlib import SOURCE_DIR, WorkDirTest, run_octarc
+from test_search import known_grid
+
+SEX = os.path.join(SOURCE_DIR, "params", "octarc.sex")
+TESTDATA = os.path.join(SOURCE_DIR, "testdata")
+R_IMAGE = os.path.join(TESTDATA, "multiband.r.fits.gz")
+G_IMAGE = os.path.join(TESTDATA, "multiband.g.fits.gz")
+G_ZEROPOINT = "29.5"  # the g image's MAGZERO; r has MAG_ZEROPOINT 30 of octarc.sex
+# A measured colour agrees with the injected one within 3 sigma and 0.05 mag (light of the lens
+# inside the arc's footprint makes arcs slightly redder).
+SIGMAS, FLOOR = 3.0, 0.05
+
+
+def truth():
+    """name -> (x, y, r mag, g - r) of what the example holds (1-based pixels)."""
+    out = {}
+    with open(os.path.join(TESTDATA, "multiband.truth.txt")) as f:
+        for line in f:
+            if line.startswith("#") or not line.strip():
+                continue
+            name, x, y, r_mag, g_r = line.split()
+            out[name] = (float(x), float(y), float(r_mag), float(g_r))
+    return out
+
+
+class ColourFixture(WorkDirTest):
+    """A grid of known contents (0.05 <= ARCNESS < 0.30, so that lenses and round galaxies are
+    never candidates), made once."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.data = tempfile.mkdtemp(prefix="octarc-colours-")
+        cls.grid = os.path.join(cls.data, "grid.fits")
+        known_grid(os.path.join(SOURCE_DIR, "params", "demo.grid.fits"), cls.grid)
+        cls.truth = truth()
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.data, ignore_errors=True)
+
+    def search(self, *args, out="out", check=True, colours=True):
+        colour_args = ["-COLOUR_IMAGE", G_IMAGE, "-COLOUR_BAND", "g", "-COLOUR_ZEROPOINT",
+                       G_ZEROPOINT] if colours else []
+        return run_octarc("search", R_IMAGE, "-c", SEX, "-GRID_NAME", self.grid,
+                          "-OUTPUT_DIR", self.path(out), "-NTHREADS", "2", *colour_args, *args,
+                          check=check, cwd=self.work)
+
+    def candidates(self, out="out"):
+        return fits.getdata(self.path(os.path.join(out, "candidates.fits")), "LDAC_OBJECTS")
+
+    def near(self, cand, name, radius_pix):
+        """The candidates within radius_pix of the injected object `name`."""
+        x, y = self.truth[name][:2]
+        return cand[np.hypot(cand["X_IMAGE"] - x, cand["Y_IMAGE"] - y) < radius_pix]
+
+    def assert_colour(self, measured, error, name):
+        injected = self.truth[name][3]
+        self.assertTrue(np.isfinite(measured) and error > 0, name)
+        self.assertLess(abs(measured - injected), SIGMAS * error + FLOOR,
+                        "%s: g - r %.3f +- %.3f, injected %.2f" % (name, measured, error, injected))
+
+
+class SearchColours(ColourFixture):
+
+    def test_lens_and_colours_of_the_blue_arc(self):
+        self.search()
+        cand = self.candidates()
+        arc = self.near(cand, "a.arc", 4.0)
+        self.assertEqual(len(arc), 1, cand["X_IMAGE"])
+        arc = arc[0]
+        lens_x, lens_y = self.truth["a.lens"][:2]
+        self.assertLess(np.hypot(arc["LENS_X"] - lens_x, arc["LENS_Y"] - lens_y), 1.0)
+        self.assertEqual(arc["CAND_FLAGS"] & 33, 0)
+        self.assert_colour(arc["ARC_COLOUR_g"], arc["ARC_COLOURERR_g"], "a.arc")
+        self.assert_colour(arc["LENS_COLOUR_g"], arc["LENS_COLOURERR_g"], "a.lens")
+        # The colours are the g magnitudes minus the r ones of the same footprints.
+        self.assertAlmostEqual(arc["ARC_COLOUR_g"], arc["MAG_g"] - arc["MAG_ISO"], delta=1e-3)
+        self.assertAlmostEqual(arc["LENS_COLOUR_g"], arc["LENS_MAG_g"] - arc["LENS_MAG"],
+                               delta=1e-3)
+        self.assertAlmostEqual(arc["ARC_COLOURERR_g"],
+                               np.hypot(arc["MAGERR_g"], arc["MAGERR_ISO"]), delta=1e-4)
+        # The arc is blue and the lens red by the injected difference, 1.1 mag.
+        self.assertLess(arc["ARC_COLOUR_g"] - arc["LENS_COLOUR_g"], -0.8)
+        h = fits.getheader(self.path("out/candidates.fits"), "LDAC_OBJECTS")
+        self.assertEqual((h["NCOLBAND"], h["COLBAND1"], h["NCOLCUT"]), (1, "g", 0))
+        with open(self.path("out/index.html")) as f:
+            self.assertIn("colours arc / lens", f.read())
+
+    def test_dark_lens_pair_has_no_lens_and_flag_32(self):
+        self.search()
+        cand = self.candidates()
+        primary = self.near(cand, "b.arc", 4.0)
+        self.assertEqual(len(primary), 1)
+        primary = primary[0]
+        self.assertEqual(primary["CAND_FLAGS"] & 33, 33)
+        self.assertEqual(primary["LENS_NUMBER"], 0)
+        self.assertTrue(np.isnan(primary["LENS_X"]))
+        sec_x, sec_y = self.truth["b.counter"][:2]
+        self.assertLess(np.hypot(primary["SEC_X"] - sec_x, primary["SEC_Y"] - sec_y), 2.0)
+        ra, dec = WCS(fits.getheader(R_IMAGE)).all_pix2world(primary["SEC_X"], primary["SEC_Y"], 1)
+        self.assertAlmostEqual(primary["SEC_ALPHA"], float(ra), delta=1e-6)
+        self.assertAlmostEqual(primary["SEC_DELTA"], float(dec), delta=1e-6)
+        self.assert_colour(primary["ARC_COLOUR_g"], primary["ARC_COLOURERR_g"], "b.arc")
+        # No other candidate is a pair, and candidates without one have no counter-image.
+        self.assertEqual(int(np.sum(cand["CAND_FLAGS"] & 32 > 0)), 1)
+        self.assertTrue(np.all(np.isnan(cand["SEC_X"][(cand["CAND_FLAGS"] & 32) == 0])))
+        h = fits.getheader(self.path("out/candidates.fits"), "LDAC_OBJECTS")
+        self.assertEqual(h["NDARKPR"], 1)
+        with open(self.path("out/summary.txt")) as f:
+            self.assertIn("1 dark-lens pair(s)", f.read())
+        # Without the colour band the counter-image is the only galaxy on the concave side,
+        # and becomes the lens.
+        self.search(out="plain", colours=False)
+        plain = self.near(self.candidates("plain"), "b.arc", 4.0)[0]
+        self.assertEqual(plain["CAND_FLAGS"] & 33, 0)
+        self.assertLess(np.hypot(plain["LENS_X"] - sec_x, plain["LENS_Y"] - sec_y), 2.0)
+        self.assertNotIn("MAG_g", self.candidates("plain").columns.names)
+
+    def test_colour_cut_removes_the_arc_of_its_lens_colour(self):
+        self.search()
+        before = self.candidates()
+        red = self.near(before, "c.arc", 4.0)
+        self.assertEqual(len(red), 1)
+        lens_x, lens_y = self.truth["c.lens"][:2]
+        self.assertLess(np.hypot(red[0]["LENS_X"] - lens_x, red[0]["LENS_Y"] - lens_y), 1.0)
+        # Injected: the blue arc 1.1 mag bluer than its lens, the red arc of its lens's colour.
+        self.search("-COLOUR_CUT", "g,-0.5", out="cut")
+        after = self.candidates("cut")
+        self.assertEqual(len(self.near(after, "c.arc", 4.0)), 0)
+        self.assertEqual(len(self.near(after, "a.arc", 4.0)), 1)
+        self.assertEqual(len(self.near(after, "b.arc", 4.0)), 1)  # no lens: kept
+        self.assertEqual(len(after), len(before) - 1)
+        h = fits.getheader(self.path("cut/candidates.fits"), "LDAC_OBJECTS")
+        self.assertEqual((h["NCOLCUT"], h["COLCUTBD"], h["COLCUTMX"]), (1, "g", -0.5))
+        self.assertEqual(h["NCANDID"], len(after))
+        with open(self.path("cut/summary.txt")) as f:
+            self.assertIn("1 candidate(s) removed by the colour cut", f.read())
+
+
+class SearchColoursBadInput(ColourFixture):
+
+    def assert_refused(self, result, *words):
+        self.assertNotEqual(result.returncode, 0)
+        self.assertEqual(len(result.stderr.strip().splitlines()), 1, result.stderr)
+        for w in words:
+            self.assertIn(w, result.stderr)
+        self.assertFalse(os.path.exists(self.path("out")))
+
+    def test_colour_image_on_another_pixel_grid_names_both_files(self):
+        with fits.open(G_IMAGE) as f:
+            fits.PrimaryHDU(f[0].data[:, 1:], f[0].header).writeto(self.path("narrow.fits"))
+            shifted = f[0].header.copy()
+            shifted["CRPIX1"] += 1.0
+            fits.PrimaryHDU(f[0].data, shifted).writeto(self.path("shifted.fits"))
+        for image, why in (("narrow.fits", "299x300"), ("shifted.fits", "WCS")):
+            r = self.search("-COLOUR_IMAGE", self.path(image), "-VERBOSE_TYPE", "QUIET",
+                            check=False)
+            self.assert_refused(r, image, "multiband.r.fits.gz", why)
+
+    def test_band_counts_must_agree(self):
+        r = self.search("-COLOUR_IMAGE", "%s,%s" % (G_IMAGE, G_IMAGE), check=False)
+        self.assert_refused(r, "COLOUR_BAND", "2 COLOUR_IMAGE")
+        r = self.search("-COLOUR_ZEROPOINT", "29.5,29.5", check=False)
+        self.assert_refused(r, "COLOUR_ZEROPOINT")
+        r = self.search("-COLOUR_CUT", "i,0", check=False)
+        self.assert_refused(r, "COLOUR_CUT", "'i'")
+        r = self.search("-COLOUR_CUT", "g", check=False)
+        self.assert_refused(r, "COLOUR_CUT")
+        r = self.search("-COLOUR_BAND", "g-r", check=False)
+        self.assert_refused(r, "COLOUR_BAND")
+
+    def test_no_colours_from_an_input_catalog(self):
+        r = self.search("-INPUT_CATALOG", self.path("levels.ldac"), check=False)
+        self.assert_refused(r, "COLOUR_IMAGE", "INPUT_CATALOG")
+
+
+if __name__ == "__main__":
+    unittest.main()
