@@ -117,24 +117,26 @@ SersicFitResult fitSersic(const ImageD& stamp, const ImageD& varianceAdu2,
     out.message = kTooFewPixelsMessage;
     return out;
   }
-  double p[kParams] = {start.xPix,
-                       start.yPix,
-                       std::log(start.totalFluxAdu),
-                       std::log(start.halfLightRadiusPix),
-                       std::clamp(start.sersicIndex, settings.minIndex, settings.maxIndex),
-                       std::clamp(start.axisRatio, settings.minAxisRatio, 1.0),
-                       start.positionAngleRad};
+  const double size = double(std::max(stamp.width(), stamp.height()));
+  const double maxRadiusPix = std::max(0.5 * size, settings.minHalfLightRadiusPix * 2.0);
+  double p[kParams] = {
+      start.xPix,
+      start.yPix,
+      std::log(start.totalFluxAdu),
+      std::log(std::clamp(start.halfLightRadiusPix, settings.minHalfLightRadiusPix, maxRadiusPix)),
+      std::clamp(start.sersicIndex, settings.minIndex, settings.maxIndex),
+      std::clamp(start.axisRatio, settings.minAxisRatio, 1.0),
+      start.positionAngleRad};
   ceres::NumericDiffOptions diff;
   diff.relative_step_size = 1e-5;
-  auto* cost = new ceres::DynamicNumericDiffCostFunction<StampResiduals, ceres::CENTRAL>(
+  auto* cost = new ceres::DynamicNumericDiffCostFunction<StampResiduals, ceres::FORWARD>(
       residuals, ceres::TAKE_OWNERSHIP, diff);
   cost->AddParameterBlock(kParams);
   cost->SetNumResiduals(int(used));
   ceres::Problem problem;
   problem.AddResidualBlock(cost, nullptr, p);
-  const double size = double(std::max(stamp.width(), stamp.height()));
-  problem.SetParameterLowerBound(p, 3, std::log(0.2));
-  problem.SetParameterUpperBound(p, 3, std::log(2.0 * size));
+  problem.SetParameterLowerBound(p, 3, std::log(settings.minHalfLightRadiusPix));
+  problem.SetParameterUpperBound(p, 3, std::log(maxRadiusPix));
   problem.SetParameterLowerBound(p, 4, settings.minIndex);
   problem.SetParameterUpperBound(p, 4, settings.maxIndex);
   problem.SetParameterLowerBound(p, 5, settings.minAxisRatio);

@@ -265,7 +265,7 @@ std::vector<KeySpec> searchKeys() {
     Row("NAME_PREFIX", Kind::String, {"OCTARC"}, "prefix of the designations"),
     Row("LENS_LIGHT", Kind::String, {"N"}, "subtract fitted Sersic models of bright galaxies:\n"
         "N, LOCAL (also search the residual around each)\nor IMAGE (search the residual image)"),
-    Row("LENS_SELECT", Kind::String, {"MAG_ISO", "<", "20.5", "&&", "E_IMAGE", "<", "0.5"},
+    Row("LENS_SELECT", Kind::String, {"MAG_ISO", "<", "20.5", "&&", "E_IMAGE", "<", "0.5", "&&", "FLAGS", "<", "4"},
         "which level-1 objects are fitted (an expression\non the catalog's columns)")
         .list(1, 1024),
     Row("LENS_CUTOUT", Kind::Float, {"20.0"}, "side of the square fitted around each (arcsec)")

@@ -37,8 +37,9 @@ SubtractionMode parseSubtractionMode(const std::string& word);
 struct SubtractionSettings {
   SubtractionMode mode = SubtractionMode::Off;
   // Which level-1 rows are fitted (selection/ColumnExpression.h), e.g. the default
-  // "MAG_ISO < 20.5 && E_IMAGE < 0.5": bright, not very elongated galaxies.
-  std::string selectExpression = "MAG_ISO < 20.5 && E_IMAGE < 0.5";
+  // "MAG_ISO < 20.5 && E_IMAGE < 0.5 && FLAGS < 4": bright, not very elongated galaxies, neither
+  // saturated (a star's core) nor cut by the image border.
+  std::string selectExpression = "MAG_ISO < 20.5 && E_IMAGE < 0.5 && FLAGS < 4";
   double cutoutArcsec = 20.0;   // side of the square fitted around each galaxy
   double pixelScaleArcsec = 0;  // > 0
   double seeingFwhmArcsec = 0;  // the model's Gaussian PSF; 0: none
@@ -49,7 +50,7 @@ struct SubtractionSettings {
 // Why a galaxy was left in the image (FittedGalaxy::failure), as bits of LENSFIT_FLAGS.
 enum FitFailure : int {
   kFitNotConverged = 1,   // the solver stopped without converging
-  kFitOutsideCutout = 2,  // the fitted centre left the cut-out, or a radius beyond it
+  kFitOutsideCutout = 2,  // the fitted centre left the cut-out, or the radius ran to its limit
   kFitTooFewPixels = 4,   // fewer usable pixels than parameters (bad weights, an edge)
 };
 

@@ -14,7 +14,10 @@ namespace octarc::lenslight {
 
 struct SersicFitSettings {
   double psfSigmaPix = 0.0;  // Gaussian PSF of the image (sigma, pixels); 0: none
-  int maxIterations = 200;
+  // Per fit; a lens galaxy converges in a few tens, what runs on is a star or a blend (flagged).
+  int maxIterations = 60;
+  // The half-light radius is kept within [minHalfLightRadiusPix, the stamp's half side].
+  double minHalfLightRadiusPix = 0.5;
   // Bounds of the index and the axis ratio (a de Vaucouleurs lens sits well inside).
   double minIndex = 0.3, maxIndex = 8.0;
   double minAxisRatio = 0.05;
