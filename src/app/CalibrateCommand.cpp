@@ -35,8 +35,11 @@ void printUsage() {
          "arcness,\n"
          "                    anti-arcness, skewness, e and S/N (with SURVEY_CATALOG: also of the\n"
          "                    survey's objects), the noise-only threshold (NOISE_STUDY), the\n"
-         "                    threshold-count curve (THRESHOLD_STUDY), the S/N floor (SNR_STUDY)\n"
-         "                    and the binning search of the grid;\n"
+         "                    threshold-count curve (THRESHOLD_STUDY), the S/N floor (SNR_STUDY),\n"
+         "                    for a simulation with a second band (simulate lenses --band B)\n"
+         "                    the colour cut study (the fraction of arcs COLOUR_CUT B,MAX keeps,\n"
+         "                    against MAX: COLOUR_CUT_MAX) and the distribution of\n"
+         "                    ARC_COLOUR_B - LENS_COLOUR_B, and the binning search of the grid;\n"
          "  GRID_NAME         the occupation-probability grid of the simulated arcs (in the\n"
          "                    search space SEARCH_CUT), at the finest binning whose contour at\n"
          "                    GRID_LEVEL stays connected;\n"
@@ -47,6 +50,23 @@ void printUsage() {
          "  -KEY value   override a configuration key (e.g. -CHECKPLOT_DEV PDF)\n"
          "  -d, -dd      print the default configuration\n"
          "  -h           this help;  -v  version\n";
+}
+
+// The colour cut study: the MAX for each completeness level, then the table every 0.25 mag.
+void printColourCut(const ColourCutStudy& c) {
+  std::printf("Colour cut COLOUR_CUT %s,MAX on %lld arcs (%s; %lld with both colours):\n",
+              c.band.c_str(), static_cast<long long>(c.arcs), c.arcSelection.c_str(),
+              static_cast<long long>(c.withColours));
+  for (const ColourCutLevel& l : c.levels) {
+    std::printf("  %3.0f%% of the arcs kept from MAX = %s\n", 100.0 * l.completeness,
+                std::isinf(l.maxMag) ? "any" : formatNumber(l.maxMag, "%.3f", true).c_str());
+  }
+  std::printf("  MAX [mag]  kept\n");
+  for (const ColourCutRow& row : c.rows) {
+    const double quarters = row.maxMag / 0.25;
+    if (std::abs(quarters - std::round(quarters)) > 1e-6) continue;
+    std::printf("  %9.2f  %.4f +- %.4f\n", row.maxMag, row.fraction, row.fractionSigma);
+  }
 }
 
 void printSummary(const CalibrationRun& run, const CalibrationResult& r) {
@@ -96,6 +116,7 @@ void printSummary(const CalibrationRun& run, const CalibrationResult& r) {
     printSnrFloor(std::cout, *r.snrFloor, *run.settings.snrFloor);
     std::cout.flush();
   }
+  if (r.colourCut) printColourCut(*r.colourCut);
   std::printf(
       "Occupation grid: %lld arcs, %d bins per axis (finest connected at P = %g), "
       "%lld of %lld occupied bins selected\n",

@@ -40,6 +40,9 @@ void printUsage(const po::options_description& options) {
          "the survey thresholds with octarc detect's code, measures every object and applies\n"
          "the arc rules. OUT.fits (FITS-LDAC) holds one row per system (truth and the chosen\n"
          "arc's measurements, LDAC_OBJECTS) and every arc row at every level (ARCS).\n"
+         "With --band NAME each system is also made in a second band (simple colours, its\n"
+         "own noise) and the arcs' and lens's colours are measured in the first band's\n"
+         "footprints, as octarc search measures its candidates' colours.\n"
          "Survey settings come from built-in Deep Lens Survey defaults, then --config,\n"
          "then the options below. The output depends only on the seed, never on --threads,\n"
          "nor on the number of ranks when launched by mpirun or srun (the systems are then\n"
@@ -103,6 +106,13 @@ po::options_description lensOptions(LensSetupOptions& o) {
     ("lens-rhalf-max", po::value(&o.lensHalfLightMaxArcsec)->default_value(1.5), "")
     ("fine-scale", po::value(&o.fineScaleArcsec)->default_value(0.03), "ray-tracing grid step, arcsec")
     ("subsamples", po::value(&o.subSamples)->default_value(4), "rays per fine pixel along each axis")
+    ("band", po::value<std::string>()->value_name("NAME"), "also simulate a second band NAME (e.g. g): "
+     "the same systems with simple colours, measured in the first band's footprints (columns "
+     "MAG_NAME, ARC_COLOUR_NAME, LENS_COLOUR_NAME, ...)")
+    ("source-colour", po::value<std::string>()->value_name("MEAN,SCATTER"), "source colour "
+     "m_NAME - m_measurement, Gaussian, mag (default 0.4,0.3: a blue star-forming source in g - r)")
+    ("lens-colour", po::value<std::string>()->value_name("MEAN,SCATTER"), "lens colour, likewise "
+     "(default 1.2,0.1: a red early-type lens in g - r)")
     ("timing", "print the CPU time per stage even with --quiet");
   // clang-format on
   return options;
@@ -152,6 +162,13 @@ int runSimulateLenses(const std::vector<std::string>& args) {
     if (!quiet) {
       for (const std::string& w : o.survey->warnings) std::cerr << "WARNING: " << w << "\n";
     }
+  }
+  if (vm.count("band")) o.bandName = vm["band"].as<std::string>();
+  if (vm.count("source-colour")) {
+    o.sourceColour = parseColourDraw(vm["source-colour"].as<std::string>(), "--source-colour");
+  }
+  if (vm.count("lens-colour")) {
+    o.lensColour = parseColourDraw(vm["lens-colour"].as<std::string>(), "--lens-colour");
   }
   const SimulationSetup setup = makeSimulationSetup(o);
 

@@ -24,7 +24,8 @@ struct DistributionSpec {
   std::string selection;     // in words
   double lo, hi;             // NaN: from the simulated values' quantiles
   std::vector<CutLine> cuts;
-  bool fitGaussian = false;  // the widths of s_a and s_b
+  bool fitGaussian = false;    // the widths of s_a and s_b
+  bool simulatedOnly = false;  // no survey side (a column survey catalogs lack)
 };
 
 std::vector<DistributionSpec> distributionSpecs(const FractionCuts& c) {
@@ -88,6 +89,7 @@ Distribution makeDistribution(const DistributionSpec& spec, const Table& systems
   d.column = spec.value;
   d.selection = spec.selection;
   d.cuts = spec.cuts;
+  d.simulatedOnly = spec.simulatedOnly;
   const std::vector<double> sim =
       selectedValues(systems, spec.value, spec.simulatedCut, "distribution " + d.name);
   double lo = spec.lo, hi = spec.hi;
@@ -102,12 +104,39 @@ Distribution makeDistribution(const DistributionSpec& spec, const Table& systems
   }
   d.simulated = normalisedHistogram(sim, lo, hi, bins);
   if (spec.fitGaussian) d.gaussian = fitGaussian(d.simulated.edges, d.simulated.fraction);
-  if (survey) {
+  if (survey && !spec.simulatedOnly) {
     d.survey = normalisedHistogram(
         selectedValues(*survey, spec.value, spec.surveyCut, "survey distribution " + d.name), lo,
         hi, bins);
   }
   return d;
+}
+
+// The colour cut study and the distribution of the arc minus lens colour, on the arcs of
+// CalibrationSettings::colourCut (in the search space when one is given).
+void colourCutStudies(const SimulationOutput& sim, const CalibrationSettings& s,
+                      CalibrationResult& out) {
+  const std::string arcness = formatNumber(s.colourCutArcnessMin);
+  const std::string snr = formatNumber(s.fractionCuts.snrMin);
+  std::string selection = "ARC_FOUND == 1 && ARCNESS > " + arcness + " && SNR_ISO > " + snr;
+  std::string words = "ARCNESS > " + arcness + " and SNR_ISO > " + snr;
+  if (!s.searchSpaceExpression.empty()) {
+    selection += " && (" + s.searchSpaceExpression + ")";
+    words += ", in " + s.searchSpaceName;
+  }
+  out.colourCut = colourCutStudy(sim.systems, sim.band, selection, s.colourCut);
+  DistributionSpec spec;
+  spec.name = "COLOUR_DIFF";
+  spec.value = arcColourColumn(sim.band) + " - " + lensColourColumn(sim.band);
+  spec.simulatedCut = selection;
+  spec.selection = words;
+  spec.lo = spec.hi = std::nan("");
+  spec.simulatedOnly = true;
+  for (const ColourCutLevel& level : out.colourCut->levels) {
+    if (!std::isfinite(level.maxMag)) continue;
+    spec.cuts.push_back({level.maxMag, formatNumber(100.0 * level.completeness, "%.0f") + "%"});
+  }
+  out.distributions.push_back(makeDistribution(spec, sim.systems, nullptr, s.histogramBins));
 }
 
 // The occupation grid of the simulated arcs in the search space, at the finest binning whose
@@ -297,6 +326,37 @@ FitsTable snrFloorTable(const SnrFloorResult& f) {
   return t;
 }
 
+FitsTable colourCutTable(const ColourCutStudy& c) {
+  FitsTable t;
+  t.name = "COLOUR_CUT";
+  std::vector<double> max, fraction, sigma;
+  std::vector<std::int64_t> kept;
+  for (const ColourCutRow& r : c.rows) {
+    max.push_back(r.maxMag);
+    kept.push_back(r.kept);
+    fraction.push_back(r.fraction);
+    sigma.push_back(r.fractionSigma);
+  }
+  t.columns = {
+      doubles("COLOUR_MAX", max,
+              "MAX of COLOUR_CUT " + c.band + ",MAX (ARC_COLOUR - LENS_COLOUR <= MAX kept)", "mag"),
+      integers("N_KEPT", kept, "arcs kept (those without both colours included)"),
+      doubles("FRACTION", fraction, "N_KEPT / arcs: the completeness of the cut"),
+      doubles("FRACTION_ERR", sigma, "binomial sigma of FRACTION")};
+  t.keywords = {FitsKeyword::text("BAND", c.band, "the second band"),
+                FitsKeyword::text("SELECT", c.arcSelection, "the arcs (systems table)"),
+                FitsKeyword::integer("NARCS", c.arcs, "arcs (the normalisation)"),
+                FitsKeyword::integer("NCOLOUR", c.withColours, "of them with both colours")};
+  for (const ColourCutLevel& l : c.levels) {
+    // -inf (any MAX keeps that many) is written as an undefined value.
+    const std::string percent = formatNumber(100.0 * l.completeness, "%.0f");
+    t.keywords.push_back(
+        FitsKeyword::real("MAXC" + percent, std::isfinite(l.maxMag) ? l.maxMag : std::nan(""),
+                          "[mag] smallest MAX keeping " + percent + "% (undefined: any)"));
+  }
+  return t;
+}
+
 FitsTable binningTable(const BinningSearchResult& b, std::int64_t samples) {
   FitsTable t;
   t.name = "GRID_BINNING";
@@ -378,6 +438,7 @@ CalibrationResult calibrate(const SimulationOutput& simulation, const Table* sur
     out.distributions.push_back(
         makeDistribution(spec, simulation.systems, survey, s.histogramBins));
   }
+  if (!simulation.band.empty()) colourCutStudies(simulation, s, out);
   makeGrid(simulation, s, out);
   if (s.noise) out.noise = noiseOnlyThreshold(*s.noise);
   if (s.thresholdCount) {
@@ -393,14 +454,15 @@ std::vector<FitsTable> calibrationTables(const CalibrationResult& r) {
   if (r.noise) tables.push_back(noiseTable(*r.noise));
   if (r.thresholdCount) tables.push_back(thresholdCountTable(*r.thresholdCount));
   if (r.snrFloor) tables.push_back(snrFloorTable(*r.snrFloor));
+  if (r.colourCut) tables.push_back(colourCutTable(*r.colourCut));
   tables.push_back(binningTable(r.binning, r.gridSamples));
   return tables;
 }
 
 std::vector<std::string> calibrationPlotTypes() {
-  return {"ARCNESS",         "ANTIARCNESS", "SKEW_MAJOR",       "SKEW_MINOR",
-          "E_IMAGE",         "SNR_ISO",     "LENSING_FRACTION", "NOISE_THRESHOLD",
-          "THRESHOLD_COUNT", "SNR_FLOOR",   "GRID_BINNING"};
+  return {"ARCNESS",    "ANTIARCNESS",      "SKEW_MAJOR",      "SKEW_MINOR",      "E_IMAGE",
+          "SNR_ISO",    "LENSING_FRACTION", "NOISE_THRESHOLD", "THRESHOLD_COUNT", "SNR_FLOOR",
+          "COLOUR_CUT", "COLOUR_DIFF",      "GRID_BINNING"};
 }
 
 namespace {
@@ -416,7 +478,9 @@ void addWithErrorBar(PlotSeries& s, double y, double sigma) {
 Plot distributionPlot(const Distribution& d) {
   Plot p;
   p.title = d.name + " (" + d.selection + ")";
-  p.xLabel = d.name == "SNR_ISO" ? "log#d10#u S/N (ISO)" : d.name;
+  p.xLabel = d.name == "SNR_ISO"       ? "log#d10#u S/N (ISO)"
+             : d.name == "COLOUR_DIFF" ? d.column + " [mag]"
+                                       : d.name;
   p.yLabel = "fraction per bin";
   p.series.push_back(
       steps("simulated arcs (" + std::to_string(d.simulated.values) + ")", d.simulated));
@@ -523,6 +587,30 @@ Plot snrFloorPlot(const CalibrationResult& r) {
   return p;
 }
 
+Plot colourCutPlot(const CalibrationResult& r) {
+  if (!r.colourCut)
+    throw ConfigError("CHECKPLOT_TYPE COLOUR_CUT: the simulation has no second band");
+  const ColourCutStudy& c = *r.colourCut;
+  Plot p;
+  p.title = "Colour cut in " + c.band + ": arcs kept (" + std::to_string(c.arcs) + " arcs, " +
+            std::to_string(c.withColours) + " with both colours)";
+  p.xLabel = "MAX of COLOUR_CUT " + c.band + ",MAX [mag]";
+  p.yLabel = "fraction of simulated arcs kept";
+  PlotSeries s;
+  s.label = "ARC_COLOUR_" + c.band + " - LENS_COLOUR_" + c.band + " <= MAX, or no colour";
+  for (const ColourCutRow& row : c.rows) {
+    s.x.push_back(row.maxMag);
+    addWithErrorBar(s, row.fraction, row.fractionSigma);
+  }
+  p.series.push_back(s);
+  for (const ColourCutLevel& l : c.levels) {
+    if (!std::isfinite(l.maxMag)) continue;
+    p.cuts.push_back({l.maxMag, formatNumber(100.0 * l.completeness, "%.0f") + "% kept from " +
+                                    formatNumber(l.maxMag, "%.2f")});
+  }
+  return p;
+}
+
 Plot binningPlot(const CalibrationResult& r) {
   Plot p;
   p.title = "Occupation grid: binning search at P = " + formatNumber(r.binning.options.level);
@@ -550,6 +638,10 @@ Plot calibrationPlot(const CalibrationResult& r, const std::string& type) {
   if (type == "NOISE_THRESHOLD") return noisePlot(r);
   if (type == "THRESHOLD_COUNT") return thresholdCountPlot(r);
   if (type == "SNR_FLOOR") return snrFloorPlot(r);
+  if (type == "COLOUR_CUT") return colourCutPlot(r);
+  if (type == "COLOUR_DIFF") {
+    throw ConfigError("CHECKPLOT_TYPE COLOUR_DIFF: the simulation has no second band");
+  }
   if (type == "GRID_BINNING") return binningPlot(r);
   throw ConfigError("CHECKPLOT_TYPE " + quoteForMessage(type) + " is not a calibration plot");
 }

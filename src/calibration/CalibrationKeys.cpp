@@ -39,7 +39,7 @@ std::vector<KeySpec> calibrationKeys() {
   KeySpec plotType = Row("CHECKPLOT_TYPE", Kind::Keyword, types,
                          "ARCNESS, ANTIARCNESS, SKEW_MAJOR, SKEW_MINOR, E_IMAGE,\nSNR_ISO, "
                          "LENSING_FRACTION, NOISE_THRESHOLD, THRESHOLD_COUNT,\nSNR_FLOOR, "
-                         "GRID_BINNING or NONE")
+                         "COLOUR_CUT, COLOUR_DIFF, GRID_BINNING or NONE")
                          .list(1, 16);
   plotType.keywords = types;
   plotType.keywords.push_back("NONE");
@@ -111,6 +111,11 @@ std::vector<KeySpec> calibrationKeys() {
           .range(0, 10),
       Row("SNR_MINPERBIN", Kind::Int, {"20"}, "fewest measurements for a bin to count")
           .range(1, 100000000),
+      Row("COLOUR_CUT_MAX", Kind::Float, {"-1", "3", "0.05"},
+          "colour cut study (a simulation with --band B): the\nlowest and highest MAX of "
+          "COLOUR_CUT B,MAX tried\nand the step (mag)")
+          .list(3, 3)
+          .range(-100, 100),
       Row("FILTER_NAME", Kind::String, {"default.conv"}, "the survey's detection filter"),
       Row("DETECT_MINAREA", Kind::Int, {"0"},
           "DETECT_MINAREA of the noise study (0: the\nsimulation's)")
@@ -213,6 +218,11 @@ CalibrationRun calibrationRunFromConfig(const sexcompat::Config& c,
     checkSnrFloorSettings(f);  // before any work
     s.snrFloor = f;
   }
+  s.colourCut.maxLoMag = c.getDouble("COLOUR_CUT_MAX", 0);
+  s.colourCut.maxHiMag = c.getDouble("COLOUR_CUT_MAX", 1);
+  s.colourCut.stepMag = c.getDouble("COLOUR_CUT_MAX", 2);
+  s.colourCutArcnessMin = 0.10;
+  if (!simulation.band.empty()) checkColourCutSettings(s.colourCut);  // before any work
   run.plotDevice = parsePlotDevice(c.getString("CHECKPLOT_DEV"));
   const std::vector<std::string> types = c.getStrings("CHECKPLOT_TYPE");
   // Names pair with types by position when given; otherwise each plot is named after its type.
@@ -232,6 +242,8 @@ CalibrationRun calibrationRunFromConfig(const sexcompat::Config& c,
       if (types[i] == "NOISE_THRESHOLD" && !s.noise) continue;
       if (types[i] == "THRESHOLD_COUNT" && !s.thresholdCount) continue;
       if (types[i] == "SNR_FLOOR" && !s.snrFloor) continue;
+      const bool colour = types[i] == "COLOUR_CUT" || types[i] == "COLOUR_DIFF";
+      if (colour && simulation.band.empty()) continue;
       run.plots.push_back({types[i], names[i] + plotFileSuffix(run.plotDevice)});
     }
   }

@@ -61,6 +61,7 @@ SimulationOutput readSimulationOutput(const std::string& path) {
   // The population file is not recorded (the grid's POPFILE stays empty); the sources are.
   out.sourceDatabase = h.value("OCTSRCDB").value_or("");
   out.magZeropoint = card(h, "OCTMAGZP");
+  out.band = h.value("OCTBAND").value_or("");
   out.header = h;
   // The levels are recorded by their count and ends; simulate lenses spaces them
   // logarithmically (DETECT_NLEVELS), as octarc detect does.
@@ -78,10 +79,10 @@ SimulationOutput readSimulationOutput(const std::string& path) {
 namespace {
 
 // The cards a remake reads beside the survey setup: combined outputs must agree on them.
-constexpr const char* kRemakeCards[] = {"OCTPRSET", "OCTLMMIN", "OCTLMMAX", "OCTSMMIN", "OCTSMMAX",
-                                        "OCTSVMIN", "OCTSVMAX", "OCTLEMAX", "OCTLRHLO", "OCTLRHHI",
-                                        "OCTSTAMP", "OCTFINE",  "OCTSUBS",  "OCTSRCEX", "OCTSRCDB",
-                                        "OCTPOPUL", "OCTFILTR"};
+constexpr const char* kRemakeCards[] = {
+    "OCTPRSET", "OCTLMMIN", "OCTLMMAX", "OCTSMMIN", "OCTSMMAX", "OCTSVMIN", "OCTSVMAX", "OCTLEMAX",
+    "OCTLRHLO", "OCTLRHHI", "OCTSTAMP", "OCTFINE",  "OCTSUBS",  "OCTSRCEX", "OCTSRCDB", "OCTPOPUL",
+    "OCTFILTR", "OCTBAND",  "OCTSCOLM", "OCTSCOLS", "OCTLCOLM", "OCTLCOLS"};
 
 // A card of the run; ConfigError for an output made before the cards were recorded.
 std::string remakeCard(const SimulationOutput& sim, const char* key) {
@@ -141,6 +142,11 @@ LensSetupOptions resimulationOptions(const SimulationOutput& sim) {
   o.stampSizePix = int(remakeNumber(sim, "OCTSTAMP"));
   o.fineScaleArcsec = remakeNumber(sim, "OCTFINE");
   o.subSamples = int(remakeNumber(sim, "OCTSUBS"));
+  if (!sim.band.empty()) {
+    o.bandName = sim.band;
+    o.sourceColour = ColourDraw{remakeNumber(sim, "OCTSCOLM"), remakeNumber(sim, "OCTSCOLS")};
+    o.lensColour = ColourDraw{remakeNumber(sim, "OCTLCOLM"), remakeNumber(sim, "OCTLCOLS")};
+  }
   return o;
 }
 

@@ -17,6 +17,7 @@
 #include "octarc/io/Ds9Region.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/FitsTable.h"
+#include "octarc/measure/Colour.h"
 #include "octarc/run/CatalogAssembly.h"
 #include "octarc/run/Levels.h"
 #include "octarc/run/RunKeys.h"
@@ -135,10 +136,7 @@ void readColourSettings(const sexcompat::Config& c, SearchRunSettings& s) {
   }
   for (std::size_t k = 0; k < n; ++k) {
     const std::string& band = s.search.colourBands[k];
-    const bool word = !band.empty() && band.size() <= 16 &&
-                      std::all_of(band.begin(), band.end(),
-                                  [](unsigned char ch) { return std::isalnum(ch) || ch == '_'; });
-    if (!word) {
+    if (!isBandName(band)) {
       throw ConfigError("COLOUR_BAND: " + quoteForMessage(band) +
                         " is not a band name for column names (1-16 letters, digits or _)");
     }

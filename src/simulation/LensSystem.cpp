@@ -48,11 +48,13 @@ class StepClock {
 
 RenderedLensSystem renderLensSystem(const LensSystem& system, const SourceStamp& source,
                                     const ObservingSetup& setup, std::mt19937_64& rng,
-                                    RenderTimings* timings) {
+                                    RenderTimings* timings, const SecondBandColours* band) {
   StepClock clock(timings);
   const double stampFlux = totalFlux(source);
   if (!(stampFlux > 0.0))
     throw ConfigError("lens system: source stamp '" + source.name + "' has no positive flux");
+  if (band != nullptr && setup.addNoise && band->noiseRng == nullptr)
+    throw ConfigError("lens system: the second band needs its own noise stream");
   const EllipticalPotentialLens lens(system.mass);
   RenderedLensSystem out;
   out.image =
@@ -65,20 +67,40 @@ RenderedLensSystem renderLensSystem(const LensSystem& system, const SourceStamp&
   }
   out.lensedSourceFlux = traced;
   out.magnification = traced / fluxFromMagnitude(system.sourceMag, setup.magZeroPoint);
+  // The second band's source: the same traced image, fainter or brighter by its colour.
+  if (band != nullptr) {
+    out.bandImage = out.image;
+    const double sourceScale = std::pow(10.0, -0.4 * band->sourceColourMag);
+    for (double& v : out.bandImage.pixels()) v *= sourceScale;
+  }
   clock.charge(&RenderTimings::rayTraceSec);
 
   SersicLightParams light = system.light;
   light.totalFlux = fluxFromMagnitude(system.lensMag, setup.magZeroPoint);
   addSersicLight(out.image, setup.grid, light);
+  if (band != nullptr) {
+    SersicLightParams bandLight = light;
+    bandLight.totalFlux = light.totalFlux * std::pow(10.0, -0.4 * band->lensColourMag);
+    addSersicLight(out.bandImage, setup.grid, bandLight);
+  }
   clock.charge(&RenderTimings::lensLightSec);
 
   // The traced image and the lens light already hold the flux on each pixel.
-  out.image = setup.userPsf != nullptr ? convolve(out.image, *setup.userPsf)
-                                       : applyGaussianSeeing(out.image, setup.seeingFwhmArcsec,
-                                                             setup.grid.pixelScaleArcsec);
+  auto seeing = [&setup](const ImageD& image) {
+    return setup.userPsf != nullptr
+               ? convolve(image, *setup.userPsf)
+               : applyGaussianSeeing(image, setup.seeingFwhmArcsec, setup.grid.pixelScaleArcsec);
+  };
+  out.image = seeing(out.image);
+  if (band != nullptr) out.bandImage = seeing(out.bandImage);
   clock.charge(&RenderTimings::psfSec);
-  if (setup.addNoise)
+  if (setup.addNoise) {
     addPoissonSkyNoise(out.image, setup.skySigmaAdu, setup.gainElectronsPerAdu, rng);
+    if (band != nullptr) {
+      addPoissonSkyNoise(out.bandImage, setup.skySigmaAdu, setup.gainElectronsPerAdu,
+                         *band->noiseRng);
+    }
+  }
   clock.charge(&RenderTimings::noiseSec);
   return out;
 }

@@ -2,7 +2,8 @@
 // (and, for the data side, a survey catalog of octarc detect), and the occupation-probability
 // grid of section 4 made from the simulated arcs.
 //
-//   SimulationOutput (+ survey rows) --> lensing fractions, distributions, noise-only threshold
+//   SimulationOutput (+ survey rows) --> lensing fractions, distributions, noise-only threshold,
+//                                        the colour cut (a simulation with a second band)
 //                                    --> occupation grid (finest connected binning, contour P)
 //   --> calibrationTables() (FITS tables), calibrationPlots() (check-plots), the grid file
 //
@@ -15,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "octarc/calibration/ColourCut.h"
 #include "octarc/calibration/GaussianFit.h"
 #include "octarc/calibration/LensingFraction.h"
 #include "octarc/calibration/NoiseThreshold.h"
@@ -44,6 +46,11 @@ struct CalibrationSettings {
   // The threshold-count curve (simulates again), when wanted.
   std::optional<ThresholdCountSettings> thresholdCount;
   std::optional<SnrFloorSettings> snrFloor;  // the S/N floor (simulates again), when wanted
+  // The colour cut study, run when the simulation has a second band (OCTBAND). Its arcs:
+  // ARC_FOUND = 1, ARCNESS > colourCutArcnessMin, SNR_ISO > fractionCuts.snrMin, and in the
+  // search space when one is given.
+  ColourCutSettings colourCut;
+  double colourCutArcnessMin = 0.10;
 };
 
 // A histogram normalised over the values inside its range: the fractions sum to 1 (when any
@@ -69,6 +76,7 @@ struct Distribution {
   std::vector<CutLine> cuts;
   // The skewnesses: a Gaussian fitted to the simulated histogram (calibration/GaussianFit.h).
   std::optional<GaussianFit> gaussian;
+  bool simulatedOnly = false;  // a column survey catalogs do not have (no survey histogram)
 };
 
 struct CalibrationResult {
@@ -78,6 +86,7 @@ struct CalibrationResult {
   std::optional<NoiseThresholdResult> noise;
   std::optional<ThresholdCountCurve> thresholdCount;
   std::optional<SnrFloorResult> snrFloor;
+  std::optional<ColourCutStudy> colourCut;  // with a second band
   BinningSearchResult binning;
   std::int64_t gridSamples = 0;   // arcs in the search space the grid was filled with
   std::optional<SavedGrid> grid;  // always set by calibrate()
@@ -89,17 +98,19 @@ struct CalibrationResult {
 CalibrationResult calibrate(const SimulationOutput& simulation, const Table* survey,
                             const CalibrationSettings& settings);
 
-// The tables of the calibration file: LENSING_FRACTION, one DIST_<name> per distribution,
-// NOISE_THRESHOLD, THRESHOLD_COUNT and SNR_FLOOR (when run) and GRID_BINNING (every binning
-// tried).
+// The tables of the calibration file: LENSING_FRACTION, one DIST_<name> per distribution
+// (DIST_COLOUR_DIFF: ARC_COLOUR_B - LENS_COLOUR_B of the colour cut's arcs, with a second band),
+// NOISE_THRESHOLD, THRESHOLD_COUNT, SNR_FLOOR and COLOUR_CUT (when run) and GRID_BINNING (every
+// binning tried).
 std::vector<FitsTable> calibrationTables(const CalibrationResult& result);
 
 // The check-plots, by CHECKPLOT_TYPE: ARCNESS, ANTIARCNESS, SKEW_MAJOR, SKEW_MINOR, E_IMAGE,
 // SNR_ISO (the distributions), LENSING_FRACTION, NOISE_THRESHOLD, THRESHOLD_COUNT, SNR_FLOOR,
-// GRID_BINNING.
+// COLOUR_CUT (the completeness of the cut against MAX), COLOUR_DIFF (the distribution of
+// ARC_COLOUR_B - LENS_COLOUR_B), GRID_BINNING.
 std::vector<std::string> calibrationPlotTypes();
 // The plot of one type; ConfigError for an unknown type, or a study's plot (NOISE_THRESHOLD,
-// THRESHOLD_COUNT, SNR_FLOOR) without that study.
+// THRESHOLD_COUNT, SNR_FLOOR, COLOUR_CUT, COLOUR_DIFF) without that study.
 Plot calibrationPlot(const CalibrationResult& result, const std::string& type);
 
 }  // namespace octarc

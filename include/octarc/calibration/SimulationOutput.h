@@ -21,6 +21,7 @@ struct SimulationOutput {
   SurveySetup setup;
   double magZeropoint = 0.0;   // OCTMAGZP
   std::string sourceDatabase;  // OCTSRCDB: "synthetic (N galaxies)" or a catalog path
+  std::string band;            // OCTBAND: the second band (simulate lenses --band), "" for none
   FitsHeader header;           // its LDAC_IMHEAD (the run's OCT* cards)
   int outputs = 1;             // how many outputs were combined into this one
 };
@@ -47,9 +48,10 @@ SimulationOutput combineSimulationOutputs(std::vector<SimulationOutput> outputs)
 // The lens-simulation options that remake the systems of `simulation`, from the cards its run
 // recorded: the survey (pixel scale, seeing, gain, zero point, sky noise, the lowest and
 // highest level, DETECT_MINAREA), the population preset and its windows (lens and source
-// magnitudes, sigma_v), the lens light ranges, the stamp size and the ray tracing. What studies
-// that simulate again start from. ConfigError naming the file when the population was a file
-// of one's own (OCTPRSET '') or the output predates these cards.
+// magnitudes, sigma_v), the lens light ranges, the stamp size, the ray tracing and the second
+// band with its colours (OCTBAND, OCTSCOLM, OCTSCOLS, OCTLCOLM, OCTLCOLS) when there is one. What
+// studies that simulate again start from. ConfigError naming the file when the population was a
+// file of one's own (OCTPRSET '') or the output predates these cards.
 LensSetupOptions resimulationOptions(const SimulationOutput& simulation);
 // The sources of `simulation` (OCTSRCDB, OCTSRCEX).
 SourceChoice resimulationSources(const SimulationOutput& simulation);

@@ -10,7 +10,7 @@
 #include <cmath>
 #include <vector>
 
-#include "octarc/search/Colour.h"
+#include "octarc/measure/Colour.h"
 #include "octarc/search/LensFinder.h"
 
 namespace octarc {

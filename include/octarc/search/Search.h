@@ -6,7 +6,7 @@
 //         grid's own search space, in a selected bin of the grid (selection/GridScore.h)
 //     --> one candidate per physical object (search/LevelMerge.h)
 //     --> its lens and Einstein radius (search/LensFinder.h), its name (search/CandidateName.h)
-//     --> with colour bands: magnitudes of the arc and the lens (search/Colour.h), the
+//     --> with colour bands: magnitudes of the arc and the lens (measure/Colour.h), the
 //         dark-lens pair criterion (search/DarkLens.h), the colour cut
 //
 // The report spaces (e.g. the paper's "a > 0.15, e > 0.6, S/N > 40") only label candidates:
@@ -23,7 +23,7 @@
 #include "octarc/core/Table.h"
 #include "octarc/detection/MultiThresholdDetector.h"
 #include "octarc/io/Wcs.h"
-#include "octarc/search/Colour.h"
+#include "octarc/measure/Colour.h"
 #include "octarc/search/DarkLens.h"
 #include "octarc/search/LensFinder.h"
 #include "octarc/selection/GridFile.h"

@@ -34,8 +34,19 @@ struct LensSystem {
   double sourceMag = 23.0;  // magnitude of the unlensed source
 };
 
+// A second band of the same system, as simple colours (no SED, no redshift): colour = m_band -
+// m_first band, so the lensed source is scaled by 10^(-0.4 sourceColourMag) and the lens light by
+// 10^(-0.4 lensColourMag); the same geometry, zero point and PSF, the same sky noise level with
+// draws of its own.
+struct SecondBandColours {
+  double sourceColourMag = 0.0;
+  double lensColourMag = 0.0;
+  std::mt19937_64* noiseRng = nullptr;  // the band's noise draws; required with noise
+};
+
 struct RenderedLensSystem {
   ImageD image;                   // ADU per survey pixel
+  ImageD bandImage;               // the second band's stamp; empty without one
   double lensedSourceFlux = 0.0;  // traced source flux before the PSF (ADU)
   double magnification = 0.0;     // lensedSourceFlux / unlensed source flux
   RayTraceStats rayTrace;
@@ -55,9 +66,11 @@ Vec2 drawUniformInDisc(double radiusArcsec, std::mt19937_64& rng);
 // Renders the stamp. The source stamp's flux is rescaled to sourceMag (its pixel sum is taken as
 // its total flux); the lens light is centred on the grid's lens position. Noise draws come from
 // rng. Throws ConfigError for invalid parameters and for a source with non-positive flux.
-// Adds the CPU time of each step to *timings when given.
+// Adds the CPU time of each step to *timings when given. With `band`, also renders bandImage
+// from the same ray trace (the first band's image and draws are the same as without it).
 RenderedLensSystem renderLensSystem(const LensSystem& system, const SourceStamp& source,
                                     const ObservingSetup& setup, std::mt19937_64& rng,
-                                    RenderTimings* timings = nullptr);
+                                    RenderTimings* timings = nullptr,
+                                    const SecondBandColours* band = nullptr);
 
 }  // namespace octarc::simulation

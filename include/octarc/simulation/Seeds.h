@@ -25,4 +25,11 @@ inline std::mt19937_64 systemRng(std::uint64_t masterSeed, std::uint64_t index) 
   return std::mt19937_64(systemSeed(masterSeed, index));
 }
 
+// The stream of system `index`'s second band (its colours and its own noise): apart from the
+// system's own stream, so that asking for a second band leaves every draw of the first band
+// as it was.
+inline std::mt19937_64 secondBandRng(std::uint64_t masterSeed, std::uint64_t index) {
+  return systemRng(splitMix64(masterSeed ^ 0xB5AD4ECE0C0102ULL), index);
+}
+
 }  // namespace octarc::simulation

@@ -14,10 +14,17 @@ namespace octarc {
 
 namespace {
 
+// The second band's values of one arc row (or of none) and of its lens.
+struct BandRow {
+  BandPair arc, lens;
+};
+
 // What one system leaves for the output tables.
 struct SystemResult {
   LensSystemDraw draw;
   double magnification = 0.0;
+  double sourceColourMag = 0.0, lensColourMag = 0.0;  // the second band's, drawn
+  SecondBandMagnitudes band;                          // of the arc rows and the lens
   std::int64_t objectCount = 0;
   std::vector<double> arcValues;  // arc rows, measuredColumns() each, in table order
   std::vector<double> arcDistanceArcsec;
@@ -37,10 +44,61 @@ ColumnSpec column(const char* name, ColumnType type, const char* format, const c
   return c;
 }
 
-// The truth columns of the systems table, then ARC_FOUND and the chosen arc's columns.
+// A second band's measured column and how a row fills it: declared and filled in one place.
+struct BandColumn {
+  ColumnSpec spec;
+  double (*value)(const BandRow&);
+};
+
+std::vector<BandColumn> bandColumns(const std::string& b) {
+  using T = ColumnType;
+  auto spec = [](const std::string& name, const std::string& description) {
+    return column(name.c_str(), T::Float32, "%8.4f", "mag", description.c_str());
+  };
+  return {
+      {spec("MAG_" + b, "Isophotal magnitude of the arc in " + b + " (its footprint)"),
+       [](const BandRow& r) { return r.arc.band.mag; }},
+      {spec("MAGERR_" + b, "RMS error of MAG_" + b),
+       [](const BandRow& r) { return r.arc.band.magErr; }},
+      {spec("LENS_MAG_" + b, "Isophotal magnitude of the lens in " + b + " (its footprint)"),
+       [](const BandRow& r) { return r.lens.band.mag; }},
+      {spec("LENS_MAGERR_" + b, "RMS error of LENS_MAG_" + b),
+       [](const BandRow& r) { return r.lens.band.magErr; }},
+      {spec("ARC_COLOUR_" + b, "Arc colour: " + b + " minus the measurement band"),
+       [](const BandRow& r) { return colourOf(r.arc.band, r.arc.measurement).value; }},
+      {spec("ARC_COLOURERR_" + b, "RMS error of ARC_COLOUR_" + b),
+       [](const BandRow& r) { return colourOf(r.arc.band, r.arc.measurement).error; }},
+      {spec("LENS_COLOUR_" + b, "Lens colour: " + b + " minus the measurement band"),
+       [](const BandRow& r) { return colourOf(r.lens.band, r.lens.measurement).value; }},
+      {spec("LENS_COLOURERR_" + b, "RMS error of LENS_COLOUR_" + b),
+       [](const BandRow& r) { return colourOf(r.lens.band, r.lens.measurement).error; }},
+  };
+}
+
+// The injected colours of the systems table.
+std::vector<ColumnSpec> bandTruthColumns(const std::string& band) {
+  using T = ColumnType;
+  const std::string source = "SOURCE_COLOUR_TRUE_" + band, lens = "LENS_COLOUR_TRUE_" + band;
+  const std::string sourceText = "Injected source colour " + band + " minus the measurement band";
+  const std::string lensText = "Injected lens colour " + band + " minus the measurement band";
+  return {column(source.c_str(), T::Float32, "%8.4f", "mag", sourceText.c_str()),
+          column(lens.c_str(), T::Float32, "%8.4f", "mag", lensText.c_str())};
+}
+
+// Writes the band columns of `row` from position `at` on.
+void fillBandColumns(const std::vector<BandColumn>& columns, const BandRow& row, double* at) {
+  for (const BandColumn& c : columns) *at++ = c.value(row);
+}
+
 }  // namespace
 
-std::vector<ColumnSpec> lensSystemColumns() {
+std::vector<ColumnSpec> secondBandColumns(const std::string& band) {
+  std::vector<ColumnSpec> out;
+  for (const BandColumn& c : bandColumns(band)) out.push_back(c.spec);
+  return out;
+}
+
+std::vector<ColumnSpec> lensSystemColumns(const std::string& band) {
   using T = ColumnType;
   std::vector<ColumnSpec> c = {
       column("SYSTEM", T::Int32, "%9d", "", "Index of the simulated system (seed stream)"),
@@ -70,10 +128,14 @@ std::vector<ColumnSpec> lensSystemColumns() {
              "Distance of the chosen arc to the lens centre"),
   };
   for (const ColumnSpec& m : measuredColumns()) c.push_back(m);
+  if (!band.empty()) {
+    for (const ColumnSpec& t : bandTruthColumns(band)) c.push_back(t);
+    for (const ColumnSpec& m : secondBandColumns(band)) c.push_back(m);
+  }
   return c;
 }
 
-std::vector<ColumnSpec> lensArcColumns() {
+std::vector<ColumnSpec> lensArcColumns(const std::string& band) {
   using T = ColumnType;
   std::vector<ColumnSpec> c = {
       column("SYSTEM", T::Int32, "%9d", "", "Index of the simulated system"),
@@ -81,6 +143,9 @@ std::vector<ColumnSpec> lensArcColumns() {
       column("LENS_DISTANCE", T::Float32, "%8.4f", "arcsec", "Distance to the lens centre"),
   };
   for (const ColumnSpec& m : measuredColumns()) c.push_back(m);
+  if (!band.empty()) {
+    for (const ColumnSpec& m : secondBandColumns(band)) c.push_back(m);
+  }
   return c;
 }
 
@@ -96,6 +161,9 @@ LensRun runLensSimulation(const SimulationSetup& setup, const SourceDatabase& so
             simulateSystem(setup, sources, seed, firstIndex + i, i < stampCount, &r.timings);
         r.draw = std::move(s.draw);
         r.magnification = s.magnification;
+        r.sourceColourMag = s.sourceColourMag;
+        r.lensColourMag = s.lensColourMag;
+        r.band = std::move(s.band);
         r.objectCount = s.objects.rows();
         for (std::size_t a = 0; a < s.arcs.arcRows.size(); ++a) {
           const std::int64_t row = s.arcs.arcRows[a];
@@ -112,9 +180,12 @@ LensRun runLensSimulation(const SimulationSetup& setup, const SourceDatabase& so
 
   // Tables, in system order.
   const int measuredWidth = measuredPlan().rowWidth();
+  const std::string bandName = setup.band ? setup.band->name : "";
+  const std::vector<BandColumn> band =
+      setup.band ? bandColumns(bandName) : std::vector<BandColumn>();
   LensRun out;
-  out.systems = Table(lensSystemColumns());
-  out.arcs = Table(lensArcColumns());
+  out.systems = Table(lensSystemColumns(bandName));
+  out.arcs = Table(lensArcColumns(bandName));
   for (const SystemResult& r : results) {
     out.redraws += r.draw.redraws;
     out.rejections += r.draw.rejections;
@@ -156,12 +227,24 @@ LensRun runLensSimulation(const SimulationSetup& setup, const SourceDatabase& so
     } else {
       std::fill_n(row + truthCount, measuredWidth, nan);
     }
+    // The second band's row of arc row `a`; without an arc (-1), the lens at level 1 alone.
+    auto bandRow = [&r](int a) {
+      if (a < 0) return BandRow{BandPair(), r.band.levelOneLens};
+      return BandRow{r.band.arcs[std::size_t(a)], r.band.lenses[std::size_t(a)]};
+    };
+    if (setup.band) {
+      double* at = row + truthCount + measuredWidth;
+      *at++ = r.sourceColourMag;
+      *at++ = r.lensColourMag;
+      fillBandColumns(band, bandRow(r.chosenArc), at);
+    }
     for (std::size_t a = 0; a < r.arcDistanceArcsec.size(); ++a) {
       double* arcRow = out.arcs.appendRow();
       arcRow[0] = double(d.index);
       arcRow[1] = int(a) == r.chosenArc ? 1.0 : 0.0;
       arcRow[2] = r.arcDistanceArcsec[a];
       std::copy_n(r.arcValues.data() + a * std::size_t(measuredWidth), measuredWidth, arcRow + 3);
+      if (setup.band) fillBandColumns(band, bandRow(int(a)), arcRow + 3 + measuredWidth);
     }
   }
 
@@ -182,7 +265,7 @@ std::vector<std::string> lensRunCards(const LensRun& run, const SimulationSetup&
   const double hiSigma = setup.thresholdsSigma.empty()
                              ? setup.thresholdsAdu.back() / obs.skySigmaAdu
                              : setup.thresholdsSigma.back();
-  return {
+  std::vector<std::string> cards = {
       formatCard("OCTSEED", std::int64_t(seed), "Master seed of the simulation"),
       formatCard("OCTNSYS", run.systems.rows(), "Simulated systems"),
       formatCard("OCTNARC", run.systemsWithArc, "Systems with an arc"),
@@ -227,6 +310,17 @@ std::vector<std::string> lensRunCards(const LensRun& run, const SimulationSetup&
                  "Synthetic source extent (r_half; 0: catalog)"),
       formatCard("OCTFILTR", setup.filter.has_value(), "Detection filtered (FILTER Y)"),
   };
+  if (setup.band) {
+    const SecondBand& band = *setup.band;
+    cards.push_back(formatCard("OCTBAND", band.name, "Second band (colours: it minus this one)"));
+    cards.push_back(formatCard("OCTSCOLM", real(band.source.meanMag), "Source colour mean (mag)"));
+    cards.push_back(
+        formatCard("OCTSCOLS", real(band.source.scatterMag), "Source colour scatter (mag)"));
+    cards.push_back(formatCard("OCTLCOLM", real(band.lens.meanMag), "Lens colour mean (mag)"));
+    cards.push_back(
+        formatCard("OCTLCOLS", real(band.lens.scatterMag), "Lens colour scatter (mag)"));
+  }
+  return cards;
 }
 
 void writeLensCatalog(const std::string& path, const LensRun& run,

@@ -1,8 +1,11 @@
 #include "octarc/simulation/engine/LensSetup.h"
 
+#include <cmath>
+#include <cstdlib>
 #include <sstream>
 
 #include "octarc/core/Error.h"
+#include "octarc/measure/Colour.h"
 #include "octarc/run/Levels.h"
 #include "octarc/simulation/Noise.h"
 
@@ -127,6 +130,35 @@ void setPopulation(const LensSetupOptions& o, SimulationSetup& setup) {
                "--lens-rhalf-max");
 }
 
+void checkColour(const ColourDraw& c, const char* option) {
+  if (!std::isfinite(c.meanMag) || !std::isfinite(c.scatterMag) || c.scatterMag < 0) {
+    throw ConfigError(std::string(option) +
+                      ": the mean must be a number and the scatter a number >= 0 (mag)");
+  }
+}
+
+// The second band: a name fit for column names, and its colours.
+void setBand(const LensSetupOptions& o, SimulationSetup& setup) {
+  if (!o.bandName) {
+    if (o.sourceColour || o.lensColour) {
+      throw ConfigError(std::string(o.sourceColour ? "--source-colour" : "--lens-colour") +
+                        " needs --band NAME (the band the colour is for)");
+    }
+    return;
+  }
+  if (!isBandName(*o.bandName)) {
+    throw ConfigError("--band: '" + *o.bandName +
+                      "' is not a band name for column names (1-16 letters, digits or _)");
+  }
+  SecondBand band;
+  band.name = *o.bandName;
+  band.source = o.sourceColour.value_or(band.source);
+  band.lens = o.lensColour.value_or(band.lens);
+  checkColour(band.source, "--source-colour");
+  checkColour(band.lens, "--lens-colour");
+  setup.band = band;
+}
+
 }  // namespace
 
 SimulationSetup makeSimulationSetup(const LensSetupOptions& options) {
@@ -134,7 +166,27 @@ SimulationSetup makeSimulationSetup(const LensSetupOptions& options) {
   setObserving(options, setup);
   setLevels(options, setup);
   setPopulation(options, setup);
+  setBand(options, setup);
   return setup;
+}
+
+ColourDraw parseColourDraw(const std::string& text, const std::string& option) {
+  const std::size_t comma = text.find(',');
+  auto number = [](const std::string& word, double* value) {
+    char* end = nullptr;
+    *value = std::strtod(word.c_str(), &end);
+    return !word.empty() && end == word.c_str() + word.size() && std::isfinite(*value);
+  };
+  ColourDraw c;
+  if (comma == std::string::npos || !number(text.substr(0, comma), &c.meanMag) ||
+      !number(text.substr(comma + 1), &c.scatterMag)) {
+    throw ConfigError(option + ": give MEAN,SCATTER in mag, e.g. " + option + " 0.4,0.3 (got '" +
+                      text + "')");
+  }
+  if (c.scatterMag < 0) {
+    throw ConfigError(option + ": the scatter must be >= 0 (got '" + text + "')");
+  }
+  return c;
 }
 
 }  // namespace octarc

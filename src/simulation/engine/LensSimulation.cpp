@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <optional>
 #include <utility>
@@ -194,7 +195,8 @@ const MeasurementPlan& measuredPlan() {
 }
 
 Table detectAndMeasure(PreparedImage& image, const SimulationSetup& setup,
-                       std::vector<std::int64_t>* levelCounts, StageTimings* timings) {
+                       std::vector<std::int64_t>* levelCounts, StageTimings* timings,
+                       std::optional<SegmentationRuns>* footprints) {
   const double t0 = timings ? threadCpuSec() : 0.0;
   const double sigmaAdu = setup.observing.skySigmaAdu;
   MeasureContext context =
@@ -205,10 +207,12 @@ Table detectAndMeasure(PreparedImage& image, const SimulationSetup& setup,
   request.minAreaPix = setup.minAreaPix;
   request.threads = 1;
   request.footprintRuns = false;
+  request.keepSegmentation = footprints != nullptr;
   ImageRunResult run = detectAndMeasure(image, measuredPlan(), context, request);
   Table table = run.rowsInCatalogOrder();
   if (timings) timings->detectionSec += threadCpuSec() - t0;
   if (levelCounts) *levelCounts = std::move(run.objectsPerLevel);
+  if (footprints) *footprints = std::move(run.segmentation);
   return table;
 }
 
@@ -280,6 +284,15 @@ RenderedSystem renderSystem(const SimulationSetup& setup, const SourceDatabase& 
   RenderedSystem out;
   out.rng = sim::systemRng(masterSeed, std::uint64_t(index));
   out.draw = drawLensSystem(setup, sources, index, out.rng);
+  // The second band's stream: the colours first, then its noise.
+  std::mt19937_64 bandRng = sim::secondBandRng(masterSeed, std::uint64_t(index));
+  if (setup.band) {
+    std::normal_distribution<double> gauss(0.0, 1.0);
+    const double zSource = gauss(bandRng);
+    const double zLens = gauss(bandRng);
+    out.sourceColourMag = setup.band->source.meanMag + setup.band->source.scatterMag * zSource;
+    out.lensColourMag = setup.band->lens.meanMag + setup.band->lens.scatterMag * zLens;
+  }
   if (timings) timings->drawSec += threadCpuSec() - t0;
   if (out.draw.skipped) {
     // Cannot give an arc beyond the separation limit: counted, not rendered.
@@ -287,9 +300,10 @@ RenderedSystem renderSystem(const SimulationSetup& setup, const SourceDatabase& 
     return out;
   }
   sim::RenderTimings render;
+  const sim::SecondBandColours colours{out.sourceColourMag, out.lensColourMag, &bandRng};
   const sim::RenderedLensSystem rendered =
       sim::renderLensSystem(out.draw.system, sources.stamp(out.draw.sourceIndex), setup.observing,
-                            out.rng, timings ? &render : nullptr);
+                            out.rng, timings ? &render : nullptr, setup.band ? &colours : nullptr);
   out.magnification = rendered.magnification;
   if (timings) {
     timings->rayTraceSec += render.rayTraceSec;
@@ -300,6 +314,12 @@ RenderedSystem renderSystem(const SimulationSetup& setup, const SourceDatabase& 
   // The detector and the measurements read single precision, like a FITS image of BITPIX -32.
   out.image = ImageF(rendered.image.width(), rendered.image.height());
   for (std::int64_t i = 0; i < out.image.size(); ++i) out.image[i] = float(rendered.image[i]);
+  if (setup.band) {
+    out.bandImage = ImageF(rendered.bandImage.width(), rendered.bandImage.height());
+    for (std::int64_t i = 0; i < out.bandImage.size(); ++i) {
+      out.bandImage[i] = float(rendered.bandImage[i]);
+    }
+  }
   return out;
 }
 
@@ -309,12 +329,81 @@ DetectedSystem detectSystem(ImageF image, const SimulationSetup& setup, std::mt1
   const double tPrepare = timings ? threadCpuSec() : 0.0;
   out.prepared = prepareStamp(std::move(image), setup);
   if (timings) timings->detectionSec += threadCpuSec() - tPrepare;
-  out.objects = detectAndMeasure(out.prepared, setup, &out.levelCounts, timings);
+  out.objects = detectAndMeasure(out.prepared, setup, &out.levelCounts, timings,
+                                 setup.band ? &out.footprints : nullptr);
   const double t0 = timings ? threadCpuSec() : 0.0;
   const sim::SurveyGrid& grid = setup.observing.grid;
   out.arcs = selectArcs(out.objects, grid.lensXPix, grid.lensYPix, grid.pixelScaleArcsec,
                         setup.arcRules, rng);
   if (timings) timings->arcRulesSec += threadCpuSec() - t0;
+  return out;
+}
+
+SecondBandMagnitudes measureSecondBand(const DetectedSystem& detected, const ImageF& bandImage,
+                                       const SimulationSetup& setup) {
+  if (!detected.footprints) throw Error("second band: the system's footprints were not kept");
+  const SegmentationRuns& footprints = *detected.footprints;
+  const sim::ObservingSetup& obs = setup.observing;
+  BandImage measurement;
+  measurement.pixels = &detected.prepared.hdu.pixels;
+  measurement.sigmaAdu = obs.skySigmaAdu;
+  measurement.gain = obs.gainElectronsPerAdu;
+  measurement.magZeropoint = obs.magZeroPoint;
+  BandImage band = measurement;  // the same noise level and zero point
+  band.pixels = &bandImage;
+  auto magnitudes = [&](const std::vector<PixelRun>& footprint) {
+    return BandPair{isoMagnitude(measurement, footprint), isoMagnitude(band, footprint)};
+  };
+
+  // Each level's labels, rendered when first needed, and the object under the lens centre.
+  std::map<int, ImageI32> labels;
+  auto labelsOf = [&](int level) -> const ImageI32& {
+    auto [it, added] = labels.try_emplace(level);
+    if (added) footprints.render(level, it->second);
+    return it->second;
+  };
+  const auto lensX = std::int64_t(std::lround(obs.grid.lensXPix));
+  const auto lensY = std::int64_t(std::lround(obs.grid.lensYPix));
+  auto lensAt = [&](int level) -> std::int32_t {
+    const ImageI32& l = labelsOf(level);
+    const bool inside = lensX >= 0 && lensY >= 0 && lensX < l.width() && lensY < l.height();
+    return inside ? l(lensX, lensY) : 0;
+  };
+  auto footprintOf = [&](int level, std::int32_t number) {
+    return footprints.footprints(level, {number}).front();
+  };
+
+  SecondBandMagnitudes out;
+  const std::int32_t lensOne = lensAt(1);
+  if (lensOne > 0) out.levelOneLens = magnitudes(footprintOf(1, lensOne));
+
+  const Table& objects = detected.objects;
+  const std::vector<std::int64_t>& arcRows = detected.arcs.arcRows;
+  const int levelColumn = objects.requireColumn("THRESH_LEVEL", "second band");
+  const int numberColumn = objects.requireColumn("NUMBER", "second band");
+  out.arcs.resize(arcRows.size());
+  out.lenses.resize(arcRows.size());
+  for (std::size_t a = 0; a < arcRows.size(); ++a) {
+    const int level = int(objects.value(arcRows[a], levelColumn));
+    const auto number = std::int32_t(objects.value(arcRows[a], numberColumn));
+    const std::vector<PixelRun> arc = footprintOf(level, number);
+    out.arcs[a] = magnitudes(arc);
+    // The levels nest: the level-1 lens holds the arc row when it holds any of its pixels.
+    bool apartAtOne = lensOne > 0;
+    const ImageI32& one = labelsOf(1);
+    for (const PixelRun& run : arc) {
+      for (std::int32_t x = run.x0; x <= run.x1 && apartAtOne; ++x) {
+        if (one(x, run.y) == lensOne) apartAtOne = false;
+      }
+    }
+    if (apartAtOne) {
+      out.lenses[a] = out.levelOneLens;
+      continue;
+    }
+    const std::int32_t lensHere = lensAt(level);
+    if (lensHere > 0 && lensHere != number)
+      out.lenses[a] = magnitudes(footprintOf(level, lensHere));
+  }
   return out;
 }
 
@@ -325,12 +414,19 @@ SimulatedSystem simulateSystem(const SimulationSetup& setup, const SourceDatabas
   SimulatedSystem out;
   out.draw = std::move(rendered.draw);
   out.magnification = rendered.magnification;
+  out.sourceColourMag = rendered.sourceColourMag;
+  out.lensColourMag = rendered.lensColourMag;
   if (out.draw.skipped) {
     out.objects = Table(measuredColumns());
     if (keepImage) out.image = ImageF(setup.observing.grid.width, setup.observing.grid.height);
     return out;
   }
   DetectedSystem detected = detectSystem(std::move(rendered.image), setup, rendered.rng, timings);
+  if (setup.band) {
+    const double t0 = timings ? threadCpuSec() : 0.0;
+    out.band = measureSecondBand(detected, rendered.bandImage, setup);
+    if (timings) timings->detectionSec += threadCpuSec() - t0;
+  }
   out.levelCounts = std::move(detected.levelCounts);
   out.objects = std::move(detected.objects);
   out.arcs = std::move(detected.arcs);

@@ -110,6 +110,47 @@ TEST(LensSystem, NoiseIsSeededAndHasTheSkySigmaFarFromTheLens) {
   EXPECT_NEAR(var / 4.0, 1.0, 5.0 * std::sqrt(2.0 / n));
 }
 
+// The second band: with one colour c for the source and the lens the band's stamp is the
+// first's scaled by 10^(-0.4 c) (noise free, the PSF is linear); with two colours it is the sum
+// of the source alone and the lens alone, each scaled by its own. The first band's stamp and its
+// noise draws are those of a render without a second band.
+TEST(LensSystem, SecondBandScalesTheSourceAndTheLensByTheirColours) {
+  ObservingSetup setup;
+  setup.addNoise = false;
+  const SourceStamp src = test::gaussianSource(0.2, 0.03, 30);
+  const LensSystem sys = sisSystem(1.2, {0.3, -0.2});
+  std::mt19937_64 rng(1);
+  const SecondBandColours same{0.7, 0.7, nullptr};
+  const RenderedLensSystem r = renderLensSystem(sys, src, setup, rng, nullptr, &same);
+  ASSERT_EQ(r.bandImage.size(), r.image.size());
+  const double scale = std::pow(10.0, -0.4 * 0.7);
+  for (std::int64_t k = 0; k < r.image.size(); ++k)
+    ASSERT_NEAR(r.bandImage[k], scale * r.image[k], 1e-12 * std::abs(r.image[k]) + 1e-15);
+
+  LensSystem sourceOnly = sys, lensOnly = sys;
+  sourceOnly.lensMag = 99.0;
+  lensOnly.sourceMag = 99.0;
+  const ImageD s = renderLensSystem(sourceOnly, src, setup, rng).image;
+  const ImageD l = renderLensSystem(lensOnly, src, setup, rng).image;
+  const SecondBandColours two{0.4, 1.2, nullptr};
+  const RenderedLensSystem t = renderLensSystem(sys, src, setup, rng, nullptr, &two);
+  const double fs = std::pow(10.0, -0.4 * 0.4), fl = std::pow(10.0, -0.4 * 1.2);
+  for (std::int64_t k = 0; k < t.image.size(); ++k) {
+    const double expected = fs * s[k] + fl * l[k];
+    ASSERT_NEAR(t.bandImage[k], expected, 1e-9 * std::abs(expected) + 1e-12);
+  }
+
+  setup.addNoise = true;
+  auto r1 = systemRng(9, 4), r2 = systemRng(9, 4), bandRng = systemRng(10, 4);
+  const SecondBandColours noisy{0.4, 1.2, &bandRng};
+  const RenderedLensSystem a = renderLensSystem(sys, src, setup, r1, nullptr, &noisy);
+  const ImageD b = renderLensSystem(sys, src, setup, r2).image;
+  EXPECT_EQ(a.image.pixels(), b.pixels());
+  EXPECT_EQ(r1(), r2());  // the first band's stream is left where it was
+  const SecondBandColours noStream{0.4, 1.2, nullptr};
+  EXPECT_THROW(renderLensSystem(sys, src, setup, r1, nullptr, &noStream), ConfigError);
+}
+
 TEST(LensSystem, UniformPointsInsideTheEinsteinRadius) {
   std::mt19937_64 rng(5);
   const int n = 100000;

@@ -19,10 +19,21 @@
 namespace octarc {
 
 // The columns of the systems table: truth, ARC_FOUND, LENS_DISTANCE, then the chosen arc's
-// measuredColumns() (NaN without an arc).
-std::vector<ColumnSpec> lensSystemColumns();
-// The columns of the arc table: SYSTEM, CHOSEN, LENS_DISTANCE, then measuredColumns().
-std::vector<ColumnSpec> lensArcColumns();
+// measuredColumns() (NaN without an arc). With a second band `band` (non-empty), then the
+// injected colours SOURCE_COLOUR_TRUE_<band> and LENS_COLOUR_TRUE_<band>, and the band's
+// measured columns of the chosen arc and the lens (secondBandColumns).
+std::vector<ColumnSpec> lensSystemColumns(const std::string& band = "");
+// The columns of the arc table: SYSTEM, CHOSEN, LENS_DISTANCE, then measuredColumns(), then
+// with a second band its measured columns of the row and of its lens.
+std::vector<ColumnSpec> lensArcColumns(const std::string& band = "");
+// The measured columns of second band B, with the names and meaning of the search's candidate
+// columns (so that one expression, e.g. ARC_COLOUR_B - LENS_COLOUR_B, works on both): MAG_B,
+// MAGERR_B (the arc row's isophotal magnitude in B, in its footprint), LENS_MAG_B, LENS_MAGERR_B
+// (the lens's, in its footprint at level 1, or at the row's level when it joins the arc at level
+// 1: SecondBandMagnitudes; NaN when it is not detected apart from the arc),
+// ARC_COLOUR_B, ARC_COLOURERR_B, LENS_COLOUR_B, LENS_COLOURERR_B (B minus the measurement band,
+// both isophotal in the same footprint).
+std::vector<ColumnSpec> secondBandColumns(const std::string& band);
 
 struct LensRun {
   Table systems;  // lensSystemColumns(), one row per system, in index order
@@ -41,7 +52,9 @@ LensRun runLensSimulation(const SimulationSetup& setup, const SourceDatabase& so
                           std::uint64_t seed, std::int64_t count, int threads, int stampCount,
                           const ProgressFn& progress, std::int64_t firstIndex = 0);
 
-// The OCT* header cards of the systems file: seed, counts, survey, levels, source database.
+// The OCT* header cards of the systems file: seed, counts, survey, levels, source database, and
+// with a second band OCTBAND (its name) and its colours OCTSCOLM, OCTSCOLS (source mean and
+// scatter), OCTLCOLM, OCTLCOLS (lens).
 std::vector<std::string> lensRunCards(const LensRun& run, const SimulationSetup& setup,
                                       const SourceDatabase& sources, std::uint64_t seed);
 

@@ -34,9 +34,17 @@ struct LensSetupOptions {
   double lensHalfLightMinArcsec = 0.5, lensHalfLightMaxArcsec = 1.5;  // --lens-rhalf-min/max
   double fineScaleArcsec = 0.03;  // --fine-scale: ray-tracing grid step
   int subSamples = 4;             // --subsamples: rays per fine pixel along each axis
+  // --band NAME: a second band (SecondBand); --source-colour and --lens-colour MEAN,SCATTER
+  // need it (their defaults are SecondBand's).
+  std::optional<std::string> bandName;
+  std::optional<ColourDraw> sourceColour, lensColour;
 };
 
 // The run's setup; ConfigError naming the option for a value out of range.
 SimulationSetup makeSimulationSetup(const LensSetupOptions& options);
+
+// "MEAN,SCATTER" (mag) as a ColourDraw; ConfigError naming `option` unless both are finite
+// numbers and SCATTER >= 0.
+ColourDraw parseColourDraw(const std::string& text, const std::string& option);
 
 }  // namespace octarc

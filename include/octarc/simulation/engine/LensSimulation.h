@@ -5,10 +5,13 @@
 //
 // Reproducibility: everything random about system `index` comes from
 // simulation::systemRng(masterSeed, index), in a fixed order (population draw, then noise, then
-// the choice of the arc level), so any system can be remade on its own, on any thread.
+// the choice of the arc level), so any system can be remade on its own, on any thread. A second
+// band's colours and noise come from simulation::secondBandRng(masterSeed, index), so that the
+// first band is the same with or without it.
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <random>
 #include <string>
@@ -18,6 +21,8 @@
 #include "octarc/core/Segment.h"
 #include "octarc/core/Table.h"
 #include "octarc/detection/Filter.h"
+#include "octarc/detection/MultiThresholdDetector.h"
+#include "octarc/measure/Colour.h"
 #include "octarc/measure/Registry.h"
 #include "octarc/run/PreparedImage.h"
 #include "octarc/simulation/Cosmology.h"
@@ -35,6 +40,22 @@ struct ArcRules {
   double minDistanceArcsec = 1.0;
   double minSizeArcsec = 1.0;
   int minObjects = 2;
+};
+
+// A colour drawn per system: mean + scatter * N(0, 1), in mag.
+struct ColourDraw {
+  double meanMag = 0.0;
+  double scatterMag = 0.0;  // >= 0; 0: every system gets the mean
+};
+
+// A second band (simulate lenses --band): simple colours m_band - m_measurement band, one per
+// source and one per lens, Gaussian; not SEDs (no redshift dependence, no K-correction). The
+// defaults are g - r for the measurement band r: a blue star-forming source (0.4 +- 0.3) and a
+// red early-type lens (1.2 +- 0.1).
+struct SecondBand {
+  std::string name = "g";  // in column names: MAG_<name>, ARC_COLOUR_<name>, ...
+  ColourDraw source{0.4, 0.3};
+  ColourDraw lens{1.2, 0.1};
 };
 
 // Everything fixed for a run: survey, population, lens-light ranges, detection and arc rules.
@@ -58,6 +79,7 @@ struct SimulationSetup {
   std::optional<ConvKernel> filter;  // FILTER Y: the .conv kernel; empty for FILTER N
   double saturationAdu = 50000.0;    // SATUR_LEVEL (FLAGS bit 4)
   ArcRules arcRules;
+  std::optional<SecondBand> band;  // none: one band, as before
 };
 
 // A source database: noise-free stamps that the population rescales (magnitude, size, rotation).
@@ -156,8 +178,29 @@ struct ArcSelection {
 ArcSelection selectArcs(const Table& objects, double lensXPix, double lensYPix,
                         double pixelScaleArcsec, const ArcRules& rules, std::mt19937_64& rng);
 
+// One object's isophotal magnitudes in the measurement band and in the second band, in the same
+// footprint (measure/Colour.h).
+struct BandPair {
+  BandMagnitude measurement, band;
+};
+
+// A system's magnitudes in both bands: of every arc row (ArcSelection::arcRows order) and of
+// its lens, the object holding the lens centre, found as the search finds an arc's lens among
+// the objects of level 1 and of the arc's level that are not the arc or below it: at level 1
+// when that object there does not also hold the arc row, else at the arc row's level when it is
+// another object there; NaN when neither (the lens is not detected apart from the arc). A system
+// without an arc row has its lens at level 1 (levelOneLens; NaN without an object there).
+struct SecondBandMagnitudes {
+  std::vector<BandPair> arcs, lenses;  // per arc row
+  BandPair levelOneLens;
+};
+
 struct SimulatedSystem {
   LensSystemDraw draw;
+  // The second band (setup.band): the colours drawn (NaN without a band) and the magnitudes.
+  double sourceColourMag = std::numeric_limits<double>::quiet_NaN();
+  double lensColourMag = std::numeric_limits<double>::quiet_NaN();
+  SecondBandMagnitudes band;
   double magnification = 0.0;             // traced source flux / unlensed flux (before the PSF)
   std::vector<std::int64_t> levelCounts;  // objects per level
   Table objects;                          // every detected object, measuredColumns()
@@ -174,21 +217,32 @@ struct RenderedSystem {
   double magnification = 0.0;
   ImageF image;  // empty when skipped
   std::mt19937_64 rng;
+  // With setup.band: its colours (drawn even for a skipped system) and its stamp (empty when
+  // skipped).
+  double sourceColourMag = std::numeric_limits<double>::quiet_NaN();
+  double lensColourMag = std::numeric_limits<double>::quiet_NaN();
+  ImageF bandImage;
 };
 RenderedSystem renderSystem(const SimulationSetup& setup, const SourceDatabase& sources,
                             std::uint64_t masterSeed, std::int64_t index,
                             StageTimings* timings = nullptr);
 
 // The second half: detection at setup.thresholdsAdu, measurement and the arc rules (the level
-// drawn from `rng`).
+// drawn from `rng`); with setup.band the footprints are kept for the second band's magnitudes.
 struct DetectedSystem {
   PreparedImage prepared;
   std::vector<std::int64_t> levelCounts;
   Table objects;
   ArcSelection arcs;
+  std::optional<SegmentationRuns> footprints;
 };
 DetectedSystem detectSystem(ImageF image, const SimulationSetup& setup, std::mt19937_64& rng,
                             StageTimings* timings = nullptr);
+
+// The magnitudes of `detected` (its footprints kept) in its measurement image and in `bandImage`
+// (the second band's stamp, same grid, noise and zero point). Error without footprints.
+SecondBandMagnitudes measureSecondBand(const DetectedSystem& detected, const ImageF& bandImage,
+                                       const SimulationSetup& setup);
 
 // Draws, renders, detects at setup.thresholdsAdu (the stamp is background-free with known
 // sigma: no background is estimated), measures every object with measuredPlan() and applies
@@ -204,8 +258,9 @@ PreparedImage prepareStamp(ImageF pixels, const SimulationSetup& setup);
 
 // Detection and measurement of a prepared stamp through the run API (run/ImageRun.h), as
 // `octarc detect` does it, one thread. Returns the objects (measuredColumns(), ordered by level
-// then NUMBER) and fills levelCounts.
+// then NUMBER) and fills levelCounts, and *footprints when given (every object's footprint).
 Table detectAndMeasure(PreparedImage& image, const SimulationSetup& setup,
-                       std::vector<std::int64_t>* levelCounts, StageTimings* timings = nullptr);
+                       std::vector<std::int64_t>* levelCounts, StageTimings* timings = nullptr,
+                       std::optional<SegmentationRuns>* footprints = nullptr);
 
 }  // namespace octarc

@@ -1,5 +1,5 @@
 // Isophotal magnitudes of a band in a given footprint, and colours, worked out by hand.
-#include "octarc/search/Colour.h"
+#include "octarc/measure/Colour.h"
 
 #include <gtest/gtest.h>
 
@@ -74,6 +74,17 @@ TEST(Colour, NotMeasurableIsNaN) {
   EXPECT_DOUBLE_EQ(c.value, 1.0);
   EXPECT_NEAR(c.error, 0.05, 1e-15);
   EXPECT_TRUE(std::isnan(colourOf(BandMagnitude{}, BandMagnitude{20.0, 0.04}).value));
+}
+
+TEST(Colour, BandNamesForColumnNames) {
+  EXPECT_TRUE(isBandName("g"));
+  EXPECT_TRUE(isBandName("HSC_i2"));
+  EXPECT_TRUE(isBandName("abcdefghijklmnop"));  // 16 characters
+  EXPECT_FALSE(isBandName(""));
+  EXPECT_FALSE(isBandName("abcdefghijklmnopq"));  // 17
+  EXPECT_FALSE(isBandName("g-r"));
+  EXPECT_FALSE(isBandName("g r"));
+  EXPECT_FALSE(isBandName("g,"));
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
-// Colours of search candidates: isophotal magnitudes of an object in other bands, measured in
-// the footprint the detection gave it (the same pixels as its MAG_ISO), as SExtractor's MAG_ISO
-// and MAGERR_ISO would be in dual-image mode with that band as the measurement image.
+// Colours of detected objects (search candidates, simulated arcs and lenses): isophotal
+// magnitudes of an object in other bands, measured in the footprint the detection gave it (the
+// same pixels as its MAG_ISO), as SExtractor's MAG_ISO and MAGERR_ISO would be in dual-image mode
+// with that band as the measurement image.
 //
 // A colour is a band's magnitude minus the measurement band's, its error the two magnitude
 // errors in quadrature. Where the flux is not positive, or no footprint pixel is finite, the
@@ -8,6 +9,7 @@
 #pragma once
 
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "octarc/core/Image.h"
@@ -41,5 +43,9 @@ struct Colour {
 
 // `band` minus `reference`.
 Colour colourOf(const BandMagnitude& band, const BandMagnitude& reference);
+
+// True when `name` can name a band inside column names (MAG_<name>, ARC_COLOUR_<name>): 1 to 16
+// letters, digits or underscores.
+bool isBandName(const std::string& name);
 
 }  // namespace octarc

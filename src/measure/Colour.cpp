@@ -1,6 +1,7 @@
-#include "octarc/search/Colour.h"
+#include "octarc/measure/Colour.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 
 #include "octarc/measure/MomentsMath.h"
@@ -50,6 +51,12 @@ Colour colourOf(const BandMagnitude& band, const BandMagnitude& reference) {
   c.value = band.mag - reference.mag;
   c.error = std::hypot(band.magErr, reference.magErr);
   return c;
+}
+
+bool isBandName(const std::string& name) {
+  return !name.empty() && name.size() <= 16 &&
+         std::all_of(name.begin(), name.end(),
+                     [](unsigned char ch) { return std::isalnum(ch) || ch == '_'; });
 }
 
 }  // namespace octarc
