@@ -137,11 +137,12 @@ void dropResidualDuplicates(const Table& catalog, const SearchColumns& c, const 
   };
   auto isTwin = [&](const Candidate& cand) {
     if (!(cand.flags & kCandidateLensLight)) return false;
-    const auto [x, y] = position(cand);
+    // Plain variables, not a structured binding: clang 14 cannot capture one in a lambda.
+    const std::pair<double, double> xy = position(cand);
     return std::any_of(candidates.begin(), candidates.end(), [&](const Candidate& o) {
       if (o.flags & kCandidateLensLight) return false;
-      const auto [ox, oy] = position(o);
-      return std::hypot(ox - x, oy - y) < samePix;
+      const std::pair<double, double> oxy = position(o);
+      return std::hypot(oxy.first - xy.first, oxy.second - xy.second) < samePix;
     });
   };
   std::vector<bool> twin(candidates.size());
