@@ -1,6 +1,7 @@
 #include "octarc/lenslight/SersicFit.h"
 
 #include <ceres/ceres.h>
+#include <glog/logging.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,6 +11,14 @@
 namespace octarc::lenslight {
 
 namespace {
+
+// A rank-deficient covariance (a round galaxy has no position angle) leaves the errors NaN, and
+// Ceres would also log it through glog on stderr, once per galaxy: glog is quieted below FATAL,
+// at start-up, before any thread runs.
+[[maybe_unused]] const bool kGlogQuiet = [] {
+  FLAGS_minloglevel = google::GLOG_FATAL;
+  return true;
+}();
 
 // The fitted parameters: x, y, log flux, log radius, index, axis ratio, angle. Logarithms keep
 // flux and radius positive and their steps relative.
