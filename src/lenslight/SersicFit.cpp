@@ -24,6 +24,16 @@ namespace {
 // flux and radius positive and their steps relative.
 constexpr int kParams = 7;
 
+double wrapAngle(double theta) {
+  // The major axis is a direction: angles modulo pi, in [0, pi).
+  theta = std::fmod(theta, std::numbers::pi);
+  return theta < 0 ? theta + std::numbers::pi : theta;
+}
+
+// The axis ratio is fitted on (0, 1 / minAxisRatio]: q > 1 is the same ellipse with its axes
+// swapped (q' = 1/q, r_e' = q r_e, theta' = theta + pi/2, same I_e), so the model is smooth
+// through q = 1 and a round galaxy sits inside the bounds, where the numerical derivatives can
+// step both ways.
 SersicParams fromVector(const double* p) {
   SersicParams s;
   s.xPix = p[0];
@@ -33,6 +43,12 @@ SersicParams fromVector(const double* p) {
   s.sersicIndex = p[4];
   s.axisRatio = p[5];
   s.positionAngleRad = p[6];
+  if (s.axisRatio > 1.0) {
+    s.halfLightRadiusPix *= s.axisRatio;
+    s.axisRatio = 1.0 / s.axisRatio;
+    s.positionAngleRad += 0.5 * std::numbers::pi;
+  }
+  s.positionAngleRad = wrapAngle(s.positionAngleRad);
   return s;
 }
 
@@ -45,8 +61,14 @@ struct StampResiduals {
   double psfSigmaPix;
 
   bool operator()(double const* const* parameters, double* residuals) const {
+    for (int i = 0; i < kParams; ++i) {
+      if (!std::isfinite(parameters[0][i])) return false;
+    }
     const SersicParams s = fromVector(parameters[0]);
-    if (!(s.axisRatio > 0.0 && s.axisRatio <= 1.0) || !(s.sersicIndex > 0.0)) return false;
+    // Inside the bounds always true; a step outside them is refused, never thrown.
+    if (!(s.axisRatio > 0.0) || !(s.sersicIndex > 0.0) || !(s.halfLightRadiusPix > 0.0)) {
+      return false;
+    }
     const ImageD model = renderSersic(s, int(stamp->width()), int(stamp->height()), psfSigmaPix);
     for (std::size_t i = 0; i < pixels.size(); ++i) {
       const std::int64_t p = pixels[i];
@@ -55,12 +77,6 @@ struct StampResiduals {
     return true;
   }
 };
-
-double wrapAngle(double theta) {
-  // The major axis is a direction: angles modulo pi, in [0, pi).
-  theta = std::fmod(theta, std::numbers::pi);
-  return theta < 0 ? theta + std::numbers::pi : theta;
-}
 
 }  // namespace
 
@@ -149,7 +165,7 @@ SersicFitResult fitSersic(const ImageD& stamp, const ImageD& varianceAdu2,
   problem.SetParameterLowerBound(p, 4, settings.minIndex);
   problem.SetParameterUpperBound(p, 4, settings.maxIndex);
   problem.SetParameterLowerBound(p, 5, settings.minAxisRatio);
-  problem.SetParameterUpperBound(p, 5, 1.0);
+  problem.SetParameterUpperBound(p, 5, 1.0 / settings.minAxisRatio);
 
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::DENSE_QR;
@@ -165,8 +181,8 @@ SersicFitResult fitSersic(const ImageD& stamp, const ImageD& varianceAdu2,
   if (!out.converged) out.message = summary.BriefReport();
   out.chi2 = 2.0 * summary.final_cost;
   out.degreesOfFreedom = used - kParams;
-  p[6] = wrapAngle(p[6]);
   out.params = fromVector(p);
+  if (!summary.IsSolutionUsable()) return out;
 
   ceres::Covariance::Options covarianceOptions;
   covarianceOptions.algorithm_type = ceres::DENSE_SVD;
@@ -174,14 +190,25 @@ SersicFitResult fitSersic(const ImageD& stamp, const ImageD& varianceAdu2,
   const std::vector<std::pair<const double*, const double*>> blocks = {{p, p}};
   double c[kParams * kParams];
   if (covariance.Compute(blocks, &problem) && covariance.GetCovarianceBlock(p, p, c)) {
-    auto sigma = [&](int i) { return std::sqrt(c[i * kParams + i]); };
-    out.errors.xPix = sigma(0);
-    out.errors.yPix = sigma(1);
-    out.errors.totalFluxAdu = out.params.totalFluxAdu * sigma(2);
-    out.errors.halfLightRadiusPix = out.params.halfLightRadiusPix * sigma(3);
-    out.errors.sersicIndex = sigma(4);
-    out.errors.axisRatio = sigma(5);
-    out.errors.positionAngleRad = sigma(6);
+    auto var = [&](int i, int j) { return c[i * kParams + j]; };
+    auto root = [](double v) {
+      return v >= 0.0 ? std::sqrt(v) : std::numeric_limits<double>::quiet_NaN();
+    };
+    out.errors.xPix = root(var(0, 0));
+    out.errors.yPix = root(var(1, 1));
+    out.errors.totalFluxAdu = out.params.totalFluxAdu * root(var(2, 2));
+    out.errors.sersicIndex = root(var(4, 4));
+    out.errors.positionAngleRad = root(var(6, 6));
+    const double q = p[5];
+    if (q > 1.0) {
+      // Through the swap of axes: log r_e' = log r_e + log q, q' = 1/q.
+      out.errors.halfLightRadiusPix = out.params.halfLightRadiusPix *
+                                      root(var(3, 3) + var(5, 5) / (q * q) + 2.0 * var(3, 5) / q);
+      out.errors.axisRatio = root(var(5, 5)) / (q * q);
+    } else {
+      out.errors.halfLightRadiusPix = out.params.halfLightRadiusPix * root(var(3, 3));
+      out.errors.axisRatio = root(var(5, 5));
+    }
   }
   return out;
 }

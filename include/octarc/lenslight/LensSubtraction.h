@@ -50,7 +50,7 @@ struct SubtractionSettings {
 // Why a galaxy was left in the image (FittedGalaxy::failure), as bits of LENSFIT_FLAGS.
 enum FitFailure : int {
   kFitNotConverged = 1,   // the solver stopped without converging
-  kFitOutsideCutout = 2,  // the fitted centre left the cut-out, or the radius ran to its limit
+  kFitOutsideCutout = 2,  // the fitted centre left the cut-out, or the radius ran to a limit
   kFitTooFewPixels = 4,   // fewer usable pixels than parameters (bad weights, an edge)
 };
 

@@ -20,13 +20,14 @@ struct SersicFitSettings {
   double minHalfLightRadiusPix = 0.5;
   // Bounds of the index and the axis ratio (a de Vaucouleurs lens sits well inside).
   double minIndex = 0.3, maxIndex = 8.0;
-  double minAxisRatio = 0.05;
+  double minAxisRatio = 0.05;  // the axis ratio is fitted smoothly through 1 (SersicFit.cpp)
 };
 
 struct SersicFitResult {
   SersicParams params;
   // One-sigma errors from the covariance of the fit (the pixel variances as given); NaN when
-  // it cannot be computed (a parameter at its bound, a singular problem).
+  // it cannot be computed (a singular problem, e.g. the angle of a round galaxy, or a fit that
+  // stopped on a failure).
   SersicParams errors;
   double chi2 = 0.0;
   std::int64_t degreesOfFreedom = 0;

@@ -141,6 +141,45 @@ TEST(SersicFit, RecoversANoisyGalaxyWithinItsErrors) {
   EXPECT_LT(fit.errors.sersicIndex, 0.3);
 }
 
+// A round galaxy sits where an axis ratio bounded by 1 would put the fit on its bound; the fit
+// must still converge, from a round start, without and with noise, and give the radius and flux.
+TEST(SersicFit, RecoversARoundGalaxy) {
+  SersicParams p = truth();
+  p.axisRatio = 1.0;
+  const ImageD clean = simulatedGalaxy(p, 81);
+  const ImageD variance(81, 81, 25.0);
+  SersicFitSettings settings;
+  settings.psfSigmaPix = kPsfSigmaPix;
+  SersicParams roundStart = momentsStart(clean);
+  roundStart.axisRatio = 1.0;
+  const SersicFitResult noiseless = fitSersic(clean, variance, {}, roundStart, settings);
+  ASSERT_TRUE(noiseless.converged) << noiseless.message;
+  EXPECT_NEAR(noiseless.params.xPix, p.xPix, 2e-3);
+  EXPECT_NEAR(noiseless.params.totalFluxAdu / p.totalFluxAdu, 1.0, 3e-3);
+  EXPECT_NEAR(noiseless.params.halfLightRadiusPix / p.halfLightRadiusPix, 1.0, 5e-3);
+  EXPECT_NEAR(noiseless.params.sersicIndex, p.sersicIndex, 0.02);
+  EXPECT_GT(noiseless.params.axisRatio, 0.998);
+  EXPECT_LE(noiseless.params.axisRatio, 1.0);
+
+  // Noisy, over several noise draws (a fit near q = 1 steps to either side of it).
+  for (int seed = 1; seed <= 5; ++seed) {
+    ImageD stamp = clean;
+    std::mt19937_64 rng{std::uint64_t(seed)};
+    std::normal_distribution<double> noise(0.0, 5.0);
+    for (double& v : stamp.pixels()) v += noise(rng);
+    const SersicFitResult fit = fitSersic(stamp, variance, {}, momentsStart(stamp), settings);
+    ASSERT_TRUE(fit.converged) << "seed " << seed << ": " << fit.message;
+    EXPECT_NEAR(fit.chi2 / double(fit.degreesOfFreedom), 1.0, 0.05) << "seed " << seed;
+    EXPECT_LE(fit.params.axisRatio, 1.0);
+    EXPECT_GT(fit.params.axisRatio, 0.95) << "seed " << seed;
+    EXPECT_NEAR(fit.params.halfLightRadiusPix / p.halfLightRadiusPix, 1.0,
+                3.5 * fit.errors.halfLightRadiusPix / p.halfLightRadiusPix)
+        << "seed " << seed;
+    EXPECT_NEAR(fit.params.totalFluxAdu, p.totalFluxAdu, 3.5 * fit.errors.totalFluxAdu)
+        << "seed " << seed;
+  }
+}
+
 // An arc: a Gaussian ridge of width 1.2 px along 80 degrees of a circle of radius 11 px about the
 // lens, seen through the same PSF.
 ImageD arcImage(const SersicParams& lens, int size, double fluxAdu) {
