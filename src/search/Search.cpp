@@ -227,8 +227,9 @@ void addColours(const SearchInput& in, const SearchSettings& s, const SearchColu
     const Candidate& cand = candidates[k];
     measured.insert(cand.row);
     if (cand.lens) measured.insert(cand.lens->row);
-    // Without a measurable concave side, or for a nearly straight arc, no centre to look from.
-    if (!cand.curvature || (cand.flags & kCandidateSideUnknown) ||
+    // Without a measurable concave side, or for a nearly straight arc, no centre to look from;
+    // an arc found in a fitted galaxy's residual has that galaxy as its lens.
+    if (!cand.curvature || (cand.flags & (kCandidateSideUnknown | kCandidateLensLight)) ||
         !(cand.curvature->radius <= lensRadiusPix)) {
       continue;
     }
@@ -237,6 +238,7 @@ void addColours(const SearchInput& in, const SearchSettings& s, const SearchColu
     for (int level = 1; level <= arcLevel; ++level) {
       nearby.forEachNear(level, circle.xCentre, circle.yCentre, [&](std::size_t i) {
         if (index.related(i, cand.row)) return;
+        if (in.residualRowsAreExtra && lensLightOf(in, i) >= 0) return;  // the image's rows only
         if (counterImagePlace(circle, xOf(cand.row), yOf(cand.row), xOf(i), yOf(i))) {
           pairs[k].counterImages.push_back(i);
           measured.insert(i);
@@ -380,7 +382,9 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
     if (lensLightOf(in, i) == kLensOnlyRow) continue;  // a fitted galaxy: a lens, never an arc
     if (!in.mask->searched(catalog.value(r, c.x), catalog.value(r, c.y))) continue;
     ++summary.rowsSearched;
-    if (tree[i].level == 1) ++summary.objectsSearched;
+    // LENS_LIGHT LOCAL: the residual's objects are the image's seen again, not more objects.
+    const bool extraRow = in.residualRowsAreExtra && lensLightOf(in, i) >= 0;
+    if (tree[i].level == 1 && !extraRow) ++summary.objectsSearched;
     const double snr = catalog.value(r, c.snr);
     const double size = catalog.value(r, c.size);
     passed[i] = snr > s.snrMin && std::sqrt(2.0) * size > resolvedMinPix && gridSpace[i] &&
@@ -437,11 +441,15 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
       ancestors.push_back(up->second);
       walk = tree[up->second];
     }
+    // LENS_LIGHT LOCAL: an arc of the image looks for its lens among the image's rows only (a
+    // residual's row is a lens's remains or an arc seen again).
+    const bool imageRowsOnly = in.residualRowsAreExtra && lensLightOf(in, object.bestRow) < 0;
     std::vector<LensCandidateGalaxy> galaxies;
     for (const int level : {1, id.level}) {
       nearby.forEachNear(level, x, y, [&](std::size_t i) {
         if (i == object.bestRow ||
-            std::find(ancestors.begin(), ancestors.end(), i) != ancestors.end()) {
+            std::find(ancestors.begin(), ancestors.end(), i) != ancestors.end() ||
+            (imageRowsOnly && lensLightOf(in, i) >= 0)) {
           return;
         }
         const double gx = catalog.value(std::int64_t(i), c.x);

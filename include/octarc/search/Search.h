@@ -155,7 +155,9 @@ struct SearchInput {
   const std::vector<std::int64_t>* lensLightOf = nullptr;
   const ImageF* residualPixels = nullptr;
   // LENS_LIGHT LOCAL: the residual's rows add to the image's, so a residual candidate within
-  // kMinLensArcArcsec of one of the image's is the same object, and is dropped.
+  // 1" of one of the image's is the same object, and is dropped; the image's candidates look
+  // for lenses and counter-images among the image's rows only, and objectsSearched counts
+  // the image's objects.
   bool residualRowsAreExtra = false;
   const BandImage* measurementBand = nullptr;
   const std::vector<BandImage>* bands = nullptr;

@@ -336,5 +336,78 @@ TEST(Search, ColourCutOnArcMinusLensColour) {
   EXPECT_THROW(searchColours(dark, darkCatalog, s), ConfigError);
 }
 
+// LENS_LIGHT LOCAL: the residual's rows (lensLightOf = the fitted galaxy's row) add to the
+// image's. Row 0, an arc of the image, concave side +y; row 1, the fitted galaxy (image);
+// row 2, the galaxy's remains in the residual, nearer the arc on its concave side; row 3, an arc
+// found in the residual only; row 4, row 0 seen again in the residual.
+TEST(Search, LocalResidualRowsAddArcsNotLensesOrObjects) {
+  const Table catalog = catalogOf({{100, 100, 1, 1, 0, 90, 5.0, 0.5, 0, 1, 0.15},
+                                   {100, 110, 1, 2, 0, 300, 6.0, 0.1, 0, 0, 0.01},
+                                   {100, 106, 1, 10, 0, 60, 3.0, 0.1, 0, 0, 0.01},
+                                   {130, 100, 1, 11, 0, 90, 5.0, 0.5, 0, 1, 0.25},
+                                   {100.5, 100, 1, 12, 0, 90, 5.0, 0.5, 0, 1, 0.15}});
+  const SavedGrid grid = arcnessGrid();
+  const SearchMask mask(200, 200, {});
+  SearchSettings s;
+  s.pixelScaleArcsec = kScale;
+  s.lensRadiusArcsec = 5.0;
+  const std::vector<std::int64_t> lensLightOf = {kNotLensLightRow, kNotLensLightRow, 1, 1, 1};
+  SearchInput in;
+  in.catalog = &catalog;
+  in.grid = &grid;
+  in.mask = &mask;
+  in.lensLightOf = &lensLightOf;
+  in.residualRowsAreExtra = true;
+  const SearchResult r = searchCandidates(in, s);
+  EXPECT_EQ(r.summary.rowsSearched, 5);
+  EXPECT_EQ(r.summary.objectsSearched, 2);  // the image's two objects
+  // Row 4 is row 0's twin (0.5 px), dropped; rows 0 and 3 remain.
+  ASSERT_EQ(r.candidates.size(), 2U);
+  EXPECT_EQ(r.candidates[0].row, 0U);
+  ASSERT_TRUE(r.candidates[0].lens);
+  EXPECT_EQ(r.candidates[0].lens->row, 1U);  // the image's galaxy, not its residual
+  EXPECT_EQ(r.candidates[0].flags & kCandidateLensLight, 0);
+  EXPECT_EQ(r.candidates[1].row, 3U);
+  ASSERT_TRUE(r.candidates[1].lens);
+  EXPECT_EQ(r.candidates[1].lens->row, 1U);
+  EXPECT_DOUBLE_EQ(r.candidates[1].lens->einsteinRadiusArcsec, std::hypot(30.0, 10.0) * kScale);
+  EXPECT_NE(r.candidates[1].flags & kCandidateLensLight, 0);
+}
+
+// An arc found in a fitted galaxy's residual keeps that galaxy as its lens: the dark-lens pair
+// criterion, which would take the counter-image for a sign of no lens, is not applied to it.
+TEST(Search, ResidualArcKeepsItsFittedLensWithColours) {
+  ColourScene scene(20, false);
+  scene.rows.push_back({81, 81, 1, 3, 0, 300, 6.0, 0.1, 0, 0, 0.01});  // the fitted galaxy
+  const Table catalog = catalogOf(scene.rows);
+  static const SavedGrid grid = arcnessGrid();
+  static const SearchMask mask(100, 100, {});
+  BandImage r, g;
+  r.pixels = &scene.r;
+  g.pixels = &scene.g;
+  r.sigmaAdu = g.sigmaAdu = 1.0;
+  r.magZeropoint = g.magZeropoint = 30.0;
+  const std::vector<BandImage> bands = {g};
+  SearchSettings s;
+  s.pixelScaleArcsec = kScale;
+  s.lensRadiusArcsec = 5.0;
+  s.colourBands = {"g"};
+  const std::vector<std::int64_t> lensLightOf = {2, kNotLensLightRow, kLensOnlyRow};
+  SearchInput in{&catalog, &grid, &mask, nullptr, &scene.footprints, &scene.r};
+  in.measurementBand = &r;
+  in.bands = &bands;
+  in.lensLightOf = &lensLightOf;
+  in.residualPixels = &scene.r;
+  const SearchResult result = searchCandidates(in, s);
+  ASSERT_EQ(result.candidates.size(), 1U);
+  const Candidate& c = result.candidates[0];
+  EXPECT_NE(c.flags & kCandidateLensLight, 0);
+  ASSERT_TRUE(c.lens);
+  EXPECT_EQ(c.lens->row, 2U);
+  EXPECT_EQ(c.flags & (kCandidateDarkLens | kCandidateDarkLensPair), 0);
+  EXPECT_FALSE(c.secondary);
+  EXPECT_NEAR(c.arcMags[1].mag - c.arcMags[0].mag, 0.7526, 1e-4);
+}
+
 }  // namespace
 }  // namespace octarc
