@@ -124,10 +124,13 @@ void appendResidualRows(SearchRun& run, ResidualCatalog& residual,
 }
 
 // IMAGE: the residual's catalog in place of the run's, each row near a fitted galaxy marked
-// with it, and the fitted galaxies' own level-1 rows appended as lenses only.
+// with it, and the fitted galaxies' own level-1 rows appended as lenses only, numbered past the
+// residual's level-1 objects, with their footprints in the image (for their magnitudes in the
+// colour bands).
 void replaceByResidual(SearchRun& run, ResidualCatalog& residual,
                        const lenslight::ResidualRows& near) {
   Table original = std::move(run.catalog);
+  std::optional<SegmentationRuns> originalFootprints = std::move(run.footprints);
   run.catalog = std::move(residual.table);
   run.catalogOrder = std::move(residual.order);
   run.footprints = std::move(residual.footprints);
@@ -137,6 +140,9 @@ void replaceByResidual(SearchRun& run, ResidualCatalog& residual,
   run.lensLightOf.assign(std::size_t(run.catalog.rows()), kNotLensLightRow);
   std::int32_t added = 0;
   std::vector<std::int64_t> lensRowOf(run.lensLight->galaxies.size(), -1);
+  run.lensNumbers.assign(run.lensLight->galaxies.size(), 0);
+  std::vector<std::int32_t> originalNumbers;
+  std::vector<Segment> segments;
   for (std::size_t g = 0; g < run.lensLight->galaxies.size(); ++g) {
     lenslight::FittedGalaxy& galaxy = run.lensLight->galaxies[g];
     if (!galaxy.subtracted()) continue;
@@ -149,6 +155,17 @@ void replaceByResidual(SearchRun& run, ResidualCatalog& residual,
     if (!run.catalogOrder.empty()) run.catalogOrder.push_back(at);
     lensRowOf[g] = at;
     galaxy.row = std::size_t(at);  // the galaxy's row in the searched catalog from now on
+    run.lensNumbers[g] = base + added;
+    originalNumbers.push_back(galaxy.number);
+    Segment segment;
+    segment.level = 1;
+    segment.number = base + added;
+    segments.push_back(std::move(segment));
+  }
+  if (originalFootprints && run.footprints) {
+    const auto runs = originalFootprints->footprints(1, originalNumbers);
+    for (std::size_t j = 0; j < segments.size(); ++j) segments[j].runs = runs[j];
+    run.footprints->add(segments);
   }
   for (std::size_t i = 0; i < near.rows.size(); ++i) {
     run.lensLightOf[std::size_t(near.rows[i])] = lensRowOf[near.galaxy[i]];
@@ -180,6 +197,8 @@ void applyLensLight(SearchRun& run, const SearchRunSettings& settings, const Col
   run.lensLightRows = std::int64_t(near.rows.size());
   if (mode == lenslight::SubtractionMode::Local) {
     run.lensLightOf.assign(std::size_t(run.catalog.rows()), kNotLensLightRow);
+    run.lensNumbers.clear();
+    for (const lenslight::FittedGalaxy& g : sub.galaxies) run.lensNumbers.push_back(g.number);
     appendResidualRows(run, found, near);
   } else {
     replaceByResidual(run, found, near);
@@ -214,6 +233,13 @@ FitsTable lensFitTable(const SearchRun& run) {
   constexpr double kDeg = 180.0 / std::numbers::pi;
   integer("NUMBER", "NUMBER of the galaxy at level 1 of the image's detection",
           [](const G& g) { return g.number; });
+  std::vector<std::int32_t> lensNumbers = run.lensNumbers;
+  lensNumbers.resize(galaxies.size(), 0);
+  FitsColumn lensNumber;
+  lensNumber.name = "LENS_NUMBER";
+  lensNumber.comment = "its NUMBER as a lens in the searched catalog (0: not in it)";
+  lensNumber.values = std::move(lensNumbers);
+  t.columns.push_back(std::move(lensNumber));
   column("X_IMAGE", "pixel", "catalog centroid x", [](const G& g) { return g.xPix; });
   column("Y_IMAGE", "pixel", "catalog centroid y", [](const G& g) { return g.yPix; });
   column("SERSIC_X", "pixel", "fitted centre x", [](const G& g) { return g.fittedXPix(); });

@@ -174,6 +174,18 @@ void readColourSettings(const sexcompat::Config& c, SearchRunSettings& s) {
   }
   s.search.pairColourMatch.sigmas = c.getDouble("DARK_PAIR_COLOUR", 0);
   s.search.pairColourMatch.floorMag = c.getDouble("DARK_PAIR_COLOUR", 1);
+  // A colour image's background is estimated like the measurement image's (BACK_TYPE AUTO),
+  // or is already subtracted (MANUAL with BACK_VALUE 0); another band's sky is not the
+  // measurement image's constant.
+  const MeasurementImageSettings& measured = s.run.measurement;
+  if (n > 0 && measured.backgroundType == BackgroundType::Manual &&
+      measured.backgroundValueAdu != 0) {
+    throw ConfigError(
+        "COLOUR_IMAGE: BACK_TYPE MANUAL with BACK_VALUE " +
+        formatNumber(measured.backgroundValueAdu) +
+        " is the measurement image's sky, not the other bands'; use BACK_TYPE AUTO, or subtract "
+        "the backgrounds first and give BACK_VALUE 0");
+  }
 }
 
 // Each COLOUR_IMAGE on the measurement image's pixel grid, from the headers alone.
@@ -204,6 +216,10 @@ std::vector<PreparedImage> prepareColourImages(const SearchRunSettings& s, const
   band.weightType = WeightType::None;
   band.weightImagePath.clear();
   band.filter = false;
+  // The measurement image's background maps are not another band's: each band's own is
+  // estimated (or is 0, readColourSettings).
+  band.backgroundMapPath.clear();
+  band.backgroundRmsMapPath.clear();
   std::vector<PreparedImage> images;
   for (const std::string& path : s.colourImagePaths) {
     if (log) log("> Reading " + path);
@@ -441,6 +457,8 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
     input.lensLightOf = &run.lensLightOf;
     input.residualPixels = &run.lensLight->residual;
     input.residualRowsAreExtra = settings.lensLight.mode == lenslight::SubtractionMode::Local;
+    // IMAGE: every row was measured on the residual, and its arcs are fitted there.
+    if (!input.residualRowsAreExtra) input.pixels = &run.lensLight->residual;
   }
   // The colour bands' images are needed only here: freed when the candidates are made.
   const std::vector<PreparedImage> colourImages = prepareColourImages(settings, log);
@@ -596,9 +614,12 @@ void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings
     parallelForDynamic(
         n, resolveThreads(settings.run.threads),
         [&](std::int64_t i) {
-          // An arc found in the lens-light residual is shown there: the image hides it.
+          // An arc found in the lens-light residual is shown there: the image hides it. IMAGE:
+          // every candidate was found in the residual.
           const bool residual =
-              run.lensLight && (run.result.candidates[std::size_t(i)].flags & kCandidateLensLight);
+              run.lensLight &&
+              (settings.lensLight.mode == lenslight::SubtractionMode::Image ||
+               (run.result.candidates[std::size_t(i)].flags & kCandidateLensLight));
           const Stamp stamp = candidateStamp(
               residual ? run.lensLight->residual : run.image.hdu.pixels, catalog, run.result,
               std::size_t(i), wcs, run.pixelScaleArcsec, settings.stamps);

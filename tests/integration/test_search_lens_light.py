@@ -85,6 +85,10 @@ class LensLightFixture(WorkDirTest):
         noise = np.random.default_rng(7).normal(0.0, SIGMA, sky.shape)
         cls.image = os.path.join(cls.data, "lens.fits")
         write_image(cls.image, seen + noise)
+        # A band g of half the flux everywhere (g - r = 2.5 log10 2 for every object).
+        cls.g_image = os.path.join(cls.data, "lens_g.fits")
+        write_image(cls.g_image, 0.5 * seen + np.random.default_rng(8).normal(0.0, SIGMA,
+                                                                              sky.shape))
         cls.grid = os.path.join(cls.data, "grid.fits")
         known_grid(DEMO_GRID, cls.grid)  # 0.05 <= ARCNESS < 0.30
 
@@ -120,7 +124,8 @@ class SearchLensLight(LensLightFixture):
         self.assertFalse(os.path.exists(self.path("out/lensfit.fits")))
 
     def check_found(self, mode):
-        proc = self.search("-LENS_LIGHT", mode, out=mode)
+        proc = self.search("-LENS_LIGHT", mode, "-COLOUR_IMAGE", self.g_image, "-COLOUR_BAND", "g",
+                           out=mode)
         cands = self.candidates(mode)
         arc = near_arc(cands)
         self.assertEqual(len(arc), 1, cands)
@@ -153,6 +158,14 @@ class SearchLensLight(LensLightFixture):
         self.assertAlmostEqual(g["SERSIC_RE"] / LENS_RE, 1.0, delta=0.1)
         self.assertAlmostEqual(g["SERSIC_THETA"], np.degrees(LENS_THETA), delta=2.0)
         self.assertLess(g["SERSIC_CHI2NU"], 1.3)
+        # The candidate's lens is this galaxy under the number the candidates give it (IMAGE:
+        # appended past the residual's objects), and its footprint gives it colours in both modes.
+        self.assertEqual(g["LENS_NUMBER"], arc["LENS_NUMBER"])
+        if mode == "LOCAL":
+            self.assertEqual(g["LENS_NUMBER"], g["NUMBER"])
+        self.assertTrue(np.isfinite(arc["LENS_MAG_g"]))
+        self.assertAlmostEqual(arc["LENS_COLOUR_g"], 2.5 * np.log10(2.0),
+                               delta=3 * arc["LENS_COLOURERR_g"] + 0.01)
         # The check-images: the model in the 20" cut-out only, the residual = image - model.
         model = fits.getdata(self.path(mode + "/lensmodel.fits"))
         residual = fits.getdata(self.path(mode + "/lensresidual.fits"))
@@ -200,6 +213,10 @@ class LensLightBadInput(LensLightFixture):
     def test_unknown_column(self):
         self.check_refused(["-LENS_LIGHT", "LOCAL", "-LENS_SELECT", "FLUX_AUTO < 3"],
                            ["LENS_SELECT", "FLUX_AUTO"])
+
+    def test_colour_images_with_a_manual_background(self):
+        self.check_refused(["-LENS_LIGHT", "LOCAL", "-BACK_VALUE", "10", "-COLOUR_IMAGE",
+                            self.g_image, "-COLOUR_BAND", "g"], ["COLOUR_IMAGE", "BACK_VALUE 10"])
 
     def test_not_with_an_input_catalog(self):
         catalog = self.path("in.ldac")

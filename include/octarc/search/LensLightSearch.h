@@ -6,7 +6,7 @@
 //     --> LOCAL: the residual's rows near a fitted galaxy appended to the catalog (renumbered
 //         past the run's NUMBERs, their footprints added), each with that galaxy as its lens
 //     --> IMAGE: the residual's catalog replaces the run's, plus each fitted galaxy's own
-//         level-1 row, kept as a lens and never selected
+//         level-1 row (renumbered, with its footprint), kept as a lens and never selected
 //
 // SearchRun::lensLightOf then tells the selection (search/Search.h) which rows came from the
 // residual and which galaxy is their lens.
@@ -24,7 +24,8 @@ void applyLensLight(SearchRun& run, const SearchRunSettings& settings, const Col
                     const RunLog& log);
 
 // The FITS table of the fitted galaxies (EXTNAME LENSFIT), one row each, in catalog order:
-// NUMBER of the galaxy's level-1 row, X_IMAGE/Y_IMAGE (catalog), the fitted centre, flux,
+// NUMBER of the galaxy's level-1 row in the image's detection, LENS_NUMBER (the candidates'
+// LENS_NUMBER of it, SearchRun::lensNumbers), X_IMAGE/Y_IMAGE (catalog), the fitted centre, flux,
 // half-light radius, index, axis ratio and angle with their errors, chi^2 per degree of
 // freedom, the solver's iterations and LENSFIT_FLAGS (lenslight::FitFailure bits; 0 =
 // subtracted).

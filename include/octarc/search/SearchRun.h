@@ -91,6 +91,10 @@ struct SearchRun {
   std::optional<lenslight::Subtraction> lensLight;
   std::vector<std::int64_t> lensLightOf;
   std::int64_t lensLightRows = 0;
+  // Per fitted galaxy, its NUMBER at level 1 of the searched catalog, which the candidates'
+  // LENS_NUMBER refers to: the image's in LOCAL, the one appended past the residual's in IMAGE;
+  // 0 when it is not in that catalog (IMAGE, a fit that failed).
+  std::vector<std::int32_t> lensNumbers;
 };
 
 // Runs the search. Before any pixel is read: the grid and the region file are read, OUTPUT_DIR
