@@ -194,6 +194,23 @@ class SearchLensLight(LensLightFixture):
     def test_image_subtraction_finds_the_arc(self):
         self.check_found("IMAGE")
 
+    def test_batch_keeps_the_residual_arc_without_check_images(self):
+        # A one-tile batch: the survey catalog holds the residual's arc; the tile has its
+        # lensfit.fits but, unless asked for, not the two image-sized check-images.
+        manifest = self.path("survey.csv")
+        with open(manifest, "w") as f:
+            f.write("image\n%s\n" % self.image)
+        run_octarc("batch", manifest, "-c", SEX, "-GRID_NAME", self.grid, "-SEEING_FWHM",
+                   str(SEEING), "-BACK_TYPE", "MANUAL", "-BACK_VALUE", "0", "-LENS_LIGHT", "LOCAL",
+                   "-OUTPUT_DIR", self.path("batch"), "-NTHREADS", "2", cwd=self.work)
+        arc = near_arc(fits.getdata(self.path("batch/candidates.fits"), "LDAC_OBJECTS"))
+        self.assertEqual(len(arc), 1)
+        self.assertEqual(arc[0]["CAND_FLAGS"] & 16, 16)
+        tile = self.path("batch/tiles/lens")
+        self.assertEqual(len(fits.getdata(os.path.join(tile, "lensfit.fits"), "LENSFIT")), 1)
+        self.assertFalse(os.path.exists(os.path.join(tile, "lensmodel.fits")))
+        self.assertFalse(os.path.exists(os.path.join(tile, "lensresidual.fits")))
+
 
 class LensLightBadInput(LensLightFixture):
     def check_refused(self, args, words):
