@@ -4,7 +4,7 @@
 # those labelled `slow` (tests/integration/CMakeLists.txt: the end-to-end cases that take 4 s or
 # more in a release build; the release pass has run them). With CI=true in the environment a
 # test skipped for a missing program or missing shared data fails instead.
-# Last it runs every fuzz target briefly (scripts/fuzz.sh: about a minute in all).
+# Last it runs every fuzz target briefly (scripts/fuzz.sh, as many at once as there are cores).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -24,5 +24,6 @@ ASAN_OPTIONS=detect_leaks=1:fast_unwind_on_malloc=0 UBSAN_OPTIONS=print_stacktra
   LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp:print_suppressions=0 \
   ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE slow
 
-# 7 seconds per target, 9 targets: a short smoke run; see README "Fuzzing" for a long one.
-scripts/fuzz.sh 7
+# 7 seconds per target, 9 targets, as many at a time as there are cores: a short smoke run;
+# see README "Fuzzing" for a long one.
+OCTARC_FUZZ_JOBS=$jobs scripts/fuzz.sh 7
