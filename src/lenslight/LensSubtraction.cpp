@@ -71,6 +71,13 @@ void fitGalaxy(FittedGalaxy& g, const ImageF& pixels, const ImageF& varianceAdu2
 
 }  // namespace
 
+void checkLensSelectColumns(const Table& catalog, const std::string& selectExpression) {
+  for (const char* name : {"X_IMAGE", "Y_IMAGE", "THRESH_LEVEL", "NUMBER"}) {
+    catalog.requireColumn(name, "LENS_SELECT");
+  }
+  ColumnExpression(selectExpression, "LENS_SELECT").evaluate(catalog);
+}
+
 Subtraction subtractLensLight(const ImageF& pixels, const ImageF& varianceAdu2, double sigmaAdu,
                               const Table& catalog, const SubtractionSettings& settings,
                               const ProgressFn& progress) {

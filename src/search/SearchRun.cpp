@@ -380,6 +380,10 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
   if (settings.inputCatalogPath.empty()) {
     const int levelCount = int(detectionLevels(rs, 1.0).size());
     const ColumnPlan columns = planColumns(rs, true, levelCount);
+    if (settings.lensLight.mode != lenslight::SubtractionMode::Off) {
+      lenslight::checkLensSelectColumns(Table(columns.outputColumns),
+                                        settings.lensLight.selectExpression);
+    }
     DetectionRunResult detected = runDetection(rs, columns, settings.assoc, log, true);
     DetectedExtension& ext = detected.extensions.front();
     run.catalog = std::move(ext.table);

@@ -75,6 +75,11 @@ struct Subtraction {
   std::int64_t subtractedCount() const;
 };
 
+// ConfigError when `catalog` lacks a column subtractLensLight needs (X_IMAGE, Y_IMAGE,
+// THRESH_LEVEL, NUMBER and the expression's): a catalog with no rows, the planned columns,
+// checks a run before its detection.
+void checkLensSelectColumns(const Table& catalog, const std::string& selectExpression);
+
 // Chooses the galaxies among the level-1 rows of `catalog` (X_IMAGE, Y_IMAGE, THRESH_LEVEL and
 // the expression's columns), fits each in its cut-out of `pixels` (background-subtracted) with
 // per-pixel variances `varianceAdu2` (a weight map's; empty: sigmaAdu^2 everywhere), on
