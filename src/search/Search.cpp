@@ -471,11 +471,19 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
     const double arcness = arcnessColumn >= 0 ? catalog.value(best, arcnessColumn) : kNaN;
     std::optional<LensMatch> match;
     const std::int64_t fittedLens = lensLightOf(in, object.bestRow);
+    std::optional<std::pair<double, double>> fittedCentre;
+    if (fittedLens >= 0 && in.fittedCentres != nullptr) {
+      const auto found = in.fittedCentres->find(std::size_t(fittedLens));
+      if (found != in.fittedCentres->end()) fittedCentre = found->second;
+    }
     if (fittedLens >= 0) {
       // Found in the residual of a fitted galaxy: that galaxy is the lens.
       cand.flags |= kCandidateLensLight;
-      const double lx = catalog.value(fittedLens, c.x), ly = catalog.value(fittedLens, c.y);
-      match = LensMatch{std::size_t(fittedLens), std::hypot(lx - x, ly - y)};
+      if (!fittedCentre) {
+        fittedCentre = {catalog.value(fittedLens, c.x), catalog.value(fittedLens, c.y)};
+      }
+      match = LensMatch{std::size_t(fittedLens),
+                        std::hypot(fittedCentre->first - x, fittedCentre->second - y)};
     } else if (std::abs(arcness) < s.sideMinArcness) {
       cand.flags |= kCandidateSideUnknown;
       for (const LensCandidateGalaxy& g : galaxies) {
@@ -488,8 +496,9 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
     if (match) {
       CandidateLens lens;
       lens.row = match->row;
-      lens.xPix = catalog.value(std::int64_t(match->row), c.x);
-      lens.yPix = catalog.value(std::int64_t(match->row), c.y);
+      lens.xPix = fittedCentre ? fittedCentre->first : catalog.value(std::int64_t(match->row), c.x);
+      lens.yPix =
+          fittedCentre ? fittedCentre->second : catalog.value(std::int64_t(match->row), c.y);
       if (in.wcs != nullptr) {
         const auto sky = in.wcs->pixelToJ2000(lens.xPix, lens.yPix);
         lens.raDeg = sky[0];

@@ -457,7 +457,12 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
   input.wcs = wcs;
   input.footprints = run.footprints ? &*run.footprints : nullptr;
   input.pixels = &run.image.hdu.pixels;
+  std::map<std::size_t, std::pair<double, double>> fittedCentres;
   if (run.lensLight) {
+    for (const lenslight::FittedGalaxy& g : run.lensLight->galaxies) {
+      if (g.subtracted()) fittedCentres[g.row] = {g.fittedXPix(), g.fittedYPix()};
+    }
+    input.fittedCentres = &fittedCentres;
     input.lensLightOf = &run.lensLightOf;
     input.residualPixels = &run.lensLight->residual;
     input.residualRowsAreExtra = settings.lensLight.mode == lenslight::SubtractionMode::Local;

@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -154,6 +155,10 @@ struct SearchInput {
   // rows' curvature is fitted on `residualPixels`.
   const std::vector<std::int64_t>* lensLightOf = nullptr;
   const ImageF* residualPixels = nullptr;
+  // Per fitted galaxy's catalog row, its fitted centre (1-based pixels): the lens position of
+  // the arcs found in its residual, not pulled towards them as its catalog centroid is (the
+  // arc is part of the galaxy's object). Null or a row not in it: the catalog's centroid.
+  const std::map<std::size_t, std::pair<double, double>>* fittedCentres = nullptr;
   // LENS_LIGHT LOCAL: the residual's rows add to the image's, so a residual candidate within
   // 1" of one of the image's is the same object, and is dropped; the image's candidates look
   // for lenses and counter-images among the image's rows only, and objectsSearched counts

@@ -372,6 +372,18 @@ TEST(Search, LocalResidualRowsAddArcsNotLensesOrObjects) {
   EXPECT_EQ(r.candidates[1].lens->row, 1U);
   EXPECT_DOUBLE_EQ(r.candidates[1].lens->einsteinRadiusArcsec, std::hypot(30.0, 10.0) * kScale);
   EXPECT_NE(r.candidates[1].flags & kCandidateLensLight, 0);
+
+  // With the galaxy's fitted centre, the residual's arc is measured from it; the image's arc
+  // keeps the catalog's centroid.
+  const std::map<std::size_t, std::pair<double, double>> fitted = {{1, {100.0, 112.0}}};
+  in.fittedCentres = &fitted;
+  const SearchResult f = searchCandidates(in, s);
+  ASSERT_EQ(f.candidates.size(), 2U);
+  EXPECT_DOUBLE_EQ(f.candidates[0].lens->yPix, 110.0);
+  EXPECT_EQ(f.candidates[1].lens->row, 1U);
+  EXPECT_DOUBLE_EQ(f.candidates[1].lens->xPix, 100.0);
+  EXPECT_DOUBLE_EQ(f.candidates[1].lens->yPix, 112.0);
+  EXPECT_DOUBLE_EQ(f.candidates[1].lens->einsteinRadiusArcsec, std::hypot(30.0, 12.0) * kScale);
 }
 
 // An arc found in a fitted galaxy's residual keeps that galaxy as its lens: the dark-lens pair
