@@ -236,7 +236,9 @@ struct ColourScene {
   }
 };
 
-SearchResult searchColours(const ColourScene& scene, const Table& catalog, SearchSettings s) {
+// `lensLightOf` (optional): the rows' lens-light origins, the residual being the scene itself.
+SearchResult searchColours(const ColourScene& scene, const Table& catalog, SearchSettings s,
+                           const std::vector<std::int64_t>* lensLightOf = nullptr) {
   static const SavedGrid grid = arcnessGrid();
   static const SearchMask mask(100, 100, {});
   BandImage r, g;
@@ -251,6 +253,8 @@ SearchResult searchColours(const ColourScene& scene, const Table& catalog, Searc
   SearchInput in{&catalog, &grid, &mask, nullptr, &scene.footprints, &scene.r};
   in.measurementBand = &r;
   in.bands = &bands;
+  in.lensLightOf = lensLightOf;
+  in.residualPixels = lensLightOf != nullptr ? &scene.r : nullptr;
   return searchCandidates(in, s);
 }
 
@@ -392,25 +396,8 @@ TEST(Search, ResidualArcKeepsItsFittedLensWithColours) {
   ColourScene scene(20, false);
   scene.rows.push_back({81, 81, 1, 3, 0, 300, 6.0, 0.1, 0, 0, 0.01});  // the fitted galaxy
   const Table catalog = catalogOf(scene.rows);
-  static const SavedGrid grid = arcnessGrid();
-  static const SearchMask mask(100, 100, {});
-  BandImage r, g;
-  r.pixels = &scene.r;
-  g.pixels = &scene.g;
-  r.sigmaAdu = g.sigmaAdu = 1.0;
-  r.magZeropoint = g.magZeropoint = 30.0;
-  const std::vector<BandImage> bands = {g};
-  SearchSettings s;
-  s.pixelScaleArcsec = kScale;
-  s.lensRadiusArcsec = 5.0;
-  s.colourBands = {"g"};
   const std::vector<std::int64_t> lensLightOf = {2, kNotLensLightRow, kLensOnlyRow};
-  SearchInput in{&catalog, &grid, &mask, nullptr, &scene.footprints, &scene.r};
-  in.measurementBand = &r;
-  in.bands = &bands;
-  in.lensLightOf = &lensLightOf;
-  in.residualPixels = &scene.r;
-  const SearchResult result = searchCandidates(in, s);
+  const SearchResult result = searchColours(scene, catalog, SearchSettings(), &lensLightOf);
   ASSERT_EQ(result.candidates.size(), 1U);
   const Candidate& c = result.candidates[0];
   EXPECT_NE(c.flags & kCandidateLensLight, 0);
