@@ -63,8 +63,7 @@ void fitGalaxy(FittedGalaxy& g, const ImageF& pixels, const ImageF& varianceAdu2
   const double side = double(std::max(g.width, g.height));
   if (!(p.xPix >= 0 && p.xPix <= double(g.width - 1) && p.yPix >= 0 &&
         p.yPix <= double(g.height - 1) && p.halfLightRadiusPix < 0.499 * side &&
-        p.halfLightRadiusPix > 1.001 * settings.fit.minHalfLightRadiusPix &&
-        std::isfinite(p.totalFluxAdu) && p.totalFluxAdu > 0)) {
+        !g.fit.radiusAtLimit && std::isfinite(p.totalFluxAdu) && p.totalFluxAdu > 0)) {
     g.failure |= kFitOutsideCutout;
   }
 }

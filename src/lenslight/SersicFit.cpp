@@ -182,6 +182,9 @@ SersicFitResult fitSersic(const ImageD& stamp, const ImageD& varianceAdu2,
   out.chi2 = 2.0 * summary.final_cost;
   out.degreesOfFreedom = used - kParams;
   out.params = fromVector(p);
+  constexpr double kAtBound = 1e-3;  // in log radius: 0.1 %
+  out.radiusAtLimit = p[3] < std::log(settings.minHalfLightRadiusPix) + kAtBound ||
+                      p[3] > std::log(maxRadiusPix) - kAtBound;
   if (!summary.IsSolutionUsable()) return out;
 
   ceres::Covariance::Options covarianceOptions;

@@ -55,7 +55,9 @@ enum FitFailure : int {
 };
 
 struct FittedGalaxy {
-  std::size_t row = 0;          // its level-1 row in the catalog
+  // Its level-1 row in the searched catalog (LENS_LIGHT IMAGE: moved to the row appended for it
+  // when subtracted; a failed galaxy's row is that of the image's catalog, which IMAGE drops).
+  std::size_t row = 0;
   std::int32_t number = 0;      // and that row's NUMBER
   double xPix = 0, yPix = 0;    // the catalog's centroid, 1-based
   std::int64_t x0 = 0, y0 = 0;  // the cut-out's first pixel, 0-based

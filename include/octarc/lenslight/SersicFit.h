@@ -16,7 +16,8 @@ struct SersicFitSettings {
   double psfSigmaPix = 0.0;  // Gaussian PSF of the image (sigma, pixels); 0: none
   // Per fit; a lens galaxy converges in a few tens, what runs on is a star or a blend (flagged).
   int maxIterations = 60;
-  // The half-light radius is kept within [minHalfLightRadiusPix, the stamp's half side].
+  // The half-light radius is fitted within [minHalfLightRadiusPix, the stamp's half side] (before
+  // the swap of axes that keeps the axis ratio at most 1, SersicFit.cpp).
   double minHalfLightRadiusPix = 0.5;
   // Bounds of the index and the axis ratio (a de Vaucouleurs lens sits well inside).
   double minIndex = 0.3, maxIndex = 8.0;
@@ -32,6 +33,7 @@ struct SersicFitResult {
   double chi2 = 0.0;
   std::int64_t degreesOfFreedom = 0;
   bool converged = false;
+  bool radiusAtLimit = false;  // the fitted radius ended on one of its bounds (a star, a blend)
   int iterations = 0;
   std::string message;  // the solver's report when it did not converge
 };
