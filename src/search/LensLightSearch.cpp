@@ -262,7 +262,7 @@ FitsTable lensFitTable(const SearchRun& run) {
     return g.fit.degreesOfFreedom > 0 ? g.fit.chi2 / double(g.fit.degreesOfFreedom) : NAN;
   });
   integer("SERSIC_ITER", "solver iterations", [](const G& g) { return g.fit.iterations; });
-  integer("LENSFIT_FLAGS", "1 no convergence, 2 outside the cut-out, 4 too few pixels",
+  integer("LENSFIT_FLAGS", "1 unconverged, 2 centre/radius, 4 few pixels",
           [](const G& g) { return g.failure; });
   return t;
 }

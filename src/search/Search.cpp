@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <tuple>
 #include <unordered_map>
 #include <utility>
 
@@ -471,19 +472,20 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
     const double arcness = arcnessColumn >= 0 ? catalog.value(best, arcnessColumn) : kNaN;
     std::optional<LensMatch> match;
     const std::int64_t fittedLens = lensLightOf(in, object.bestRow);
-    std::optional<std::pair<double, double>> fittedCentre;
-    if (fittedLens >= 0 && in.fittedCentres != nullptr) {
-      const auto found = in.fittedCentres->find(std::size_t(fittedLens));
-      if (found != in.fittedCentres->end()) fittedCentre = found->second;
-    }
+    // A lens's position: a fitted galaxy's fitted centre, else its catalog centroid.
+    auto lensPosition = [&](std::size_t row) {
+      if (fittedLens >= 0 && in.fittedCentres != nullptr) {
+        const auto found = in.fittedCentres->find(row);
+        if (found != in.fittedCentres->end()) return found->second;
+      }
+      return std::pair{catalog.value(std::int64_t(row), c.x),
+                       catalog.value(std::int64_t(row), c.y)};
+    };
     if (fittedLens >= 0) {
       // Found in the residual of a fitted galaxy: that galaxy is the lens.
       cand.flags |= kCandidateLensLight;
-      if (!fittedCentre) {
-        fittedCentre = {catalog.value(fittedLens, c.x), catalog.value(fittedLens, c.y)};
-      }
-      match = LensMatch{std::size_t(fittedLens),
-                        std::hypot(fittedCentre->first - x, fittedCentre->second - y)};
+      const auto [lensX, lensY] = lensPosition(std::size_t(fittedLens));
+      match = LensMatch{std::size_t(fittedLens), std::hypot(lensX - x, lensY - y)};
     } else if (std::abs(arcness) < s.sideMinArcness) {
       cand.flags |= kCandidateSideUnknown;
       for (const LensCandidateGalaxy& g : galaxies) {
@@ -496,9 +498,7 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
     if (match) {
       CandidateLens lens;
       lens.row = match->row;
-      lens.xPix = fittedCentre ? fittedCentre->first : catalog.value(std::int64_t(match->row), c.x);
-      lens.yPix =
-          fittedCentre ? fittedCentre->second : catalog.value(std::int64_t(match->row), c.y);
+      std::tie(lens.xPix, lens.yPix) = lensPosition(match->row);
       if (in.wcs != nullptr) {
         const auto sky = in.wcs->pixelToJ2000(lens.xPix, lens.yPix);
         lens.raDeg = sky[0];

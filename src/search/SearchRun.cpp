@@ -209,8 +209,8 @@ void checkColourImageGrids(const SearchRunSettings& s) {
   }
 }
 
-// The colour bands' images, background-subtracted as the measurement image is (its BACK_* and
-// GAIN settings, no weight map, no filter).
+// The colour bands' images, background-subtracted with the measurement image's BACK_TYPE and
+// mesh settings (each its own background; no BACKGROUND_NAME maps, no weight map, no filter).
 std::vector<PreparedImage> prepareColourImages(const SearchRunSettings& s, const RunLog& log) {
   RunSettings band = measurementImageSettings(s.run);
   band.weightType = WeightType::None;
@@ -284,7 +284,8 @@ std::vector<KeySpec> searchKeys() {
         .list(1, 1024),
     Row("LENS_CUTOUT", Kind::Float, {"20.0"}, "side of the square fitted around each (arcsec)")
         .range(1, 600),
-    Row("LENS_CHECKIMAGES", Kind::Bool, {"Y"}, "write lensmodel.fits and lensresidual.fits"),
+    Row("LENS_CHECKIMAGES", Kind::Bool, {"Y"}, "write lensmodel.fits and lensresidual.fits\n"
+        "(batch: only when given)"),
     Row("COLOUR_IMAGE", Kind::String, {}, "images of other bands on the measurement image's\n"
         "pixel grid: colours of arcs and lenses").list(0, 16),
     Row("COLOUR_BAND", Kind::String, {}, "their band names, one per image (in column names)")

@@ -183,6 +183,11 @@ class SearchColoursBadInput(ColourFixture):
         r = self.search("-COLOUR_BAND", "g-r", check=False)
         self.assert_refused(r, "COLOUR_BAND")
 
+    def test_manual_background_other_than_zero(self):
+        # The measurement image's constant sky is not another band's; 0 (subtracted) is allowed.
+        r = self.search("-BACK_TYPE", "MANUAL", "-BACK_VALUE", "10", check=False)
+        self.assert_refused(r, "COLOUR_IMAGE", "BACK_VALUE 10", "BACK_TYPE AUTO")
+
     def test_no_colours_from_an_input_catalog(self):
         r = self.search("-INPUT_CATALOG", self.path("levels.ldac"), check=False)
         self.assert_refused(r, "COLOUR_IMAGE", "INPUT_CATALOG")

@@ -231,10 +231,6 @@ class LensLightBadInput(LensLightFixture):
         self.check_refused(["-LENS_LIGHT", "LOCAL", "-LENS_SELECT", "FLUX_AUTO < 3"],
                            ["LENS_SELECT", "FLUX_AUTO"])
 
-    def test_colour_images_with_a_manual_background(self):
-        self.check_refused(["-LENS_LIGHT", "LOCAL", "-BACK_VALUE", "10", "-COLOUR_IMAGE",
-                            self.g_image, "-COLOUR_BAND", "g"], ["COLOUR_IMAGE", "BACK_VALUE 10"])
-
     def test_not_with_an_input_catalog(self):
         catalog = self.path("in.ldac")
         run_octarc("detect", self.image, "-c", SEX, "-CATALOG_NAME", catalog, cwd=self.work)

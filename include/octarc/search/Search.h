@@ -141,7 +141,8 @@ struct SearchResult {
 // What the search reads. `footprints` and `pixels` (the background-subtracted measurement image)
 // give the arcs' pixels for the curvature fit; without them the lens is looked for from the arc
 // centroid (kCandidateNoCurvature). `bands` (one per SearchSettings::colourBands, on the pixel grid
-// of the footprints, which they need) and `measurementBand` (the image of `pixels`) give colours.
+// of the footprints, which they need) and `measurementBand` (the measurement image, unsubtracted
+// also when `pixels` is a lens-light residual) give colours.
 struct SearchInput {
   const Table* catalog = nullptr;  // every level, searchRequiredColumns() and the grid's columns
   const SavedGrid* grid = nullptr;
