@@ -327,6 +327,8 @@ std::vector<KeySpec> batchKeys() {
     if (k.name == "OUTPUT_DIR") {
       k.defaults = {"survey"};
       k.comment = "directory of the survey: journal, tiles/, candidates";
+    } else if (k.name == "LENS_CHECKIMAGES") {
+      k.defaults = {"N"};  // two image-sized files per tile: only when asked for
     }
   }
   // clang-format off
@@ -363,8 +365,6 @@ BatchSettings batchSettingsFromConfig(const sexcompat::Config& c, RunSettings ru
     throw ConfigError("CHECKIMAGE_TYPE: a batch writes no check-images");
   }
   s.tile = searchSettingsFromConfig(c, std::move(run));
-  // LENS_LIGHT's two image-sized check-images per tile only when asked for.
-  if (!c.isExplicit("LENS_CHECKIMAGES")) s.tile.lensCheckImages = false;
   s.outputDir = s.tile.outputDir;
   s.matchRadiusArcsec = c.getDouble("MATCH_RADIUS");
   std::string share = uppercase(c.getString("ARRAY_TASK"));

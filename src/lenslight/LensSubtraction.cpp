@@ -68,12 +68,21 @@ void fitGalaxy(FittedGalaxy& g, const ImageF& pixels, const ImageF& varianceAdu2
   }
 }
 
+// The catalog columns the choice of galaxies reads besides the expression's; ConfigError when
+// one is missing.
+struct ChoiceColumns {
+  int x, y, level, number;
+  explicit ChoiceColumns(const Table& catalog)
+      : x(catalog.requireColumn("X_IMAGE", "LENS_SELECT")),
+        y(catalog.requireColumn("Y_IMAGE", "LENS_SELECT")),
+        level(catalog.requireColumn("THRESH_LEVEL", "LENS_SELECT")),
+        number(catalog.requireColumn("NUMBER", "LENS_SELECT")) {}
+};
+
 }  // namespace
 
 void checkLensSelectColumns(const Table& catalog, const std::string& selectExpression) {
-  for (const char* name : {"X_IMAGE", "Y_IMAGE", "THRESH_LEVEL", "NUMBER"}) {
-    catalog.requireColumn(name, "LENS_SELECT");
-  }
+  [[maybe_unused]] const ChoiceColumns columns(catalog);  // throws when one is missing
   ColumnExpression(selectExpression, "LENS_SELECT").evaluate(catalog);
 }
 
@@ -87,10 +96,7 @@ Subtraction subtractLensLight(const ImageF& pixels, const ImageF& varianceAdu2, 
   if (!(sigmaAdu > 0) && varianceAdu2.empty()) {
     throw ConfigError("lens light: the image's noise must be known (sigma > 0 or a weight map)");
   }
-  const int xColumn = catalog.requireColumn("X_IMAGE", "LENS_SELECT");
-  const int yColumn = catalog.requireColumn("Y_IMAGE", "LENS_SELECT");
-  const int levelColumn = catalog.requireColumn("THRESH_LEVEL", "LENS_SELECT");
-  const int numberColumn = catalog.requireColumn("NUMBER", "LENS_SELECT");
+  const ChoiceColumns columns(catalog);
   const std::vector<double> chosen =
       ColumnExpression(settings.selectExpression, "LENS_SELECT").evaluate(catalog);
 
@@ -99,12 +105,12 @@ Subtraction subtractLensLight(const ImageF& pixels, const ImageF& varianceAdu2, 
   const std::int64_t halfPix = std::max<std::int64_t>(
       4, std::int64_t(std::ceil(0.5 * settings.cutoutArcsec / settings.pixelScaleArcsec)));
   for (std::int64_t r = 0; r < catalog.rows(); ++r) {
-    if (catalog.value(r, levelColumn) != 1.0 || !(chosen[std::size_t(r)] != 0.0)) continue;
+    if (catalog.value(r, columns.level) != 1.0 || !(chosen[std::size_t(r)] != 0.0)) continue;
     FittedGalaxy g;
     g.row = std::size_t(r);
-    g.number = std::int32_t(catalog.value(r, numberColumn));
-    g.xPix = catalog.value(r, xColumn);
-    g.yPix = catalog.value(r, yColumn);
+    g.number = std::int32_t(catalog.value(r, columns.number));
+    g.xPix = catalog.value(r, columns.x);
+    g.yPix = catalog.value(r, columns.y);
     if (!std::isfinite(g.xPix) || !std::isfinite(g.yPix)) continue;
     const std::int64_t xc = std::llround(fromFitsPixel(g.xPix));
     const std::int64_t yc = std::llround(fromFitsPixel(g.yPix));

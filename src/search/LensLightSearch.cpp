@@ -233,13 +233,11 @@ FitsTable lensFitTable(const SearchRun& run) {
   constexpr double kDeg = 180.0 / std::numbers::pi;
   integer("NUMBER", "NUMBER of the galaxy at level 1 of the image's detection",
           [](const G& g) { return g.number; });
-  std::vector<std::int32_t> lensNumbers = run.lensNumbers;
-  lensNumbers.resize(galaxies.size(), 0);
-  FitsColumn lensNumber;
-  lensNumber.name = "LENS_NUMBER";
-  lensNumber.comment = "its NUMBER as a lens in the searched catalog (0: not in it)";
-  lensNumber.values = std::move(lensNumbers);
-  t.columns.push_back(std::move(lensNumber));
+  integer("LENS_NUMBER", "its NUMBER as a lens in the searched catalog (0: not in it)",
+          [&](const G& g) {
+            const auto k = std::size_t(&g - galaxies.data());
+            return k < run.lensNumbers.size() ? run.lensNumbers[k] : 0;
+          });
   column("X_IMAGE", "pixel", "catalog centroid x", [](const G& g) { return g.xPix; });
   column("Y_IMAGE", "pixel", "catalog centroid y", [](const G& g) { return g.yPix; });
   column("SERSIC_X", "pixel", "fitted centre x", [](const G& g) { return g.fittedXPix(); });

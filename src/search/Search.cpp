@@ -101,6 +101,13 @@ std::int64_t lensLightOf(const SearchInput& in, std::size_t i) {
   return in.lensLightOf != nullptr ? (*in.lensLightOf)[i] : kNotLensLightRow;
 }
 
+// LENS_LIGHT LOCAL: row i is the residual's, added to the image's rows (an object of the image
+// seen again, or a lens's remains), so never an image arc's lens or counter-image, nor an object
+// counted again.
+bool addedResidualRow(const SearchInput& in, std::size_t i) {
+  return in.residualRowsAreExtra && lensLightOf(in, i) >= 0;
+}
+
 // The circle fits of the objects' best rows, every level's footprints gathered in one pass; a
 // row measured on the lens-light residual is fitted on the residual's pixels.
 std::vector<std::optional<CircleFit>> curvaturesOf(const SearchInput& in,
@@ -239,7 +246,7 @@ void addColours(const SearchInput& in, const SearchSettings& s, const SearchColu
     for (int level = 1; level <= arcLevel; ++level) {
       nearby.forEachNear(level, circle.xCentre, circle.yCentre, [&](std::size_t i) {
         if (index.related(i, cand.row)) return;
-        if (in.residualRowsAreExtra && lensLightOf(in, i) >= 0) return;  // the image's rows only
+        if (addedResidualRow(in, i)) return;
         if (counterImagePlace(circle, xOf(cand.row), yOf(cand.row), xOf(i), yOf(i))) {
           pairs[k].counterImages.push_back(i);
           measured.insert(i);
@@ -383,9 +390,7 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
     if (lensLightOf(in, i) == kLensOnlyRow) continue;  // a fitted galaxy: a lens, never an arc
     if (!in.mask->searched(catalog.value(r, c.x), catalog.value(r, c.y))) continue;
     ++summary.rowsSearched;
-    // LENS_LIGHT LOCAL: the residual's objects are the image's seen again, not more objects.
-    const bool extraRow = in.residualRowsAreExtra && lensLightOf(in, i) >= 0;
-    if (tree[i].level == 1 && !extraRow) ++summary.objectsSearched;
+    if (tree[i].level == 1 && !addedResidualRow(in, i)) ++summary.objectsSearched;
     const double snr = catalog.value(r, c.snr);
     const double size = catalog.value(r, c.size);
     passed[i] = snr > s.snrMin && std::sqrt(2.0) * size > resolvedMinPix && gridSpace[i] &&
@@ -442,15 +447,13 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
       ancestors.push_back(up->second);
       walk = tree[up->second];
     }
-    // LENS_LIGHT LOCAL: an arc of the image looks for its lens among the image's rows only (a
-    // residual's row is a lens's remains or an arc seen again).
-    const bool imageRowsOnly = in.residualRowsAreExtra && lensLightOf(in, object.bestRow) < 0;
+    const bool imageArc = lensLightOf(in, object.bestRow) < 0;
     std::vector<LensCandidateGalaxy> galaxies;
     for (const int level : {1, id.level}) {
       nearby.forEachNear(level, x, y, [&](std::size_t i) {
         if (i == object.bestRow ||
             std::find(ancestors.begin(), ancestors.end(), i) != ancestors.end() ||
-            (imageRowsOnly && lensLightOf(in, i) >= 0)) {
+            (imageArc && addedResidualRow(in, i))) {
           return;
         }
         const double gx = catalog.value(std::int64_t(i), c.x);

@@ -284,8 +284,7 @@ std::vector<KeySpec> searchKeys() {
         .list(1, 1024),
     Row("LENS_CUTOUT", Kind::Float, {"20.0"}, "side of the square fitted around each (arcsec)")
         .range(1, 600),
-    Row("LENS_CHECKIMAGES", Kind::Bool, {"Y"}, "write lensmodel.fits and lensresidual.fits\n"
-        "(batch: only when given)"),
+    Row("LENS_CHECKIMAGES", Kind::Bool, {"Y"}, "write lensmodel.fits and lensresidual.fits"),
     Row("COLOUR_IMAGE", Kind::String, {}, "images of other bands on the measurement image's\n"
         "pixel grid: colours of arcs and lenses").list(0, 16),
     Row("COLOUR_BAND", Kind::String, {}, "their band names, one per image (in column names)")
