@@ -106,6 +106,12 @@ po::options_description lensOptions(LensSetupOptions& o) {
     ("lens-rhalf-max", po::value(&o.lensHalfLightMaxArcsec)->default_value(1.5), "")
     ("fine-scale", po::value(&o.fineScaleArcsec)->default_value(0.03), "ray-tracing grid step, arcsec")
     ("subsamples", po::value(&o.subSamples)->default_value(4), "rays per fine pixel along each axis")
+    ("max-source-step", po::value(&o.maxSourceStepPixels)->default_value(1.0), "adaptive ray "
+     "sampling: the fewest rays per fine pixel (up to --subsamples per axis) spaced at most this "
+     "many source pixels apart on the source plane; 0: subsamples^2 rays everywhere")
+    ("sampling", po::value<std::string>()->default_value("importance"), "importance: render each "
+     "drawn system with a probability that favours those likely to give an arc, weighted back "
+     "to the population (SIM_WEIGHT); plain: render every system (weight 1)")
     ("band", po::value<std::string>()->value_name("NAME"), "also simulate a second band NAME (e.g. g): "
      "the same systems with simple colours, measured in the first band's footprints (columns "
      "MAG_NAME, ARC_COLOUR_NAME, LENS_COLOUR_NAME, ...)")
@@ -162,6 +168,12 @@ int runSimulateLenses(const std::vector<std::string>& args) {
     if (!quiet) {
       for (const std::string& w : o.survey->warnings) std::cerr << "WARNING: " << w << "\n";
     }
+  }
+  const std::string sampling = vm["sampling"].as<std::string>();
+  if (sampling == "importance") {
+    o.sampling = Sampling::Importance;
+  } else if (sampling != "plain") {
+    throw ConfigError("--sampling: '" + sampling + "' is neither importance nor plain");
   }
   if (vm.count("band")) o.bandName = vm["band"].as<std::string>();
   if (vm.count("source-colour")) {
@@ -231,20 +243,26 @@ int runSimulateLenses(const std::vector<std::string>& args) {
   const double wallSec =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!quiet || vm.count("timing")) {
-    const double n = double(count);
+    const double n = double(std::max<std::int64_t>(lensRun.rendered, 1));
+    const double cpuSec = total.totalSec();
     std::fprintf(
         stderr,
-        "> %lld systems, %lld with an arc, %lld arc rows -> %s\n"
+        "> %lld systems drawn (%s sampling), %lld skipped (theta_E < %g\"), %lld rendered, "
+        "sum of weights %.1f -> %s\n"
+        "> %lld rendered with an arc, %.1f effective arcs (Kish), %lld arc rows\n"
         "> %lld lens-source pairs redrawn (the relations gave no source redshift)\n"
-        "> wall %.1f s on %d rank(s) of %d thread(s); CPU %.1f s = %.2f ms/system: draw %.3f, ray "
-        "trace %.3f, lens light %.3f, PSF %.3f, noise %.3f, detection and "
-        "measurement %.3f, arc rules %.3f ms/system\n",
-        static_cast<long long>(count), static_cast<long long>(lensRun.systemsWithArc),
-        static_cast<long long>(lensRun.arcs.rows()), outPath.c_str(),
-        static_cast<long long>(lensRun.redraws), wallSec, cluster.size(), threads, total.totalSec(),
-        1e3 * total.totalSec() / n, 1e3 * total.drawSec / n, 1e3 * total.rayTraceSec / n,
-        1e3 * total.lensLightSec / n, 1e3 * total.psfSec / n, 1e3 * total.noiseSec / n,
-        1e3 * total.detectionSec / n, 1e3 * total.arcRulesSec / n);
+        "> wall %.1f s on %d rank(s) of %d thread(s); CPU %.1f s, %.2f effective arcs per "
+        "CPU second; per rendered system: draw %.3f, ray trace %.3f, lens light %.3f, PSF %.3f, "
+        "noise %.3f, detection and measurement %.3f, arc rules %.3f ms\n",
+        static_cast<long long>(lensRun.drawn), sampling.c_str(),
+        static_cast<long long>(lensRun.skipped), setup.population.skipEinsteinRadiusBelowArcsec,
+        static_cast<long long>(lensRun.rendered), lensRun.weightSum, outPath.c_str(),
+        static_cast<long long>(lensRun.systemsWithArc), lensRun.effectiveArcs(),
+        static_cast<long long>(lensRun.arcs.rows()), static_cast<long long>(lensRun.redraws),
+        wallSec, cluster.size(), threads, cpuSec,
+        cpuSec > 0 ? lensRun.effectiveArcs() / cpuSec : 0.0, 1e3 * total.drawSec / n,
+        1e3 * total.rayTraceSec / n, 1e3 * total.lensLightSec / n, 1e3 * total.psfSec / n,
+        1e3 * total.noiseSec / n, 1e3 * total.detectionSec / n, 1e3 * total.arcRulesSec / n);
   }
   return 0;
 }

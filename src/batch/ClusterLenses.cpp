@@ -48,6 +48,11 @@ std::string serialise(const LensRun& run) {
   put(out, run.redraws);
   put(out, run.rejections);
   put(out, run.skipped);
+  put(out, run.drawn);
+  put(out, run.rendered);
+  put(out, run.weightSum);
+  put(out, run.arcWeightSum);
+  put(out, run.arcWeightSquaredSum);
   const StageTimings& t = run.timings;
   for (const double v : {t.drawSec, t.rayTraceSec, t.lensLightSec, t.psfSec, t.noiseSec,
                          t.detectionSec, t.arcRulesSec}) {
@@ -64,6 +69,11 @@ void appendShare(LensRun& run, const std::string& in) {
   run.redraws += take<std::int64_t>(in, at);
   run.rejections += take<std::int64_t>(in, at);
   run.skipped += take<std::int64_t>(in, at);
+  run.drawn += take<std::int64_t>(in, at);
+  run.rendered += take<std::int64_t>(in, at);
+  run.weightSum += take<double>(in, at);
+  run.arcWeightSum += take<double>(in, at);
+  run.arcWeightSquaredSum += take<double>(in, at);
   StageTimings t;
   for (double* v : {&t.drawSec, &t.rayTraceSec, &t.lensLightSec, &t.psfSec, &t.noiseSec,
                     &t.detectionSec, &t.arcRulesSec}) {

@@ -33,7 +33,7 @@ ThresholdCountCurve thresholdCountCurve(const LensSetupOptions& survey,
       s.systems, resolveThreads(s.threads),
       [&](std::int64_t i) {
         const RenderedSystem rendered = renderSystem(setups.front(), sources, s.seed, i);
-        if (rendered.draw.skipped) return;
+        if (!rendered.draw.rendered) return;
         for (std::size_t c = 0; c < counts.size(); ++c) {
           std::mt19937_64 rng = rendered.rng;  // the arc-level choice, as simulate lenses makes it
           const DetectedSystem d = detectSystem(rendered.image, setups[c], rng);

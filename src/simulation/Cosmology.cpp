@@ -28,6 +28,10 @@ FlatLambdaCdm::FlatLambdaCdm(const CosmologyParams& params) : params_(params) {
   if (std::abs(params.omegaMatter + params.omegaLambda - 1.0) > 1e-6)
     throw ConfigError("cosmology: Omega_m + Omega_Lambda must be 1 (flat model), got " +
                       std::to_string(params.omegaMatter + params.omegaLambda));
+  const int nodes = int(std::lround(kTabulatedMaxRedshift / kTableStep)) + 1;
+  tableMpc_.reserve(std::size_t(nodes));
+  for (int k = 0; k < nodes; ++k)
+    tableMpc_.push_back(comovingDistanceByQuadratureMpc(k * kTableStep));
 }
 
 double FlatLambdaCdm::hubbleRatio(double z) const {
@@ -36,6 +40,20 @@ double FlatLambdaCdm::hubbleRatio(double z) const {
 }
 
 double FlatLambdaCdm::comovingDistanceMpc(double z) const {
+  if (!(z >= 0.0) || !(z < kTabulatedMaxRedshift) || tableMpc_.empty()) {
+    return comovingDistanceByQuadratureMpc(z);
+  }
+  // Cubic Hermite on [z0, z0 + h], with the derivative D_H / E at both nodes.
+  const auto k = std::size_t(z / kTableStep);
+  const double h = kTableStep, z0 = double(k) * h, t = (z - z0) / h;
+  const double d0 = hubbleDistanceMpc() / hubbleRatio(z0);
+  const double d1 = hubbleDistanceMpc() / hubbleRatio(z0 + h);
+  const double t2 = t * t, t3 = t2 * t;
+  return (2 * t3 - 3 * t2 + 1) * tableMpc_[k] + (t3 - 2 * t2 + t) * h * d0 +
+         (-2 * t3 + 3 * t2) * tableMpc_[k + 1] + (t3 - t2) * h * d1;
+}
+
+double FlatLambdaCdm::comovingDistanceByQuadratureMpc(double z) const {
   if (!(z >= 0.0) || !std::isfinite(z))
     throw ConfigError("cosmology: redshift must be finite and >= 0, got " + std::to_string(z));
   if (z == 0.0) return 0.0;

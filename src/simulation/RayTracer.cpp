@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "octarc/core/Error.h"
@@ -88,11 +89,13 @@ struct RayMap {
   double core2, qx, qy, bx, by;
   double m00, m01, m10, m11, u0, v0;  // (u, v) = M (x - alpha_x, y - alpha_y)_lens + (u0, v0)
 
+  double invScale;  // source-stamp pixels per arcsec
+
   RayMap(const EllipticalPotentialParams& mass, const ImageD& stamp,
          const SourcePlacement& placement, double stampScale) {
     const double cosR = std::cos(placement.rotationRad);
     const double sinR = std::sin(placement.rotationRad);
-    const double invScale = 1.0 / stampScale;
+    invScale = 1.0 / stampScale;
     const Vec2 betaC = placement.betaArcsec;
     cPa = std::cos(mass.positionAngleRad);
     sPa = std::sin(mass.positionAngleRad);
@@ -108,6 +111,27 @@ struct RayMap {
     m11 = invScale * (sinR * sPa + cosR * cPa);
     u0 = 0.5 * (stamp.width() - 1) - invScale * (cosR * betaC[0] + sinR * betaC[1]) + 1.0;
     v0 = 0.5 * (stamp.height() - 1) - invScale * (-sinR * betaC[0] + cosR * betaC[1]) + 1.0;
+  }
+
+  // The lengths, in source-stamp pixels, of the source-plane images of a lens-plane step of one
+  // arcsec along the sky's x and y axes at lens-frame position (x, y): the columns of the lens
+  // map's Jacobian A = I - d alpha / d theta (the stamp's rotation keeps lengths).
+  std::pair<double, double> stepLengthsPixels(double x, double y) const {
+    const double d2 = core2 + qx * x * x + qy * y * y;
+    double a00 = 1.0, a01 = 0.0, a10 = 0.0, a11 = 1.0;
+    if (d2 > 0.0) {
+      const double invD = 1.0 / std::sqrt(d2);
+      const double invD3 = invD * invD * invD;
+      // alpha = (bx x, by y) / D, D^2 = core^2 + qx x^2 + qy y^2.
+      a00 -= bx * invD - bx * x * qx * x * invD3;
+      a01 -= -bx * x * qy * y * invD3;
+      a10 -= -by * y * qx * x * invD3;
+      a11 -= by * invD - by * y * qy * y * invD3;
+    }
+    // Sky x and y in the lens frame: (cPa, -sPa) and (sPa, cPa).
+    const double ux0 = a00 * cPa - a01 * sPa, ux1 = a10 * cPa - a11 * sPa;
+    const double uy0 = a00 * sPa + a01 * cPa, uy1 = a10 * sPa + a11 * cPa;
+    return {std::hypot(ux0, ux1) * invScale, std::hypot(uy0, uy1) * invScale};
   }
 
   // Source-plane stamp coordinates of n rays (lens-frame positions xl, yl), written to u, v.
@@ -244,7 +268,6 @@ ImageD traceLensedImage(const EllipticalPotentialLens& lens, const SourceStamp& 
   };
 
   const int ns = options.subSamples;
-  const double step = sf / ns;
   const double fineArea = sf * sf;
   const int block = options.blockFinePixels;
   const RayMap rays(lens.params(), stamp, placement, stampScale);
@@ -258,7 +281,7 @@ ImageD traceLensedImage(const EllipticalPotentialLens& lens, const SourceStamp& 
   double* rv = ru + raysPerFine;
   ImageD out(grid.width, grid.height);
 
-  const double fineScaleToFlux = surfaceBrightnessPerFlux * fineArea / (ns * ns);
+  const double fineFlux = surfaceBrightnessPerFlux * fineArea;
   for (int by0 = 0; by0 < nfy; by0 += block) {
     for (int bx0 = 0; bx0 < nfx; bx0 += block) {
       const int ex = std::min(bx0 + block, nfx);
@@ -276,21 +299,33 @@ ImageD traceLensedImage(const EllipticalPotentialLens& lens, const SourceStamp& 
             ++local.finePixelsSkipped;
             continue;
           }
+          // Sub-pixels along each sky axis: subSamples, or with adaptive sampling as many as
+          // keep the rays' source-plane spacing within maxSourceStepPixels (at least one).
+          int nx = ns, ny = ns;
+          if (options.maxSourceStepPixels > 0.0) {
+            const double cxl = rays.cPa * centre[0] + rays.sPa * centre[1];
+            const double cyl = -rays.sPa * centre[0] + rays.cPa * centre[1];
+            const auto [lx, ly] = rays.stepLengthsPixels(cxl, cyl);
+            nx = std::clamp(int(std::ceil(sf * lx / options.maxSourceStepPixels)), 1, ns);
+            ny = std::clamp(int(std::ceil(sf * ly / options.maxSourceStepPixels)), 1, ns);
+          }
+          const double stepX = sf / nx, stepY = sf / ny;
           // Sub-pixel ray positions in the lens frame, row by row.
-          for (int sy = 0; sy < ns; ++sy) {
-            const double ty = y0 + fy * sf + (sy + 0.5) * step;
-            for (int sx = 0; sx < ns; ++sx) {
-              const double tx = x0 + fx * sf + (sx + 0.5) * step;
-              rxl[sy * ns + sx] = rays.cPa * tx + rays.sPa * ty;
-              ryl[sy * ns + sx] = -rays.sPa * tx + rays.cPa * ty;
+          for (int sy = 0; sy < ny; ++sy) {
+            const double ty = y0 + fy * sf + (sy + 0.5) * stepY;
+            for (int sx = 0; sx < nx; ++sx) {
+              const double tx = x0 + fx * sf + (sx + 0.5) * stepX;
+              rxl[sy * nx + sx] = rays.cPa * tx + rays.sPa * ty;
+              ryl[sy * nx + sx] = -rays.sPa * tx + rays.cPa * ty;
             }
           }
-          rays.map(rxl, ryl, ru, rv, raysPerFine);
+          const int raysHere = nx * ny;
+          rays.map(rxl, ryl, ru, rv, raysHere);
           double sum = 0.0;
-          for (int k = 0; k < raysPerFine; ++k) sum += padded.sample(ru[k], rv[k]);
-          local.raysTraced += static_cast<long long>(ns) * ns;
+          for (int k = 0; k < raysHere; ++k) sum += padded.sample(ru[k], rv[k]);
+          local.raysTraced += raysHere;
           if (sum == 0.0) continue;
-          spreader.add(out, fx, fy, sum * fineScaleToFlux);
+          spreader.add(out, fx, fy, sum * fineFlux / raysHere);
         }
       }
     }

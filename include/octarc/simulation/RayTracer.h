@@ -5,7 +5,9 @@
 //      square fine pixels of exactly fineScaleArcsec, starting at the stamp's lower-left corner
 //      (the survey/fine ratio is in general not an integer, e.g. 0.257/0.03 ~ 8.57; the last
 //      fine row and column may stick out of the stamp, and that part is cut in step 4).
-//   2. Each fine pixel is split into subSamples x subSamples sub-pixels; the ray through each
+//   2. Each fine pixel is split into subSamples x subSamples sub-pixels (or, with adaptive
+//      sampling, fewer where the lens map compresses the pixel's image; see RayTraceOptions); the
+//      ray through each
 //      sub-pixel centre is mapped to the source plane by the lens equation beta = theta - alpha,
 //      and the source surface brightness there is bilinearly interpolated from the stamp
 //      (surface brightness = pixel flux / stamp pixel area; zero outside the stamp). The fine
@@ -32,9 +34,14 @@ namespace octarc::simulation {
 
 struct RayTraceOptions {
   double fineScaleArcsec = 0.03;  // lens-plane grid step (the source stamp scale in the paper)
-  int subSamples = 4;             // rays per fine pixel along each axis
-  int blockFinePixels = 16;       // side of the blocks tested for skipping
-  bool skipUnreachable = true;    // false traces every ray (for checking the skipping)
+  int subSamples = 4;             // rays per fine pixel along each axis (the most, when adaptive)
+  // Adaptive sub-sampling: along each sky axis a fine pixel gets the fewest rays, up to
+  // subSamples, whose source-plane spacing is at most this many source-stamp pixels (from the
+  // lens map's Jacobian at the pixel's centre): where the lens compresses the pixel's image
+  // (magnification), one ray samples it as well as sixteen. 0 traces subSamples^2 everywhere.
+  double maxSourceStepPixels = 0.0;
+  int blockFinePixels = 16;     // side of the blocks tested for skipping
+  bool skipUnreachable = true;  // false traces every ray (for checking the skipping)
 };
 
 struct SurveyGrid {

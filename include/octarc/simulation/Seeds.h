@@ -32,4 +32,10 @@ inline std::mt19937_64 secondBandRng(std::uint64_t masterSeed, std::uint64_t ind
   return systemRng(splitMix64(masterSeed ^ 0xB5AD4ECE0C0102ULL), index);
 }
 
+// The stream of system `index`'s render decision (importance sampling): apart from the system's
+// own stream, so that a rendered system is drawn and rendered exactly as in a plain run.
+inline std::mt19937_64 renderRng(std::uint64_t masterSeed, std::uint64_t index) {
+  return systemRng(splitMix64(masterSeed ^ 0x4E4DE2C0FFEE51ULL), index);
+}
+
 }  // namespace octarc::simulation

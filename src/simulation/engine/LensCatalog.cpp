@@ -122,7 +122,8 @@ std::vector<ColumnSpec> lensSystemColumns(const std::string& band) {
       column("MAGNIFICATION", T::Float32, "%10.4f", "", "Traced source flux / unlensed flux"),
       column("N_OBJECTS", T::Int32, "%6d", "", "Objects detected over all levels"),
       column("N_ARC_ROWS", T::Int32, "%4d", "", "Arc rows over all qualifying levels"),
-      column("SKIPPED", T::Int16, "%2d", "", "1 if not rendered (theta_E below the skip limit)"),
+      column("SIM_WEIGHT", T::Float64, "%12.6f", "",
+             "Population systems this one stands for: 1 / render probability"),
       column("ARC_FOUND", T::Int16, "%2d", "", "1 if an arc passed the arc rules"),
       column("LENS_DISTANCE", T::Float32, "%8.4f", "arcsec",
              "Distance of the chosen arc to the lens centre"),
@@ -186,12 +187,21 @@ LensRun runLensSimulation(const SimulationSetup& setup, const SourceDatabase& so
   LensRun out;
   out.systems = Table(lensSystemColumns(bandName));
   out.arcs = Table(lensArcColumns(bandName));
+  out.drawn = count;
   for (const SystemResult& r : results) {
     out.redraws += r.draw.redraws;
     out.rejections += r.draw.rejections;
     if (r.draw.skipped) ++out.skipped;
     out.timings.add(r.timings);
     const LensSystemDraw& d = r.draw;
+    if (!d.rendered) continue;  // counted, and stood for by the weights of the others
+    const double weight = d.weight();
+    ++out.rendered;
+    out.weightSum += weight;
+    if (r.chosenArc >= 0) {
+      out.arcWeightSum += weight;
+      out.arcWeightSquaredSum += weight * weight;
+    }
     double* row = out.systems.appendRow();
     const double nan = std::nan("");
     const double truth[] = {double(d.index),
@@ -215,7 +225,7 @@ LensRun runLensSimulation(const SimulationSetup& setup, const SourceDatabase& so
                             r.magnification,
                             double(r.objectCount),
                             double(r.arcDistanceArcsec.size()),
-                            d.skipped ? 1.0 : 0.0,
+                            weight,
                             r.chosenArc >= 0 ? 1.0 : 0.0,
                             r.chosenArc >= 0 ? r.arcDistanceArcsec[std::size_t(r.chosenArc)] : nan};
     const int truthCount = int(sizeof truth / sizeof truth[0]);
@@ -253,6 +263,10 @@ LensRun runLensSimulation(const SimulationSetup& setup, const SourceDatabase& so
   return out;
 }
 
+double LensRun::effectiveArcs() const {
+  return arcWeightSquaredSum > 0 ? arcWeightSum * arcWeightSum / arcWeightSquaredSum : 0.0;
+}
+
 std::vector<std::string> lensRunCards(const LensRun& run, const SimulationSetup& setup,
                                       const SourceDatabase& sources, std::uint64_t seed) {
   const simulation::ObservingSetup& obs = setup.observing;
@@ -267,8 +281,14 @@ std::vector<std::string> lensRunCards(const LensRun& run, const SimulationSetup&
                              : setup.thresholdsSigma.back();
   std::vector<std::string> cards = {
       formatCard("OCTSEED", std::int64_t(seed), "Master seed of the simulation"),
-      formatCard("OCTNSYS", run.systems.rows(), "Simulated systems"),
-      formatCard("OCTNARC", run.systemsWithArc, "Systems with an arc"),
+      formatCard("OCTNSYS", run.drawn, "Systems drawn from the population"),
+      formatCard("OCTNREND", run.rendered, "Systems rendered (the rows)"),
+      formatCard("OCTSUMW", real(run.weightSum), "Sum of SIM_WEIGHT (estimates rendered+not)"),
+      formatCard("OCTNARC", run.systemsWithArc, "Rendered systems with an arc"),
+      formatCard("OCTNEFF", real(run.effectiveArcs()), "Effective arcs (Kish)"),
+      formatCard("OCTSAMPL",
+                 std::string(setup.sampling == Sampling::Importance ? "IMPORTANCE" : "PLAIN"),
+                 "Sampling of the rendered systems"),
       formatCard("OCTPIXSC", RealValue(obs.grid.pixelScaleArcsec, RealFormat::Fixed),
                  "Pixel scale (arcsec)"),
       formatCard("OCTSEEIN", RealValue(obs.seeingFwhmArcsec, RealFormat::Fixed),
@@ -288,7 +308,7 @@ std::vector<std::string> lensRunCards(const LensRun& run, const SimulationSetup&
       formatCard("OCTSRCDB", sources.description().substr(0, 60), "Source database"),
       formatCard("OCTREDRW", run.redraws, "Lens-source pairs redrawn (no source redshift)"),
       formatCard("OCTREJCT", run.rejections, "Draws rejected (lens mag window, cross-section)"),
-      formatCard("OCTNSKIP", run.skipped, "Systems not rendered (theta_E below OCTSKIPT)"),
+      formatCard("OCTNSKIP", run.skipped, "Systems skipped (theta_E below OCTSKIPT)"),
       formatCard("OCTSKIPT", RealValue(setup.population.skipEinsteinRadiusBelowArcsec),
                  "Skip limit on theta_E (arcsec)"),
       formatCard("OCTPOPUL", setup.population.name.substr(0, 60), "Population file"),
@@ -306,10 +326,21 @@ std::vector<std::string> lensRunCards(const LensRun& run, const SimulationSetup&
       formatCard("OCTSTAMP", std::int64_t(obs.grid.width), "Stamp size (pixels)"),
       formatCard("OCTFINE", real(obs.rayTrace.fineScaleArcsec), "Ray-tracing step (arcsec)"),
       formatCard("OCTSUBS", std::int64_t(obs.rayTrace.subSamples), "Rays per fine pixel per axis"),
+      formatCard("OCTSSTEP", real(obs.rayTrace.maxSourceStepPixels),
+                 "Adaptive rays: source-plane step (px; 0: off)"),
       formatCard("OCTSRCEX", real(sources.syntheticExtentHalfLightRadii()),
                  "Synthetic source extent (r_half; 0: catalog)"),
       formatCard("OCTFILTR", setup.filter.has_value(), "Detection filtered (FILTER Y)"),
   };
+  if (setup.sampling == Sampling::Importance) {
+    const ImportanceSampling& is = setup.importance;
+    cards.push_back(formatCard("OCTISSCL", real(is.scale), "Render probability scale"));
+    cards.push_back(formatCard("OCTISFLR", real(is.floor), "Render probability floor"));
+    for (int k = 0; k < 5; ++k) {
+      cards.push_back(formatCard("OCTISC" + std::to_string(k), real(is.coefficients[k]),
+                                 "Arc logit coefficient (LensSimulation.h)"));
+    }
+  }
   if (setup.band) {
     const SecondBand& band = *setup.band;
     cards.push_back(formatCard("OCTBAND", band.name, "Second band (colours: it minus this one)"));

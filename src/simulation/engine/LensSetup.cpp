@@ -53,6 +53,9 @@ void setObserving(const LensSetupOptions& o, SimulationSetup& setup) {
   if (!(obs.skySigmaAdu > 0)) throw ConfigError("--sky-sigma must be positive");
   obs.rayTrace.fineScaleArcsec = o.fineScaleArcsec;
   obs.rayTrace.subSamples = o.subSamples;
+  obs.rayTrace.maxSourceStepPixels = o.maxSourceStepPixels;
+  if (!(o.maxSourceStepPixels >= 0)) throw ConfigError("--max-source-step must be >= 0");
+  setup.sampling = o.sampling;
   if (!(obs.rayTrace.fineScaleArcsec > 0)) throw ConfigError("--fine-scale must be positive");
   if (obs.rayTrace.subSamples < 1) throw ConfigError("--subsamples must be at least 1");
 }

@@ -105,8 +105,33 @@ SourceDatabase SourceDatabase::fromStamps(std::vector<sim::SourceStamp> stamps,
 // ---------------------------------------------------------------------------------------------
 // Population draw
 
+double limitingMagnitude(const sim::ObservingSetup& observing) {
+  // The inverse of simulation::skySigmaFromLimitingMagnitude: 5 sigma in a 2" aperture.
+  const double scale = observing.grid.pixelScaleArcsec;
+  const double pixels = std::numbers::pi * 1.0 * 1.0 / (scale * scale);
+  return observing.magZeroPoint - 2.5 * std::log10(5.0 * observing.skySigmaAdu * std::sqrt(pixels));
+}
+
+double renderProbability(const SimulationSetup& setup, const LensSystemDraw& d) {
+  if (d.einsteinRadiusArcsec < setup.population.skipEinsteinRadiusBelowArcsec) return 0.0;
+  if (setup.sampling == Sampling::Plain) return 1.0;
+  const ImportanceSampling& is = setup.importance;
+  const double* c = is.coefficients;
+  const double mLim = limitingMagnitude(setup.observing);
+  const double logit =
+      c[0] + c[1] * std::log(d.einsteinRadiusArcsec / setup.arcRules.minDistanceArcsec) +
+      c[2] * (d.source.mag - mLim) +
+      c[3] * std::log(d.source.halfLightArcsec / setup.observing.seeingFwhmArcsec) +
+      c[4] * (d.lens.mag - mLim);
+  // sqrt(1 / (1 + e^-x)), written so that it neither overflows nor loses a tiny p.
+  const double sqrtP = logit > 0 ? 1.0 / std::sqrt(1.0 + std::exp(-logit))
+                                 : std::exp(0.5 * logit) / std::sqrt(1.0 + std::exp(logit));
+  return std::clamp(is.scale * sqrtP, is.floor, 1.0);
+}
+
 LensSystemDraw drawLensSystem(const SimulationSetup& setup, const SourceDatabase& sources,
-                              std::int64_t index, std::mt19937_64& rng) {
+                              std::int64_t index, std::mt19937_64& rng,
+                              std::optional<double> renderUniform) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   LensSystemDraw d;
   d.index = index;
@@ -140,6 +165,17 @@ LensSystemDraw drawLensSystem(const SimulationSetup& setup, const SourceDatabase
   const sim::SourceStamp& stamp = sources.stamp(d.sourceIndex);
   d.einsteinRadiusArcsec = sim::sisEinsteinRadiusArcsec(d.lens.sigmaKmPerS, d.lens.redshift,
                                                         d.source.redshift, setup.cosmology);
+  d.skipped = d.einsteinRadiusArcsec < pop.skipEinsteinRadiusBelowArcsec;
+  d.renderProbability = renderProbability(setup, d);
+  if (setup.sampling == Sampling::Importance && !d.skipped) {
+    if (!renderUniform) {
+      throw ConfigError("importance sampling: system " + std::to_string(index) +
+                        " was drawn without its render deviate");
+    }
+    d.rendered = *renderUniform < d.renderProbability;
+  } else {
+    d.rendered = !d.skipped;
+  }
   d.lensEllipticity =
       setup.lensEllipticityMin + (setup.lensEllipticityMax - setup.lensEllipticityMin) * unit(rng);
   const double paRad = std::numbers::pi * unit(rng);
@@ -156,6 +192,17 @@ LensSystemDraw drawLensSystem(const SimulationSetup& setup, const SourceDatabase
   sys.light.axisRatio = 1.0 - d.lensEllipticity;
   sys.light.positionAngleRad = paRad;
   sys.lensMag = d.lens.mag;
+  if (setup.sampling == Sampling::Importance && !d.rendered) {
+    // Not rendered: the source is not placed (its position costs more than the rest). A plain
+    // draw places it even when skipped, so that a caller redrawing from the same stream (the
+    // field simulator) sees the draws it always saw.
+    const double nan = std::nan("");
+    sys.source.betaArcsec = {nan, nan};
+    sys.source.rotationRad = nan;
+    sys.source.pixelScaleArcsec = nan;
+    sys.sourceMag = d.source.mag;
+    return d;
+  }
   // Uniform over the whole multiply-imaged region (bounded by the cut, which reaches beyond
   // theta_E along the minor axis, not by the Einstein circle), so every system is strongly
   // lensed.
@@ -165,14 +212,22 @@ LensSystemDraw drawLensSystem(const SimulationSetup& setup, const SourceDatabase
   sys.source.pixelScaleArcsec =
       stamp.pixelScaleArcsec * d.source.halfLightArcsec / sources.halfLightArcsec(d.sourceIndex);
   sys.sourceMag = d.source.mag;
-  d.skipped = d.einsteinRadiusArcsec < pop.skipEinsteinRadiusBelowArcsec;
   return d;
 }
+
+namespace {
+
+double renderUniformOf(std::uint64_t masterSeed, std::int64_t index) {
+  std::mt19937_64 rng = sim::renderRng(masterSeed, std::uint64_t(index));
+  return std::uniform_real_distribution<double>(0.0, 1.0)(rng);
+}
+
+}  // namespace
 
 LensSystemDraw drawLensSystem(const SimulationSetup& setup, const SourceDatabase& sources,
                               std::uint64_t masterSeed, std::int64_t index) {
   std::mt19937_64 rng = sim::systemRng(masterSeed, std::uint64_t(index));
-  return drawLensSystem(setup, sources, index, rng);
+  return drawLensSystem(setup, sources, index, rng, renderUniformOf(masterSeed, index));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -283,7 +338,7 @@ RenderedSystem renderSystem(const SimulationSetup& setup, const SourceDatabase& 
   const double t0 = timings ? threadCpuSec() : 0.0;
   RenderedSystem out;
   out.rng = sim::systemRng(masterSeed, std::uint64_t(index));
-  out.draw = drawLensSystem(setup, sources, index, out.rng);
+  out.draw = drawLensSystem(setup, sources, index, out.rng, renderUniformOf(masterSeed, index));
   // The second band's stream: the colours first, then its noise.
   std::mt19937_64 bandRng = sim::secondBandRng(masterSeed, std::uint64_t(index));
   if (setup.band) {
@@ -294,8 +349,8 @@ RenderedSystem renderSystem(const SimulationSetup& setup, const SourceDatabase& 
     out.lensColourMag = setup.band->lens.meanMag + setup.band->lens.scatterMag * zLens;
   }
   if (timings) timings->drawSec += threadCpuSec() - t0;
-  if (out.draw.skipped) {
-    // Cannot give an arc beyond the separation limit: counted, not rendered.
+  if (!out.draw.rendered) {
+    // Skipped (cannot give an arc beyond the separation limit) or left out by the sampling.
     out.magnification = std::nan("");
     return out;
   }
@@ -416,7 +471,7 @@ SimulatedSystem simulateSystem(const SimulationSetup& setup, const SourceDatabas
   out.magnification = rendered.magnification;
   out.sourceColourMag = rendered.sourceColourMag;
   out.lensColourMag = rendered.lensColourMag;
-  if (out.draw.skipped) {
+  if (!out.draw.rendered) {
     out.objects = Table(measuredColumns());
     if (keepImage) out.image = ImageF(setup.observing.grid.width, setup.observing.grid.height);
     return out;

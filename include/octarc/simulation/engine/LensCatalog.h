@@ -18,8 +18,8 @@
 
 namespace octarc {
 
-// The columns of the systems table: truth, ARC_FOUND, LENS_DISTANCE, then the chosen arc's
-// measuredColumns() (NaN without an arc). With a second band `band` (non-empty), then the
+// The columns of the systems table: truth, SIM_WEIGHT, ARC_FOUND, LENS_DISTANCE, then the chosen
+// arc's measuredColumns() (NaN without an arc). With a second band `band` (non-empty), then the
 // injected colours SOURCE_COLOUR_TRUE_<band> and LENS_COLOUR_TRUE_<band>, and the band's
 // measured columns of the chosen arc and the lens (secondBandColumns).
 std::vector<ColumnSpec> lensSystemColumns(const std::string& band = "");
@@ -36,14 +36,21 @@ std::vector<ColumnSpec> lensArcColumns(const std::string& band = "");
 std::vector<ColumnSpec> secondBandColumns(const std::string& band);
 
 struct LensRun {
-  Table systems;  // lensSystemColumns(), one row per system, in index order
-  Table arcs;     // lensArcColumns()
-  std::int64_t systemsWithArc = 0;
-  std::int64_t redraws = 0;     // lens-source pairs redrawn (LensSystemDraw::redraws)
-  std::int64_t rejections = 0;  // draws the sampler turned down (LensSystemDraw::rejections)
-  std::int64_t skipped = 0;     // systems drawn but not rendered (LensSystemDraw::skipped)
-  StageTimings timings;         // summed over systems
-  std::vector<ImageF> stamps;   // the first `stampCount` systems' stamps
+  Table systems;           // lensSystemColumns(), one row per rendered system, in index order
+  Table arcs;              // lensArcColumns()
+  std::int64_t drawn = 0;  // systems drawn from the population (the run's count)
+  std::int64_t systemsWithArc = 0;  // rendered systems with an arc
+  std::int64_t redraws = 0;         // lens-source pairs redrawn (LensSystemDraw::redraws)
+  std::int64_t rejections = 0;      // draws the sampler turned down (LensSystemDraw::rejections)
+  std::int64_t skipped = 0;         // systems below the skip limit (LensSystemDraw::skipped)
+  std::int64_t rendered = 0;        // rows of `systems`
+  double weightSum = 0;             // of SIM_WEIGHT over the rendered systems
+  double arcWeightSum = 0, arcWeightSquaredSum = 0;  // over the systems with an arc
+  // Kish's effective number of arcs, (sum w)^2 / sum w^2 over the systems with an arc: the
+  // number of plainly drawn arcs that would give estimates as precise.
+  double effectiveArcs() const;
+  StageTimings timings;        // summed over systems
+  std::vector<ImageF> stamps;  // the first `stampCount` systems' stamps
 };
 
 // Simulates systems firstIndex..firstIndex+count-1 of `seed` on `threads` threads (the stamps

@@ -34,6 +34,12 @@ struct LensSetupOptions {
   double lensHalfLightMinArcsec = 0.5, lensHalfLightMaxArcsec = 1.5;  // --lens-rhalf-min/max
   double fineScaleArcsec = 0.03;  // --fine-scale: ray-tracing grid step
   int subSamples = 4;             // --subsamples: rays per fine pixel along each axis
+  // --max-source-step: adaptive sub-sampling (simulation/RayTracer.h), source pixels; 0: every
+  // fine pixel gets subSamples^2 rays.
+  double maxSourceStepPixels = 1.0;
+  // --sampling: which drawn systems are rendered (LensSimulation.h). Plain here, so that a
+  // caller that sets nothing renders every system; simulate lenses defaults to importance.
+  Sampling sampling = Sampling::Plain;
   // --band NAME: a second band (SecondBand); --source-colour and --lens-colour MEAN,SCATTER
   // need it (their defaults are SecondBand's).
   std::optional<std::string> bandName;
