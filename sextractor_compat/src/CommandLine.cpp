@@ -47,7 +47,14 @@ void rejectUnknownOptions(const std::vector<std::string>& args,
     if (std::find(flags.begin(), flags.end(), name) != flags.end()) continue;
     const bool known =
         std::any_of(schema.begin(), schema.end(), [&](const KeySpec& k) { return k.name == name; });
-    if (!known) throw ConfigError("command line: " + quoteForMessage(arg) + ": unknown keyword");
+    if (!known) {
+      const std::string nearest = nearestKey(schema, name);
+      throw ConfigError("command line: " + quoteForMessage(arg) + ": unknown keyword" +
+                        (nearest.empty() ? "" : " (did you mean -" + nearest + "?)"));
+    }
+    if (arg[1] == '-')
+      throw ConfigError("command line: " + quoteForMessage(arg) +
+                        ": keys take one dash, as in SExtractor (-" + name + ")");
     ++i;  // its value, which may start with '-'
   }
 }

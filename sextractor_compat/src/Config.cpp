@@ -32,6 +32,46 @@ std::vector<std::string> tokenize(std::string_view line) {
   return tokens;
 }
 
+// The value of an expression key (KeySpec::expression), kept as written: '=', ';' and blanks
+// stay. '#' starts a comment, '"' quotes, tabs and line ends count as blanks; a list splits
+// only at commas outside parentheses, and each value is trimmed (empty ones are dropped).
+std::vector<std::string> tokenizeExpression(std::string_view text) {
+  std::vector<std::string> values;
+  std::string current;
+  int depth = 0;
+  auto flush = [&] {
+    const std::size_t first = current.find_first_not_of(' ');
+    if (first != std::string::npos)
+      values.push_back(current.substr(first, current.find_last_not_of(' ') - first + 1));
+    current.clear();
+  };
+  for (char c : text) {
+    if (c == '#') break;
+    if (c == '"' || c == '\t' || c == '\r' || c == '\n') c = ' ';
+    if (c == '(') {
+      ++depth;
+    } else if (c == ')') {
+      depth = std::max(0, depth - 1);
+    } else if (c == ',' && depth == 0) {
+      flush();
+      continue;
+    }
+    current += c;
+  }
+  flush();
+  return values;
+}
+
+// The values of `spec` on a .sex line after its key, up to a comment.
+std::vector<std::string> tokenizeValue(const KeySpec& spec, std::string_view text) {
+  if (spec.expression) return tokenizeExpression(text);
+  std::vector<std::string> tokens = tokenize(text);
+  const auto comment =
+      std::find_if(tokens.begin(), tokens.end(), [](const std::string& t) { return t[0] == '#'; });
+  tokens.erase(comment, tokens.end());
+  return tokens;
+}
+
 // Replaces $NAME and ${NAME} by the environment variable's value, as SExtractor does.
 std::string expandEnvironment(const std::string& token, const std::string& where,
                               const std::string& key) {
@@ -150,14 +190,49 @@ std::vector<std::string> validate(const KeySpec& spec, const std::vector<std::st
   return out;
 }
 
+// " (did you mean PREFIXKEY?)" for the key of `schema` nearest to `name`, or "".
+std::string suggestion(const std::vector<KeySpec>& schema, std::string_view name,
+                       const std::string& prefix) {
+  const std::string nearest = nearestKey(schema, name);
+  return nearest.empty() ? std::string() : " (did you mean " + prefix + nearest + "?)";
+}
+
 }  // namespace
+
+std::string nearestKey(const std::vector<KeySpec>& schema, std::string_view name) {
+  const std::string word = uppercase(name);
+  std::string best;
+  std::size_t bestDistance = std::min<std::size_t>(3, (word.size() + 2) / 3);  // exclusive
+  for (const KeySpec& spec : schema) {
+    // Levenshtein distance, one row at a time.
+    std::vector<std::size_t> row(spec.name.size() + 1);
+    for (std::size_t j = 0; j < row.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= word.size(); ++i) {
+      std::size_t diagonal = row[0];
+      row[0] = i;
+      for (std::size_t j = 1; j < row.size(); ++j) {
+        const std::size_t above = row[j];
+        row[j] = std::min(
+            {row[j] + 1, row[j - 1] + 1, diagonal + (word[i - 1] == spec.name[j - 1] ? 0 : 1)});
+        diagonal = above;
+      }
+    }
+    if (row.back() < bestDistance) {
+      bestDistance = row.back();
+      best = spec.name;
+    }
+  }
+  return best;
+}
 
 // A key given with an empty list (a bare "WEIGHT_TYPE" line, "WEIGHT_THRESH ,", or
 // -CHECKIMAGE_TYPE "") counts as not given, as in SExtractor: the value stays what it was (the
 // default unless set before), for keys whose list may be empty; the others report the count.
 void Config::setValue(Value& v, const KeySpec& spec, const std::vector<std::string>& raw,
-                      const std::string& where) {
+                      std::string_view given, const std::string& where) {
   std::vector<std::string> text = validate(spec, raw, where);
+  v.givenWithoutValue =
+      text.empty() && given.substr(0, given.find('#')).find(',') != std::string_view::npos;
   if (text.empty()) return;
   v.text = std::move(text);
   v.isExplicit = true;
@@ -181,21 +256,25 @@ Config Config::load(const std::vector<KeySpec>& schema, const std::string& sexFi
     int lineNo = 0;
     while (std::getline(in, line)) {
       ++lineNo;
-      std::vector<std::string> tokens = tokenize(line);
-      if (tokens.empty() || tokens[0][0] == '#') continue;
-      const std::string key = uppercase(tokens[0]);
+      const std::size_t keyStart = line.find_first_not_of(kSeparators);
+      if (keyStart == std::string::npos || line[keyStart] == '#') continue;
+      const std::size_t keyEnd = std::min(line.find_first_of(kSeparators, keyStart), line.size());
+      const std::string keyWord = line.substr(keyStart, keyEnd - keyStart);
+      const std::string key = uppercase(keyWord);
       const std::string where = sexFile + ":" + std::to_string(lineNo);
       const KeySpec* spec = findSpec(schema, key);
       if (!spec) {
         if (warnings)
-          warnings->push_back(where + ": unknown keyword " + quoteForMessage(tokens[0]) +
-                              ", ignored");
+          warnings->push_back(where + ": unknown keyword " + quoteForMessage(keyWord) +
+                              ", ignored" + suggestion(schema, keyWord, ""));
         continue;
       }
-      std::vector<std::string> raw;
-      for (std::size_t i = 1; i < tokens.size() && tokens[i][0] != '#'; ++i)
-        raw.push_back(tokens[i]);
-      setValue(config.values_[key], *spec, raw, where);
+      // The separators between the key and its value ("KEY = value") are not part of it.
+      const std::size_t valueStart =
+          std::min(line.find_first_not_of(kSeparators, keyEnd), line.size());
+      setValue(config.values_[key], *spec,
+               tokenizeValue(*spec, std::string_view(line).substr(valueStart)),
+               std::string_view(line).substr(keyEnd), where);
     }
     if (in.bad()) throw ConfigError(sexFile + ": read error");
   }
@@ -205,11 +284,13 @@ Config Config::load(const std::vector<KeySpec>& schema, const std::string& sexFi
     if (!key.empty() && key[0] == '-') key.erase(0, 1);
     const KeySpec* spec = findSpec(schema, key);
     if (!spec)
-      throw ConfigError("command line: " + quoteForMessage("-" + rawKey) + ": unknown keyword");
+      throw ConfigError("command line: " + quoteForMessage("-" + rawKey) + ": unknown keyword" +
+                        suggestion(schema, key, "-"));
     // The value is one argument that may itself be a comma list ("-CHECKIMAGE_TYPE A,B").
-    std::vector<std::string> raw = tokenize(rawValue);
+    std::vector<std::string> raw =
+        spec->expression ? tokenizeExpression(rawValue) : tokenize(rawValue);
     if (!raw.empty() && raw[0][0] == '#') raw.clear();
-    setValue(config.values_[key], *spec, raw, "command line");
+    setValue(config.values_[key], *spec, raw, rawValue, "command line");
   }
   return config;
 }
@@ -283,6 +364,10 @@ bool Config::has(std::string_view key) const {
 
 bool Config::isExplicit(std::string_view key) const {
   return find(key).isExplicit;
+}
+
+bool Config::givenWithoutValue(std::string_view key) const {
+  return find(key).givenWithoutValue;
 }
 
 std::string Config::dump(const std::vector<KeySpec>& schema, bool full) const {

@@ -18,6 +18,7 @@
 #include "octarc/core/Progress.h"
 #include "octarc/io/FitsTable.h"
 #include "octarc/plot/CheckPlot.h"
+#include "octarc/selection/ColumnExpression.h"
 
 namespace octarc {
 
@@ -149,6 +150,8 @@ int runCalibrate(const std::vector<std::string>& args) {
   }
   if (!run.quiet) {
     for (const std::string& w : warnings) std::cerr << "WARNING: " << w << "\n";
+  } else {
+    setExpressionWarnings({});
   }
 
   // The outputs, checked before anything is computed; they appear together at the end.

@@ -10,6 +10,7 @@
 #include "octarc/core/Version.h"
 #include "octarc/measure/Registry.h"
 #include "octarc/run/RunKeys.h"
+#include "octarc/selection/ColumnExpression.h"
 #include "octarc/sexcompat/Assoc.h"
 
 namespace octarc {
@@ -152,6 +153,8 @@ std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std
       settings.parametersPath, loaded->config.isExplicit("PARAMETERS_NAME"), loaded->warnings);
   if (!settings.quiet) {
     for (const std::string& w : loaded->warnings) std::cerr << "WARNING: " << w << "\n";
+  } else {
+    setExpressionWarnings({});
   }
   return LoadedRun{std::move(loaded->config), std::move(settings)};
 }

@@ -94,6 +94,7 @@ int runSearch(const std::vector<std::string>& args) {
 
   const SearchRun run = searchImage(settings, log);
   writeSearchOutputs(run, settings, terminalProgress("Stamps", "stamps", quiet), log);
+  if (quiet) return 0;  // as SExtractor's QUIET: nothing on stdout either
   for (const std::string& line : searchSummaryLines(run, settings)) std::cout << line << "\n";
   if (settings.writeStamps) {
     std::cout << "Open " << settings.outputDir << "/index.html to inspect them\n";

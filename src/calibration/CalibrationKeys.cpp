@@ -52,12 +52,14 @@ std::vector<KeySpec> calibrationKeys() {
       Row("GRID_NAME", Kind::String, {"arcs.grid.fits"}, "the occupation-probability grid (FITS)"),
       Row("SEARCH_NAME", Kind::String, {}, "name of the search space of the grid").list(0, 1),
       Row("SEARCH_CUT", Kind::String, {},
-          "its cut on the simulated arcs' columns (no commas),\ne.g. ARCNESS > 0.15 && E_IMAGE "
-          "> 0.6; empty: every arc")
-          .list(0, 256),
+          "its cut on the simulated arcs' columns, e.g.\nARCNESS > 0.15 && E_IMAGE > 0.6; "
+          "empty: every arc")
+          .list(0, 1)
+          .expression(),
       Row("GRID_AXES", Kind::String, defaultAxisExpressions(),
           "the grid's axes: expressions on the columns")
-          .list(1, 8),
+          .list(1, 8)
+          .expression(),
       Row("GRID_LEVEL", Kind::Float, {"0.99"}, "contour level P of the grid").range(1e-6, 1),
       Row("GRID_NBINS", Kind::Int, {"2", "30"},
           "fewest and most bins per axis tried by the binning\nsearch")
@@ -140,10 +142,7 @@ CalibrationRun calibrationRunFromConfig(const sexcompat::Config& c,
   run.calibrationPath = c.getString("CALIBRATION_NAME");
   run.gridPath = c.getString("GRID_NAME");
   if (c.count("SEARCH_CUT") > 0) {
-    // The configuration splits values at blanks and commas: the words make the expression.
-    for (const std::string& word : c.getStrings("SEARCH_CUT")) {
-      s.searchSpaceExpression += (s.searchSpaceExpression.empty() ? "" : " ") + word;
-    }
+    s.searchSpaceExpression = c.getString("SEARCH_CUT");  // as written (an expression key)
     s.searchSpaceName = c.count("SEARCH_NAME") > 0 ? c.getString("SEARCH_NAME") : "search";
   }
   s.gridAxes = c.getStrings("GRID_AXES");

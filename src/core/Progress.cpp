@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
-#include <sstream>
 #include <utility>
 
 namespace octarc {
@@ -39,10 +38,10 @@ StageClock::StageClock(bool on, std::function<void(const std::string&)> log)
 void StageClock::lap(const char* stage) {
   const auto now = std::chrono::steady_clock::now();
   if (on_) {
-    std::ostringstream line;
-    line << "> Time: " << stage << " " << std::chrono::duration<double>(now - last_).count()
-         << " s";
-    log_(line.str());
+    char seconds[32];  // to the hundredth: "0.00 s", not "1.1e-05 s"
+    std::snprintf(seconds, sizeof seconds, "%.2f",
+                  std::chrono::duration<double>(now - last_).count());
+    log_(std::string("> Time: ") + stage + " " + seconds + " s");
   }
   last_ = now;
 }

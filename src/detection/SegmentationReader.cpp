@@ -122,18 +122,22 @@ std::vector<Segment> segmentsFromLabels(const std::vector<ImageI32>& levels,
       if (below == nullptr) continue;
       const std::int32_t under = below[i];
       if (under == 0) {
-        throw IoError(names[k] + ": label " + std::to_string(px[i]) + " at level " +
-                      std::to_string(k + 1) + " has " + pixelText(i, width) +
-                      " on the background of level " + std::to_string(k) + " (" + names[k - 1] +
-                      "); the levels do not nest");
+        throw IoError(
+            names[k] + ": label " + std::to_string(px[i]) + " at level " + std::to_string(k + 1) +
+            " has " + pixelText(i, width) + " on the background of level " + std::to_string(k) +
+            " (" + names[k - 1] +
+            "); the levels do not nest (give SEGMENTATION_NAME and DETECT_LEVELS lowest threshold "
+            "first)");
       }
       if (parent[s] < 0) {
         parent[s] = under;
       } else if (parent[s] != under) {
-        throw IoError(names[k] + ": label " + std::to_string(px[i]) + " at level " +
-                      std::to_string(k + 1) + " lies in labels " + std::to_string(parent[s]) +
-                      " and " + std::to_string(under) + " of level " + std::to_string(k) + " (" +
-                      names[k - 1] + "); the levels do not nest");
+        throw IoError(
+            names[k] + ": label " + std::to_string(px[i]) + " at level " + std::to_string(k + 1) +
+            " lies in labels " + std::to_string(parent[s]) + " and " + std::to_string(under) +
+            " of level " + std::to_string(k) + " (" + names[k - 1] +
+            "); the levels do not nest (give SEGMENTATION_NAME and DETECT_LEVELS lowest threshold "
+            "first)");
       }
     }
     for (std::size_t s = 0; s < parent.size(); ++s) {

@@ -39,34 +39,38 @@ using Row = sexcompat::KeyRow;
 
 // The paper's two spaces of "significantly distorted and extended" arcs (METHOD.md section 4).
 const std::vector<std::string>& defaultSearchSpaces() {
-  static const std::vector<std::string> words = {
-      "A015:", "ARCNESS", ">",         "0.15",    "&&", "E_IMAGE", ">",  "0.6",     "&&", "SNR_ISO",
-      ">",     "40",      "A010_015:", "ARCNESS", ">",  "0.10",    "&&", "ARCNESS", "<=", "0.15",
-      "&&",    "E_IMAGE", ">",         "0.6",     "&&", "SNR_ISO", ">",  "40"};
-  return words;
+  static const std::vector<std::string> spaces = {
+      "A015: ARCNESS > 0.15 && E_IMAGE > 0.6 && SNR_ISO > 40",
+      "A010_015: ARCNESS > 0.10 && ARCNESS <= 0.15 && E_IMAGE > 0.6 && SNR_ISO > 40"};
+  return spaces;
 }
 
-// SEARCH_SPACE words: a word ending in ':' names a space, the words after it are its cut.
-std::vector<SearchSpace> parseSearchSpaces(const std::vector<std::string>& words) {
+// SEARCH_SPACE values, read as blank-separated words: a word ending in ':' names a space, the
+// words after it are its cut.
+std::vector<SearchSpace> parseSearchSpaces(const std::vector<std::string>& values) {
   std::vector<SearchSpace> spaces;
   std::string name, expression;
   auto flush = [&] {
     if (name.empty()) return;
     if (expression.empty()) throw ConfigError("SEARCH_SPACE " + name + ": no cut after the name");
-    spaces.emplace_back(name, expression);
+    spaces.emplace_back(name, expression, "SEARCH_SPACE");
   };
-  for (const std::string& w : words) {
-    if (w.size() > 1 && w.back() == ':') {
-      flush();
-      name = w.substr(0, w.size() - 1);
-      expression.clear();
-    } else if (name.empty()) {
-      throw ConfigError(
-          "SEARCH_SPACE: give each space a name first, as in 'A015: ARCNESS > "
-          "0.15 && E_IMAGE > 0.6' (found " +
-          quoteForMessage(w) + ")");
-    } else {
-      expression += (expression.empty() ? "" : " ") + w;
+  for (const std::string& value : values) {
+    std::istringstream words(value);
+    std::string w;
+    while (words >> w) {
+      if (w.size() > 1 && w.back() == ':') {
+        flush();
+        name = w.substr(0, w.size() - 1);
+        expression.clear();
+      } else if (name.empty()) {
+        throw ConfigError(
+            "SEARCH_SPACE: give each space a name first, as in 'A015: ARCNESS > "
+            "0.15 && E_IMAGE > 0.6' (found " +
+            quoteForMessage(w) + ")");
+      } else {
+        expression += (expression.empty() ? "" : " ") + w;
+      }
     }
   }
   flush();
@@ -155,6 +159,11 @@ void readColourSettings(const sexcompat::Config& c, SearchRunSettings& s) {
                       std::to_string(n) +
                       " COLOUR_IMAGE(s); give one per image, or none for "
                       "MAG_ZEROPOINT");
+  }
+  if (c.givenWithoutValue("COLOUR_CUT")) {
+    throw ConfigError(
+        "COLOUR_CUT: a comma but no band and no MAX; give both, as in 'COLOUR_CUT g,-0.3', or "
+        "leave the key out for no colour cut");
   }
   if (c.count("COLOUR_CUT") > 0) {
     const std::vector<std::string> cut = c.getStrings("COLOUR_CUT");
@@ -257,7 +266,7 @@ std::vector<KeySpec> searchKeys() {
         "the occupation grid (octarc calibrate)"),
     Row("SEARCH_SPACE", Kind::String, defaultSearchSpaces(),
         "report spaces: NAME: cut, ... (a word ending in ':'\nstarts a space)")
-        .list(0, 1024),
+        .list(0, 1024).expression(),
     Row("MASK_NAME", Kind::String, {}, "DS9 region file of the searched area (include and\n"
         "'-' exclude shapes)").list(0, 1),
     Row("MASK_BORDER", Kind::Int, {"0"}, "pixels this close to an edge are not searched")
@@ -279,9 +288,9 @@ std::vector<KeySpec> searchKeys() {
     Row("NAME_PREFIX", Kind::String, {"OCTARC"}, "prefix of the designations"),
     Row("LENS_LIGHT", Kind::String, {"N"}, "subtract fitted Sersic models of bright galaxies:\n"
         "N, LOCAL (also search the residual around each)\nor IMAGE (search the residual image)"),
-    Row("LENS_SELECT", Kind::String, {"MAG_ISO", "<", "20.5", "&&", "E_IMAGE", "<", "0.5", "&&", "FLAGS", "<", "4"},
+    Row("LENS_SELECT", Kind::String, {"MAG_ISO < 20.5 && E_IMAGE < 0.5 && FLAGS < 4"},
         "which level-1 objects are fitted (an expression\non the catalog's columns)")
-        .list(1, 1024),
+        .expression(),
     Row("LENS_CUTOUT", Kind::Float, {"20.0"}, "side of the square fitted around each (arcsec)")
         .range(1, 600),
     Row("LENS_CHECKIMAGES", Kind::Bool, {"Y"}, "write lensmodel.fits and lensresidual.fits"),
@@ -329,10 +338,7 @@ SearchRunSettings searchSettingsFromConfig(const sexcompat::Config& c, RunSettin
   s.stamps.sizePix = c.getInt("STAMP_PIXELS");
   s.writeStamps = c.getBool("STAMPS");
   s.lensLight.mode = lenslight::parseSubtractionMode(c.getString("LENS_LIGHT"));
-  s.lensLight.selectExpression.clear();
-  for (const std::string& w : c.getStrings("LENS_SELECT")) {
-    s.lensLight.selectExpression += (s.lensLight.selectExpression.empty() ? "" : " ") + w;
-  }
+  s.lensLight.selectExpression = c.getString("LENS_SELECT");
   s.lensLight.cutoutArcsec = c.getDouble("LENS_CUTOUT");
   s.lensCheckImages = c.getBool("LENS_CHECKIMAGES");
   if (s.lensLight.mode != lenslight::SubtractionMode::Off) {
@@ -542,10 +548,13 @@ std::vector<std::string> searchSummaryLines(const SearchRun& run,
                     " dark-lens pair(s) (a same-colour counter-image, no lens)");
   }
   if (search.colourCut) {
-    lines.push_back(std::to_string(s.removedByColourCut) +
-                    " candidate(s) removed by the colour cut (arc minus lens colour in " +
-                    search.colourCut->band + " above " +
-                    formatNumber(search.colourCut->maxArcMinusLensMag, "%g") + " mag)");
+    const std::string max = formatNumber(search.colourCut->maxArcMinusLensMag, "%g");
+    lines.push_back("Colour cut COLOUR_CUT " + search.colourCut->band + "," + max + ": " +
+                    std::to_string(s.candidates + s.removedByColourCut) +
+                    " candidate(s) before the cut, " + std::to_string(s.removedByColourCut) +
+                    " removed (arc minus lens colour in " + search.colourCut->band + " above " +
+                    max + " mag), " + std::to_string(s.candidates) +
+                    " after it; every other count is after the cut");
   }
   for (const SpaceCount& space : s.spaces) {
     lines.push_back(

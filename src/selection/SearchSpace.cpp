@@ -20,9 +20,10 @@ std::string checkedName(std::string name) {
 
 }  // namespace
 
-SearchSpace::SearchSpace(std::string name, std::string expression)
+SearchSpace::SearchSpace(std::string name, std::string expression, const std::string& key)
     : name_(checkedName(std::move(name))),
-      cut_(std::move(expression), "search space '" + name_ + "'") {}
+      cut_(std::move(expression),
+           (key.empty() ? std::string() : key + " ") + "search space '" + name_ + "'") {}
 
 std::vector<bool> SearchSpace::mask(const Table& table) const {
   const std::vector<double> values = cut_.evaluate(table);

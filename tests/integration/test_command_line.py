@@ -534,3 +534,60 @@ class GainAndOrigins(WorkDirTest):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class ExpressionKeys(WorkDirTest):
+    """Expression keys reach muparser as written, '=' included, from the command line and from
+    a .sex file; the search refuses them before it reads the grid, so a missing grid tells an
+    accepted expression from a refused one."""
+
+    def search_error(self, *args):
+        proc = run_octarc("search", IMAGE, "-GRID_NAME", self.path("no.grid.fits"), *args,
+                          check=False, cwd=self.work)
+        self.assertNotEqual(proc.returncode, 0)
+        return proc.stderr
+
+    def test_comparisons_with_equals_are_kept(self):
+        for cut in ("ARCNESS >= 0.1", "ARCNESS <= 0.15", "FLAGS == 0", "FLAGS != 4"):
+            err = self.search_error("-SEARCH_SPACE", "X: " + cut)
+            self.assertNotIn("cannot parse", err)
+            self.assertIn("no.grid.fits", err)  # got past the expressions
+            # The text muparser is given, shown by its own error message.
+            err = self.search_error("-SEARCH_SPACE", "X: %s &&" % cut)
+            self.assertIn("cannot parse \"%s &&\"" % cut, err)
+        sex = os.path.join(self.work, "x.sex")
+        with open(sex, "w") as f:
+            f.write("SEARCH_SPACE A: ARCNESS >= 0.1 &&   # a comment\n")
+        self.assertIn("cannot parse \"ARCNESS >= 0.1 &&\"", self.search_error("-c", sex))
+
+    def test_plus_equals_and_assignment_are_parse_errors(self):
+        err = self.search_error("-SEARCH_SPACE", "X: E_IMAGE += 1")
+        self.assertIn("SEARCH_SPACE search space 'X': cannot parse \"E_IMAGE += 1\"", err)
+        err = self.search_error("-SEARCH_SPACE", "X: FLAGS = 0")
+        self.assertIn("'=' assigns a value; compare with '=='", err)
+
+    def test_colour_cut_of_a_lone_comma_is_refused(self):
+        err = self.search_error("-COLOUR_CUT", " ,")
+        self.assertIn("COLOUR_CUT: a comma but no band and no MAX", err)
+
+
+class CommandLineHints(WorkDirTest):
+    def test_unknown_key_suggests_the_nearest(self):
+        proc = run_octarc("detect", IMAGE, "-DETECT_TRESH", "3", check=False, cwd=self.work)
+        self.assertNotEqual(proc.returncode, 0)
+        self.assertIn("'-DETECT_TRESH': unknown keyword (did you mean -DETECT_THRESH?)",
+                      proc.stderr)
+
+    def test_two_dashes_are_refused(self):
+        proc = run_octarc("detect", IMAGE, "--DETECT_THRESH", "3", check=False, cwd=self.work)
+        self.assertNotEqual(proc.returncode, 0)
+        self.assertIn("'--DETECT_THRESH': keys take one dash, as in SExtractor (-DETECT_THRESH)",
+                      proc.stderr)
+
+    def test_full_verbosity_times_to_the_hundredth(self):
+        proc = run_octarc("detect", IMAGE, "-VERBOSE_TYPE", "FULL", "-CATALOG_NAME",
+                          self.path("t.cat"), cwd=self.work)
+        times = re.findall(r"^> Time: .* (\S+) s$", proc.stderr, re.M)
+        self.assertTrue(times, proc.stderr)
+        for t in times:
+            self.assertRegex(t, r"^\d+\.\d\d$")

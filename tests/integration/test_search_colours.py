@@ -148,7 +148,9 @@ class SearchColours(ColourFixture):
         self.assertEqual((h["NCOLCUT"], h["COLCUTBD"], h["COLCUTMX"]), (1, "g", -0.5))
         self.assertEqual(h["NCANDID"], len(after))
         with open(self.path("cut/summary.txt")) as f:
-            self.assertIn("1 candidate(s) removed by the colour cut", f.read())
+            self.assertIn("Colour cut COLOUR_CUT g,-0.5: %d candidate(s) before the cut, 1 removed "
+                          "(arc minus lens colour in g above -0.5 mag), %d after it; every other "
+                          "count is after the cut" % (len(before), len(after)), f.read())
 
 
 class SearchColoursBadInput(ColourFixture):

@@ -13,8 +13,11 @@
 // NaN: a row whose value is NaN in any column the expression uses (a measurement that failed,
 // or a simulated system without an arc) evaluates to NaN, whatever the expression would make
 // of it, so that a failed measurement never passes a cut.
+//
+// '=' alone is refused: muparser would read "FLAGS = 0" as an assignment (compare with "==").
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -36,7 +39,10 @@ class ColumnExpression {
 
   // The expression's value for every row of `table` (NaN where a used column is NaN). Throws
   // ConfigError naming the context, the expression, the unknown column and the columns
-  // available when a name is not a scalar column of the table.
+  // available when a name is not a scalar column of the table. An expression that is undefined
+  // for every row whose columns are defined (NaN or infinite: a division by zero, a function
+  // outside its domain, such as "1/0", "log10(-1) < 1" or "ARCNESS/0 > 1") selects all or
+  // nothing whatever the data: it is warned of (see setExpressionWarnings).
   std::vector<double> evaluate(const Table& table) const;
 
  private:
@@ -44,5 +50,9 @@ class ColumnExpression {
   std::string context_;
   std::vector<std::string> variables_;
 };
+
+// Where the warnings of ColumnExpression::evaluate go, each text once per process: by default
+// to stderr as "WARNING: <text>"; an empty function drops them (VERBOSE_TYPE QUIET).
+void setExpressionWarnings(std::function<void(const std::string&)> sink);
 
 }  // namespace octarc

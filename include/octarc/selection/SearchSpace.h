@@ -15,8 +15,9 @@ namespace octarc {
 class SearchSpace {
  public:
   // Throws ConfigError for an empty name, or an expression that is empty or does not parse
-  // (see ColumnExpression), naming the space.
-  SearchSpace(std::string name, std::string expression);
+  // (see ColumnExpression), naming the space, and `key` when given (the configuration key it
+  // came from, e.g. "SEARCH_SPACE").
+  SearchSpace(std::string name, std::string expression, const std::string& key = "");
 
   const std::string& name() const { return name_; }
   const std::string& expression() const { return cut_.text(); }

@@ -69,9 +69,11 @@ TEST(SegmentationFile, NestingErrorNamesBothFiles) {
   const std::string b = (dir / "b.fits").string();
   test::writeIntFits(a, low);
   test::writeIntFits(b, high);
-  EXPECT_EQ(readError({a, b}, 3, 1),
-            b + ": label 2 at level 2 has FITS pixel (2, 1) on the background of level 1 (" + a +
-                "); the levels do not nest");
+  EXPECT_EQ(
+      readError({a, b}, 3, 1),
+      b + ": label 2 at level 2 has FITS pixel (2, 1) on the background of level 1 (" + a +
+          "); the levels do not nest (give SEGMENTATION_NAME and DETECT_LEVELS lowest threshold "
+          "first)");
 }
 
 }  // namespace

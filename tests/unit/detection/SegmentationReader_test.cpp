@@ -98,7 +98,8 @@ TEST(SegmentationReader, RejectsLabelOnLowerBackground) {
       messageOf({labels(3, {1, 1, 0}), labels(3, {0, 5, 5})}, {"t1.fits", "t2.fits"});
   EXPECT_EQ(msg,
             "t2.fits: label 5 at level 2 has FITS pixel (3, 1) on the background of level 1 "
-            "(t1.fits); the levels do not nest");
+            "(t1.fits); the levels do not nest (give SEGMENTATION_NAME and DETECT_LEVELS lowest "
+            "threshold first)");
 }
 
 TEST(SegmentationReader, RejectsLabelSpanningTwoLowerLabels) {
@@ -106,7 +107,7 @@ TEST(SegmentationReader, RejectsLabelSpanningTwoLowerLabels) {
       messageOf({labels(3, {1, 1, 2}), labels(3, {0, 5, 5})}, {"t1.fits", "t2.fits"});
   EXPECT_EQ(msg,
             "t2.fits: label 5 at level 2 lies in labels 1 and 2 of level 1 (t1.fits); the levels "
-            "do not nest");
+            "do not nest (give SEGMENTATION_NAME and DETECT_LEVELS lowest threshold first)");
   for (const char* ch : {"\n", "\r"}) EXPECT_EQ(msg.find(ch), std::string::npos);
 }
 

@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <limits>
 #include <string>
 #include <vector>
@@ -71,6 +73,64 @@ TEST(ColumnExpression, ARowWithNanInAUsedColumnIsNan) {
   EXPECT_TRUE(std::isnan(v[3]));
   // A column the expression does not use does not matter.
   EXPECT_EQ(ColumnExpression("E_IMAGE > 0.6", "test").evaluate(t)[3], 1.0);
+}
+
+TEST(ColumnExpression, EveryComparisonOperatorMeansWhatItSays) {
+  const Table t = objects();  // ARCNESS 0.2, 0.12, 0.3, NaN
+  const auto values = [&](const std::string& text) {
+    return ColumnExpression(text, "test").evaluate(t);
+  };
+  const double nan = kNan;
+  const auto same = [](const std::vector<double>& a, const std::vector<double>& b) {
+    return a.size() == b.size() && std::equal(a.begin(), a.end() - 1, b.begin()) &&
+           std::isnan(a.back()) && std::isnan(b.back());
+  };
+  // On the boundary value 0.2 (the first row) each operator with '=' differs from its strict
+  // neighbour.
+  EXPECT_TRUE(same(values("ARCNESS >= 0.2"), {1, 0, 1, nan}));
+  EXPECT_TRUE(same(values("ARCNESS > 0.2"), {0, 0, 1, nan}));
+  EXPECT_TRUE(same(values("ARCNESS <= 0.2"), {1, 1, 0, nan}));
+  EXPECT_TRUE(same(values("ARCNESS < 0.2"), {0, 1, 0, nan}));
+  EXPECT_TRUE(same(values("ARCNESS == 0.2"), {1, 0, 0, nan}));
+  EXPECT_TRUE(same(values("ARCNESS != 0.2"), {0, 1, 1, nan}));
+}
+
+TEST(ColumnExpression, AssignmentsAreRefused) {
+  using test::expectError;
+  // muparser would assign: "FLAGS = 0" is 0 for every row; "E_IMAGE += 1" is no operator.
+  expectError<ConfigError>([] { ColumnExpression("E_IMAGE = 0.7", "SEARCH_CUT"); },
+                           {"SEARCH_CUT: cannot parse \"E_IMAGE = 0.7\": '=' assigns a value; "
+                            "compare with '=='"});
+  expectError<ConfigError>([] { ColumnExpression("E_IMAGE === 0.7", "test"); }, {"'=' assigns"});
+  expectError<ConfigError>([] { ColumnExpression("E_IMAGE += 1", "LENS_SELECT"); },
+                           {"LENS_SELECT: cannot parse \"E_IMAGE += 1\": '=' assigns a value"});
+}
+
+TEST(ColumnExpression, AnExpressionUndefinedForEveryRowIsWarnedOfOnce) {
+  std::vector<std::string> warned;
+  setExpressionWarnings([&](const std::string& text) { warned.push_back(text); });
+  const Table t = objects();
+  // Constant, or undefined whatever the row: a division by zero, a function outside its
+  // domain, even when a comparison makes the value finite.
+  for (const std::string text :
+       {"1/0", "sqrt(-1)", "log10(-1) < 1", "ARCNESS/0 > 1", "E_IMAGE > 0 && log10(-1) < 1"}) {
+    warned.clear();
+    ColumnExpression(text, "LENS_SELECT").evaluate(t);
+    ColumnExpression(text, "LENS_SELECT").evaluate(t);  // once only
+    ASSERT_EQ(warned.size(), 1u) << text;
+    EXPECT_EQ(warned[0], "LENS_SELECT (" + text +
+                             "): NaN or infinite (a division by zero, or a function outside its "
+                             "domain) for every row, so it does not depend on the data");
+  }
+  // Defined for some row (log10(ARCNESS - 0.2) is -inf on the first row only), or a NaN that
+  // comes from the data: no warning.
+  warned.clear();
+  for (const std::string text : {"log10(ARCNESS - 0.2) < 0", "ARCNESS > 0.1", "ARCNESS / 2"}) {
+    ColumnExpression(text, "test").evaluate(t);
+  }
+  ColumnExpression("ARCNESS > 0.1", "test").evaluate(test::makeTable({{"ARCNESS", {kNan}}}));
+  EXPECT_TRUE(warned.empty()) << warned.front();
+  setExpressionWarnings([](const std::string& text) { std::cerr << "WARNING: " << text << "\n"; });
 }
 
 TEST(SearchSpace, ErrorsNameTheSpaceAndTheProblem) {

@@ -264,6 +264,62 @@ TEST(Config, DumpIsAValidSexFileAndHonoursExpertKeys) {
   EXPECT_EQ(back.count("FILTER_THRESH"), 0);
 }
 
+// Expression keys (KeySpec::expression): muparser text, kept as written.
+std::vector<KeySpec> expressionSchema() {
+  KeySpec cut = key("SEARCH_CUT", Kind::String, {}, 0, 1);
+  cut.expression = true;
+  KeySpec axes = key("GRID_AXES", Kind::String, {"ARCNESS"}, 1, 8);
+  axes.expression = true;
+  return {cut, axes, key("CATALOG_NAME", Kind::String, {"test.cat"})};
+}
+
+TEST(Config, ExpressionKeysKeepEveryOperatorAsWrittenInFilesAndOnTheCommandLine) {
+  const auto dir = test::scratchDir();
+  // Each comparison operator of muparser holds an '=', which SExtractor's separators would drop
+  // ("ARCNESS >= 0.1" read as "ARCNESS > 0.1").
+  for (const std::string cut : {"ARCNESS >= 0.1", "ARCNESS <= 0.15", "FLAGS == 0", "FLAGS != 4",
+                                "E_IMAGE += 1", "A > 1; B < 2"}) {
+    const std::string path = test::writeTextFile(dir / "a.sex", "SEARCH_CUT " + cut + "\n");
+    const Config fromFile = Config::load(expressionSchema(), path, {}, nullptr);
+    EXPECT_EQ(fromFile.getStrings("SEARCH_CUT"), (std::vector<std::string>{cut}));
+    const Config fromCommandLine =
+        Config::load(expressionSchema(), "", {{"SEARCH_CUT", cut}}, nullptr);
+    EXPECT_EQ(fromCommandLine.getStrings("SEARCH_CUT"), (std::vector<std::string>{cut}));
+  }
+  // SExtractor's file syntax around the value still holds: '=' or blanks after the key, '"'
+  // quotes, a '#' comment; a tab inside counts as a blank.
+  const std::string path =
+      test::writeTextFile(dir / "b.sex",
+                          "search_cut = \"ARCNESS >= 0.1\t&& E_IMAGE != 0\"   # the cut\n"
+                          "GRID_AXES min(ARCNESS, 0.5), log10(SNR_ISO) ,E_IMAGE\n"
+                          "CATALOG_NAME=x.cat\n");
+  const Config c = Config::load(expressionSchema(), path, {}, nullptr);
+  EXPECT_EQ(c.getString("SEARCH_CUT"), "ARCNESS >= 0.1 && E_IMAGE != 0");
+  // A list splits at commas outside parentheses only.
+  EXPECT_EQ(c.getStrings("GRID_AXES"),
+            (std::vector<std::string>{"min(ARCNESS, 0.5)", "log10(SNR_ISO)", "E_IMAGE"}));
+  EXPECT_EQ(c.getString("CATALOG_NAME"), "x.cat");  // other keys: SExtractor's separators
+  EXPECT_EQ(
+      Config::load(expressionSchema(), "", {{"GRID_AXES", "ARCNESS >= 0,E_IMAGE == 1"}}, nullptr)
+          .getStrings("GRID_AXES"),
+      (std::vector<std::string>{"ARCNESS >= 0", "E_IMAGE == 1"}));
+  // A top-level comma in a one-value key is refused, not joined into another expression.
+  const std::string two = test::writeTextFile(dir / "c.sex", "SEARCH_CUT ARCNESS > 0, E > 1\n");
+  try {
+    Config::load(expressionSchema(), two, {}, nullptr);
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("c.sex:1: SEARCH_CUT"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("expected 0 to 1 value(s), got 2"), std::string::npos)
+        << e.what();
+  }
+  // The dump loads back to the same values.
+  const std::string dumped = test::writeTextFile(dir / "d.sex", c.dump(expressionSchema(), true));
+  const Config back = Config::load(expressionSchema(), dumped, {}, nullptr);
+  EXPECT_EQ(back.getString("SEARCH_CUT"), "ARCNESS >= 0.1 && E_IMAGE != 0");
+  EXPECT_EQ(back.getStrings("GRID_AXES"), c.getStrings("GRID_AXES"));
+}
+
 TEST(CommandLine, ImagesConfigFileOverridesAndDumps) {
   const CommandLine cl =
       parseCommandLine({"image.fits", "-c", "my.sex", "-detect_thresh", "3", "-BACK_VALUE", "-5",
@@ -314,6 +370,34 @@ TEST(CommandLine, Errors) {
   EXPECT_NE(msg.find("two arguments"), std::string::npos) << msg;
   msg = commandLineError({"img.fits", "-c"});
   EXPECT_FALSE(msg.empty());
+}
+
+TEST(CommandLine, UnknownKeysSuggestTheNearestAndTwoDashesAreRefused) {
+  std::string msg = commandLineError({"img.fits", "-DETECT_TRESH", "3"});
+  EXPECT_NE(msg.find("'-DETECT_TRESH': unknown keyword (did you mean -DETECT_THRESH?)"),
+            std::string::npos)
+      << msg;
+  msg = commandLineError({"img.fits", "-filtr", "Y"});  // case-insensitive, one edit
+  EXPECT_NE(msg.find("(did you mean -FILTER?)"), std::string::npos) << msg;
+  msg = commandLineError({"img.fits", "-NO_SUCH_KEY", "3"});  // nothing near: no hint
+  EXPECT_EQ(msg.find("did you mean"), std::string::npos) << msg;
+  EXPECT_EQ(nearestKey(schema(), "FOO"), "");
+  EXPECT_EQ(nearestKey(schema(), "back_valu"), "BACK_VALUE");
+  msg = commandLineError({"img.fits", "--DETECT_THRESH", "3"});
+  EXPECT_NE(msg.find("'--DETECT_THRESH': keys take one dash, as in SExtractor (-DETECT_THRESH)"),
+            std::string::npos)
+      << msg;
+  EXPECT_TRUE(parseCommandLine({"--help"}, schema()).help);  // the flags keep their two dashes
+  // The same hint for a file's unknown key (a warning) and an override's (an error).
+  const auto dir = test::scratchDir();
+  const std::string path = test::writeTextFile(dir / "a.sex", "CATALOG_NAM x.cat\n");
+  std::vector<std::string> warnings;
+  Config::load(schema(), path, {}, &warnings);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("ignored (did you mean CATALOG_NAME?)"), std::string::npos)
+      << warnings[0];
+  msg = loadError("", {{"CHECKIMAGE_NAMES", "a.fits"}});
+  EXPECT_NE(msg.find("unknown keyword (did you mean -CHECKIMAGE_NAME?)"), std::string::npos) << msg;
 }
 
 }  // namespace

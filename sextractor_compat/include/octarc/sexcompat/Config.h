@@ -26,6 +26,11 @@ struct KeySpec {
   std::vector<std::string> defaults;  // default value(s) as text
   std::string comment;                // for the dumps; '\n' starts a continuation line
   bool expertOnly = false;            // listed only by the full dump (-dd)
+  // A muparser expression (or a list of them): its text is kept as written, '=', ';' and blanks
+  // included, and a list splits only at commas outside parentheses ("min(A, B), C" is two
+  // values); '"' quotes are dropped and '#' starts a comment, in .sex files and on the command
+  // line alike. Other keys split at SExtractor's separators (blank, tab, '=', ',', ';', '"').
+  bool expression = false;
 };
 
 // A validated set of configuration values, one entry per key of the schema it was loaded with.
@@ -56,6 +61,9 @@ class Config {
   bool has(std::string_view key) const;   // key is part of the schema
   // True when the value came from the configuration file or the command line.
   bool isExplicit(std::string_view key) const;
+  // True when the key was last given as a list of no value with a comma in it ("COLOUR_CUT ,"),
+  // which counts as not given (as in SExtractor), so that a key may refuse it.
+  bool givenWithoutValue(std::string_view key) const;
   // The keys whose value has been asked for so far (upper case): what a run actually uses, so
   // that a test can check that no key marked "(ignored by octarc)" is read.
   std::set<std::string> keysRead() const { return read_; }
@@ -69,13 +77,18 @@ class Config {
     KeySpec::Kind kind = KeySpec::Kind::String;
     std::vector<std::string> text;  // canonical text: keywords upper case, booleans "Y"/"N"
     bool isExplicit = false;
+    bool givenWithoutValue = false;
   };
   const Value& find(std::string_view key) const;
   static void setValue(Value& v, const KeySpec& spec, const std::vector<std::string>& raw,
-                       const std::string& where);
+                       std::string_view text, const std::string& where);
   std::map<std::string, Value, std::less<>> values_;
   mutable std::set<std::string> read_;
 };
+
+// The key of `schema` nearest to `name` (case-insensitive edit distance), for a "did you mean"
+// hint; "" when none is close (at most 2 edits, and fewer than a third of the name's length).
+std::string nearestKey(const std::vector<KeySpec>& schema, std::string_view name);
 
 // What the command line asked for. `-c`, `-d`, `-dd`, `-dp`, `-h`/`--help`, `-v`/`--version`
 // are options; every other `-KEY` takes the next argument as its value (SExtractor style).
@@ -88,7 +101,8 @@ struct CommandLine {
 };
 
 // Parses argv[1..] (without the program name). Throws ConfigError naming the argument for an
-// unknown `-KEY`, a missing value or the unsupported `-KEY=value` form.
+// unknown `-KEY` (with the nearest key as a hint), a missing value, the unsupported
+// `-KEY=value` form or a key written with two dashes (`--KEY`).
 CommandLine parseCommandLine(const std::vector<std::string>& args,
                              const std::vector<KeySpec>& schema);
 

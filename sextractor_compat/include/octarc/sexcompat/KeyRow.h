@@ -44,6 +44,11 @@ struct KeyRow {
     spec.expertOnly = true;
     return *this;
   }
+  // Marks a key whose value is muparser text, kept as written (KeySpec::expression).
+  KeyRow& expression() {
+    spec.expression = true;
+    return *this;
+  }
   // Marks a key SExtractor has and octarc accepts but does not act on.
   KeyRow& ignored() {
     const auto eol = spec.comment.find('\n');
