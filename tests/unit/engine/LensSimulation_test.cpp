@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -280,6 +281,86 @@ TEST(DrawLensSystem, PairsWithoutASourceRedshiftAreRedrawnReproducibly) {
 std::string readBytes(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// The render probability of importance sampling, by hand: logit p = c0 + c1 ln(theta_E / 1") +
+// c2 (m_s - m_lim) + c3 ln(r_s / FWHM) + c4 (m_l - m_lim), r = clamp(scale sqrt(p), floor, 1);
+// 0 below the skip limit, 1 above it for a plain draw.
+TEST(RenderProbability, IsTheClampedRootOfTheLogisticArcProbability) {
+  SimulationSetup setup = testSetup();
+  setup.population.skipEinsteinRadiusBelowArcsec = 0.5;
+  LensSystemDraw d;
+  d.einsteinRadiusArcsec = 1.3;
+  d.source.mag = 24.5;
+  d.source.halfLightArcsec = 0.35;
+  d.lens.mag = 21.5;
+  EXPECT_EQ(renderProbability(setup, d), 1.0);  // plain
+  setup.sampling = Sampling::Importance;
+  // The 5-sigma limit in a 2" aperture: sigma * 5 * sqrt(pi (1"/scale)^2) is its flux.
+  const double scale = setup.observing.grid.pixelScaleArcsec;
+  const double mLim = setup.observing.magZeroPoint -
+                      2.5 * std::log10(5.0 * setup.observing.skySigmaAdu *
+                                       std::sqrt(3.141592653589793 / (scale * scale)));
+  EXPECT_NEAR(limitingMagnitude(setup.observing), mLim, 1e-12);
+  const double* c = setup.importance.coefficients;
+  const double logit = c[0] + c[1] * std::log(1.3) + c[2] * (24.5 - mLim) +
+                       c[3] * std::log(0.35 / setup.observing.seeingFwhmArcsec) +
+                       c[4] * (21.5 - mLim);
+  const double expected = std::clamp(setup.importance.scale / std::sqrt(1.0 + std::exp(-logit)),
+                                     setup.importance.floor, 1.0);
+  ASSERT_GT(expected, setup.importance.floor);  // the case tests the formula, not a bound
+  ASSERT_LT(expected, 1.0) << "logit " << logit << ", limiting magnitude " << mLim;
+  EXPECT_NEAR(renderProbability(setup, d), expected, 1e-12);
+  d.einsteinRadiusArcsec = 0.55;  // just above the skip limit, an arc near impossible: the floor
+  EXPECT_EQ(renderProbability(setup, d), setup.importance.floor);
+  d.einsteinRadiusArcsec = 0.49;  // below the skip limit: never rendered
+  EXPECT_EQ(renderProbability(setup, d), 0.0);
+  d.einsteinRadiusArcsec = 4.0;  // an arc is near certain: always rendered
+  EXPECT_EQ(renderProbability(setup, d), 1.0);
+}
+
+// A system that importance sampling renders is the plain run's system of that index, pixel for
+// pixel; the weights of the rendered systems add up to the systems above the skip limit (the
+// Horvitz-Thompson estimate, within 4 of its standard errors sqrt(sum (1 - r) / r^2) over the
+// rendered), and the weighted mean theta_E is the mean over every system above the limit.
+TEST(ImportanceSampling, RendersPlainSystemsAndItsWeightsGiveThePopulation) {
+  SimulationSetup plain = testSetup();
+  plain.population.skipEinsteinRadiusBelowArcsec = 0.5;
+  SimulationSetup weighted = plain;
+  weighted.sampling = Sampling::Importance;
+  const SourceDatabase sources = testSources();
+  const std::uint64_t seed = 17;
+  double above = 0, weightSum = 0, variance = 0, thetaSum = 0, weightedThetaSum = 0;
+  std::int64_t rendered = 0, firstRendered = -1;
+  for (std::int64_t i = 0; i < 20000; ++i) {
+    const LensSystemDraw p = drawLensSystem(plain, sources, seed, i);
+    const LensSystemDraw w = drawLensSystem(weighted, sources, seed, i);
+    ASSERT_EQ(p.einsteinRadiusArcsec, w.einsteinRadiusArcsec);
+    if (p.skipped) {
+      ASSERT_FALSE(w.rendered);
+      continue;
+    }
+    above += 1;
+    thetaSum += p.einsteinRadiusArcsec;
+    if (!w.rendered) continue;
+    ++rendered;
+    if (firstRendered < 0 && w.renderProbability < 1.0) firstRendered = i;
+    ASSERT_EQ(p.system.source.betaArcsec, w.system.source.betaArcsec);
+    const double r = w.renderProbability;
+    weightSum += w.weight();
+    weightedThetaSum += w.weight() * w.einsteinRadiusArcsec;
+    variance += (1.0 - r) / (r * r);
+  }
+  EXPECT_LT(rendered, above / 4);  // it does leave most systems out
+  EXPECT_NEAR(weightSum, above, 4.0 * std::sqrt(variance));
+  EXPECT_NEAR(weightedThetaSum / weightSum, thetaSum / above, 0.02);
+  // Pixel for pixel: the first system rendered with a probability below 1.
+  ASSERT_GE(firstRendered, 0);
+  const SimulatedSystem a = simulateSystem(plain, sources, seed, firstRendered, true);
+  const SimulatedSystem b = simulateSystem(weighted, sources, seed, firstRendered, true);
+  EXPECT_EQ(a.image.pixels(), b.image.pixels());
+  EXPECT_EQ(a.objects.rows(), b.objects.rows());
+  EXPECT_EQ(a.arcs.chosenRow, b.arcs.chosenRow);
 }
 
 TEST(SimulateLensesCommand, OutputDoesNotDependOnTheThreadCount) {
