@@ -2,6 +2,8 @@
 # Fuzzes every reader: builds the libFuzzer targets of fuzz/ with clang, AddressSanitizer and
 # UndefinedBehaviorSanitizer in build/fuzz, writes their seed corpus (scripts/make-fuzz-corpus.py:
 # testdata/, params/ and small generated files) and runs each target for SECONDS (default 600).
+# SECONDS=0 explores nothing: each target replays its corpus (seeds and kept inputs), every input
+# once (libFuzzer's -runs=0), which is what scripts/test.sh does.
 # Inputs that grow coverage are kept in build/fuzz/corpus/TARGET and reused by the next run; a
 # crash, sanitizer report, leak (tests/lsan.supp lists the known leaks of cfitsio itself), hang
 # (an input taking over 30 s: the targets run under ASan, at low priority, beside other work) or
@@ -24,8 +26,11 @@ fi
 jobs=${OCTARC_FUZZ_JOBS:-1}
 
 scripts/install-deps.sh
+# A new tree builds only the fuzz targets; one that scripts/test.sh configured keeps its tests.
+tests=()
+[ -f build/fuzz/CMakeCache.txt ] || tests=(-DOCTARC_BUILD_TESTS=OFF)
 CC=clang-14 CXX=clang++-14 cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DOCTARC_FUZZ=ON -DOCTARC_BUILD_TESTS=OFF >/dev/null
+  -DOCTARC_FUZZ=ON "${tests[@]}" >/dev/null
 cmake --build build/fuzz -j "$(nproc)" --target octarc_fuzz
 /usr/bin/python3 scripts/make-fuzz-corpus.py build/fuzz/seeds
 mkdir -p build/fuzz/logs
@@ -45,8 +50,10 @@ run_target() {
   esac
   mkdir -p "build/fuzz/corpus/$t" "build/fuzz/crashes/$t"
   local log="build/fuzz/logs/$t.log"
+  local length=(-max_total_time="$seconds")
+  [ "$seconds" = 0 ] && length=(-runs=0)
   result=ok
-  if ! nice -n 10 "build/fuzz/fuzz/$t" "${options[@]}" -max_total_time="$seconds" -timeout=30 \
+  if ! nice -n 10 "build/fuzz/fuzz/$t" "${options[@]}" "${length[@]}" -timeout=30 \
       -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="build/fuzz/crashes/$t/" \
       "build/fuzz/corpus/$t" "build/fuzz/seeds/$t" >"$log" 2>&1; then
     result="FAILED (see $log and build/fuzz/crashes/$t/)"

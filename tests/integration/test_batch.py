@@ -429,12 +429,12 @@ class LensRuns(WorkDirTest):
 
 
 class ClusterLenses(LensRuns):
-    def test_twenty_thousand_systems_on_one_and_four_ranks(self):
-        self.lenses(1, 20000, "one.fits")
-        self.lenses(4, 20000, "four.fits")
+    def test_two_thousand_systems_on_one_and_four_ranks(self):
+        self.lenses(1, 2000, "one.fits")
+        self.lenses(4, 2000, "four.fits")
         self.assert_same_data("one.fits", "four.fits")
         with fits.open(self.path("one.fits")) as f:
-            self.assertEqual(len(f["LDAC_OBJECTS"].data), 20000)
+            self.assertEqual(len(f["LDAC_OBJECTS"].data), 2000)
             self.assertGreater(len(f["ARCS"].data), 0)
 
 class ClusterLensStamps(LensRuns):

@@ -26,27 +26,37 @@ def in_ci():
     return os.environ.get("CI") == "true"
 
 
+def make_fixture(d):
+    """The data the search cases share, in directory d: a 1024^2 field with injected lenses, its
+    weight map, and a 1-D grid of known contents with the survey setup of a small lens
+    simulation's calibrated grid. ctest makes it once for every case (the fixture of
+    tests/integration/CMakeLists.txt, in OCTARC_FIXTURE_DIR); run alone, a case makes its own."""
+    run_octarc("simulate", "field", "-o", os.path.join(d, "field.fits"), "--size", "1024",
+               "--lenses", "6", "--min-einstein-radius", "1.5", "--seed", "3", "--quiet")
+    run_octarc("simulate", "lenses", "-n", "3000", "--seed", "5", "-o",
+               os.path.join(d, "sim.fits"), "--quiet")
+    calibrated = os.path.join(d, "calibrated.grid.fits")
+    run_octarc("calibrate", os.path.join(d, "sim.fits"), "-CALIBRATION_NAME",
+               os.path.join(d, "cal.fits"), "-GRID_NAME", calibrated, *GRID_ARGS,
+               "-NOISE_STUDY", "N", cwd=d)
+    # A few thousand systems give only some arcs: the test's grid keeps the calibrated
+    # grid's survey setup but holds a known selection, 0.10 <= ARCNESS < 0.30.
+    known_grid(calibrated, os.path.join(d, "grid.fits"))
+
+
 class SearchFixture(WorkDirTest):
-    """A 1024^2 field with injected lenses and a 2-D grid of a small lens simulation, made once."""
+    """A 1024^2 field with injected lenses and a 2-D grid of a small lens simulation, made once
+    (make_fixture)."""
 
     @classmethod
     def setUpClass(cls):
         cls.data = tempfile.mkdtemp(prefix="octarc-search-")
-        d = cls.data
-        cls.image = os.path.join(d, "field.fits")
-        cls.weight = os.path.join(d, "field.weight.fits")
-        run_octarc("simulate", "field", "-o", cls.image, "--size", "1024", "--lenses", "6",
-                   "--min-einstein-radius", "1.5", "--seed", "3", "--quiet")
-        run_octarc("simulate", "lenses", "-n", "3000", "--seed", "5", "-o",
-                   os.path.join(d, "sim.fits"), "--quiet")
-        calibrated = os.path.join(d, "calibrated.grid.fits")
-        run_octarc("calibrate", os.path.join(d, "sim.fits"), "-CALIBRATION_NAME",
-                   os.path.join(d, "cal.fits"), "-GRID_NAME", calibrated, *GRID_ARGS,
-                   "-NOISE_STUDY", "N", cwd=d)
-        # A few thousand systems give only some arcs: the test's grid keeps the calibrated
-        # grid's survey setup but holds a known selection, 0.10 <= ARCNESS < 0.30.
-        cls.grid = os.path.join(d, "grid.fits")
-        known_grid(calibrated, cls.grid)
+        shared = os.environ.get("OCTARC_FIXTURE_DIR")
+        if not shared:
+            make_fixture(cls.data)
+        cls.image = os.path.join(shared or cls.data, "field.fits")
+        cls.weight = os.path.join(shared or cls.data, "field.weight.fits")
+        cls.grid = os.path.join(shared or cls.data, "grid.fits")
 
     @classmethod
     def tearDownClass(cls):

@@ -1,0 +1,1 @@
+// The object library that compiles the tests' precompiled header (tests/CMakeLists.txt).
