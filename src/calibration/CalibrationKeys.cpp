@@ -49,7 +49,8 @@ std::vector<KeySpec> calibrationKeys() {
   verbose.keywords = {"QUIET", "NORMAL"};
   return {
       Row("CALIBRATION_NAME", Kind::String, {"calibration.fits"}, "the calibration tables (FITS)"),
-      Row("GRID_NAME", Kind::String, {"arcs.grid.fits"}, "the occupation-probability grid (FITS)"),
+      Row("GRID_NAME", Kind::String, {"arcs.grid.fits"},
+          "the occupation-probability grid (FITS); NONE: no grid"),
       Row("SEARCH_NAME", Kind::String, {}, "name of the search space of the grid").list(0, 1),
       Row("SEARCH_CUT", Kind::String, {},
           "its cut on the simulated arcs' columns (no commas),\ne.g. ARCNESS > 0.15 && E_IMAGE "
@@ -139,6 +140,11 @@ CalibrationRun calibrationRunFromConfig(const sexcompat::Config& c,
   CalibrationSettings& s = run.settings;
   run.calibrationPath = c.getString("CALIBRATION_NAME");
   run.gridPath = c.getString("GRID_NAME");
+  // NONE: the studies alone (no grid is made, and no file written).
+  if (run.gridPath == "NONE") {
+    run.gridPath.clear();
+    s.makeGrid = false;
+  }
   if (c.count("SEARCH_CUT") > 0) {
     // The configuration splits values at blanks and commas: the words make the expression.
     for (const std::string& word : c.getStrings("SEARCH_CUT")) {
