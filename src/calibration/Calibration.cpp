@@ -178,7 +178,8 @@ std::string joined(const std::vector<std::string>& items, const char* separator 
   return out;
 }
 
-// The binning search on a subset of the axes (indices into `axes` and `samples`).
+// The binning search on a subset of the axes (indices into `axes` and `samples`); no binning
+// tried when no arc falls in a bin of these axes.
 BinningSearchResult searchOn(const std::vector<GridAxis>& axes, const AxisSamples& samples,
                              const std::vector<double>& weights, const std::vector<std::size_t>& on,
                              const BinningSearchOptions& options) {
@@ -188,7 +189,14 @@ BinningSearchResult searchOn(const std::vector<GridAxis>& axes, const AxisSample
     a.push_back(axes[k]);
     v.push_back(samples[k]);
   }
-  return findFinestConnectedBinning(a, v, options, weights);
+  try {
+    return findFinestConnectedBinning(a, v, options, weights);
+  } catch (const ConfigError&) {
+    // No arc in any bin (each has an axis NaN or outside): nothing connects on these axes.
+    BinningSearchResult none;
+    none.options = options;
+    return none;
+  }
 }
 
 // How near a search came to connecting: its finest connected binning, then the fewest isolated
@@ -316,12 +324,17 @@ void makeGrid(const SimulationOutput& sim, const CalibrationSettings& s, Calibra
       std::move(grid), contour,
       GridProvenance{s.searchSpaceName, s.searchSpaceExpression, sim.setup, g.droppedAxes}});
   if (!g.droppedAxes.empty()) {
+    std::vector<std::string> dropped = g.droppedAxes;
+    for (std::size_t k = 0; k < noRange.size(); ++k) dropped[k] += " (no range)";
     g.warning = "the occupation grid is made on " + std::to_string(g.usedAxes.size()) + " of " +
                 std::to_string(g.axes.size()) + " axes (" + joined(g.usedAxes) + "): " + arcs +
-                " do not keep the contour at P = " + formatNumber(options.level) +
-                " connected at any binning from " + std::to_string(options.minBins) + " to " +
-                std::to_string(options.maxBins) + " bins per axis on " + joined(g.axes) +
-                "; dropped " + joined(g.droppedAxes) + " (in that order); " + remedies;
+                (g.searches.size() > 1
+                     ? " do not keep the contour at P = " + formatNumber(options.level) +
+                           " connected at any binning from " + std::to_string(options.minBins) +
+                           " to " + std::to_string(options.maxBins) + " bins per axis on " +
+                           joined(g.searches.front().axes)
+                     : " give no range on every axis") +
+                "; dropped " + joined(dropped) + " (in that order); " + remedies;
   }
 }
 

@@ -285,6 +285,21 @@ TEST(Calibrate, AGridThatCannotConnectOnSixAxesIsMadeOnFewer) {
   }
 }
 
+// An axis whose values are all equal has no range: it is dropped first, and said so.
+TEST(Calibrate, AnAxisWithoutARangeIsDroppedFirst) {
+  std::vector<std::array<double, 8>> rows = randomArcs(40, 11);
+  for (auto& r : rows) r[4] = 0.0;  // SKEW_MINOR
+  CalibrationSettings s;
+  s.gridAxes = {"SKEW_MINOR", "ARCNESS"};
+  s.gridLevel = 0.9;
+  const CalibrationResult r = calibrate(handfulSimulation(rows, 5000), nullptr, s);
+  ASSERT_TRUE(r.grid.grid.has_value()) << r.grid.warning;
+  EXPECT_EQ(r.grid.usedAxes, (std::vector<std::string>{"ARCNESS"}));
+  EXPECT_EQ(r.grid.droppedAxes, (std::vector<std::string>{"SKEW_MINOR"}));
+  EXPECT_NE(r.grid.warning.find("dropped SKEW_MINOR (no range)"), std::string::npos)
+      << r.grid.warning;
+}
+
 // No arc at all: no error; every study is made, no grid, a warning that counts the arcs.
 TEST(Calibrate, NoArcMakesEveryStudyAndNoGrid) {
   std::vector<std::array<double, 8>> rows = randomArcs(5, 3);
