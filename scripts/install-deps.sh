@@ -17,6 +17,8 @@ packages=(
   wcslib-dev
   libeigen3-dev
   libboost-program-options-dev
+  # Boost.Math (header-only): the exact binomial intervals of the calibration
+  libboost-dev
   libmuparser-dev
   # Check-plots (as SCAMP and PSFEx make them): PLplot with its cairo (PNG, PDF, SVG) driver
   libplplot-dev

@@ -32,8 +32,8 @@ void printUsage() {
          "are taken together) and writes\n"
          "  CALIBRATION_NAME  the lensing-fraction table (arcness 0.05-0.10, 0.10-0.15, > 0.15,\n"
          "                    each also with E_IMAGE > ELLIP_MIN and SNR_ISO > SNR_MIN, of the\n"
-         "                    systems with an arc, binomial errors), the distributions of "
-         "arcness,\n"
+         "                    systems with an arc, weighted by SIM_WEIGHT, with Clopper-Pearson\n"
+         "                    68% intervals), the weighted distributions of arcness,\n"
          "                    anti-arcness, skewness, e and S/N (with SURVEY_CATALOG: also of the\n"
          "                    survey's objects), the noise-only threshold (NOISE_STUDY), the\n"
          "                    threshold-count curve (THRESHOLD_STUDY), the S/N floor (SNR_STUDY),\n"
@@ -43,7 +43,9 @@ void printUsage() {
          "                    ARC_COLOUR_B - LENS_COLOUR_B, and the binning search of the grid;\n"
          "  GRID_NAME         the occupation-probability grid of the simulated arcs (in the\n"
          "                    search space SEARCH_CUT), at the finest binning whose contour at\n"
-         "                    GRID_LEVEL stays connected;\n"
+         "                    GRID_LEVEL stays connected (on fewer axes, with a WARNING, when\n"
+         "                    none does on them all; none at all with too few arcs; NONE: no\n"
+         "                    grid);\n"
          "  CHECKPLOT_NAME    one check-plot per CHECKPLOT_TYPE on CHECKPLOT_DEV.\n"
          "\n"
          "Options:\n"
@@ -55,8 +57,8 @@ void printUsage() {
 
 // The colour cut study: the MAX for each completeness level, then the table every 0.25 mag.
 void printColourCut(const ColourCutStudy& c) {
-  std::printf("Colour cut COLOUR_CUT %s,MAX on %lld arcs (%s; %lld with both colours):\n",
-              c.band.c_str(), static_cast<long long>(c.arcs), c.arcSelection.c_str(),
+  std::printf("Colour cut COLOUR_CUT %s,MAX on %s (%s; %lld with both colours):\n", c.band.c_str(),
+              countWithEffective(c.arcs.count, c.arcs.effective()).c_str(), c.arcSelection.c_str(),
               static_cast<long long>(c.withColours));
   for (const ColourCutLevel& l : c.levels) {
     std::printf("  %3.0f%% of the arcs kept from MAX = %s\n", 100.0 * l.completeness,
@@ -66,17 +68,18 @@ void printColourCut(const ColourCutStudy& c) {
   for (const ColourCutRow& row : c.rows) {
     const double quarters = row.maxMag / 0.25;
     if (std::abs(quarters - std::round(quarters)) > 1e-6) continue;
-    std::printf("  %9.2f  %.4f +- %.4f\n", row.maxMag, row.fraction, row.fractionSigma);
+    std::printf("  %9.2f  %.4f %s\n", row.maxMag, row.fraction.fraction,
+                intervalText(row.fraction).c_str());
   }
 }
 
 void printSummary(const CalibrationRun& run, const CalibrationResult& r) {
-  std::printf("%lld simulated systems, %lld with an arc >= 1\" from the lens\n",
+  std::printf("%lld simulated systems, %s with an arc >= 1\" from the lens\n",
               static_cast<long long>(r.simulatedSystems),
-              static_cast<long long>(r.fractions.arcSystems));
+              countWithEffective(r.arcSystems.count, r.arcSystems.effective(), "systems").c_str());
   std::printf(
-      "Lensing fraction (of the systems with an arc):\n  ARCNESS      all       "
-      "            e > %g, S/N > %g\n",
+      "Lensing fraction (of the systems with an arc, 68%% intervals):\n  ARCNESS      all         "
+      "                e > %g, S/N > %g\n",
       run.settings.fractionCuts.ellipticityMin, run.settings.fractionCuts.snrMin);
   for (std::size_t i = 0; i + 1 < r.fractions.rows.size(); i += 2) {
     const FractionRow& a = r.fractions.rows[i];
@@ -84,8 +87,9 @@ void printSummary(const CalibrationRun& run, const CalibrationResult& r) {
     const std::string range = std::isfinite(a.arcnessHi) ? formatNumber(a.arcnessLo, "%.2f") + "-" +
                                                                formatNumber(a.arcnessHi, "%.2f")
                                                          : "> " + formatNumber(a.arcnessLo, "%.2f");
-    std::printf("  %-10s  %.4f +- %.4f      %.4f +- %.4f\n", range.c_str(), a.fraction,
-                a.fractionSigma, d.fraction, d.fractionSigma);
+    std::printf("  %-10s  %.4f %s      %.4f %s\n", range.c_str(), a.fraction.fraction,
+                intervalText(a.fraction).c_str(), d.fraction.fraction,
+                intervalText(d.fraction).c_str());
   }
   for (const Distribution& d : r.distributions) {
     if (!d.gaussian) continue;
@@ -104,10 +108,16 @@ void printSummary(const CalibrationRun& run, const CalibrationResult& r) {
         run.settings.noise->minAreaPix);
   }
   if (r.thresholdCount) {
-    std::printf("Arcs with ARCNESS > 0.10 against the number of thresholds (%lld systems each):\n",
+    std::printf("Arcs with ARCNESS > 0.10 against the number of thresholds (%lld systems each",
                 static_cast<long long>(run.settings.thresholdCount->systems));
+    if (!r.thresholdCount->rows.empty()) {
+      std::printf(", %lld rendered", static_cast<long long>(r.thresholdCount->rows[0].rendered));
+    }
+    std::printf("):\n");
     for (const ThresholdCountRow& row : r.thresholdCount->rows) {
-      std::printf("  %3d levels  %.4f +- %.4f\n", row.levels, row.fraction, row.fractionSigma);
+      std::printf("  %3d levels  %.4f %s  (%s)\n", row.levels, row.fraction.fraction,
+                  intervalText(row.fraction).c_str(),
+                  countWithEffective(row.withArcness.count, row.withArcness.effective()).c_str());
     }
     std::printf("  flat (within 1 sigma of the most levels) from %d levels\n",
                 r.thresholdCount->flattensAtLevels);
@@ -118,12 +128,20 @@ void printSummary(const CalibrationRun& run, const CalibrationResult& r) {
     std::cout.flush();
   }
   if (r.colourCut) printColourCut(*r.colourCut);
-  std::printf(
-      "Occupation grid: %lld arcs, %d bins per axis (finest connected at P = %g), "
-      "%lld of %lld occupied bins selected\n",
-      static_cast<long long>(r.gridSamples), r.binning.finestConnected, r.binning.options.level,
-      static_cast<long long>(r.grid->contour.selectedBins),
-      static_cast<long long>(r.grid->grid.occupiedBins()));
+  const GridOutcome& g = r.grid;
+  const std::string arcs = countWithEffective(g.samples.count, g.samples.effective());
+  if (g.skipped) {
+    std::printf("Occupation grid: none (GRID_NAME NONE)\n");
+  } else if (g.grid) {
+    std::printf(
+        "Occupation grid: %s, %zu axes, %d bins per axis (finest connected at P = %g), %lld of "
+        "%lld occupied bins selected\n",
+        arcs.c_str(), g.usedAxes.size(), g.searches.back().result.finestConnected, g.options.level,
+        static_cast<long long>(g.grid->contour.selectedBins),
+        static_cast<long long>(g.grid->grid.occupiedBins()));
+  } else {
+    std::printf("Occupation grid: none (%s)\n", arcs.c_str());
+  }
 }
 
 }  // namespace
@@ -155,15 +173,16 @@ int runCalibrate(const std::vector<std::string>& args) {
   }
 
   // The outputs, checked before anything is computed; they appear together at the end.
-  OutputFiles files;
-  files.add(run.calibrationPath);
-  files.add(run.gridPath);
-  for (const CheckPlotRequest& p : run.plots) files.add(p.path);
+  std::vector<std::string> paths = {run.calibrationPath};
+  if (!run.gridPath.empty()) paths.push_back(run.gridPath);
+  for (const CheckPlotRequest& p : run.plots) paths.push_back(p.path);
   std::vector<std::string> inputs = loaded->positional;
   if (!run.surveyCatalogPath.empty()) inputs.push_back(run.surveyCatalogPath);
-  for (std::size_t i = 0; i < files.size(); ++i) {
-    for (const std::string& in : inputs) {
-      refuseOutputOverInput(files[i].finalPath(), "output", in, "input");
+  {
+    OutputFiles check;
+    for (const std::string& path : paths) {
+      check.add(path);
+      for (const std::string& in : inputs) refuseOutputOverInput(path, "output", in, "input");
     }
   }
 
@@ -171,20 +190,45 @@ int runCalibrate(const std::vector<std::string>& args) {
   if (!run.surveyCatalogPath.empty()) {
     survey = tableFromFits(readFitsTable(run.surveyCatalogPath, "LDAC_OBJECTS"));
   }
-  if (!run.quiet) std::cerr << "> Calibrating " << simulation.systems.rows() << " systems\n";
+  if (!run.quiet) {
+    std::cerr << "> Calibrating " << simulation.setup.systems << " systems ("
+              << simulation.systems.rows() << " rendered)\n";
+  }
   const CalibrationResult result = calibrate(simulation, survey ? &*survey : nullptr, run.settings);
 
+  // The grid only when one was made: without, the warning below says why.
+  OutputFiles files;
+  files.add(run.calibrationPath);
+  std::optional<std::size_t> gridFile;
+  if (!run.gridPath.empty() && result.grid.grid) {
+    gridFile = files.size();
+    files.add(run.gridPath);
+  }
+  const std::size_t firstPlot = files.size();
+  for (const CheckPlotRequest& p : run.plots) files.add(p.path);
   files.write(0,
               [&](const std::string& path) { writeFitsTables(path, calibrationTables(result)); });
-  files.write(1, [&](const std::string& path) { saveGrid(path, *result.grid); });
+  if (gridFile) {
+    files.write(*gridFile, [&](const std::string& path) { saveGrid(path, *result.grid.grid); });
+  }
   for (std::size_t i = 0; i < run.plots.size(); ++i) {
     Plot plot = calibrationPlot(result, run.plots[i].type);
     plot.widthPix = run.plotWidthPix;
     plot.heightPix = run.plotHeightPix;
-    files.write(2 + i, [&](const std::string& path) { writePlot(path, run.plotDevice, plot); });
+    files.write(firstPlot + i,
+                [&](const std::string& path) { writePlot(path, run.plotDevice, plot); });
   }
   files.commit();
   if (!run.quiet) printSummary(run, result);
+  // Always shown (QUIET too): a calibration without its grid, or with fewer axes, is not the
+  // one asked for.
+  if (!result.grid.warning.empty()) {
+    std::fflush(stdout);
+    std::cerr << "WARNING: " << result.grid.warning
+              << (run.gridPath.empty() || result.grid.grid ? ""
+                                                           : " (" + run.gridPath + " not written)")
+              << "\n";
+  }
   return 0;
 }
 

@@ -49,7 +49,8 @@ std::vector<KeySpec> calibrationKeys() {
   verbose.keywords = {"QUIET", "NORMAL"};
   return {
       Row("CALIBRATION_NAME", Kind::String, {"calibration.fits"}, "the calibration tables (FITS)"),
-      Row("GRID_NAME", Kind::String, {"arcs.grid.fits"}, "the occupation-probability grid (FITS)"),
+      Row("GRID_NAME", Kind::String, {"arcs.grid.fits"},
+          "the occupation-probability grid (FITS); NONE: no grid"),
       Row("SEARCH_NAME", Kind::String, {}, "name of the search space of the grid").list(0, 1),
       Row("SEARCH_CUT", Kind::String, {},
           "its cut on the simulated arcs' columns, e.g.\nARCNESS > 0.15 && E_IMAGE > 0.6; "
@@ -141,6 +142,11 @@ CalibrationRun calibrationRunFromConfig(const sexcompat::Config& c,
   CalibrationSettings& s = run.settings;
   run.calibrationPath = c.getString("CALIBRATION_NAME");
   run.gridPath = c.getString("GRID_NAME");
+  // NONE: the studies alone (no grid is made, and no file written).
+  if (run.gridPath == "NONE") {
+    run.gridPath.clear();
+    s.makeGrid = false;
+  }
   if (c.count("SEARCH_CUT") > 0) {
     s.searchSpaceExpression = c.getString("SEARCH_CUT");  // as written (an expression key)
     s.searchSpaceName = c.count("SEARCH_NAME") > 0 ? c.getString("SEARCH_NAME") : "search";

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
-#include "octarc/calibration/LensingFraction.h"
 #include "octarc/core/Error.h"
 #include "octarc/selection/ColumnExpression.h"
 
@@ -39,45 +39,64 @@ ColourCutStudy colourCutStudy(const Table& systems, const std::string& band,
   const int arcColour = systems.requireColumn(arcColourColumn(band), context);
   const int lensColour = systems.requireColumn(lensColourColumn(band), context);
   const std::vector<double> pass = ColumnExpression(arcSelection, context).evaluate(systems);
+  const std::vector<double> weights = systemWeights(systems);
   ColourCutStudy out;
   out.band = band;
   out.arcSelection = arcSelection;
+  std::vector<std::pair<double, double>> withColours;  // (difference, weight)
+  WeightedCount withoutColours;
   for (std::int64_t r = 0; r < systems.rows(); ++r) {
     const double p = pass[std::size_t(r)];
     if (!std::isfinite(p) || p == 0.0) continue;
-    ++out.arcs;
+    const double w = weights[std::size_t(r)];
+    out.arcs.add(w);
     const double difference = systems.value(r, arcColour) - systems.value(r, lensColour);
-    if (std::isfinite(difference)) out.differences.push_back(difference);
+    if (std::isfinite(difference)) {
+      withColours.emplace_back(difference, w);
+    } else {
+      withoutColours.add(w);
+    }
   }
-  std::sort(out.differences.begin(), out.differences.end());
-  out.withColours = std::int64_t(out.differences.size());
+  std::sort(withColours.begin(), withColours.end());
+  out.withColours = std::int64_t(withColours.size());
+  // Cumulative weights of the sorted differences: keptBelow[i] = weight of the first i.
+  std::vector<double> keptBelow = {0.0};
+  for (const auto& [difference, w] : withColours) {
+    out.differences.push_back(difference);
+    out.differenceWeights.push_back(w);
+    keptBelow.push_back(keptBelow.back() + w);
+  }
+  const double total = out.arcs.weightSum, effective = out.arcs.effective();
   // The arcs without both colours are kept at every MAX.
-  const std::int64_t alwaysKept = out.arcs - out.withColours;
   const auto steps = std::int64_t(std::floor((s.maxHiMag - s.maxLoMag) / s.stepMag + 1e-9));
   for (std::int64_t k = 0; k <= steps; ++k) {
     ColourCutRow row;
     row.maxMag = s.maxLoMag + double(k) * s.stepMag;
     // Removed when the difference exceeds MAX: kept when difference <= MAX.
     const auto notAbove =
-        std::upper_bound(out.differences.begin(), out.differences.end(), row.maxMag);
-    row.kept = alwaysKept + std::int64_t(notAbove - out.differences.begin());
-    row.fraction = out.arcs > 0 ? double(row.kept) / double(out.arcs) : 0.0;
-    row.fractionSigma = binomialSigma(row.kept, out.arcs);
+        std::size_t(std::upper_bound(out.differences.begin(), out.differences.end(), row.maxMag) -
+                    out.differences.begin());
+    row.kept = withoutColours.count + std::int64_t(notAbove);
+    row.keptWeight = withoutColours.weightSum + keptBelow[notAbove];
+    row.fraction = weightedFractionInterval(total > 0 ? row.keptWeight / total : 0.0, effective);
     out.rows.push_back(row);
   }
   for (const double level : s.completenessLevels) {
     ColourCutLevel l;
     l.completeness = level;
-    // The fewest arcs to keep, ceil(level * N) (with a tolerance for level * N rounding up a
-    // whole number), of which the arcs without colours are kept whatever MAX.
-    const auto needed = std::int64_t(std::ceil(level * double(out.arcs) - 1e-9));
-    const std::int64_t fromDifferences = needed - alwaysKept;
-    if (out.arcs == 0) {
+    // The least weight to keep, level x the total (with a relative tolerance for a product that
+    // rounds above a sum it equals), of which the arcs without colours are kept whatever MAX.
+    const double needed = level * total * (1.0 - 1e-12) - withoutColours.weightSum;
+    if (out.arcs.count == 0) {
       l.maxMag = std::nan("");
-    } else if (fromDifferences <= 0) {
+    } else if (needed <= 0.0) {
       l.maxMag = -std::numeric_limits<double>::infinity();
     } else {
-      l.maxMag = out.differences[std::size_t(fromDifferences - 1)];
+      // The first difference whose cumulative weight reaches `needed`.
+      const auto reach = std::lower_bound(keptBelow.begin() + 1, keptBelow.end(), needed);
+      l.maxMag = reach == keptBelow.end()
+                     ? out.differences.back()
+                     : out.differences[std::size_t(reach - keptBelow.begin()) - 1];
     }
     out.levels.push_back(l);
   }

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <utility>
 
+#include "octarc/calibration/Weights.h"
 #include "octarc/catalog/InputCatalog.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
@@ -49,7 +51,9 @@ SimulationOutput readSimulationOutput(const std::string& path) {
   out.path = path;
   out.systems = tableFromFits(systems);
   out.arcs = tableFromFits(readFitsTable(path, "ARCS"));
-  if (out.systems.rows() == 0) throw IoError(path + ": the simulation holds no system");
+  // The rows are the rendered systems (OCTNREND; all of them in older outputs): importance
+  // sampling may render none of a few systems drawn, which is no error.
+  if (!(card(h, "OCTNSYS") > 0)) throw IoError(path + ": the simulation holds no system");
   SurveySetup& s = out.setup;
   s.pixelScaleArcsec = card(h, "OCTPIXSC");
   s.seeingFwhmArcsec = card(h, "OCTSEEIN");
@@ -82,7 +86,8 @@ namespace {
 constexpr const char* kRemakeCards[] = {
     "OCTPRSET", "OCTLMMIN", "OCTLMMAX", "OCTSMMIN", "OCTSMMAX", "OCTSVMIN", "OCTSVMAX", "OCTLEMAX",
     "OCTLRHLO", "OCTLRHHI", "OCTSTAMP", "OCTFINE",  "OCTSUBS",  "OCTSRCEX", "OCTSRCDB", "OCTPOPUL",
-    "OCTFILTR", "OCTBAND",  "OCTSCOLM", "OCTSCOLS", "OCTLCOLM", "OCTLCOLS"};
+    "OCTFILTR", "OCTBAND",  "OCTSCOLM", "OCTSCOLS", "OCTLCOLM", "OCTLCOLS", "OCTSAMPL", "OCTSSTEP",
+    "OCTSKIPT", "OCTISSCL", "OCTISFLR", "OCTISC0",  "OCTISC1",  "OCTISC2",  "OCTISC3",  "OCTISC4"};
 
 // A card of the run; ConfigError for an output made before the cards were recorded.
 std::string remakeCard(const SimulationOutput& sim, const char* key) {
@@ -142,6 +147,33 @@ LensSetupOptions resimulationOptions(const SimulationOutput& sim) {
   o.stampSizePix = int(remakeNumber(sim, "OCTSTAMP"));
   o.fineScaleArcsec = remakeNumber(sim, "OCTFINE");
   o.subSamples = int(remakeNumber(sim, "OCTSUBS"));
+  // Sampled as the run sampled: older outputs rendered every system above the skip limit, with
+  // every ray (no adaptive step).
+  const std::string sampling = sim.header.value("OCTSAMPL").value_or("PLAIN");
+  if (sampling == "IMPORTANCE") {
+    o.sampling = Sampling::Importance;
+    // The render probabilities are this octarc's (LensSetupOptions does not carry others).
+    const ImportanceSampling is;
+    const std::pair<const char*, double> parameters[] = {
+        {"OCTISSCL", is.scale},          {"OCTISFLR", is.floor},
+        {"OCTISC0", is.coefficients[0]}, {"OCTISC1", is.coefficients[1]},
+        {"OCTISC2", is.coefficients[2]}, {"OCTISC3", is.coefficients[3]},
+        {"OCTISC4", is.coefficients[4]}};
+    for (const auto& [key, value] : parameters) {
+      const double recorded = remakeNumber(sim, key);
+      if (std::abs(recorded - value) > 1e-9 * std::max(1.0, std::abs(value))) {
+        throw ConfigError(sim.path + ": its render probabilities (" + key + " = " +
+                          formatNumber(recorded, "%.6g") + ") are not this octarc's (" +
+                          formatNumber(value, "%.6g") +
+                          "): the studies that simulate again cannot remake its sampling");
+      }
+    }
+  } else if (sampling == "PLAIN") {
+    o.sampling = Sampling::Plain;
+  } else {
+    throw ConfigError(sim.path + ": its OCTSAMPL card is '" + sampling + "' (IMPORTANCE or PLAIN)");
+  }
+  o.maxSourceStepPixels = sim.header.number("OCTSSTEP").value_or(0.0);
   if (!sim.band.empty()) {
     o.bandName = sim.band;
     o.sourceColour = ColourDraw{remakeNumber(sim, "OCTSCOLM"), remakeNumber(sim, "OCTSCOLS")};
@@ -178,6 +210,11 @@ SourceChoice resimulationSources(const SimulationOutput& sim) {
 
 void requireRemadeDraw(const SimulationOutput& sim, std::int64_t row, const LensSystemDraw& d) {
   const Table& t = sim.systems;
+  if (!d.rendered) {
+    throw ConfigError(sim.path + ": system " + std::to_string(d.index) +
+                      " is not rendered when remade: it was simulated with a sampling its "
+                      "header does not record");
+  }
   // The columns are stored in single precision.
   auto same = [&](double remade, const char* column) {
     const double recorded = t.value(row, t.requireColumn(column, sim.path));
@@ -186,10 +223,11 @@ void requireRemadeDraw(const SimulationOutput& sim, std::int64_t row, const Lens
   if (!same(d.einsteinRadiusArcsec, "EINSTEIN_RADIUS") ||
       !same(d.system.light.halfLightRadiusArcsec, "LENS_RHALF") ||
       !same(d.system.source.betaArcsec[0], "SOURCE_X") ||
-      !same(d.system.source.betaArcsec[1], "SOURCE_Y")) {
+      !same(d.system.source.betaArcsec[1], "SOURCE_Y") ||
+      (t.findColumn(kWeightColumn) >= 0 && !same(d.weight(), kWeightColumn))) {
     throw ConfigError(sim.path + ": system " + std::to_string(d.index) +
-                      " cannot be remade (its Einstein radius, lens size or source position "
-                      "differ): it was simulated with options its header does not record");
+                      " cannot be remade (its Einstein radius, lens size, source position or "
+                      "weight differ): it was simulated with options its header does not record");
   }
 }
 

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <ostream>
 
+#include "octarc/calibration/Weights.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
 #include "octarc/core/Parallel.h"
@@ -20,6 +21,7 @@ namespace {
 // One arc taken: its system, the isophote (ADU) and centroid (0-based pixels) of its chosen row.
 struct ArcTarget {
   std::int64_t system = 0;
+  double weight = 1.0;  // SIM_WEIGHT
   double isophoteAdu = 0;
   double xPix = 0, yPix = 0;
   ImageF noiseFree;  // single precision, as simulate lenses hands its stamps to the detector
@@ -92,16 +94,17 @@ void checkSnrFloorSettings(const SnrFloorSettings& s) {
 }
 
 std::vector<SnrFloorBin> snrFloorBins(const std::vector<double>& snr,
-                                      const std::vector<double>& scaled,
-                                      const SnrFloorSettings& s) {
+                                      const std::vector<double>& scaled, const SnrFloorSettings& s,
+                                      const std::vector<double>& weights) {
   const std::vector<double> edges = logSpacedLevels(s.snrLo, s.snrHi, s.snrBinCount + 1);
-  std::vector<std::vector<double>> values(std::size_t(s.snrBinCount));
+  std::vector<std::vector<double>> values(std::size_t(s.snrBinCount)), binWeights(values.size());
   for (std::size_t i = 0; i < snr.size() && i < scaled.size(); ++i) {
     if (!std::isfinite(snr[i]) || !std::isfinite(scaled[i])) continue;
     if (snr[i] < edges.front() || snr[i] >= edges.back()) continue;
     const auto k =
         std::size_t(std::upper_bound(edges.begin(), edges.end(), snr[i]) - edges.begin() - 1);
     values[k].push_back(scaled[i]);
+    binWeights[k].push_back(weights.empty() ? 1.0 : weights[i]);
   }
   std::vector<SnrFloorBin> bins;
   for (std::size_t k = 0; k < values.size(); ++k) {
@@ -109,7 +112,8 @@ std::vector<SnrFloorBin> snrFloorBins(const std::vector<double>& snr,
     b.snrLo = edges[k];
     b.snrHi = edges[k + 1];
     b.measurements = std::int64_t(values[k].size());
-    const std::vector<double> q = sampleQuantiles(std::move(values[k]), {0.2, 0.5, 0.8});
+    const std::vector<double> q =
+        weightedSampleQuantiles(values[k], binWeights[k], {0.2, 0.5, 0.8});
     b.q20 = q[0];
     b.median = q[1];
     b.q80 = q[2];
@@ -145,6 +149,7 @@ SnrFloorResult snrFloorStudy(const SimulationOutput& sim, const LensSetupOptions
   const int cLevel = systems.requireColumn("THRESH_LEVEL", sim.path);
   const int cX = systems.requireColumn("X_IMAGE", sim.path);
   const int cY = systems.requireColumn("Y_IMAGE", sim.path);
+  const std::vector<double> rowWeights = systemWeights(systems);
   std::vector<std::pair<std::int64_t, std::int64_t>> taken;  // (SYSTEM, row)
   for (std::int64_t r = 0; r < systems.rows(); ++r) {
     const double a = systems.value(r, cArcness);
@@ -170,6 +175,7 @@ SnrFloorResult snrFloorStudy(const SimulationOutput& sim, const LensSetupOptions
     ArcTarget& arc = arcs[std::size_t(i)];
     const std::int64_t row = taken[std::size_t(i)].second;
     arc.system = taken[std::size_t(i)].first;
+    arc.weight = rowWeights[std::size_t(row)];
     const int level = int(systems.value(row, cLevel));
     if (level < 1 || std::size_t(level) > base.thresholdsAdu.size()) {
       throw ConfigError(sim.path + ": system " + std::to_string(arc.system) +
@@ -212,7 +218,8 @@ SnrFloorResult snrFloorStudy(const SimulationOutput& sim, const LensSetupOptions
   // 3. Scaled to the reference arcness at each arc's highest S/N (the lowest noise factor).
   out.foundPerFactor.assign(factors, 0);
   out.realisationsPerFactor = std::int64_t(arcs.size() * runs);
-  std::vector<double> snr, scaled;
+  std::vector<double> snr, scaled, weight;
+  WeightedCount takenArcs;
   for (std::size_t a = 0; a < arcs.size(); ++a) {
     std::vector<double> lowest;
     for (std::size_t r = 0; r < runs; ++r)
@@ -220,6 +227,8 @@ SnrFloorResult snrFloorStudy(const SimulationOutput& sim, const LensSetupOptions
     const double a0 = sampleMedian(lowest);
     out.systems.push_back(arcs[a].system);
     out.referenceArcness.push_back(a0);
+    out.weights.push_back(arcs[a].weight);
+    takenArcs.add(arcs[a].weight);
     for (std::size_t f = 0; f < factors; ++f) {
       for (std::size_t r = 0; r < runs; ++r) {
         const Measured& m = measured[(a * factors + f) * runs + r];
@@ -229,20 +238,23 @@ SnrFloorResult snrFloorStudy(const SimulationOutput& sim, const LensSetupOptions
         ++out.measurements;
         snr.push_back(m.snr);
         scaled.push_back(m.arcness * s.referenceArcness / a0);
+        weight.push_back(arcs[a].weight);
       }
     }
   }
-  out.bins = snrFloorBins(snr, scaled, s);
+  out.effectiveArcs = takenArcs.effective();
+  out.bins = snrFloorBins(snr, scaled, s, weight);
   out.floorSnr = snrFloor(out.bins, s.minPerBin);
   return out;
 }
 
 void printSnrFloor(std::ostream& out, const SnrFloorResult& r, const SnrFloorSettings& s) {
-  char line[160];
+  char line[200];
   std::snprintf(line, sizeof line,
-                "S/N floor (%zu arcs scaled to ARCNESS %.2f, %d noise realisations per noise "
+                "S/N floor (%s scaled to ARCNESS %.2f, %d noise realisations per noise "
                 "factor):\n      S/N        n    median   20%%     80%%\n",
-                r.systems.size(), s.referenceArcness, s.realisations);
+                countWithEffective(std::int64_t(r.systems.size()), r.effectiveArcs).c_str(),
+                s.referenceArcness, s.realisations);
   out << line;
   for (const SnrFloorBin& b : r.bins) {
     if (b.measurements == 0) continue;

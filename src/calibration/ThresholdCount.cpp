@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "octarc/calibration/LensingFraction.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Parallel.h"
 #include "octarc/simulation/engine/LensSimulation.h"
@@ -29,11 +28,16 @@ ThresholdCountCurve thresholdCountCurve(const LensSetupOptions& survey,
   // every number of levels; flags per (count, system).
   const std::size_t systems = std::size_t(s.systems);
   std::vector<char> arcFound(counts.size() * systems, 0), withArcness(arcFound.size(), 0);
+  // Per system: its weight (0 when not rendered) and whether it was skipped below the limit.
+  std::vector<double> weight(systems, 0.0);
+  std::vector<char> skipped(systems, 0);
   parallelForDynamic(
       s.systems, resolveThreads(s.threads),
       [&](std::int64_t i) {
         const RenderedSystem rendered = renderSystem(setups.front(), sources, s.seed, i);
+        skipped[std::size_t(i)] = rendered.draw.skipped;
         if (!rendered.draw.rendered) return;
+        weight[std::size_t(i)] = rendered.draw.weight();
         for (std::size_t c = 0; c < counts.size(); ++c) {
           std::mt19937_64 rng = rendered.rng;  // the arc-level choice, as simulate lenses makes it
           const DetectedSystem d = detectSystem(rendered.image, setups[c], rng);
@@ -52,30 +56,45 @@ ThresholdCountCurve thresholdCountCurve(const LensSetupOptions& survey,
   auto flagged = [&](const std::vector<char>& flags, std::size_t c) {
     return flags.begin() + std::ptrdiff_t(c * systems);
   };
+  // The trials of the intervals: the rendered systems (their weights) and those skipped below
+  // the skip limit (known to give no arc: weight 1).
+  WeightedCount known;
+  std::int64_t rendered = 0;
+  for (std::size_t i = 0; i < systems; ++i) {
+    if (weight[i] > 0.0) {
+      known.add(weight[i]);
+      ++rendered;
+    } else if (skipped[i]) {
+      known.add(1.0);
+    }
+  }
+  const double n = double(s.systems);
   ThresholdCountCurve curve;
   for (std::size_t c = 0; c < counts.size(); ++c) {
     ThresholdCountRow row;
     row.levels = counts[c];
     row.systems = s.systems;
+    row.rendered = rendered;
     row.arcSystems = std::count(flagged(arcFound, c), flagged(arcFound, c + 1), 1);
-    row.withArcness = std::count(flagged(withArcness, c), flagged(withArcness, c + 1), 1);
-    row.fraction = double(row.withArcness) / double(row.systems);
-    row.fractionSigma = binomialSigma(row.withArcness, row.systems);
+    for (std::size_t i = 0; i < systems; ++i) {
+      if (withArcness[c * systems + i]) row.withArcness.add(weight[i]);
+    }
+    row.fraction = weightedFractionInterval(row.withArcness.weightSum / n, known.effective());
     curve.rows.push_back(row);
   }
   // Flat from the fewest levels whose fraction is within one sigma of the most levels' fraction,
-  // the sigma of a paired difference (the same systems): sqrt(n01 + n10) / N, n01 and n10 the
-  // systems found with one number of levels and not the other.
+  // the sigma of a paired difference (the same systems): sqrt(sum of w^2 of the discordant
+  // systems) / N, those found with one number of levels and not the other.
   const std::size_t most = counts.size() - 1;
   for (std::size_t c = 0; c < counts.size(); ++c) {
-    std::int64_t onlyMost = 0, onlyThis = 0;
+    double onlyMost = 0, onlyThis = 0, discordantSquares = 0;
     for (std::size_t i = 0; i < systems; ++i) {
       const bool inMost = withArcness[most * systems + i], inThis = withArcness[c * systems + i];
-      onlyMost += inMost && !inThis;
-      onlyThis += inThis && !inMost;
+      if (inMost == inThis) continue;
+      (inMost ? onlyMost : onlyThis) += weight[i];
+      discordantSquares += weight[i] * weight[i];
     }
-    const double n = double(s.systems);
-    if (double(onlyMost - onlyThis) / n <= std::sqrt(double(onlyMost + onlyThis)) / n) {
+    if ((onlyMost - onlyThis) / n <= std::sqrt(discordantSquares) / n) {
       curve.flattensAtLevels = counts[c];
       break;
     }

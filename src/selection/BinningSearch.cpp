@@ -19,7 +19,8 @@ int BinningSearchResult::requireFinest() const {
 
 BinningSearchResult findFinestConnectedBinning(const std::vector<GridAxis>& axes,
                                                const AxisSamples& samples,
-                                               const BinningSearchOptions& options) {
+                                               const BinningSearchOptions& options,
+                                               const std::vector<double>& weights) {
   if (options.minBins < 1 || options.maxBins < options.minBins) {
     throw ConfigError("binning search: bins per axis from " + std::to_string(options.minBins) +
                       " to " + std::to_string(options.maxBins) + " is not a range of at least 1");
@@ -28,7 +29,7 @@ BinningSearchResult findFinestConnectedBinning(const std::vector<GridAxis>& axes
   BinningSearchResult result;
   result.options = options;
   for (int n = options.minBins; n <= options.maxBins; ++n) {
-    const OccupationGrid grid = OccupationGrid::fill(base.withBins(n), samples);
+    const OccupationGrid grid = OccupationGrid::fill(base.withBins(n), samples, weights);
     const Contour contour = grid.contour(options.level);
     BinningTrial trial;
     trial.binsPerAxis = n;

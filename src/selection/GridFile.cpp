@@ -1,10 +1,12 @@
 #include "octarc/selection/GridFile.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Format.h"
 #include "octarc/io/FitsTable.h"
 
 namespace octarc {
@@ -12,7 +14,8 @@ namespace octarc {
 namespace {
 
 constexpr const char* kTableName = "OCC_GRID";
-constexpr std::int64_t kFormatVersion = 1;
+constexpr std::int64_t kFormatVersion = 2;
+constexpr std::int64_t kOldestVersion = 1;  // no WEIGHT column: the counts are the weights
 
 std::string numbered(const char* root, std::size_t n) {
   return root + std::to_string(n);
@@ -52,12 +55,13 @@ FitsTable binsTable(const SavedGrid& saved) {
   const std::int64_t dims = grid.binning().dimensions();
   std::vector<std::int32_t> bin;
   std::vector<std::int64_t> count;
-  std::vector<double> probability, cumulative;
+  std::vector<double> weight, probability, cumulative;
   std::vector<std::int16_t> selected;
   for (std::size_t r = 0; r < grid.bins().size(); ++r) {
     const GridBin& b = grid.bins()[r];
     for (int k : grid.binning().unpack(b.index)) bin.push_back(k);
     count.push_back(b.count);
+    weight.push_back(b.weight);
     probability.push_back(b.probability);
     cumulative.push_back(b.cumulative);
     selected.push_back(saved.contour.selects(std::int64_t(r)) ? 1 : 0);
@@ -67,6 +71,7 @@ FitsTable binsTable(const SavedGrid& saved) {
   t.columns = {
       {"BIN", "Bin index along each axis (0-based)", "", "", int(dims), std::move(bin), "", ""},
       {"COUNT", "Simulated arcs in the bin", "", "", 1, std::move(count), "", ""},
+      {"WEIGHT", "Their SIM_WEIGHT sum", "", "", 1, std::move(weight), "", ""},
       {"PROB", "Probability of the bin", "", "", 1, std::move(probability), "", ""},
       {"CUMPROB", "Contour level at which the bin enters", "", "", 1, std::move(cumulative), "",
        ""},
@@ -75,10 +80,17 @@ FitsTable binsTable(const SavedGrid& saved) {
   auto& k = t.keywords;
   k.push_back(FitsKeyword::integer("OCTGRID", kFormatVersion, "octarc occupation grid version"));
   addAxisKeywords(grid.binning(), k);
+  const std::vector<std::string>& dropped = saved.provenance.droppedAxes;
+  k.push_back(FitsKeyword::integer("NDROPAX", std::int64_t(dropped.size()),
+                                   "Axes dropped to keep the contour connected"));
+  for (std::size_t a = 0; a < dropped.size(); ++a) {
+    k.push_back(FitsKeyword::text(numbered("DROPAX", a + 1), dropped[a], "Dropped axis"));
+  }
   k.push_back(FitsKeyword::real("PLEVEL", saved.contour.level, "Contour level P"));
   k.push_back(FitsKeyword::real("PSELECT", saved.contour.probability, "Held by the contour"));
   k.push_back(FitsKeyword::integer("NSELECT", saved.contour.selectedBins, "Bins in the contour"));
   k.push_back(FitsKeyword::integer("NBINNED", grid.binnedCount(), "Simulated arcs in a bin"));
+  k.push_back(FitsKeyword::real("WBINNED", grid.binnedWeight(), "Their SIM_WEIGHT sum"));
   k.push_back(FitsKeyword::integer("NOUTSIDE", grid.outsideCount(), "Arcs outside the ranges"));
   k.push_back(FitsKeyword::integer("NUNDEF", grid.undefinedCount(), "Rows with an axis NaN"));
   k.push_back(FitsKeyword::integer("NOCCUP", grid.occupiedBins(), "Occupied bins"));
@@ -133,7 +145,14 @@ OccupationGrid readGrid(const FitsTable& t, GridBinning binning) {
   const int dims = binning.dimensions();
   const std::vector<std::int64_t> bin = t.integers("BIN", dims);
   const std::vector<std::int64_t> count = t.integers("COUNT");
-  std::vector<std::pair<BinIndex, std::int64_t>> counts;
+  // Version 1 has no weights: every arc weighed 1.
+  std::vector<double> weight;
+  if (t.findColumn("WEIGHT")) {
+    weight = t.doubles("WEIGHT");
+  } else {
+    for (const std::int64_t c : count) weight.push_back(double(c));
+  }
+  std::vector<GridBin> bins;
   std::vector<int> k(static_cast<std::size_t>(dims));
   for (std::size_t r = 0; r < count.size(); ++r) {
     for (int a = 0; a < dims; ++a) {
@@ -145,14 +164,14 @@ OccupationGrid readGrid(const FitsTable& t, GridBinning binning) {
       }
       k[std::size_t(a)] = int(v);
     }
-    counts.emplace_back(binning.pack(k), count[r]);
+    bins.push_back({binning.pack(k), count[r], weight[r], 0.0, 0.0});
   }
   try {
-    OccupationGrid grid = OccupationGrid::fromCounts(std::move(binning), counts,
-                                                     t.integer("NOUTSIDE"), t.integer("NUNDEF"));
+    OccupationGrid grid = OccupationGrid::fromWeights(std::move(binning), bins,
+                                                      t.integer("NOUTSIDE"), t.integer("NUNDEF"));
     // The rows must be the grid's own order: the file's ranks are what searches report.
-    for (std::size_t r = 0; r < counts.size(); ++r) {
-      if (grid.bins()[r].index != counts[r].first) {
+    for (std::size_t r = 0; r < bins.size(); ++r) {
+      if (grid.bins()[r].index != bins[r].index) {
         throw IoError(t.where() + ": row " + std::to_string(r + 1) +
                       " is out of probability order");
       }
@@ -196,14 +215,22 @@ SavedGrid loadGrid(const std::string& path) {
   if (!t.hasKeyword("OCTGRID")) {
     throw IoError(t.where() + ": not an occupation grid (keyword OCTGRID missing)");
   }
-  if (t.integer("OCTGRID") != kFormatVersion) {
+  if (t.integer("OCTGRID") < kOldestVersion || t.integer("OCTGRID") > kFormatVersion) {
     throw IoError(t.where() + ": occupation grid format version " +
-                  std::to_string(t.integer("OCTGRID")) + " (this octarc reads version " +
-                  std::to_string(kFormatVersion) + ")");
+                  std::to_string(t.integer("OCTGRID")) + " (this octarc reads versions " +
+                  std::to_string(kOldestVersion) + " to " + std::to_string(kFormatVersion) + ")");
   }
   OccupationGrid grid = readGrid(t, readBinning(t));
   requireEqual(t, "NOCCUP", t.integer("NOCCUP"), grid.occupiedBins(), "occupied bins");
   requireEqual(t, "NBINNED", t.integer("NBINNED"), grid.binnedCount(), "binned arcs");
+  if (t.hasKeyword("WBINNED")) {
+    const double stored = t.number("WBINNED"), actual = grid.binnedWeight();
+    if (!(std::abs(stored - actual) <= 1e-9 * std::max(1.0, std::abs(actual)))) {
+      throw IoError(t.where() + ": WBINNED = " + formatNumber(stored, "%.10g") +
+                    " but the bins table gives " + formatNumber(actual, "%.10g") +
+                    " binned weight");
+    }
+  }
   Contour contour;
   try {
     contour = grid.contour(t.number("PLEVEL"));
@@ -218,7 +245,12 @@ SavedGrid loadGrid(const std::string& path) {
                     ": SELECTED disagrees with the contour at PLEVEL");
     }
   }
-  GridProvenance provenance{t.text("SPACE"), t.text("SPACEEXP"), readSetup(t)};
+  GridProvenance provenance{t.text("SPACE"), t.text("SPACEEXP"), readSetup(t), {}};
+  if (t.hasKeyword("NDROPAX")) {
+    for (std::int64_t a = 1; a <= t.integer("NDROPAX"); ++a) {
+      provenance.droppedAxes.push_back(t.text(numbered("DROPAX", std::size_t(a))));
+    }
+  }
   return SavedGrid{std::move(grid), contour, std::move(provenance)};
 }
 

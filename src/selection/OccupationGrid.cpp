@@ -11,33 +11,34 @@
 
 namespace octarc {
 
-namespace {}  // namespace
-
-OccupationGrid::OccupationGrid(GridBinning binning,
-                               std::unordered_map<BinIndex, std::int64_t> counts,
+OccupationGrid::OccupationGrid(GridBinning binning, std::vector<GridBin> bins,
+                               std::unordered_map<BinIndex, std::int64_t> rank,
                                std::int64_t outside, std::int64_t undefined)
-    : binning_(std::move(binning)), outside_(outside), undefined_(undefined) {
-  bins_.reserve(counts.size());
-  for (const auto& [index, count] : counts) {
-    bins_.push_back({index, count, 0.0, 0.0});
-    binned_ += count;
-  }
+    : binning_(std::move(binning)),
+      outside_(outside),
+      undefined_(undefined),
+      bins_(std::move(bins)),
+      rank_(std::move(rank)) {
   std::sort(bins_.begin(), bins_.end(), [](const GridBin& a, const GridBin& b) {
-    return a.count != b.count ? a.count > b.count : a.index < b.index;
+    return a.weight != b.weight ? a.weight > b.weight : a.index < b.index;
   });
-  // The map that held the counts now holds the ranks: no second map.
-  rank_ = std::move(counts);
-  std::int64_t running = 0;
+  for (const GridBin& bin : bins_) {
+    binned_ += bin.count;
+    binnedWeight_ += bin.weight;
+  }
+  // Summed in probability order, so the last cumulative is exactly 1.
+  double running = 0.0;
   for (std::size_t r = 0; r < bins_.size(); ++r) {
     GridBin& bin = bins_[r];
-    running += bin.count;
-    bin.probability = double(bin.count) / double(binned_);
-    bin.cumulative = double(running) / double(binned_);
+    running += bin.weight;
+    bin.probability = bin.weight / binnedWeight_;
+    bin.cumulative = r + 1 == bins_.size() ? 1.0 : running / binnedWeight_;
     rank_[bin.index] = std::int64_t(r);
   }
 }
 
-OccupationGrid OccupationGrid::fill(GridBinning binning, const AxisSamples& samples) {
+OccupationGrid OccupationGrid::fill(GridBinning binning, const AxisSamples& samples,
+                                    const std::vector<double>& weights) {
   const std::size_t dims = std::size_t(binning.dimensions());
   if (samples.size() != dims) {
     throw ConfigError("occupation grid of " + std::to_string(dims) + " axes filled with " +
@@ -50,12 +51,19 @@ OccupationGrid OccupationGrid::fill(GridBinning binning, const AxisSamples& samp
                         std::to_string(n) + " and " + std::to_string(axis.size()) + ")");
     }
   }
-  std::unordered_map<BinIndex, std::int64_t> counts;
+  if (!weights.empty() && weights.size() != n) {
+    throw ConfigError("occupation grid filled with " + std::to_string(n) + " samples and " +
+                      std::to_string(weights.size()) + " weights");
+  }
+  // Bin index -> position in `bins` while filling; the constructor turns it into the ranks.
+  std::unordered_map<BinIndex, std::int64_t> position;
+  std::vector<GridBin> bins;
   std::int64_t outside = 0;
   std::int64_t undefined = 0;
   std::vector<int> k(dims);
   for (std::size_t i = 0; i < n; ++i) {
-    bool isNan = false;
+    const double w = weights.empty() ? 1.0 : weights[i];
+    bool isNan = !(std::isfinite(w) && w > 0.0);
     bool isOutside = false;
     for (std::size_t a = 0; a < dims; ++a) {
       const double v = samples[a][i];
@@ -68,34 +76,59 @@ OccupationGrid OccupationGrid::fill(GridBinning binning, const AxisSamples& samp
     } else if (isOutside) {
       ++outside;
     } else {
-      ++counts[binning.pack(k)];
+      const BinIndex index = binning.pack(k);
+      const auto [it, added] = position.emplace(index, std::int64_t(bins.size()));
+      if (added) bins.push_back({index, 0, 0.0, 0.0, 0.0});
+      GridBin& bin = bins[std::size_t(it->second)];
+      ++bin.count;
+      bin.weight += w;
     }
   }
-  return OccupationGrid(std::move(binning), std::move(counts), outside, undefined);
+  return OccupationGrid(std::move(binning), std::move(bins), std::move(position), outside,
+                        undefined);
 }
 
 OccupationGrid OccupationGrid::fromCounts(
     GridBinning binning, const std::vector<std::pair<BinIndex, std::int64_t>>& counts,
     std::int64_t outside, std::int64_t undefined) {
-  std::unordered_map<BinIndex, std::int64_t> map;
-  map.reserve(counts.size());
+  std::vector<GridBin> bins;
+  bins.reserve(counts.size());
   for (const auto& [index, count] : counts) {
-    if (index >= binning.totalBins()) {
-      throw ConfigError("occupation grid: bin " + std::to_string(index) + " outside the " +
-                        std::to_string(binning.totalBins()) + " bins of the grid");
-    }
     if (count < 1) {
       throw ConfigError("occupation grid: bin " + std::to_string(index) + " has count " +
                         std::to_string(count) + " (at least 1)");
     }
-    if (!map.emplace(index, count).second) {
-      throw ConfigError("occupation grid: bin " + std::to_string(index) + " given twice");
+    bins.push_back({index, count, double(count), 0.0, 0.0});
+  }
+  return fromWeights(std::move(binning), bins, outside, undefined);
+}
+
+OccupationGrid OccupationGrid::fromWeights(GridBinning binning, const std::vector<GridBin>& bins,
+                                           std::int64_t outside, std::int64_t undefined) {
+  std::unordered_map<BinIndex, std::int64_t> map;
+  map.reserve(bins.size());
+  std::vector<GridBin> kept;
+  kept.reserve(bins.size());
+  for (const GridBin& bin : bins) {
+    const std::string name = "occupation grid: bin " + std::to_string(bin.index);
+    if (bin.index >= binning.totalBins()) {
+      throw ConfigError(name + " outside the " + std::to_string(binning.totalBins()) +
+                        " bins of the grid");
     }
+    if (bin.count < 1) {
+      throw ConfigError(name + " has count " + std::to_string(bin.count) + " (at least 1)");
+    }
+    if (!(std::isfinite(bin.weight) && bin.weight > 0.0)) {
+      throw ConfigError(name + " has weight " + formatNumber(bin.weight, "%.6g") +
+                        " (finite and positive)");
+    }
+    if (!map.emplace(bin.index, 0).second) throw ConfigError(name + " given twice");
+    kept.push_back({bin.index, bin.count, bin.weight, 0.0, 0.0});
   }
   if (outside < 0 || undefined < 0) {
     throw ConfigError("occupation grid: negative count of samples outside or undefined");
   }
-  return OccupationGrid(std::move(binning), std::move(map), outside, undefined);
+  return OccupationGrid(std::move(binning), std::move(kept), std::move(map), outside, undefined);
 }
 
 std::int64_t OccupationGrid::rankOf(BinIndex index) const {

@@ -1,18 +1,34 @@
 """`octarc calibrate` on a `simulate lenses` output: its tables against the same quantities
-computed with numpy from the simulation's systems table, the grid file, the check-plots, and
-bad input (one-line errors, no output)."""
+computed with numpy from the simulation's systems table (weighted by SIM_WEIGHT, the intervals
+from scipy's Beta quantiles), the grid file, the check-plots, a run with too few arcs for the
+grid asked for (still reported), GRID_NAME NONE, a default run in an empty folder, and bad input
+(one-line errors, no output)."""
 import os
 import unittest
 
 import numpy as np
 from astropy.io import fits
+from scipy.stats import beta
 
 from octarc_testlib import SOURCE_DIR, WorkDirTest, run_octarc
 
-# A few thousand systems give some tens of arcs: enough for a 2-D grid.
-SYSTEMS = "3000"
+# A few thousand systems of the `dls` preset give some tens of arcs (importance sampled: a few
+# hundred rendered): enough for a 2-D grid.
+SYSTEMS = "6000"
 GRID = ["-GRID_AXES", "ARCNESS,E_IMAGE", "-GRID_LEVEL", "0.9"]
 QUICK_NOISE = ["-NOISE_REALISATIONS", "10", "-NOISE_SIZE", "128"]
+
+
+def clopper_pearson(k, n, confidence=0.6827):
+    """The central Clopper-Pearson interval of k successes in n trials (both may be real)."""
+    tail = (1 - confidence) / 2
+    lo = beta.ppf(tail, k, n - k + 1) if k > 0 else 0.0
+    hi = beta.ppf(1 - tail, k + 1, n - k) if k < n else 1.0
+    return lo, hi
+
+
+def kish(w):
+    return w.sum() ** 2 / (w ** 2).sum() if len(w) else 0.0
 
 
 class Calibrate(WorkDirTest):
@@ -23,7 +39,8 @@ class Calibrate(WorkDirTest):
                                    "octarc-calibrate-%d" % os.getpid())
         os.makedirs(cls.sim_dir, exist_ok=True)
         cls.sim = os.path.join(cls.sim_dir, "sim.fits")
-        run_octarc("simulate", "lenses", "-n", SYSTEMS, "--seed", "5", "-o", cls.sim, "--quiet")
+        run_octarc("simulate", "lenses", "-n", SYSTEMS, "--seed", "5", "--preset", "dls", "-o",
+                   cls.sim, "--quiet")
 
     @classmethod
     def tearDownClass(cls):
@@ -41,9 +58,14 @@ class Calibrate(WorkDirTest):
         systems = fits.getdata(self.sim, "LDAC_OBJECTS")
         arc = systems["ARC_FOUND"] == 1
         n = arc.sum()
+        w = systems["SIM_WEIGHT"][arc]
+        self.assertGreater(w.max(), 1.0)  # importance sampling: weights beyond 1
         a, e, snr = systems["ARCNESS"][arc], systems["E_IMAGE"][arc], systems["SNR_ISO"][arc]
         table = fits.getdata(self.path("cal.fits"), "LENSING_FRACTION")
-        self.assertEqual(fits.getheader(self.path("cal.fits"), "LENSING_FRACTION")["NARCSYS"], n)
+        header = fits.getheader(self.path("cal.fits"), "LENSING_FRACTION")
+        self.assertEqual(header["NARCSYS"], n)
+        self.assertAlmostEqual(header["WARCSYS"], w.sum(), delta=1e-9 * w.sum())
+        self.assertAlmostEqual(header["NEFFARC"], kish(w), delta=1e-9 * n)
         self.assertEqual(len(table), 6)
         for row in table:
             hi = row["ARCNESS_HI"] if np.isfinite(row["ARCNESS_HI"]) else np.inf
@@ -51,9 +73,12 @@ class Calibrate(WorkDirTest):
             if row["DISTORTED"]:
                 inside &= (e > 0.6) & (snr > 40)
             self.assertEqual(row["N_SYSTEMS"], inside.sum())
-            f = inside.sum() / n
+            f = w[inside].sum() / w.sum()
             self.assertAlmostEqual(row["FRACTION"], f, places=12)
-            self.assertAlmostEqual(row["FRACTION_ERR"], np.sqrt(f * (1 - f) / n), places=12)
+            lo, hi = clopper_pearson(f * kish(w), kish(w))
+            self.assertAlmostEqual(row["FRACTION_LO"], lo, places=8)
+            self.assertAlmostEqual(row["FRACTION_HI"], hi, places=8)
+            self.assertAlmostEqual(row["FRACTION_ERR"], (hi - lo) / 2, places=8)
 
     def test_grid_holds_every_arc_and_its_binning_search(self):
         self.calibrate("-CHECKPLOT_TYPE", "NONE")
@@ -61,13 +86,20 @@ class Calibrate(WorkDirTest):
         arcs = (systems["ARC_FOUND"] == 1).sum()
         binning = fits.getheader(self.path("cal.fits"), "GRID_BINNING")
         self.assertEqual(binning["NSAMPLES"], arcs)
+        self.assertEqual(binning["NDROPAX"], 0)
+        self.assertEqual(binning["GRIDAX1"], "ARCNESS")
         grid = fits.open(self.path("grid.fits"))["OCC_GRID"]
         self.assertEqual(grid.header["AXEXPR1"], "ARCNESS")
         self.assertEqual(grid.header["AXBINS1"], binning["FINEST"])
+        self.assertEqual(grid.header["NDROPAX"], 0)
         # Every arc is in a bin, outside the axis ranges (their tails) or undefined.
         h = grid.header
         self.assertEqual(h["NBINNED"] + h["NOUTSIDE"] + h["NUNDEF"], arcs)
         self.assertEqual(grid.data["COUNT"].sum(), h["NBINNED"])
+        # The probabilities are the bins' SIM_WEIGHT sums over the binned weight.
+        self.assertAlmostEqual(grid.data["WEIGHT"].sum(), h["WBINNED"], delta=1e-9 * h["WBINNED"])
+        np.testing.assert_allclose(grid.data["PROB"], grid.data["WEIGHT"] / h["WBINNED"],
+                                   rtol=1e-12)
         self.assertGreaterEqual(h["PSELECT"], 0.9)
         # The survey setup of the simulation is carried into the grid.
         cell = fits.getdata(self.sim, "LDAC_IMHEAD")[0][0]
@@ -75,17 +107,22 @@ class Calibrate(WorkDirTest):
         self.assertAlmostEqual(h["PIXSCALE"], cards["OCTPIXSC"], places=9)
         self.assertAlmostEqual(h["SKYSIGMA"], cards["OCTSKYSG"], places=9)
         self.assertEqual(h["MINAREA"], cards["OCTMINAR"])
+        self.assertEqual(h["NSYSTEMS"], cards["OCTNSYS"])  # drawn, not rendered
 
     def test_distributions_are_normalised_histograms_of_the_arcs(self):
         self.calibrate("-CHECKPLOT_TYPE", "NONE", "-HISTOGRAM_NBINS", "20")
         systems = fits.getdata(self.sim, "LDAC_OBJECTS")
         sel = (systems["ARC_FOUND"] == 1) & (systems["E_IMAGE"] > 0.6) & (systems["SNR_ISO"] > 40)
         dist = fits.getdata(self.path("cal.fits"), "DIST_ARCNESS")
+        w = systems["SIM_WEIGHT"][sel]
         counts, _ = np.histogram(systems["ARCNESS"][sel], bins=20, range=(0.0, 0.3))
-        np.testing.assert_allclose(dist["SIM_FRACTION"], counts / counts.sum(), rtol=0, atol=1e-12)
+        weights, _ = np.histogram(systems["ARCNESS"][sel], bins=20, range=(0.0, 0.3), weights=w)
+        np.testing.assert_allclose(dist["SIM_FRACTION"], weights / weights.sum(), rtol=0,
+                                   atol=1e-12)
         header = fits.getheader(self.path("cal.fits"), "DIST_ARCNESS")
         self.assertEqual(header["NSIM"], sel.sum())
         self.assertEqual(header["NSIMOUT"], sel.sum() - counts.sum())
+        self.assertAlmostEqual(header["NEFFSIM"], kish(w), delta=1e-9 * sel.sum())
 
     def test_noise_only_threshold_table(self):
         self.calibrate("-CHECKPLOT_TYPE", "NONE")
@@ -101,16 +138,24 @@ class Calibrate(WorkDirTest):
         self.calibrate("-CHECKPLOT_TYPE", "THRESHOLD_COUNT", "-CHECKPLOT_NAME", "tc",
                        "-NOISE_STUDY", "N", "-THRESHOLD_STUDY", "Y", "-THRESHOLD_SYSTEMS",
                        SYSTEMS, "-THRESHOLD_NLEVELS", "3,15")
+        # The remake samples as the simulation did (importance sampling): the same systems
+        # rendered, with the same weights.
         systems = fits.getdata(self.sim, "LDAC_OBJECTS")
         arcs = fits.getdata(self.sim, "ARCS")
-        with_arcness = len(np.unique(arcs["SYSTEM"][arcs["ARCNESS"] > 0.10]))
+        with_arcness = np.unique(arcs["SYSTEM"][arcs["ARCNESS"] > 0.10])
+        weight = dict(zip(systems["SYSTEM"], systems["SIM_WEIGHT"]))
+        weight_sum = sum(weight[s] for s in with_arcness)
         curve = fits.getdata(self.path("cal.fits"), "THRESHOLD_COUNT")
         self.assertEqual(list(curve["NLEVELS"]), [3, 15])
         row = curve[1]
-        self.assertEqual(row["N_SYSTEMS"], len(systems))
+        self.assertEqual(row["N_SYSTEMS"], int(SYSTEMS))  # drawn
+        self.assertEqual(row["N_RENDERED"], len(systems))
         self.assertEqual(row["N_ARC"], (systems["ARC_FOUND"] == 1).sum())
-        self.assertEqual(row["N_ARCNESS"], with_arcness)
-        self.assertAlmostEqual(row["FRACTION"], with_arcness / len(systems), places=12)
+        self.assertEqual(row["N_ARCNESS"], len(with_arcness))
+        self.assertAlmostEqual(row["WEIGHT"], weight_sum, delta=1e-6 * weight_sum)
+        self.assertAlmostEqual(row["FRACTION"], weight_sum / int(SYSTEMS), delta=1e-9)
+        self.assertLessEqual(row["FRACTION_LO"], row["FRACTION"])
+        self.assertGreater(row["FRACTION_HI"], row["FRACTION"])
         self.assertTrue(os.path.exists(self.path("tc.png")))
 
     def test_snr_floor_study(self):
@@ -125,6 +170,7 @@ class Calibrate(WorkDirTest):
         table = fits.open(self.path("cal.fits"))["SNR_FLOOR"]
         rows, header = table.data, table.header
         self.assertEqual(header["NARCS"], min(3, taken.sum()))
+        self.assertIn("arcs (", proc.stdout)  # the count and the effective number
         self.assertLessEqual(rows["N_MEASURED"].sum(), header["NMEASURE"])
         self.assertLessEqual(header["NMEASURE"], header["NARCS"] * 10 * 4)
         full = rows[rows["N_MEASURED"] > 0]
@@ -179,8 +225,9 @@ class Calibrate(WorkDirTest):
             self.assertTrue(hdu.header["GAUSCONV"], name)
             self.assertAlmostEqual(hdu.header["GAUSSIG"], abs(s), delta=1e-3 * abs(s))
             self.assertAlmostEqual(hdu.header["GAUSMEAN"], m, delta=1e-3 * abs(s))
-            self.assertAlmostEqual(hdu.header["GAUSFWHM"], 2 * np.sqrt(2 * np.log(2)) * abs(s),
-                                   delta=1e-3 * abs(s))
+            # The same relative agreement as sigma's: FWHM = 2 sqrt(2 ln 2) sigma.
+            fwhm = 2 * np.sqrt(2 * np.log(2)) * abs(s)
+            self.assertAlmostEqual(hdu.header["GAUSFWHM"], fwhm, delta=1e-3 * fwhm)
 
     def test_check_plots(self):
         self.calibrate("-CHECKPLOT_TYPE", "ARCNESS,LENSING_FRACTION,NOISE_THRESHOLD",
@@ -195,6 +242,67 @@ class Calibrate(WorkDirTest):
                        "-CHECKPLOT_DEV", "PDF")
         with open(self.path("g.pdf"), "rb") as f:
             self.assertEqual(f.read(5), b"%PDF-")
+
+    def test_too_few_arcs_for_the_grid_still_report(self):
+        # No binning keeps this contour connected on four axes: the studies and plots are
+        # written, the grid is made on fewer axes (or none), with a WARNING that says so.
+        proc = self.calibrate("-GRID_AXES", "ARCNESS,E_IMAGE,SKEW_MAJOR,SKEW_MINOR",
+                              "-GRID_LEVEL", "0.999", "-GRID_NBINS", "20,30", "-NOISE_STUDY",
+                              "N", "-CHECKPLOT_TYPE", "ARCNESS,GRID_BINNING", "-CHECKPLOT_NAME",
+                              "a,g")
+        warnings = [l for l in proc.stderr.splitlines() if l.startswith("WARNING")]
+        self.assertEqual(len(warnings), 1, proc.stderr)
+        for fragment in ("arcs (", "effective)", "20 to 30 bins per axis", "GRID_NAME NONE",
+                         "fewer GRID_AXES", "more systems"):
+            self.assertIn(fragment, warnings[0])
+        self.assertTrue(os.path.exists(self.path("a.png")))
+        self.assertTrue(os.path.exists(self.path("g.png")))
+        binning = fits.open(self.path("cal.fits"))["GRID_BINNING"]
+        self.assertGreater(binning.header["NDROPAX"], 0)
+        self.assertEqual(binning.data["NAXES"][0], 4)
+        self.assertEqual(binning.data["AXES"][0], "ARCNESS,E_IMAGE,SKEW_MAJOR,SKEW_MINOR")
+        if binning.header["GRIDMADE"]:
+            grid = fits.getheader(self.path("grid.fits"), "OCC_GRID")
+            self.assertEqual(grid["GRIDDIM"] + grid["NDROPAX"], 4)
+            self.assertEqual(grid["DROPAX1"], binning.header["DROPAX1"])
+            self.assertIn("dropped " + grid["DROPAX1"], warnings[0])
+        else:
+            self.assertFalse(os.path.exists(self.path("grid.fits")))
+        # A search space no arc falls in: every study, no grid, the warning counts 0 arcs.
+        proc = self.calibrate("-SEARCH_CUT", "ARCNESS > 5", "-NOISE_STUDY", "N",
+                              "-CHECKPLOT_TYPE", "NONE", "-GRID_NAME", "nogrid.fits")
+        self.assertIn("WARNING: no occupation grid: 0 arcs (0 effective)", proc.stderr)
+        self.assertFalse(os.path.exists(self.path("nogrid.fits")))
+        self.assertIn("LENSING_FRACTION", [h.name for h in fits.open(self.path("cal.fits"))])
+
+    def test_grid_name_none_makes_no_grid(self):
+        proc = self.calibrate("-GRID_NAME", "NONE", "-NOISE_STUDY", "N", "-CHECKPLOT_TYPE",
+                              "GRID_BINNING", "-CHECKPLOT_NAME", "g")
+        self.assertNotIn("WARNING", proc.stderr)
+        self.assertIn("Occupation grid: none (GRID_NAME NONE)", proc.stdout)
+        self.assertEqual(sorted(os.listdir(self.work)), ["cal.fits", "g.png"])
+        self.assertFalse(fits.getheader(self.path("cal.fits"), "GRID_BINNING")["GRIDMADE"])
+
+    def test_a_default_run_in_an_empty_folder_writes_everything(self):
+        # The defaults of both commands (importance sampling, every check-plot): exit 0, the
+        # fractions with intervals, the distributions, the check-plots and a grid.
+        run_octarc("simulate", "lenses", "-n", "6000", "--seed", "9", "--preset", "dls", "-o",
+                   "s.fits", "--quiet", cwd=self.work)
+        proc = run_octarc("calibrate", "s.fits", *QUICK_NOISE, cwd=self.work)
+        names = os.listdir(self.work)
+        for name in ("calibration.fits", "arcs.grid.fits", "arcness.png", "snr_iso.png",
+                     "lensing_fraction.png", "grid_binning.png", "noise_threshold.png"):
+            self.assertIn(name, names)
+        hdus = [h.name for h in fits.open(self.path("calibration.fits"))]
+        for name in ("LENSING_FRACTION", "DIST_ARCNESS", "DIST_SNR_ISO", "GRID_BINNING"):
+            self.assertIn(name, hdus)
+        fractions = fits.getdata(self.path("calibration.fits"), "LENSING_FRACTION")
+        self.assertTrue(np.all(fractions["FRACTION_HI"] > fractions["FRACTION"]))
+        drawn = fits.Header.fromstring("".join(c.ljust(80) for c in fits.getdata(
+            self.path("s.fits"), "LDAC_IMHEAD")[0][0]), sep="")["OCTNSYS"]
+        self.assertIn("%d simulated systems" % drawn, proc.stdout)
+        self.assertRegex(proc.stdout, r"\d\.\d{4} \+\d\.\d{4} -\d\.\d{4}")
+        self.assertRegex(proc.stdout, r"Occupation grid: \d+ arcs \(\d+ effective\)")
 
     def assert_fails(self, proc, *fragments):
         self.assertEqual(proc.returncode, 1, proc.stderr)
@@ -218,12 +326,6 @@ class Calibrate(WorkDirTest):
                           "search space")
         self.assert_fails(self.calibrate("-SEARCH_CUT", "NO_SUCH_COLUMN > 1", check=False),
                           "NO_SUCH_COLUMN")
-        self.assert_fails(self.calibrate("-SEARCH_CUT", "ARCNESS > 5", check=False),
-                          "no simulated row passes")
-        self.assert_fails(self.calibrate("-GRID_AXES", "ARCNESS,E_IMAGE,SKEW_MAJOR,SKEW_MINOR",
-                                         "-GRID_LEVEL", "0.999", "-GRID_NBINS", "20,30",
-                                         check=False),
-                          "connected")
         self.assert_fails(self.calibrate("-CHECKPLOT_DEV", "XWIN", check=False), "CHECKPLOT_DEV")
         self.assert_fails(self.calibrate("-CHECKPLOT_TYPE", "ARCNESS,E_IMAGE", "-CHECKPLOT_NAME",
                                          "one", check=False), "CHECKPLOT_NAME")
@@ -249,7 +351,8 @@ class Calibrate(WorkDirTest):
                           other, "population or sources")
         # Several outputs: SYSTEM restarts in each, the S/N study takes one.
         second = os.path.join(self.sim_dir, "seed6.fits")
-        run_octarc("simulate", "lenses", "-n", "50", "--seed", "6", "-o", second, "--quiet")
+        run_octarc("simulate", "lenses", "-n", "50", "--seed", "6", "--preset", "dls", "-o",
+                   second, "--quiet")
         self.assert_fails(run_octarc("calibrate", self.sim, second, "-SNR_STUDY", "Y",
                                      "-NOISE_STUDY", "N", *GRID, check=False, cwd=self.work),
                           "SNR_STUDY takes one")

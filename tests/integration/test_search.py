@@ -86,9 +86,11 @@ def known_grid(template, path):
     h["AXEXPR1"], h["AXLO1"], h["AXHI1"], h["AXBINS1"] = "ARCNESS", 0.0, 0.3, 6
     h["PLEVEL"], h["PSELECT"], h["NSELECT"] = 0.9, 10 / 11, 5
     h["NBINNED"], h["NOUTSIDE"], h["NUNDEF"], h["NOCCUP"] = 11, 0, 0, 6
+    h["WBINNED"], h["NDROPAX"] = 11.0, 0  # unit weights
     counts = np.array([2, 2, 2, 2, 2, 1])
     cols = [fits.Column("BIN", "1J", array=[1, 2, 3, 4, 5, 0]),
             fits.Column("COUNT", "1K", array=counts),
+            fits.Column("WEIGHT", "1D", array=counts.astype(float)),
             fits.Column("PROB", "1D", array=counts / 11),
             fits.Column("CUMPROB", "1D", array=np.cumsum(counts) / 11),
             fits.Column("SELECTED", "1I", array=[1, 1, 1, 1, 1, 0])]

@@ -48,8 +48,17 @@ class SimulatedCatalog(WorkDirTest):
             self.assertEqual([h.name for h in f], ["PRIMARY", "LDAC_IMHEAD", "LDAC_OBJECTS",
                                                    "ARCS"])
             systems, arcs = f[2], f[3]
-            self.assertEqual(len(systems.data), 80)
-            np.testing.assert_array_equal(systems.data["SYSTEM"], np.arange(80))
+            # One row per rendered system (importance sampling, the default): a subset of the
+            # 80 drawn, in order, each with its weight 1 / render probability >= 1.
+            head = ldac_imhead(self.out)
+            self.assertEqual(len(systems.data), head["OCTNREND"])
+            self.assertGreater(len(systems.data), 0)
+            index = systems.data["SYSTEM"]
+            self.assertTrue(np.all(np.diff(index) > 0))
+            self.assertTrue(np.all((index >= 0) & (index < 80)))
+            self.assertTrue(np.all(systems.data["SIM_WEIGHT"] >= 1.0))
+            self.assertAlmostEqual(head["OCTSUMW"], systems.data["SIM_WEIGHT"].sum(), places=3)
+            self.assertEqual(head["OCTSAMPL"], "IMPORTANCE")
             for name, unit in list(TRUTH.items()) + list(MEASURED.items()):
                 self.assertIn(name, systems.columns.names)
                 self.assertEqual(systems.columns[name].unit or "", unit, name)
@@ -78,13 +87,12 @@ class SimulatedCatalog(WorkDirTest):
         beta = np.hypot(s["SOURCE_X"], s["SOURCE_Y"])
         self.assertTrue(np.all(beta <= s["EINSTEIN_RADIUS"] * np.sqrt(1 + s["LENS_EPSILON"]) *
                                (1 + 1e-6)))
-        # A multiply imaged source is magnified; systems below the skip limit are not rendered.
-        rendered = s["SKIPPED"] == 0
-        skip = ldac_imhead(self.out)["OCTSKIPT"]
-        np.testing.assert_array_equal(rendered, s["EINSTEIN_RADIUS"] >= skip)
-        self.assertTrue(np.all(s["MAGNIFICATION"][rendered] > 1.0))
-        self.assertTrue(np.all(np.isnan(s["MAGNIFICATION"][~rendered])))
-        self.assertEqual(ldac_imhead(self.out)["OCTNSKIP"], int(np.sum(~rendered)))
+        # A multiply imaged source is magnified; systems below the skip limit are not rendered
+        # (no row), nor those importance sampling leaves out.
+        head = ldac_imhead(self.out)
+        self.assertTrue(np.all(s["EINSTEIN_RADIUS"] >= head["OCTSKIPT"]))
+        self.assertTrue(np.all(s["MAGNIFICATION"] > 1.0))
+        self.assertLessEqual(head["OCTNSKIP"] + head["OCTNREND"], head["OCTNSYS"])
 
     def test_found_arcs_obey_the_rules_and_have_plausible_arcness(self):
         s = fits.getdata(self.out, 2)
@@ -98,11 +106,33 @@ class SimulatedCatalog(WorkDirTest):
         # One chosen row per found system in the arc table, which holds every arc row.
         chosen = a[a["CHOSEN"] == 1]
         np.testing.assert_array_equal(np.sort(chosen["SYSTEM"]), found["SYSTEM"])
-        np.testing.assert_array_equal(np.bincount(a["SYSTEM"], minlength=80), s["N_ARC_ROWS"])
+        np.testing.assert_array_equal(np.bincount(a["SYSTEM"], minlength=80)[s["SYSTEM"]],
+                                      s["N_ARC_ROWS"])
         for row in found:
             c = chosen[chosen["SYSTEM"] == row["SYSTEM"]][0]
             self.assertEqual(c["ARCNESS"], row["ARCNESS"])
             self.assertEqual(c["THRESH_LEVEL"], row["THRESH_LEVEL"])
+
+    def test_plain_sampling_renders_every_system_above_the_skip_limit(self):
+        out = os.path.join(self.dir, "plain.fits")
+        dls = os.path.join(SOURCE_DIR, "params", "simulation", "population-dls.txt")
+        run_octarc("simulate", "lenses", "-n", "30", "--seed", "5", "-o", out, "--population",
+                   dls, "--sigma-min", "320", "--sampling", "plain", "--quiet")
+        s = fits.getdata(out, 2)
+        head = ldac_imhead(out)
+        self.assertEqual(head["OCTSAMPL"], "PLAIN")
+        self.assertEqual(head["OCTNSYS"], 30)
+        self.assertEqual(len(s), head["OCTNREND"])
+        self.assertEqual(head["OCTNSKIP"] + len(s), 30)
+        np.testing.assert_array_equal(s["SIM_WEIGHT"], 1.0)
+        self.assertTrue(np.all(s["EINSTEIN_RADIUS"] >= head["OCTSKIPT"]))
+        # The rendered systems are those of the importance-sampled run of the same seed.
+        imp = fits.getdata(self.out, 2)
+        both = np.intersect1d(imp["SYSTEM"][imp["SYSTEM"] < 30], s["SYSTEM"])
+        self.assertEqual(len(both), np.sum(imp["SYSTEM"] < 30))
+        for system in both:
+            self.assertEqual(imp["EINSTEIN_RADIUS"][imp["SYSTEM"] == system][0],
+                             s["EINSTEIN_RADIUS"][s["SYSTEM"] == system][0])
 
     def test_stamps_cube(self):
         with fits.open(self.stamps) as f:

@@ -122,6 +122,7 @@ class TwoBands(unittest.TestCase):
         arc = (s["ARC_FOUND"] == 1) & (s["ARCNESS"] > 0.1) & (s["SNR_ISO"] > 40)
         # In double, as calibrate subtracts the stored values.
         diff = (s["ARC_COLOUR_g"].astype(float) - s["LENS_COLOUR_g"].astype(float))[arc]
+        w = s["SIM_WEIGHT"][arc].astype(float)
         n = arc.sum()
         self.assertGreater(n, 5)
         with fits.open(cal) as f:
@@ -129,20 +130,28 @@ class TwoBands(unittest.TestCase):
             dist = f["DIST_COLOUR_DIFF"].header
         self.assertEqual(header["BAND"], "g")
         self.assertEqual(header["NARCS"], n)
+        self.assertAlmostEqual(header["NEFFARCS"], w.sum() ** 2 / (w ** 2).sum(), places=6)
         self.assertEqual(header["NCOLOUR"], np.isfinite(diff).sum())
         np.testing.assert_allclose(table["COLOUR_MAX"], np.arange(17) * 0.25 - 1.5, atol=1e-12)
         for row in table:
-            # Kept: the difference at most MAX, or no difference (the search keeps those).
-            kept = (~np.isfinite(diff) | (diff <= row["COLOUR_MAX"])).sum()
-            self.assertEqual(row["N_KEPT"], kept, row["COLOUR_MAX"])
-            self.assertAlmostEqual(row["FRACTION"], kept / n, places=12)
-            f = kept / n
-            self.assertAlmostEqual(row["FRACTION_ERR"], np.sqrt(f * (1 - f) / n), places=12)
-        # The smallest MAX keeping 95 %: counted by hand from the sorted differences.
-        needed = int(np.ceil(0.95 * n - 1e-9)) - (~np.isfinite(diff)).sum()
-        if needed > 0:
-            self.assertAlmostEqual(header["MAXC95"], np.sort(diff[np.isfinite(diff)])[needed - 1],
-                                   places=5)
+            # Kept: the difference at most MAX, or no difference (the search keeps those); the
+            # completeness is their weight over that of every arc.
+            kept = ~np.isfinite(diff) | (diff <= row["COLOUR_MAX"])
+            self.assertEqual(row["N_KEPT"], kept.sum(), row["COLOUR_MAX"])
+            f = w[kept].sum() / w.sum()
+            self.assertAlmostEqual(row["FRACTION"], f, places=12)
+            self.assertLessEqual(row["FRACTION_LO"], f)
+            self.assertGreaterEqual(row["FRACTION_HI"], f)
+            if f < 1:
+                self.assertGreater(row["FRACTION_HI"], f)  # exact intervals: never of width 0
+        # The smallest MAX keeping 95 % of the weight: from the sorted differences.
+        colourless = w[~np.isfinite(diff)].sum()
+        order = np.argsort(diff[np.isfinite(diff)], kind="stable")
+        sorted_diff = diff[np.isfinite(diff)][order]
+        cumulative = colourless + np.cumsum(w[np.isfinite(diff)][order])
+        if colourless < 0.95 * w.sum():
+            reach = np.searchsorted(cumulative, 0.95 * w.sum() * (1 - 1e-12))
+            self.assertAlmostEqual(header["MAXC95"], sorted_diff[reach], places=5)
         self.assertEqual(dist["NSIM"], np.isfinite(diff).sum())
         self.assertEqual(dist["VALUE"], "ARC_COLOUR_g - LENS_COLOUR_g")
         self.assertTrue(os.path.exists(os.path.join(work, "cut.png")))

@@ -23,6 +23,7 @@
 #include "octarc/calibration/SimulationOutput.h"
 #include "octarc/calibration/SnrFloor.h"
 #include "octarc/calibration/ThresholdCount.h"
+#include "octarc/calibration/Weights.h"
 #include "octarc/core/Table.h"
 #include "octarc/io/FitsTable.h"
 #include "octarc/plot/CheckPlot.h"
@@ -35,12 +36,14 @@ struct CalibrationSettings {
   FractionCuts fractionCuts;
   // The occupation grid: axes (expressions on the systems' columns), the search space its arcs
   // are restricted to (empty: every simulated arc), contour level, the bins per axis searched,
-  // and the tails left out of each axis range (quantileRange).
+  // and the tails left out of each axis range (quantileRange; no tail below 1 / tail arcs, where
+  // it would leave out the least and greatest values).
   std::vector<std::string> gridAxes;  // empty: defaultAxisExpressions()
   std::string searchSpaceName, searchSpaceExpression;
   double gridLevel = 0.99;
   int minBinsPerAxis = 2, maxBinsPerAxis = 30;
   double axisTailFraction = 0.001;
+  bool makeGrid = true;  // false: GRID_NAME NONE
   int histogramBins = 40;
   std::optional<NoiseThresholdSettings> noise;  // the noise-only study, when wanted
   // The threshold-count curve (simulates again), when wanted.
@@ -53,17 +56,20 @@ struct CalibrationSettings {
   double colourCutArcnessMin = 0.10;
 };
 
-// A histogram normalised over the values inside its range: the fractions sum to 1 (when any
-// value is inside); the values outside are counted apart.
+// A weighted histogram normalised over the values inside its range: the fractions (weight in
+// the bin over the weight inside the range) sum to 1 when any value is inside; the values
+// outside are counted apart.
 struct Histogram {
   std::vector<double> edges;     // bins + 1, increasing
   std::vector<double> fraction;  // per bin
   std::int64_t values = 0;       // finite values given
+  double effective = 0;          // their Kish effective number (calibration/Weights.h)
   std::int64_t outside = 0;      // of them, outside [lo, hi)
 };
 // `bins` equal bins on [lo, hi); NaN values are not counted. A value exactly on a printed edge
-// is in the bin that edge opens.
-Histogram normalisedHistogram(const std::vector<double>& values, double lo, double hi, int bins);
+// is in the bin that edge opens. `weights`: one per value (SIM_WEIGHT), empty for 1 each.
+Histogram normalisedHistogram(const std::vector<double>& values, double lo, double hi, int bins,
+                              const std::vector<double>& weights = {});
 
 // One distribution of METHOD.md section 3: a column of the simulated arcs (and of the survey
 // objects when a survey catalog is given), with the rows it is taken over.
@@ -79,22 +85,42 @@ struct Distribution {
   bool simulatedOnly = false;  // a column survey catalogs do not have (no survey histogram)
 };
 
+// The occupation grid's outcome: the axes it was made on (some dropped when the contour could
+// not stay connected on them all), every binning tried, and the grid when one connected.
+struct GridOutcome {
+  BinningSearchOptions options;          // the binnings searched
+  std::vector<std::string> axes;         // the axes asked for
+  std::vector<std::string> usedAxes;     // those of the grid (empty: no grid)
+  std::vector<std::string> droppedAxes;  // in the order they were dropped
+  // One binning search per set of axes tried (all axes with a range first, then one fewer each
+  // time), with those axes.
+  struct Search {
+    std::vector<std::string> axes;
+    BinningSearchResult result;
+  };
+  std::vector<Search> searches;
+  WeightedCount samples;          // arcs in the search space the grid was filled with
+  std::optional<SavedGrid> grid;  // none: no binning connected, too few arcs, or GRID_NAME NONE
+  bool skipped = false;           // GRID_NAME NONE
+  std::string warning;            // why there is no grid, or axes were dropped ("" when neither)
+};
+
 struct CalibrationResult {
-  std::int64_t simulatedSystems = 0;
+  std::int64_t simulatedSystems = 0;  // drawn from the population (OCTNSYS)
   LensingFractions fractions;
   std::vector<Distribution> distributions;
   std::optional<NoiseThresholdResult> noise;
   std::optional<ThresholdCountCurve> thresholdCount;
   std::optional<SnrFloorResult> snrFloor;
   std::optional<ColourCutStudy> colourCut;  // with a second band
-  BinningSearchResult binning;
-  std::int64_t gridSamples = 0;   // arcs in the search space the grid was filled with
-  std::optional<SavedGrid> grid;  // always set by calibrate()
+  WeightedCount arcSystems;                 // systems with an arc (ARC_FOUND = 1)
+  GridOutcome grid;
 };
 
 // Runs every study. `survey`: rows of an octarc detect catalog (may be null). ConfigError for
-// an empty search space, an axis or cut that does not parse or names an unknown column, or a
-// contour with no connected binning.
+// an axis or cut that does not parse or names an unknown column. Too few arcs, or none, is no
+// error: every study is made, and the grid is made on fewer axes, or not at all
+// (GridOutcome::warning says why).
 CalibrationResult calibrate(const SimulationOutput& simulation, const Table* survey,
                             const CalibrationSettings& settings);
 

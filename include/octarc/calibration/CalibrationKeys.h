@@ -21,7 +21,7 @@ struct CheckPlotRequest {
 struct CalibrationRun {
   CalibrationSettings settings;
   std::string calibrationPath;    // CALIBRATION_NAME
-  std::string gridPath;           // GRID_NAME
+  std::string gridPath;           // GRID_NAME; "" for NONE (settings.makeGrid false)
   std::string surveyCatalogPath;  // SURVEY_CATALOG, "" for none
   PlotDevice plotDevice = PlotDevice::Png;
   std::vector<CheckPlotRequest> plots;

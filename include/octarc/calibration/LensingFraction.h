@@ -4,14 +4,17 @@
 // 0.05-0.10, 0.10-0.15 and above 0.15, each also with e > 0.6 and S/N > 40 (significantly
 // distorted and extended, bright enough for a reliable arcness).
 //
-// Uncertainty: binomial, sigma = sqrt(f (1 - f) / N) for a fraction f of N systems (0 when N is
-// 0 or f is 0 or 1: then the count itself is the information).
+// Weighted (calibration/Weights.h): a fraction is the SIM_WEIGHT sum of the systems in the bin
+// over the SIM_WEIGHT sum of the systems with an arc, with its Clopper-Pearson 68.27 % interval
+// (n the Kish effective number of the systems with an arc, k = f n): 0 of N has an upper bound
+// above 0.
 #pragma once
 
 #include <cstdint>
 #include <limits>
 #include <vector>
 
+#include "octarc/calibration/Weights.h"
 #include "octarc/core/Table.h"
 
 namespace octarc {
@@ -25,22 +28,20 @@ struct FractionCuts {
 struct FractionRow {
   double arcnessLo = 0, arcnessHi = 0;  // lo <= ARCNESS < hi
   bool distortedAndBright = false;      // also E_IMAGE > ellipticityMin and SNR_ISO > snrMin
-  std::int64_t systems = 0;
-  double fraction = 0, fractionSigma = 0;
+  std::int64_t systems = 0;             // rows in the bin
+  double weight = 0;                    // their SIM_WEIGHT sum
+  FractionInterval fraction;
 };
 
 struct LensingFractions {
   FractionCuts cuts;
-  std::int64_t simulatedSystems = 0;
-  std::int64_t arcSystems = 0;    // the normalisation: ARC_FOUND = 1
-  std::vector<FractionRow> rows;  // per arcness bin: all, then distorted and bright
+  std::int64_t simulatedSystems = 0;  // rows of the table (calibrate: systems drawn, OCTNSYS)
+  WeightedCount arcSystems;           // the normalisation: ARC_FOUND = 1
+  std::vector<FractionRow> rows;      // per arcness bin: all, then distorted and bright
 };
 
-// sqrt(f (1 - f) / n) for f = k / n; 0 for n <= 0.
-double binomialSigma(std::int64_t k, std::int64_t n);
-
-// From a simulate-lenses systems table (columns ARC_FOUND, ARCNESS, E_IMAGE, SNR_ISO).
-// ConfigError naming the column when one is missing.
+// From a simulate-lenses systems table (columns ARC_FOUND, ARCNESS, E_IMAGE, SNR_ISO; SIM_WEIGHT
+// when there, else every row weighs 1). ConfigError naming the column when one is missing.
 LensingFractions lensingFractions(const Table& systems, const FractionCuts& cuts = {});
 
 }  // namespace octarc

@@ -16,7 +16,7 @@ namespace octarc {
 
 struct SimulationOutput {
   std::string path;  // or the paths joined by "," for combined outputs
-  Table systems;     // one row per simulated system
+  Table systems;     // one row per rendered system (SIM_WEIGHT: the systems it stands for)
   Table arcs;        // one row per arc row
   SurveySetup setup;
   double magZeropoint = 0.0;   // OCTMAGZP
@@ -36,7 +36,9 @@ struct SourceChoice {
 };
 
 // Reads a simulate-lenses output. IoError naming the file when it is not one (no LDAC_OBJECTS
-// with SYSTEM and ARC_FOUND, no ARCS table, no OCTNSYS card) or holds no system.
+// with SYSTEM and ARC_FOUND, no ARCS table, no OCTNSYS card) or drew no system (OCTNSYS 0; a
+// run that drew systems but rendered none is read, with no row). setup.systems is OCTNSYS,
+// the systems drawn from the population.
 SimulationOutput readSimulationOutput(const std::string& path);
 
 // Several outputs as one: rows appended in order. ConfigError when their survey setups differ
@@ -49,20 +51,23 @@ SimulationOutput combineSimulationOutputs(std::vector<SimulationOutput> outputs)
 // recorded: the survey (pixel scale, seeing, gain, zero point, sky noise, the lowest and
 // highest level, DETECT_MINAREA), the population preset and its windows (lens and source
 // magnitudes, sigma_v), the lens light ranges, the stamp size, the ray tracing and the second
-// band with its colours (OCTBAND, OCTSCOLM, OCTSCOLS, OCTLCOLM, OCTLCOLS) when there is one. What
-// studies that simulate again start from. ConfigError naming the file when the population was a
-// file of one's own (OCTPRSET '') or the output predates these cards.
+// band with its colours (OCTBAND, OCTSCOLM, OCTSCOLS, OCTLCOLM, OCTLCOLS) when there is one, the
+// sampling (OCTSAMPL; plain when absent) and the adaptive ray step (OCTSSTEP; 0 when absent).
+// What studies that simulate again start from. ConfigError naming the file when the population
+// was a file of one's own (OCTPRSET ''), the output predates these cards, or its importance
+// sampling's render probabilities (OCTISSCL, OCTISFLR, OCTISC0..4) are not this octarc's.
 LensSetupOptions resimulationOptions(const SimulationOutput& simulation);
 // The sources of `simulation` (OCTSRCDB, OCTSRCEX).
 SourceChoice resimulationSources(const SimulationOutput& simulation);
 
 // Draws the systems at `rows` of `simulation` (by default its first 20) again with `options`
-// and `sources` and compares their Einstein radius, lens half-light radius and source position
-// with the file's; ConfigError naming the file and the system when one differs.
+// and `sources` and compares their Einstein radius, lens half-light radius, source position and
+// SIM_WEIGHT with the file's; ConfigError naming the file and the system when one differs or is
+// not rendered.
 void checkRemade(const SimulationOutput& simulation, const LensSetupOptions& options,
                  const SourceDatabase& sources, std::vector<std::int64_t> rows = {});
-// The comparison of one system: ConfigError unless `remade` (drawn again) has the Einstein
-// radius, lens half-light radius and source position of row `row` of the simulation.
+// The comparison of one system: ConfigError unless `remade` (drawn again) is rendered and has
+// the Einstein radius, lens half-light radius, source position and weight of row `row`.
 void requireRemadeDraw(const SimulationOutput& simulation, std::int64_t row,
                        const LensSystemDraw& remade);
 

@@ -19,7 +19,9 @@
 //   3. its arcness a_0 at its highest S/N is the median over the realisations of the lowest
 //      noise factor, and every measurement of that arc is scaled by referenceArcness / a_0.
 // Each (arc, factor, realisation) draws from its own stream, so the result does not depend on
-// the number of threads.
+// the number of threads. Each measurement weighs its arc's SIM_WEIGHT (the population it stands
+// for; 1 without the column): the medians and quantiles per bin are weighted
+// (weightedSampleQuantiles, core/Statistics.h).
 //
 // The floor: a bin with at least minPerBin measurements is reliable when its median scaled
 // arcness is within medianTolerance of referenceArcness and its 20 %-80 % spread is at most
@@ -67,6 +69,8 @@ struct SnrFloorBin {
 struct SnrFloorResult {
   std::vector<std::int64_t> systems;         // the arcs taken (SYSTEM)
   std::vector<double> referenceArcness;      // a_0 of each, unscaled
+  std::vector<double> weights;               // SIM_WEIGHT of each
+  double effectiveArcs = 0;                  // their Kish effective number
   double scaledToArcness = 0.10;             // settings.referenceArcness
   std::vector<double> noiseFactors;          // lowest first
   std::vector<std::int64_t> foundPerFactor;  // realisations in which the arc was found
@@ -76,11 +80,13 @@ struct SnrFloorResult {
   double floorSnr = 0.0;          // NaN when no bin is reliable
 };
 
-// The bins of (snr, scaled arcness) pairs and their statistics; pairs with a non-finite value
-// or outside the bins are left out. Reliability as in the header comment.
+// The bins of (snr, scaled arcness) pairs and their statistics, each pair weighted by
+// `weights` (empty: 1 each); pairs with a non-finite value or outside the bins are left out.
+// Reliability as in the header comment.
 std::vector<SnrFloorBin> snrFloorBins(const std::vector<double>& snr,
                                       const std::vector<double>& scaledArcness,
-                                      const SnrFloorSettings& settings);
+                                      const SnrFloorSettings& settings,
+                                      const std::vector<double>& weights = {});
 // The floor of already filled bins (header comment); NaN when the highest bin with enough
 // measurements is not reliable.
 double snrFloor(const std::vector<SnrFloorBin>& bins, int minPerBin);

@@ -6,11 +6,17 @@
 //
 // Where it flattens: the smallest number of levels whose fraction is within one sigma of the
 // fraction at the largest number tried, the sigma of the paired difference (the same systems):
-// sqrt(n01 + n10) / N, n01 and n10 the systems found with one count and not the other. The
-// counts are tried in increasing order, each once.
+// sqrt(sum of w^2 over the discordant systems) / N, the discordant systems those found with one
+// count and not the other (sqrt(n01 + n10) / N with unit weights). The counts are tried in
+// increasing order, each once.
 //
 // The systems are those of the simulation when it is remade with its own options
-// (resimulationOptions, resimulationSources; calibrate checks that with checkRemade).
+// (resimulationOptions, resimulationSources; calibrate checks that with checkRemade), sampled as
+// it sampled them: with importance sampling only some of the N systems drawn are rendered, each
+// with its weight 1 / (render probability), and a system not rendered contributes nothing. The
+// fraction is the weight sum of the systems found over N; its Clopper-Pearson interval takes the
+// Kish effective number of the rendered systems and of those skipped below the skip limit
+// (weight 1 each: they give no arc) as the trials (calibration/Weights.h).
 #pragma once
 
 #include <cstdint>
@@ -18,6 +24,7 @@
 #include <vector>
 
 #include "octarc/calibration/SimulationOutput.h"
+#include "octarc/calibration/Weights.h"
 #include "octarc/core/Progress.h"
 
 namespace octarc {
@@ -33,10 +40,11 @@ struct ThresholdCountSettings {
 
 struct ThresholdCountRow {
   int levels = 0;
-  std::int64_t systems = 0;
-  std::int64_t arcSystems = 0;   // with an arc (ARC_FOUND)
-  std::int64_t withArcness = 0;  // with an arc row of ARCNESS above arcnessMin, at some level
-  double fraction = 0, fractionSigma = 0;  // withArcness / systems, binomial
+  std::int64_t systems = 0;     // drawn
+  std::int64_t rendered = 0;    // of them rendered
+  std::int64_t arcSystems = 0;  // rendered with an arc (ARC_FOUND)
+  WeightedCount withArcness;    // with an arc row of ARCNESS above arcnessMin, at some level
+  FractionInterval fraction;    // withArcness weight / systems
 };
 
 struct ThresholdCountCurve {

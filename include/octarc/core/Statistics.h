@@ -55,4 +55,48 @@ inline double sampleMedian(std::vector<double> values) {
   return sampleQuantile(std::move(values), 0.5);
 }
 
+// Weighted quantiles of the finite values with finite positive weights (one per value): with the
+// values sorted and C_k the sum of the weights up to and including value k, value k sits at
+// p_k = (C_k - w_k) / (W - w_last) (W the total), and the q quantile interpolates linearly in
+// p. With equal weights p_k = k / (n - 1): sampleQuantiles' definition. NaN when no value is
+// left; the value itself when one is.
+inline std::vector<double> weightedSampleQuantiles(const std::vector<double>& values,
+                                                   const std::vector<double>& weights,
+                                                   const std::vector<double>& qs) {
+  std::vector<std::pair<double, double>> v;
+  for (std::size_t i = 0; i < values.size() && i < weights.size(); ++i) {
+    if (std::isfinite(values[i]) && std::isfinite(weights[i]) && weights[i] > 0) {
+      v.emplace_back(values[i], weights[i]);
+    }
+  }
+  std::sort(v.begin(), v.end());
+  std::vector<double> out;
+  if (v.size() <= 1) {
+    out.assign(qs.size(), v.empty() ? std::nan("") : v.front().first);
+    return out;
+  }
+  double total = 0;
+  for (const auto& e : v) total += e.second;
+  const double span = total - v.back().second;
+  std::vector<double> p;
+  double running = 0;
+  for (const auto& e : v) {
+    p.push_back(running / span);
+    running += e.second;
+  }
+  p.back() = 1.0;
+  for (double q : qs) {
+    q = std::clamp(q, 0.0, 1.0);
+    const std::size_t hi = std::size_t(std::lower_bound(p.begin(), p.end(), q) - p.begin());
+    if (hi == 0) {
+      out.push_back(v.front().first);
+      continue;
+    }
+    const std::size_t lo = hi - 1;
+    const double t = p[hi] > p[lo] ? (q - p[lo]) / (p[hi] - p[lo]) : 1.0;
+    out.push_back(v[lo].first + t * (v[hi].first - v[lo].first));
+  }
+  return out;
+}
+
 }  // namespace octarc

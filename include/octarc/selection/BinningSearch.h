@@ -45,10 +45,12 @@ struct BinningSearchResult {
 };
 
 // Tries every n of the options on the axes (their ranges; their bin counts are ignored) filled
-// with `samples`. Throws ConfigError for a bin range that is empty or below 1, and whatever
-// OccupationGrid::fill and contour() throw (no sample in the grid).
+// with `samples` and their `weights` (OccupationGrid::fill; empty: 1 each). Throws ConfigError for
+// a bin range that is empty or below 1, and whatever OccupationGrid::fill and contour() throw (no
+// sample in the grid).
 BinningSearchResult findFinestConnectedBinning(const std::vector<GridAxis>& axes,
                                                const AxisSamples& samples,
-                                               const BinningSearchOptions& options);
+                                               const BinningSearchOptions& options,
+                                               const std::vector<double>& weights = {});
 
 }  // namespace octarc

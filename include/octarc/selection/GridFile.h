@@ -2,16 +2,21 @@
 // io/FitsTable, reusable by every search on the same survey setup.
 //
 // Layout: an empty primary HDU and one BINTABLE, OCC_GRID. Its header holds OCTGRID (format
-// version, 1), the axes (GRIDDIM; AXEXPRn, AXLOn, AXHIn, AXBINSn for n = 1..GRIDDIM), the contour
-// (PLEVEL = P, PSELECT = what the selected bins hold, NSELECT), the counts (NBINNED, NOUTSIDE,
-// NUNDEF, NOCCUP), the search space (SPACE, SPACEEXP; empty for every simulated arc) and the
-// survey setup (PIXSCALE, SEEING, GAIN, SKYSIGMA, NTHRESH and THRESHn in sigma, MINAREA,
-// POPFILE, SEED, NSYSTEMS; NaN as an undefined value). One row per occupied bin, in probability
-// order (rank = row - 1): BIN (the 0-based index along each axis), COUNT, PROB, CUMPROB (the
-// contour level at which the bin enters) and SELECTED (1 in the contour at PLEVEL).
+// version, 2), the axes (GRIDDIM; AXEXPRn, AXLOn, AXHIn, AXBINSn for n = 1..GRIDDIM), the axes
+// asked for but dropped to keep the contour connected (NDROPAX; DROPAXn, in the order dropped),
+// the contour (PLEVEL = P, PSELECT = what the selected bins hold, NSELECT), the counts (NBINNED,
+// NOUTSIDE, NUNDEF, NOCCUP; WBINNED the binned weight), the search space (SPACE, SPACEEXP;
+// empty for every simulated arc) and the survey setup (PIXSCALE, SEEING, GAIN, SKYSIGMA, NTHRESH
+// and THRESHn in sigma, MINAREA, POPFILE, SEED, NSYSTEMS; NaN as an undefined value). One row
+// per occupied bin, in probability order (rank = row - 1): BIN (the 0-based index along each
+// axis), COUNT (samples), WEIGHT (their SIM_WEIGHT sum), PROB, CUMPROB (the contour level at
+// which the bin enters) and SELECTED (1 in the contour at PLEVEL).
+//
+// Version 1 files (no WEIGHT column, no NDROPAX) are read with the counts as the weights.
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "octarc/selection/OccupationGrid.h"
 #include "octarc/selection/SurveySetup.h"
@@ -22,6 +27,7 @@ struct GridProvenance {
   std::string searchSpace;            // name of the search space, "" for every simulated arc
   std::string searchSpaceExpression;  // its cut
   SurveySetup setup;
+  std::vector<std::string> droppedAxes;  // asked for, not in the grid (in the order dropped)
 };
 
 struct SavedGrid {

@@ -1,17 +1,22 @@
 // The occupation-probability grid of simulated arcs (METHOD.md section 4): every simulated
 // system adds its arc (the row of its randomly chosen threshold level) to the bin its axis
-// values fall in; normalised, each bin holds the probability that a simulated arc falls in it.
+// values fall in, with its weight (SIM_WEIGHT: how many systems of the population the row
+// stands for; 1 when not given); normalised, each bin holds the probability that an arc of the
+// population falls in it.
 //
 // Conventions (bins and packed indices: selection/GridBinning.h)
-//   Normalisation: probability = count / binned, where `binned` counts the samples that fell in
-//   a bin. Samples with an axis value outside its range (outsideCount()) or NaN
-//   (undefinedCount(), e.g. a system without an arc) are counted but in no bin, so the
-//   probabilities of the occupied bins sum to 1 and a contour at level P holds at least a
-//   fraction P of the binned samples (and P * binned / (binned + outside) of the defined ones).
+//   Normalisation: probability = weight / binned weight, the weight of a bin the sum of the
+//   weights of its samples and the binned weight that of the samples that fell in a bin. The
+//   samples' count is kept beside it (count, binnedCount()): with unit weights weight = count.
+//   Samples with an axis value outside its range (outsideCount()) or NaN (undefinedCount(),
+//   e.g. a system without an arc) are counted but in no bin, so the probabilities of the
+//   occupied bins sum to 1 and a contour at level P holds at least a fraction P of the binned
+//   weight. A sample of weight 0 (or not finite) is counted as undefined: it stands for nothing.
 //   Order: occupied bins sorted by probability, highest first; equal probabilities (equal
-//   counts) by packed index, lowest first, so the order never depends on filling order.
+//   weights) by packed index, lowest first, so the order never depends on filling order.
 //   cumulative(bin) = the sum of the probabilities of that bin and of every bin before it in
-//   that order, computed as (sum of counts) / binned: exact for sums that are exact in binary.
+//   that order, computed as (sum of weights) / binned weight: exact for sums that are exact in
+//   binary (whole numbers: unit weights).
 //   It is the "contour level at which the bin enters": the contour at P = cumulative(bin) is
 //   that bin and every bin before it; every contour of a higher level holds the bin, and no
 //   contour of a level at or below the cumulative of the bin before it does.
@@ -22,9 +27,8 @@
 // Storage is sparse: a hash map from packed index to rank, and the sorted bins, so that memory
 // grows with the occupied bins, never with the total number of bins (a 6-D grid of 100 bins
 // per axis has 10^12 bins; 10^5 samples occupy at most 10^5 of them). An occupied bin costs
-// about 80 bytes with glibc and libstdc++: a hash node (key, rank and next pointer, 24 bytes, 32
-// as allocated), 8-16 bytes of bucket array at the map's load factor, and a 32-byte GridBin
-// (78 bytes measured by the unit test on 10^5 bins).
+// about 90 bytes with glibc and libstdc++: a hash node (key, rank and next pointer, 24 bytes, 32
+// as allocated), 8-16 bytes of bucket array at the map's load factor, and a 40-byte GridBin.
 #pragma once
 
 #include <cstdint>
@@ -42,8 +46,9 @@ namespace octarc {
 
 struct GridBin {
   BinIndex index = 0;
-  std::int64_t count = 0;
-  double probability = 0.0;  // count / binned
+  std::int64_t count = 0;    // samples in the bin
+  double weight = 0.0;       // their weight sum (= count with unit weights)
+  double probability = 0.0;  // weight / binned weight
   double cumulative = 0.0;   // contour level at which the bin enters (see above)
 };
 
@@ -57,18 +62,26 @@ struct Contour {
 
 class OccupationGrid {
  public:
-  // Fills a grid with samples (one per simulated system): samples[a][i] is axis a of sample i.
-  // Throws ConfigError when the number of axes of `samples` is not the binning's or the axes
-  // hold different numbers of samples.
-  static OccupationGrid fill(GridBinning binning, const AxisSamples& samples);
+  // Fills a grid with samples (one per simulated system): samples[a][i] is axis a of sample i,
+  // weights[i] its weight (empty: 1 each). Throws ConfigError when the number of axes of
+  // `samples` is not the binning's or the axes (or the weights) hold different numbers of
+  // samples.
+  static OccupationGrid fill(GridBinning binning, const AxisSamples& samples,
+                             const std::vector<double>& weights = {});
   // A grid from its occupied bins and counts (as stored in a grid file). Throws ConfigError for
   // a bin index outside the grid, a bin given twice or a count below 1.
   static OccupationGrid fromCounts(GridBinning binning,
                                    const std::vector<std::pair<BinIndex, std::int64_t>>& counts,
                                    std::int64_t outside, std::int64_t undefined);
+  // A grid from its occupied bins, counts and weights (index, count and weight of each GridBin;
+  // its probability and cumulative are recomputed). ConfigError as fromCounts, and for a weight
+  // that is not finite and positive.
+  static OccupationGrid fromWeights(GridBinning binning, const std::vector<GridBin>& bins,
+                                    std::int64_t outside, std::int64_t undefined);
 
   const GridBinning& binning() const { return binning_; }
   std::int64_t binnedCount() const { return binned_; }
+  double binnedWeight() const { return binnedWeight_; }
   std::int64_t outsideCount() const { return outside_; }
   std::int64_t undefinedCount() const { return undefined_; }
   std::int64_t occupiedBins() const { return std::int64_t(bins_.size()); }
@@ -89,11 +102,15 @@ class OccupationGrid {
   std::vector<BinIndex> selectedIndices(const Contour& contour) const;
 
  private:
-  OccupationGrid(GridBinning binning, std::unordered_map<BinIndex, std::int64_t> counts,
-                 std::int64_t outside, std::int64_t undefined);
+  // `bins` (index, count, weight) and `rank`, a map holding every bin's index (its values are
+  // overwritten with the ranks).
+  OccupationGrid(GridBinning binning, std::vector<GridBin> bins,
+                 std::unordered_map<BinIndex, std::int64_t> rank, std::int64_t outside,
+                 std::int64_t undefined);
 
   GridBinning binning_;
   std::int64_t binned_ = 0;
+  double binnedWeight_ = 0.0;
   std::int64_t outside_ = 0;
   std::int64_t undefined_ = 0;
   std::vector<GridBin> bins_;

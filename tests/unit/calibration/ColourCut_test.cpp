@@ -10,7 +10,7 @@
 #include <limits>
 #include <vector>
 
-#include "octarc/calibration/LensingFraction.h"
+#include "octarc/calibration/Weights.h"
 #include "octarc/core/Error.h"
 
 namespace octarc {
@@ -58,7 +58,7 @@ TEST(ColourCut, FractionsKeptCountedByHand) {
   s.completenessLevels = {0.5, 0.8, 0.95, 0.2};
   const ColourCutStudy c = colourCutStudy(t, "g", kArcs, s);
   EXPECT_EQ(c.band, "g");
-  EXPECT_EQ(c.arcs, 10);
+  EXPECT_EQ(c.arcs.count, 10);
   EXPECT_EQ(c.withColours, 8);
   // MAX -1.0, -0.5, 0.0, 0.5, 1.0: kept are the 2 without a colour plus those <= MAX (a value
   // equal to MAX is kept: the search removes only those above it).
@@ -67,8 +67,10 @@ TEST(ColourCut, FractionsKeptCountedByHand) {
   for (std::size_t k = 0; k < 5; ++k) {
     EXPECT_NEAR(c.rows[k].maxMag, -1.0 + 0.5 * double(k), 1e-12);
     EXPECT_EQ(c.rows[k].kept, kept[k]) << "MAX " << c.rows[k].maxMag;
-    EXPECT_DOUBLE_EQ(c.rows[k].fraction, kept[k] / 10.0);
-    EXPECT_DOUBLE_EQ(c.rows[k].fractionSigma, binomialSigma(kept[k], 10));
+    EXPECT_DOUBLE_EQ(c.rows[k].fraction.fraction, kept[k] / 10.0);
+    const FractionInterval cp = clopperPearson(double(kept[k]), 10.0);
+    EXPECT_NEAR(c.rows[k].fraction.lo, cp.lo, 1e-12);
+    EXPECT_NEAR(c.rows[k].fraction.hi, cp.hi, 1e-12);
   }
   // 50 %: 5 arcs, 3 besides the two always kept: the third smallest difference, -0.75. 80 %: 6
   // besides them: 0.0. 95 %: ceil(9.5) = 10: all 8: 1.5. 20 %: the two alone: any MAX.
@@ -77,6 +79,41 @@ TEST(ColourCut, FractionsKeptCountedByHand) {
   EXPECT_DOUBLE_EQ(c.levels[1].maxMag, 0.0);
   EXPECT_DOUBLE_EQ(c.levels[2].maxMag, 1.5);
   EXPECT_EQ(c.levels[3].maxMag, -std::numeric_limits<double>::infinity());
+}
+
+// With SIM_WEIGHT: the fractions kept are weight sums, the levels reached by weight.
+TEST(ColourCut, WeightedFractionsAndLevels) {
+  ColumnSpec w = column("SIM_WEIGHT");
+  Table t(
+      {column("ARC_FOUND"), column("ARCNESS"), column("ARC_COLOUR_g"), column("LENS_COLOUR_g"), w});
+  // Differences -0.5 (weight 1), 0.0 (weight 6), 0.5 (weight 2), one without colour (weight 1).
+  const std::vector<std::array<double, 5>> rows = {{1, 0.2, 0.5, 1.0, 1.0},
+                                                   {1, 0.2, 1.0, 1.0, 6.0},
+                                                   {1, 0.2, 1.5, 1.0, 2.0},
+                                                   {1, 0.2, 1.5, std::nan(""), 1.0}};
+  for (const auto& r : rows) std::copy(r.begin(), r.end(), t.appendRow());
+  ColourCutSettings s;
+  s.maxLoMag = -0.5;
+  s.maxHiMag = 0.5;
+  s.stepMag = 0.5;
+  s.completenessLevels = {0.5, 0.9, 0.1};
+  const ColourCutStudy c = colourCutStudy(t, "g", kArcs, s);
+  EXPECT_EQ(c.arcs.count, 4);
+  EXPECT_DOUBLE_EQ(c.arcs.weightSum, 10.0);
+  ASSERT_EQ(c.rows.size(), 3u);
+  const double kept[] = {2.0, 8.0, 10.0};  // the colourless arc (1) plus those <= MAX
+  const double n = 100.0 / 42.0;           // (sum w)^2 / sum w^2
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_DOUBLE_EQ(c.rows[k].keptWeight, kept[k]);
+    EXPECT_DOUBLE_EQ(c.rows[k].fraction.fraction, kept[k] / 10.0);
+    const FractionInterval cp = clopperPearson(kept[k] / 10.0 * n, n);
+    EXPECT_NEAR(c.rows[k].fraction.hi, cp.hi, 1e-12);
+  }
+  // 50 %: 5 of 10, 4 beyond the colourless arc: reached at 0.0 (1 + 6). 90 %: 9: at 0.5. 10 %:
+  // the colourless arc alone: any MAX.
+  EXPECT_DOUBLE_EQ(c.levels[0].maxMag, 0.0);
+  EXPECT_DOUBLE_EQ(c.levels[1].maxMag, 0.5);
+  EXPECT_EQ(c.levels[2].maxMag, -std::numeric_limits<double>::infinity());
 }
 
 TEST(ColourCut, MissingColumnsAndBadRangesAreNamed) {

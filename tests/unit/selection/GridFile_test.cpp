@@ -56,7 +56,7 @@ SavedGrid savedGrid() {
   const Contour contour = grid.contour(0.8);
   return SavedGrid{
       std::move(grid), contour,
-      GridProvenance{"strong", "ARCNESS > 0.15 && E_IMAGE > 0.6 && SNR_ISO > 40", dlsSetup()}};
+      GridProvenance{"strong", "ARCNESS > 0.15 && E_IMAGE > 0.6 && SNR_ISO > 40", dlsSetup(), {}}};
 }
 
 TEST(GridFile, RoundTripKeepsEveryField) {
@@ -151,6 +151,45 @@ void dropKeyword(FitsTable& t, const char* name) {
   std::erase_if(t.keywords, [&](const FitsKeyword& k) { return k.name == name; });
 }
 
+// Weights are stored and read back; a version 1 file (no WEIGHT column) has its counts as the
+// weights; the axes dropped are recorded.
+TEST(GridFile, WeightsRoundTripAndOldFilesWeighTheirCounts) {
+  const fs::path dir = test::scratchDir();
+  const GridBinning b({GridAxis{"ARCNESS", 0.0, 0.3, 3}});
+  OccupationGrid grid = OccupationGrid::fill(b, {{0.05, 0.05, 0.15, 0.25}}, {1.0, 1.0, 6.0, 2.0});
+  const Contour contour = grid.contour(0.7);
+  SavedGrid saved{std::move(grid), contour, GridProvenance{"", "", dlsSetup(), {"E_IMAGE"}}};
+  const std::string path = (dir / "weighted.fits").string();
+  saveGrid(path, saved);
+  const FitsTable t = readFitsTable(path, "OCC_GRID");
+  EXPECT_EQ(t.integer("OCTGRID"), 2);
+  EXPECT_EQ(t.doubles("WEIGHT"), (std::vector<double>{6.0, 2.0, 2.0}));
+  EXPECT_EQ(t.integers("COUNT"), (std::vector<std::int64_t>{1, 2, 1}));
+  EXPECT_EQ(t.doubles("PROB"), (std::vector<double>{0.6, 0.2, 0.2}));
+  EXPECT_EQ(t.number("WBINNED"), 10.0);
+  EXPECT_EQ(t.integer("NDROPAX"), 1);
+  EXPECT_EQ(t.text("DROPAX1"), "E_IMAGE");
+  const SavedGrid in = loadGrid(path);
+  EXPECT_EQ(in.grid.binnedWeight(), 10.0);
+  EXPECT_EQ(in.grid.bins()[0].weight, 6.0);
+  EXPECT_EQ(in.grid.bins()[0].count, 1);
+  EXPECT_EQ(in.provenance.droppedAxes, (std::vector<std::string>{"E_IMAGE"}));
+  // Version 1: no WEIGHT, WBINNED or NDROPAX; the counts 4, 2, 1, 1 are the weights.
+  const std::string old = editedGrid(dir, "version1.fits", [](FitsTable& t) {
+    std::erase_if(t.columns, [](const FitsColumn& c) { return c.name == "WEIGHT"; });
+    dropKeyword(t, "WBINNED");
+    dropKeyword(t, "NDROPAX");
+    for (FitsKeyword& k : t.keywords) {
+      if (k.name == "OCTGRID") k.value = std::int64_t(1);
+    }
+  });
+  const SavedGrid v1 = loadGrid(old);
+  EXPECT_EQ(v1.grid.binnedWeight(), 8.0);
+  EXPECT_EQ(v1.grid.bins()[0].weight, 4.0);
+  EXPECT_EQ(v1.grid.bins()[0].probability, 0.5);
+  EXPECT_TRUE(v1.provenance.droppedAxes.empty());
+}
+
 TEST(GridFile, FilesThatAreNotAGridNameWhatIsMissing) {
   const fs::path dir = test::scratchDir();
   FitsTable other;
@@ -182,9 +221,11 @@ TEST(GridFile, FilesThatAreNotAGridNameWhatIsMissing) {
 
 TEST(GridFile, InconsistentGridFilesAreRefused) {
   const fs::path dir = test::scratchDir();
+  // A count and its weight (unit weights: the same).
   auto setCount = [](FitsTable& t, std::size_t row, std::int64_t value) {
     for (FitsColumn& c : t.columns) {
       if (c.name == "COUNT") std::get<std::vector<std::int64_t>>(c.values)[row] = value;
+      if (c.name == "WEIGHT") std::get<std::vector<double>>(c.values)[row] = double(value);
     }
   };
   // The last two bins swapped counts' order: 4, 2, 1, 3 is not a probability order.
@@ -193,6 +234,13 @@ TEST(GridFile, InconsistentGridFilesAreRefused) {
   const std::string total = editedGrid(dir, "total.fits", [&](FitsTable& t) { setCount(t, 0, 5); });
   expectError<IoError>([&] { loadGrid(total); },
                        {"NBINNED = 8 but the bins table gives 9 binned arcs"});
+  const std::string weight = editedGrid(dir, "weight.fits", [&](FitsTable& t) {
+    for (FitsKeyword& k : t.keywords) {
+      if (k.name == "WBINNED") k.value = 9.5;
+    }
+  });
+  expectError<IoError>([&] { loadGrid(weight); },
+                       {"WBINNED = 9.5 but the bins table gives 8 binned weight"});
   const std::string bin = editedGrid(dir, "bin.fits", [](FitsTable& t) {
     for (FitsColumn& c : t.columns) {
       if (c.name == "BIN") std::get<std::vector<std::int32_t>>(c.values)[2] = 3;
