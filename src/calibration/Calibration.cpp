@@ -458,7 +458,7 @@ FitsTable thresholdCountTable(const ThresholdCountCurve& c) {
   FitsTable t;
   t.name = "THRESHOLD_COUNT";
   std::vector<std::int64_t> levels, systems, rendered, arcs, with;
-  std::vector<double> weight;
+  std::vector<double> weight, effective;
   std::vector<FractionInterval> fraction;
   for (const ThresholdCountRow& r : c.rows) {
     levels.push_back(r.levels);
@@ -467,6 +467,7 @@ FitsTable thresholdCountTable(const ThresholdCountCurve& c) {
     arcs.push_back(r.arcSystems);
     with.push_back(r.withArcness.count);
     weight.push_back(r.withArcness.weightSum);
+    effective.push_back(r.withArcness.effective());
     fraction.push_back(r.fraction);
   }
   t.columns = {integers("NLEVELS", levels, "detection thresholds"),
@@ -474,7 +475,8 @@ FitsTable thresholdCountTable(const ThresholdCountCurve& c) {
                integers("N_RENDERED", rendered, "of them rendered"),
                integers("N_ARC", arcs, "rendered systems with an arc"),
                integers("N_ARCNESS", with, "systems with an arc row above the arcness cut"),
-               doubles("WEIGHT", weight, "their SIM_WEIGHT sum")};
+               doubles("WEIGHT", weight, "their SIM_WEIGHT sum"),
+               doubles("NEFF_ARCNESS", effective, "their Kish effective number")};
   for (FitsColumn& col : fractionColumns(fraction, "WEIGHT / N_SYSTEMS")) {
     t.columns.push_back(std::move(col));
   }

@@ -153,6 +153,8 @@ class Calibrate(WorkDirTest):
         self.assertEqual(row["N_ARC"], (systems["ARC_FOUND"] == 1).sum())
         self.assertEqual(row["N_ARCNESS"], len(with_arcness))
         self.assertAlmostEqual(row["WEIGHT"], weight_sum, delta=1e-6 * weight_sum)
+        w = np.array([weight[s] for s in with_arcness])
+        self.assertAlmostEqual(row["NEFF_ARCNESS"], kish(w), delta=1e-6 * len(w))
         self.assertAlmostEqual(row["FRACTION"], weight_sum / int(SYSTEMS), delta=1e-9)
         self.assertLessEqual(row["FRACTION_LO"], row["FRACTION"])
         self.assertGreater(row["FRACTION_HI"], row["FRACTION"])

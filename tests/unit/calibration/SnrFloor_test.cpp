@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "octarc/core/Error.h"
+#include "octarc/core/Statistics.h"
 #include "octarc/simulation/engine/LensCatalog.h"
 
 namespace octarc {
@@ -57,6 +58,23 @@ TEST(SnrFloor, BinStatisticsAndTheFloor) {
   EXPECT_FALSE(bins[0].reliable);
   // The empty bin [20, 40) is passed over: the floor is the lower edge of [40, 80).
   EXPECT_DOUBLE_EQ(snrFloor(bins, 5), 40);
+}
+
+// Each measurement weighs its arc's SIM_WEIGHT: weighted quantiles per bin (core/Statistics.h,
+// value k at p_k = (C_k - w_k) / (W - w_last)), which unit weights make sampleQuantiles' (type 7).
+TEST(SnrFloor, WeightedQuantilesPerBin) {
+  const std::vector<double> v = {0.08, 0.10, 0.12, 0.10, 0.11};
+  EXPECT_EQ(weightedSampleQuantiles(v, {1, 1, 1, 1, 1}, {0.2, 0.5, 0.8}),
+            sampleQuantiles(v, {0.2, 0.5, 0.8}));
+  // Weight 4 on 0.08: sorted 0.08 (4), 0.10, 0.10, 0.11, 0.12 (1 each), W - w_last = 7, p = 0,
+  // 4/7, 5/7, 6/7, 1; the median (q = 0.5) is 0.08 + (0.5 / (4/7)) (0.10 - 0.08) = 0.0975.
+  const std::vector<double> median = weightedSampleQuantiles(v, {4, 1, 1, 1, 1}, {0.5});
+  EXPECT_NEAR(median[0], 0.08 + 0.5 / (4.0 / 7.0) * 0.02, 1e-12);
+  std::vector<double> snr, a;
+  add(snr, a, 50, v);
+  const std::vector<SnrFloorBin> bins = snrFloorBins(snr, a, fourBins(), {4, 1, 1, 1, 1});
+  EXPECT_EQ(bins[2].measurements, 5);
+  EXPECT_NEAR(bins[2].median, median[0], 1e-12);
 }
 
 TEST(SnrFloor, ABiasedMedianBreaksTheRunAndNoReliableTopGivesNaN) {
