@@ -21,6 +21,7 @@ CPACK = os.environ.get("OCTARC_CPACK", "cpack")
 # Every installed file and, for the data, its source in the tree.
 DATA = {"octarc.sex": "params/octarc.sex", "octarc.param": "params/octarc.param",
         "default.conv": "params/default.conv", "demo.grid.fits": "params/demo.grid.fits",
+        "dls.grid.fits": "params/dls.grid.fits",
         "simulation/population.txt": "params/simulation/population.txt",
         "simulation/population-dls.txt": "params/simulation/population-dls.txt"}
 INSTALLED = sorted(["bin/octarc", "share/doc/octarc/README.md", "share/doc/octarc/LICENSE"] +
