@@ -82,7 +82,11 @@ ColumnPlan planColumns(const RunSettings& settings, bool quiet, int levelCount) 
   out.plan = MeasurementPlan::build(measured, external, &unknown);
   for (const std::string& name : unknown) {
     if (!quiet) {
-      std::cerr << "WARNING: " << settings.parametersPath << ": catalog parameter unknown: " << name
+      // A SExtractor column octarc leaves out is not a typo: say why it is missing.
+      std::cerr << "WARNING: " << settings.parametersPath << ": catalog parameter " << name
+                << (sexcompat::isSextractorParameter(name)
+                        ? " not measured by octarc (isophotal only), skipped"
+                        : " unknown, skipped")
                 << "\n";
     }
   }
