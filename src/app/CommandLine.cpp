@@ -156,7 +156,22 @@ std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std
   } else {
     setExpressionWarnings({});
   }
-  return LoadedRun{std::move(loaded->config), std::move(settings)};
+  return LoadedRun{std::move(loaded->config), std::move(settings), std::move(loaded->warnings)};
+}
+
+std::string commandLineText(const std::string& command, const std::vector<std::string>& args) {
+  std::string text = "octarc " + command;
+  for (const std::string& a : args) text += " " + a;
+  return text;
+}
+
+int addXmlOutput(const RunSettings& s, OutputFiles& outputs,
+                 const std::vector<NamedInput>& inputs) {
+  if (!s.writeXml) return -1;
+  const int index = int(outputs.size());
+  outputs.add(s.xmlName);
+  for (const NamedInput& in : inputs) refuseOutputOverInput(s.xmlName, "XML_NAME", in.path, in.key);
+  return index;
 }
 
 }  // namespace octarc
