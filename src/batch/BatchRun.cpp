@@ -71,7 +71,7 @@ void checkTiles(const BatchSettings& s, const std::vector<Tile>& tiles) {
     }
     if (t.maskPath.empty()) continue;
     try {
-      (void)readDs9Regions(t.maskPath, readImageHeader(t.imagePath).header, t.imagePath);
+      (void)readSearchMask(s.tile, t.maskPath, t.imagePath);
     } catch (const Error& e) {
       throw ConfigError(where(s, t) + "mask " + t.maskPath + ": " + e.what());
     }
