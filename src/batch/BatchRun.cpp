@@ -329,6 +329,10 @@ std::vector<KeySpec> batchKeys() {
       k.comment = "directory of the survey: journal, tiles/, candidates";
     } else if (k.name == "LENS_CHECKIMAGES") {
       k.defaults = {"N"};  // two image-sized files per tile: only when asked for
+    } else if (k.name == "WEIGHT_IMAGE") {
+      // Each tile's comes from the manifest: none here, so that a -dd template loads back.
+      k.defaults = {};
+      k.comment = "none: each tile's weight map is in the manifest";
     }
   }
   // clang-format off

@@ -11,6 +11,7 @@
 
 #include "octarc/catalog/Catalog.h"
 #include "octarc/core/AtomicFile.h"
+#include "octarc/core/DataFiles.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
 #include "octarc/core/Parallel.h"
@@ -287,6 +288,21 @@ std::vector<RegionShape> readSearchMask(const SearchRunSettings& settings,
 
 std::vector<KeySpec> searchKeys() {
   std::vector<KeySpec> keys = octarcKeys();
+  // The arc search's own defaults (those of the shipped octarc.sex), not SExtractor's one
+  // filtered level: what -d prints and a run without a configuration file uses.
+  for (KeySpec& k : keys) {
+    if (k.name == "DETECT_THRESH" || k.name == "ANALYSIS_THRESH") {
+      k.defaults = {"2.5"};
+    } else if (k.name == "DETECT_NLEVELS") {
+      k.defaults = {"15"};
+    } else if (k.name == "FILTER") {
+      k.defaults = {"N"};
+    } else if (k.name == "PARAMETERS_NAME") {
+      k.defaults = {"octarc.param"};  // the shipped column list
+    } else if (k.name == "WRITE_XML" || k.name == "XML_NAME" || k.name == "XSL_URL") {
+      sexcompat::KeyRow::markIgnored(k);  // a search reports in OUTPUT_DIR/summary.txt
+    }
+  }
   // clang-format off
   const std::vector<KeySpec> own = {
     Row("GRID_NAME", Kind::String, {"arcs.grid.fits"},
@@ -407,7 +423,8 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
   // Everything that can be checked is checked before any pixel is read.
   checkOutputDirectory(settings);
   checkColourImageGrids(settings);
-  run.grid = loadGrid(settings.gridPath);
+  // A GRID_NAME without a directory may be a shipped grid (-GRID_NAME demo.grid.fits).
+  run.grid = loadGrid(existingUserOrDataFile(settings.gridPath, "GRID_NAME file"));
   SearchMaskSettings maskSettings;
   if (!settings.maskPath.empty()) {
     maskSettings.regions = readSearchMask(settings, settings.maskPath, rs.imagePaths[0]);
