@@ -164,12 +164,26 @@ const char* datatype(ColumnType type) {
   }
 }
 
-// SExtractor's units in the VOUnit spelling its XML uses.
+// A catalog unit ("pixel**(-2)", "deg**2", "count") in the spelling SExtractor's XML uses
+// ("pix-2", "deg2", "ct"): its units abbreviated, powers written after the unit.
 std::string voUnit(const std::string& unit) {
-  if (unit == "pixel") return "pix";
-  if (unit == "pixel**2") return "pix2";
-  if (unit == "count") return "ct";
-  return unit;
+  std::string out;
+  for (std::size_t i = 0; i < unit.size();) {
+    if (unit.compare(i, 5, "pixel") == 0) {
+      out += "pix";
+      i += 5;
+    } else if (unit.compare(i, 5, "count") == 0) {
+      out += "ct";
+      i += 5;
+    } else if (unit.compare(i, 2, "**") == 0) {
+      i += 2;
+    } else if (unit[i] == '(' || unit[i] == ')') {
+      ++i;
+    } else {
+      out += unit[i++];
+    }
+  }
+  return out;
 }
 
 void param(std::ostringstream& out, const char* indent, const std::string& name,

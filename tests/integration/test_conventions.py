@@ -222,6 +222,17 @@ class XmlSummary(WorkDirTest):
         self.assertEqual(int(params["Detect_Nlevels"]), 3)
         self.assertEqual(list(params["Phot_AutoParams"]), [2.5, 3.5])
 
+    def test_values_are_escaped(self):
+        name = "a&<b>'.cat"  # '"' separates values, as in SExtractor
+        run_octarc("detect", IMAGE, "-WRITE_XML", "Y", "-CATALOG_NAME", name, cwd=self.work)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            votable = parse_votable(self.path("sex.xml"), verify="warn")
+        self.assertEqual([str(w.message) for w in caught], [])
+        params = {p.name: p.value for p in votable.resources[0].resources[0].resources[0].params}
+        self.assertEqual(params["Catalog_Name"], name)
+        self.assertIn(name, params["Command_Line"])
+
     def test_measure_writes_it_too(self):
         proc = run_octarc("measure", IMAGE, "-SEGMENTATION_NAME", SEG1, "-DETECT_THRESH", "3",
                           "-WRITE_XML", "Y", "-XML_NAME", "m.xml", "-CATALOG_NAME", "m.cat",
