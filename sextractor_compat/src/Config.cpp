@@ -236,6 +236,7 @@ void Config::setValue(Value& v, const KeySpec& spec, const std::vector<std::stri
   if (text.empty()) return;
   v.text = std::move(text);
   v.isExplicit = true;
+  v.where = where;
 }
 
 Config Config::load(const std::vector<KeySpec>& schema, const std::string& sexFile,
@@ -291,6 +292,17 @@ Config Config::load(const std::vector<KeySpec>& schema, const std::string& sexFi
         spec->expression ? tokenizeExpression(rawValue) : tokenize(rawValue);
     if (!raw.empty() && raw[0][0] == '#') raw.clear();
     setValue(config.values_[key], *spec, raw, rawValue, "command line");
+  }
+  if (warnings) {
+    for (const auto& spec : schema) {
+      if (!spec.ignored) continue;
+      const Value& v = config.values_[spec.name];
+      if (!v.isExplicit) continue;
+      const bool onCommandLine = v.where == "command line";
+      if (!onCommandLine && v.text == validate(spec, spec.defaults, spec.name)) continue;
+      warnings->push_back(v.where + ": " + (onCommandLine ? "-" : "") + spec.name +
+                          " is ignored by octarc (setting it has no effect)");
+    }
   }
   return config;
 }

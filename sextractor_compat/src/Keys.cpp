@@ -159,10 +159,10 @@ std::vector<KeySpec> buildSextractorKeys() {
     Row("VERBOSE_TYPE", Kind::Keyword, {"NORMAL"}, "QUIET, NORMAL, EXTRA_WARNINGS or FULL")
         .keywords({"QUIET", "NORMAL", "EXTRA_WARNINGS", "FULL"}),
     Row("HEADER_SUFFIX", Kind::String, {".head"}, "suffix of external header files").ignored(),
-    Row("WRITE_XML", Kind::Bool, {"N"}, "write an XML summary (Y/N)").ignored(),
-    Row("XML_NAME", Kind::String, {"sex.xml"}, "XML summary file name").ignored(),
+    Row("WRITE_XML", Kind::Bool, {"N"}, "write an XML summary (Y/N)"),
+    Row("XML_NAME", Kind::String, {"sex.xml"}, "XML summary file name"),
     Row("XSL_URL", Kind::String, {"file:///usr/share/source-extractor/source-extractor.xsl"},
-        "XSL style sheet of the XML summary").expert().ignored(),
+        "XSL style sheet of the XML summary").expert(),
     Row("NTHREADS", Kind::Int, {"1"}, "number of threads").range(-65535, 65535).expert(),
     Row("FITS_UNSIGNED", Kind::Bool, {"N"}, "read FITS integers as unsigned (Y/N)").expert(),
     Row("INTERP_MAXXLAG", Kind::Int, {"16"}, "largest x gap filled for zero weights")

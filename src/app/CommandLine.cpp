@@ -31,15 +31,17 @@ void printColumns() {
   }
 }
 
-// PARAMETERS_NAME as a path to read. Not given, and no ./default.param (SExtractor's default):
-// the shipped column list, with a warning. Given: as FILTER_NAME, a name without a directory that
-// is not in the working directory may be a shipped file (so that `-c share/octarc/octarc.sex`
-// works from anywhere); a file found nowhere is an error naming it.
+// PARAMETERS_NAME as a path to read. Not given (or SExtractor's default.param, as a -d template
+// writes it), and no default.param here or shipped: the shipped column list, with a warning. Given:
+// as FILTER_NAME, a name without a directory that is not in the working directory may be a shipped
+// file (so that `-c share/octarc/octarc.sex` works from anywhere); a file found nowhere is an error
+// naming it.
 std::string resolveParametersFile(const std::string& path, bool given,
                                   std::vector<std::string>& warnings) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (!given && !fs::exists(path, ec)) {
+  // SExtractor's default name, as a template (-d) writes it, counts as not given.
+  if ((!given || path == "default.param") && !fs::exists(userOrDataFile(path), ec)) {
     std::string shipped;
     try {
       shipped = dataFile("octarc.param");
@@ -51,14 +53,7 @@ std::string resolveParametersFile(const std::string& path, bool given,
     warnings.push_back(path + " not found, using the shipped column list " + shipped);
     return shipped;
   }
-  const std::string resolved = userOrDataFile(path);
-  if (!fs::exists(resolved, ec)) {
-    const bool bareName = !fs::path(path).has_parent_path();
-    throw IoError(path + ": PARAMETERS_NAME file not found" +
-                  (bareName ? " (neither in the working directory nor in " + dataDirectory() + ")"
-                            : std::string()));
-  }
-  return resolved;
+  return existingUserOrDataFile(path, "PARAMETERS_NAME file");
 }
 
 }  // namespace
@@ -113,7 +108,10 @@ std::optional<LoadedConfig> loadConfig(const std::vector<std::string>& args,
     return std::nullopt;
   }
   // As SExtractor: without -c, ./default.sex is read when it exists, with its warning when not.
-  out.configFile = cl.configFile;
+  // A -c name without a directory may also be a shipped file (-c octarc.sex).
+  out.configFile = cl.configFile.empty()
+                       ? std::string()
+                       : existingUserOrDataFile(cl.configFile, "configuration file (-c)");
   if (out.configFile.empty() && readDefaultSex) {
     if (std::filesystem::exists("default.sex")) {
       out.configFile = "default.sex";
@@ -156,7 +154,22 @@ std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std
   } else {
     setExpressionWarnings({});
   }
-  return LoadedRun{std::move(loaded->config), std::move(settings)};
+  return LoadedRun{std::move(loaded->config), std::move(settings), std::move(loaded->warnings)};
+}
+
+std::string commandLineText(const std::string& command, const std::vector<std::string>& args) {
+  std::string text = "octarc " + command;
+  for (const std::string& a : args) text += " " + a;
+  return text;
+}
+
+int addXmlOutput(const RunSettings& s, OutputFiles& outputs,
+                 const std::vector<NamedInput>& inputs) {
+  if (!s.writeXml) return -1;
+  const int index = int(outputs.size());
+  outputs.add(s.xmlName);
+  for (const NamedInput& in : inputs) refuseOutputOverInput(s.xmlName, "XML_NAME", in.path, in.key);
+  return index;
 }
 
 }  // namespace octarc

@@ -17,6 +17,7 @@
 #include "octarc/run/DetectionRun.h"
 #include "octarc/run/Levels.h"
 #include "octarc/run/PreparedImage.h"
+#include "octarc/run/RunKeys.h"
 #include "octarc/run/RunSettings.h"
 
 namespace octarc {
@@ -107,6 +108,7 @@ int runDetect(const std::vector<std::string>& args) {
       refuseOutputOverInput(outputs[i].finalPath(), key, in.path, in.key);
     }
   }
+  const int xmlOutput = addXmlOutput(s, outputs, inputs);
 
   const RunLog log =
       s.quiet ? RunLog() : [](const std::string& line) { std::cerr << line << "\n"; };
@@ -127,10 +129,24 @@ int runDetect(const std::vector<std::string>& args) {
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
               << " s\n";
   }
+  XmlRunFacts xml;
+  for (const DetectedExtension& x : result.extensions) {
+    xml.extensions.push_back(x.summary);
+    xml.levelCounts.push_back(std::int64_t(x.levels.size()));
+  }
   // Check images last. The catalog is written: its rows make room for their buffer.
   parts.clear();
   std::vector<DetectedExtension>().swap(result.extensions);
   writeCheckImages(s, result, outputs, firstCheck, log);
+  if (xmlOutput >= 0) {
+    xml.commandLine = commandLineText("detect", args);
+    xml.warnings = run->warnings;
+    xml.durationSec =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    outputs.write(std::size_t(xmlOutput), [&](const std::string& path) {
+      writeTextFile(path, runXmlText(s, run->config, octarcKeys(), columns.outputColumns, xml));
+    });
+  }
   // Every output is complete: they appear together.
   outputs.commit();
   return 0;

@@ -24,6 +24,7 @@
 #include "octarc/run/Levels.h"
 #include "octarc/run/MeasurementRun.h"
 #include "octarc/run/PreparedImage.h"
+#include "octarc/run/RunKeys.h"
 #include "octarc/run/RunSettings.h"
 
 namespace octarc {
@@ -52,6 +53,7 @@ void printUsage() {
 }  // namespace
 
 int runMeasure(const std::vector<std::string>& args) {
+  const auto start = std::chrono::steady_clock::now();
   std::optional<LoadedRun> run = loadRun(args, "measure", printUsage);
   if (!run) return 0;
   requireImages(run->settings, "measure", false);
@@ -113,6 +115,7 @@ int runMeasure(const std::vector<std::string>& args) {
                                 : in.key);
     }
   }
+  const int xmlOutput = addXmlOutput(s, outputs, inputs);
 
   // Every catalog and its run values are checked before any image is read.
   const InputCatalogs catalogs = readInputCatalogs(s);
@@ -131,7 +134,21 @@ int runMeasure(const std::vector<std::string>& args) {
       writeCatalog(path, catalogType, result.parts(), result.fits10Cards);
     });
   }
-  // Every catalog is complete: they appear together.
+  if (xmlOutput >= 0) {
+    XmlRunFacts xml;
+    for (const MeasuredExtension& x : result.extensions) {
+      xml.extensions.push_back(x.summary);
+      xml.levelCounts.push_back(x.levelCount);
+    }
+    xml.commandLine = commandLineText("measure", args);
+    xml.warnings = run->warnings;
+    xml.durationSec =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    outputs.write(std::size_t(xmlOutput), [&](const std::string& path) {
+      writeTextFile(path, runXmlText(s, run->config, octarcKeys(), columns.outputColumns, xml));
+    });
+  }
+  // Every output is complete: they appear together.
   outputs.commit();
   if (!s.quiet) {
     for (std::size_t i = 0; i < outputs.size(); ++i) {

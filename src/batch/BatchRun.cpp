@@ -71,7 +71,7 @@ void checkTiles(const BatchSettings& s, const std::vector<Tile>& tiles) {
     }
     if (t.maskPath.empty()) continue;
     try {
-      (void)readDs9Regions(t.maskPath, readImageHeader(t.imagePath).header, t.imagePath);
+      (void)readSearchMask(s.tile, t.maskPath, t.imagePath);
     } catch (const Error& e) {
       throw ConfigError(where(s, t) + "mask " + t.maskPath + ": " + e.what());
     }
@@ -329,6 +329,10 @@ std::vector<KeySpec> batchKeys() {
       k.comment = "directory of the survey: journal, tiles/, candidates";
     } else if (k.name == "LENS_CHECKIMAGES") {
       k.defaults = {"N"};  // two image-sized files per tile: only when asked for
+    } else if (k.name == "WEIGHT_IMAGE") {
+      // Each tile's comes from the manifest: none here, so that a -dd template loads back.
+      k.defaults = {};
+      k.comment = "none: each tile's weight map is in the manifest";
     }
   }
   // clang-format off

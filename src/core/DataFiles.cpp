@@ -60,4 +60,14 @@ std::string userOrDataFile(const std::string& path) {
   return path;
 }
 
+std::string existingUserOrDataFile(const std::string& path, const std::string& what) {
+  const std::string resolved = userOrDataFile(path);
+  std::error_code ec;
+  if (!path.empty() && fs::exists(resolved, ec)) return resolved;
+  const bool bareName = !path.empty() && !fs::path(path).has_parent_path();
+  throw IoError(path + ": " + what + " not found" +
+                (bareName ? " (neither in the working directory nor in " + dataDirectory() + ")"
+                          : std::string()));
+}
+
 }  // namespace octarc

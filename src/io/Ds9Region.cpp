@@ -7,6 +7,7 @@
 #include <fstream>
 #include <optional>
 #include <sstream>
+#include <utility>
 
 #include "octarc/core/Conventions.h"
 #include "octarc/core/Error.h"
@@ -36,6 +37,7 @@ struct ParseContext {
   double ltm = 1.0;  // physical -> image: x_image = ltm * x_physical + ltv
   double ltv1 = 0.0;
   double ltv2 = 0.0;
+  double pointRadiusPix = 0.0;  // radius of a point shape; 0: a point is an error
 };
 
 [[noreturn]] void fail(const ParseContext& context, const std::string& problem) {
@@ -293,7 +295,8 @@ std::array<double, 2> position(const ParseContext& context, RegionSystem system,
   return {x, y};
 }
 
-// Circle, box and ellipse: centre, two sizes (the circle's radius twice) and an angle.
+// Circle, box, ellipse and annulus: centre, two sizes (the circle's radius twice; the annulus's
+// inner and outer radius) and an angle.
 RegionShape centredShape(const ParseContext& context, RegionSystem system, RegionShapeKind kind,
                          const std::vector<std::string>& args) {
   RegionShape shape;
@@ -321,17 +324,43 @@ RegionShape centredShape(const ParseContext& context, RegionSystem system, Regio
     shape.semiAxis2Pix = sizeToSemiAxis * pixelSize(context, size2, ltm);
     shape.angleRad = angleDeg * kRadPerDeg;
   }
+  if (kind == RegionShapeKind::Annulus) {
+    std::swap(shape.semiAxis1Pix, shape.semiAxis2Pix);  // outer radius first
+    shape.angleRad = 0.0;
+    if (shape.semiAxis2Pix > shape.semiAxis1Pix) {
+      fail(context, "annulus: the inner radius is larger than the outer one");
+    }
+  }
+  return shape;
+}
+
+// A point: its pixel position (x, y in the shape's system), as a circle of the point radius.
+RegionShape pointShape(const ParseContext& context, RegionSystem system,
+                       const std::vector<std::string>& args) {
+  if (args.size() != 2) fail(context, "point needs x, y");
+  if (!(context.pointRadiusPix > 0.0)) {
+    fail(context,
+         "a point has no area to mask; give points a radius (octarc search: MASK_POINT_RADIUS, "
+         "arcsec) or draw circles");
+  }
+  const auto centre = position(context, system, args, 0);
+  RegionShape shape;
+  shape.kind = RegionShapeKind::Circle;
+  shape.xCentre = centre[0];
+  shape.yCentre = centre[1];
+  shape.semiAxis1Pix = context.pointRadiusPix;
+  shape.semiAxis2Pix = context.pointRadiusPix;
   return shape;
 }
 
 bool isAreaLessShape(const std::string& name) {
-  static const char* const kNames[] = {"point", "line",    "text",    "vector",
-                                       "ruler", "compass", "segment", "projection"};
+  static const char* const kNames[] = {"line",    "text",    "vector",    "ruler",
+                                       "compass", "segment", "projection"};
   return std::find(std::begin(kNames), std::end(kNames), name) != std::end(kNames);
 }
 
 bool isUnsupportedShape(const std::string& name) {
-  static const char* const kNames[] = {"annulus", "panda", "epanda", "bpanda", "composite"};
+  static const char* const kNames[] = {"panda", "epanda", "bpanda", "composite"};
   return std::find(std::begin(kNames), std::end(kNames), name) != std::end(kNames);
 }
 
@@ -373,7 +402,9 @@ void parsePart(const ParseContext& context, std::string_view part, RegionSystem&
       !trim(body.substr(close + 1)).empty()) {
     fail(context, "cannot read '" + std::string(part) + "' as a region shape");
   }
-  const std::string name = lowercase(trim(body.substr(0, open)));
+  std::string name = lowercase(trim(body.substr(0, open)));
+  // DS9 also writes points as "circle point(x, y)", "box point(x, y)", ...
+  if (name.size() > 6 && name.ends_with(" point")) name = "point";
   const auto args = splitArguments(context, body.substr(open + 1, close - open - 1));
   if (isAreaLessShape(name)) return;
   if (isUnsupportedShape(name)) fail(context, "shape '" + name + "' is not supported");
@@ -390,6 +421,13 @@ void parsePart(const ParseContext& context, std::string_view part, RegionSystem&
                         "supported)");
     }
     shape = centredShape(context, system, kind, args);
+  } else if (name == "annulus") {
+    if (args.size() != 4) {
+      fail(context, "annulus needs x, y, inner and outer radius (one annulus per shape)");
+    }
+    shape = centredShape(context, system, RegionShapeKind::Annulus, args);
+  } else if (name == "point") {
+    shape = pointShape(context, system, args);
   } else if (name == "polygon") {
     if (args.size() < 6 || args.size() % 2 != 0) {
       fail(context, "polygon needs at least three x, y vertices");
@@ -449,6 +487,10 @@ bool RegionShape::contains(double xFits, double yFits) const {
   const double dx = xFits - xCentre;
   const double dy = yFits - yCentre;
   if (kind == RegionShapeKind::Circle) return dx * dx + dy * dy <= semiAxis1Pix * semiAxis1Pix;
+  if (kind == RegionShapeKind::Annulus) {
+    const double r2 = dx * dx + dy * dy;
+    return r2 <= semiAxis1Pix * semiAxis1Pix && r2 >= semiAxis2Pix * semiAxis2Pix;
+  }
   const double c = std::cos(angleRad);
   const double s = std::sin(angleRad);
   const double u = c * dx + s * dy;
@@ -490,8 +532,10 @@ std::array<double, 4> RegionShape::bounds() const {
 std::vector<RegionShape> parseDs9Regions(const std::string& text,
                                          const std::string& regionFileForErrors,
                                          const FitsHeader& imageHeader,
-                                         const std::string& imageNameForErrors) {
+                                         const std::string& imageNameForErrors,
+                                         double pointRadiusPix) {
   ParseContext context;
+  context.pointRadiusPix = pointRadiusPix;
   // Checked only when a sky shape is read: image-coordinate files work on any image, even one
   // whose WCS cards are broken.
   std::optional<Wcs> wcs;
@@ -543,13 +587,15 @@ std::vector<RegionShape> parseDs9Regions(const std::string& text,
 
 std::vector<RegionShape> readDs9Regions(const std::filesystem::path& regionFile,
                                         const FitsHeader& imageHeader,
-                                        const std::string& imageNameForErrors) {
+                                        const std::string& imageNameForErrors,
+                                        double pointRadiusPix) {
   std::ifstream in(regionFile, std::ios::binary);
   if (!in) throw IoError(regionFile.string() + ": cannot open region file");
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw IoError(regionFile.string() + ": cannot read region file");
-  return parseDs9Regions(text.str(), regionFile.string(), imageHeader, imageNameForErrors);
+  return parseDs9Regions(text.str(), regionFile.string(), imageHeader, imageNameForErrors,
+                         pointRadiusPix);
 }
 
 bool regionContains(const std::vector<RegionShape>& shapes, double xFits, double yFits) {

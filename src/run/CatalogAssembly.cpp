@@ -1,7 +1,10 @@
 #include "octarc/run/CatalogAssembly.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <iostream>
@@ -9,6 +12,7 @@
 #include <thread>
 
 #include "octarc/catalog/FitsCard.h"
+#include "octarc/catalog/RunXml.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Parallel.h"
 #include "octarc/core/Version.h"
@@ -18,6 +22,45 @@
 #include "octarc/sexcompat/ParamFile.h"
 
 namespace octarc {
+
+std::string runXmlText(const RunSettings& s, const sexcompat::Config& config,
+                       const std::vector<sexcompat::KeySpec>& schema,
+                       const std::vector<ColumnSpec>& columns, const XmlRunFacts& facts) {
+  RunXml x;
+  x.xslUrl = s.xslUrl;
+  for (std::size_t i = 0; i < s.imagePaths.size(); ++i) {
+    x.imageName += (i ? "," : "") + s.imagePaths[i];
+  }
+  x.columns = columns;
+  x.version = kVersion;
+  const std::vector<std::string> now = xmlDateTimeNow();
+  x.date = now[0];
+  x.time = now[1];
+  x.durationSec = facts.durationSec;
+  x.threads = resolveThreads(s.threads);
+  if (const char* user = std::getenv("USER")) x.user = user;
+  char host[256] = {};
+  if (gethostname(host, sizeof host - 1) == 0) x.host = host;
+  std::error_code ec;
+  x.path = std::filesystem::current_path(ec).string();
+  x.extensions = facts.extensions;
+  x.levelCounts = facts.levelCounts;
+  for (const std::string& w : facts.warnings) x.warnings.push_back({x.date, x.time, w});
+  x.commandLine = facts.commandLine;
+  x.configFile = s.configPath;
+  using Kind = sexcompat::KeySpec::Kind;
+  for (const sexcompat::KeySpec& k : schema) {
+    XmlConfigValue v;
+    v.key = k.name;
+    v.kind = k.kind == Kind::Bool    ? XmlConfigValue::Kind::Bool
+             : k.kind == Kind::Int   ? XmlConfigValue::Kind::Int
+             : k.kind == Kind::Float ? XmlConfigValue::Kind::Float
+                                     : XmlConfigValue::Kind::Text;
+    v.values = config.getStrings(k.name);
+    x.config.push_back(std::move(v));
+  }
+  return formatRunXml(x);
+}
 
 MeasureContext withOwnWcs(const MeasureContext& context, std::optional<Wcs>& storage) {
   MeasureContext local = context;
@@ -82,7 +125,11 @@ ColumnPlan planColumns(const RunSettings& settings, bool quiet, int levelCount) 
   out.plan = MeasurementPlan::build(measured, external, &unknown);
   for (const std::string& name : unknown) {
     if (!quiet) {
-      std::cerr << "WARNING: " << settings.parametersPath << ": catalog parameter unknown: " << name
+      // A SExtractor column octarc leaves out is not a typo: say why it is missing.
+      std::cerr << "WARNING: " << settings.parametersPath << ": catalog parameter " << name
+                << (sexcompat::isSextractorParameter(name)
+                        ? " not measured by octarc (isophotal only), skipped"
+                        : " unknown, skipped")
                 << "\n";
     }
   }

@@ -150,6 +150,7 @@ DetectedExtension detectExtension(const RunSettings& s, const ColumnPlan& column
   }
   if (e == 0) result.fits10Cards = sexFits10Cards(summary);
   out.cards = runHeaderCards(summary, image, levels);
+  out.summary = summary;
   if (checkImages) {
     result.checkImage = std::move(image);
     result.segmentation = std::move(run.segmentation);

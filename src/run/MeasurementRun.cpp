@@ -97,6 +97,7 @@ MeasuredExtension measureExtension(const RunSettings& s, const ColumnPlan& colum
                                            s.inputCatalogPaths[k], segPaths[k]));
   }
 
+  out.levelCount = std::int64_t(context.levels.size());
   RunFacts facts;
   facts.imagePath = s.imagePaths[0];
   facts.extension = e;
@@ -112,8 +113,8 @@ MeasuredExtension measureExtension(const RunSettings& s, const ColumnPlan& colum
     // The rows stay where they were measured; each catalog takes its own, in its row order.
     facts.finalCount = full.rows();
     facts.elapsedSec = elapsedSec();
-    out.cards =
-        appendedRunCards(runSummary(s, image, context.levels, facts), image, context.levels);
+    out.summary = runSummary(s, image, context.levels, facts);
+    out.cards = appendedRunCards(out.summary, image, context.levels);
     out.table = std::move(full);
   } else {
     if (assoc) applyAssoc(*assoc, columns.assocVectorSize, image, full, s.quiet);
@@ -121,6 +122,7 @@ MeasuredExtension measureExtension(const RunSettings& s, const ColumnPlan& colum
     facts.finalCount = out.table.rows();
     facts.elapsedSec = elapsedSec();
     const RunSummary summary = runSummary(s, image, context.levels, facts);
+    out.summary = summary;
     if (e == 0) result.fits10Cards = sexFits10Cards(summary);
     out.cards = runHeaderCards(summary, image, context.levels);
     out.catalogRows.clear();

@@ -150,8 +150,10 @@ std::string resolveFilterFile(const std::string& path) {
   namespace fs = std::filesystem;
   const std::string resolved = userOrDataFile(path);
   if (resolved != path || fs::exists(path) || fs::path(path).has_parent_path()) return resolved;
-  const fs::path sextractorShare = fs::path("/usr/share/source-extractor") / path;
-  return fs::exists(sextractorShare) ? sextractorShare.string() : path;
+  const fs::path sextractorShare = fs::path("/usr/share/source-extractor");
+  if (fs::exists(sextractorShare / path)) return (sextractorShare / path).string();
+  throw IoError(path + ": FILTER_NAME file not found (neither in the working directory, nor in " +
+                dataDirectory() + ", nor in " + sextractorShare.string() + ")");
 }
 
 MeasureContext PreparedImage::context(const RunSettings& settings) const {

@@ -155,6 +155,9 @@ RunSettings settingsFromConfig(const sexcompat::Config& config, bool weightMapsE
 
   s.quiet = uppercase(config.getString("VERBOSE_TYPE")) == "QUIET";
   s.verboseFull = uppercase(config.getString("VERBOSE_TYPE")) == "FULL";
+  s.writeXml = config.getBool("WRITE_XML");
+  s.xmlName = config.getString("XML_NAME");
+  s.xslUrl = config.getString("XSL_URL");
   s.threads = config.getInt("NTHREADS");
   return s;
 }

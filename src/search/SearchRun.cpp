@@ -11,6 +11,7 @@
 
 #include "octarc/catalog/Catalog.h"
 #include "octarc/core/AtomicFile.h"
+#include "octarc/core/DataFiles.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
 #include "octarc/core/Parallel.h"
@@ -91,6 +92,26 @@ double wcsPixelScaleArcsec(const Wcs& wcs, std::int64_t width, std::int64_t heig
   };
   const double scale = 0.5 * (separationArcsec(c, dx) + separationArcsec(c, dy));
   return std::isfinite(scale) ? scale : 0.0;
+}
+
+// Points of a mask as circles of MASK_POINT_RADIUS: the radius in pixels, through PIXEL_SCALE
+// or the WCS of the image's header (0 when points are refused).
+double maskPointRadiusPix(const SearchRunSettings& s, const FitsHeader& header,
+                          const std::string& imagePath) {
+  if (!(s.maskPointRadiusArcsec > 0)) return 0.0;
+  double scale = s.run.pixelScaleArcsec;
+  if (!(scale > 0)) {
+    const std::optional<Wcs> wcs = Wcs::fromHeader(header, imagePath);
+    const auto size = [&](const char* key) {
+      return static_cast<std::int64_t>(header.number(key).value_or(0.0));
+    };
+    scale = wcs ? wcsPixelScaleArcsec(*wcs, size("NAXIS1"), size("NAXIS2")) : 0.0;
+  }
+  if (!(scale > 0)) {
+    throw ConfigError("MASK_POINT_RADIUS: " + imagePath +
+                      " has no WCS to take the pixel scale from; set PIXEL_SCALE");
+  }
+  return s.maskPointRadiusArcsec / scale;
 }
 
 // PIXEL_SCALE, else the WCS's at the image centre; ConfigError when neither gives one.
@@ -258,8 +279,30 @@ void checkOutputDirectory(const SearchRunSettings& s) {
 
 }  // namespace
 
+std::vector<RegionShape> readSearchMask(const SearchRunSettings& settings,
+                                        const std::string& maskPath, const std::string& imagePath) {
+  const FitsHeader header = readImageHeader(imagePath).header;
+  return readDs9Regions(maskPath, header, imagePath,
+                        maskPointRadiusPix(settings, header, imagePath));
+}
+
 std::vector<KeySpec> searchKeys() {
   std::vector<KeySpec> keys = octarcKeys();
+  // The arc search's own defaults (those of the shipped octarc.sex), not SExtractor's one
+  // filtered level: what -d prints and a run without a configuration file uses.
+  for (KeySpec& k : keys) {
+    if (k.name == "DETECT_THRESH" || k.name == "ANALYSIS_THRESH") {
+      k.defaults = {"2.5"};
+    } else if (k.name == "DETECT_NLEVELS") {
+      k.defaults = {"15"};
+    } else if (k.name == "FILTER") {
+      k.defaults = {"N"};
+    } else if (k.name == "PARAMETERS_NAME") {
+      k.defaults = {"octarc.param"};  // the shipped column list
+    } else if (k.name == "WRITE_XML" || k.name == "XML_NAME" || k.name == "XSL_URL") {
+      sexcompat::KeyRow::markIgnored(k);  // a search reports in OUTPUT_DIR/summary.txt
+    }
+  }
   // clang-format off
   const std::vector<KeySpec> own = {
     Row("GRID_NAME", Kind::String, {"arcs.grid.fits"},
@@ -271,6 +314,8 @@ std::vector<KeySpec> searchKeys() {
         "'-' exclude shapes)").list(0, 1),
     Row("MASK_BORDER", Kind::Int, {"0"}, "pixels this close to an edge are not searched")
         .range(0, 1e9),
+    Row("MASK_POINT_RADIUS", Kind::Float, {"0"}, "radius of the circle a MASK_NAME point masks\n"
+        "(arcsec; 0: points are refused)").range(0, 3600),
     Row("OUTPUT_DIR", Kind::String, {"candidates"}, "directory of the candidates, stamps and\n"
         "contact sheet"),
     Row("SNR_MIN", Kind::Float, {"40"}, "S/N floor: SNR_ISO above it").range(0, 1e30),
@@ -324,6 +369,7 @@ SearchRunSettings searchSettingsFromConfig(const sexcompat::Config& c, RunSettin
   if (s.search.reportSpaces.size() > 30) throw ConfigError("SEARCH_SPACE: at most 30 spaces");
   if (c.count("MASK_NAME") > 0) s.maskPath = c.getString("MASK_NAME");
   s.borderPix = c.getInt("MASK_BORDER");
+  s.maskPointRadiusArcsec = c.getDouble("MASK_POINT_RADIUS");
   if (c.isExplicit("INPUT_CATALOG")) {
     if (c.count("INPUT_CATALOG") != 1) throw ConfigError("INPUT_CATALOG: give one catalog");
     s.inputCatalogPath = c.getString("INPUT_CATALOG");
@@ -377,11 +423,11 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
   // Everything that can be checked is checked before any pixel is read.
   checkOutputDirectory(settings);
   checkColourImageGrids(settings);
-  run.grid = loadGrid(settings.gridPath);
+  // A GRID_NAME without a directory may be a shipped grid (-GRID_NAME demo.grid.fits).
+  run.grid = loadGrid(existingUserOrDataFile(settings.gridPath, "GRID_NAME file"));
   SearchMaskSettings maskSettings;
   if (!settings.maskPath.empty()) {
-    maskSettings.regions = readDs9Regions(
-        settings.maskPath, readImageHeader(rs.imagePaths[0]).header, rs.imagePaths[0]);
+    maskSettings.regions = readSearchMask(settings, settings.maskPath, rs.imagePaths[0]);
   }
   if (settings.inputCatalogPath.empty()) {
     const int levelCount = int(detectionLevels(rs, 1.0).size());

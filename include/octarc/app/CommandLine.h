@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "octarc/core/AtomicFile.h"
 #include "octarc/run/RunSettings.h"
 #include "octarc/sexcompat/Config.h"
 
@@ -39,7 +40,16 @@ std::optional<LoadedConfig> loadConfig(const std::vector<std::string>& args,
 struct LoadedRun {
   sexcompat::Config config;
   RunSettings settings;
+  std::vector<std::string> warnings;  // the configuration's warnings (printed unless QUIET)
 };
+
+// "octarc <command> <args...>", as the XML run summary records it.
+std::string commandLineText(const std::string& command, const std::vector<std::string>& args);
+
+// WRITE_XML for a detect or measure run: registers XML_NAME with `outputs` (after the run's
+// other outputs), refusing it over any of `inputs`; returns its index, or -1 without WRITE_XML.
+int addXmlOutput(const RunSettings& settings, OutputFiles& outputs,
+                 const std::vector<NamedInput>& inputs);
 
 // Parses the arguments of `octarc <command>`, loads the configuration and returns the run's
 // settings, or nullopt when the arguments only asked for help, a version or a dump (already

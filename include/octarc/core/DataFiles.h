@@ -25,4 +25,9 @@ std::string dataFile(std::string_view name);
 // name when there is one; otherwise `path` unchanged (the caller's open then fails naming it).
 std::string userOrDataFile(const std::string& path);
 
+// userOrDataFile for a file that must exist: IoError when it is in neither place, naming the
+// file, `what` names it (e.g. "PARAMETERS_NAME file", "configuration file (-c)") and, for a name
+// without a directory, both places searched.
+std::string existingUserOrDataFile(const std::string& path, const std::string& what);
+
 }  // namespace octarc

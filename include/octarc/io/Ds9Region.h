@@ -20,8 +20,12 @@
 //     centre (a circle stays a circle); polygon vertices go through the WCS one by one.
 //   - box(x, y, width, height, angle); ellipse(x, y, r1, r2, angle), r1 along the angle;
 //     circle(x, y, r); polygon(x1, y1, x2, y2, ...), even-odd rule.
-//   - A leading '-' marks an exclude shape. Area-less shapes (point, line, text, vector, ruler,
-//     compass, projection, segment) are skipped; annuli, panda and the other multi-radius
+//   - annulus(x, y, r_inner, r_outer): the ring between the two circles (one annulus per
+//     shape; more radii are an error).
+//   - point(x, y) (also "circle point(x, y)" etc.) has no area: with a point radius it is that
+//     circle, without one an error (never silently dropped).
+//   - A leading '-' marks an exclude shape. The other area-less shapes (line, text, vector,
+//     ruler, compass, projection, segment) are skipped; panda and the other multi-radius
 //     shapes, and galactic / ecliptic coordinates, are an error.
 #pragma once
 
@@ -35,7 +39,7 @@
 
 namespace octarc {
 
-enum class RegionShapeKind { Circle, Box, Ellipse, Polygon };
+enum class RegionShapeKind { Circle, Box, Ellipse, Polygon, Annulus };
 
 // One area shape in 1-based image pixel coordinates.
 struct RegionShape {
@@ -45,14 +49,14 @@ struct RegionShape {
   double xCentre = 0.0;
   double yCentre = 0.0;
   // Circle: both the radius. Box: half the width and half the height. Ellipse: the semi-axes
-  // along the angle and across it.
+  // along the angle and across it. Annulus: the outer and the inner radius.
   double semiAxis1Pix = 0.0;
   double semiAxis2Pix = 0.0;
   double angleRad = 0.0;                        // counter-clockwise from +x
   std::vector<std::array<double, 2>> vertices;  // polygon only
 
   // Whether the point (1-based pixel coordinates) lies inside; points on the edge count as
-  // inside for circle, box and ellipse.
+  // inside for circle, box, ellipse and annulus.
   bool contains(double xFits, double yFits) const;
   // The pixel-coordinate bounding box: xMin, xMax, yMin, yMax.
   std::array<double, 4> bounds() const;
@@ -60,17 +64,20 @@ struct RegionShape {
 
 // Reads the area shapes of a region file for the image whose header is given (its WCS for
 // fk5 / icrs shapes; LTV1, LTV2, LTM1_1, LTM2_2 for physical ones, the identity when absent).
-// Throws ConfigError naming the file and line for a malformed or unsupported line, and for sky
-// shapes on an image without a celestial WCS; IoError if the file cannot be read.
+// `pointRadiusPix` > 0 makes each point shape a circle of that radius (pixels); with 0 a point
+// is an error. Throws ConfigError naming the file and line for a malformed or unsupported line,
+// and for sky shapes on an image without a celestial WCS; IoError if the file cannot be read.
 std::vector<RegionShape> readDs9Regions(const std::filesystem::path& regionFile,
                                         const FitsHeader& imageHeader,
-                                        const std::string& imageNameForErrors);
+                                        const std::string& imageNameForErrors,
+                                        double pointRadiusPix = 0.0);
 
 // The same from text (regionFileForErrors names it in messages).
 std::vector<RegionShape> parseDs9Regions(const std::string& text,
                                          const std::string& regionFileForErrors,
                                          const FitsHeader& imageHeader,
-                                         const std::string& imageNameForErrors);
+                                         const std::string& imageNameForErrors,
+                                         double pointRadiusPix = 0.0);
 
 // A mark to draw: a circle or an ellipse (1-based pixel coordinates, as RegionShape) with its
 // colour and an optional text label shown with it.

@@ -15,6 +15,7 @@
 #include "octarc/measure/MeasureContext.h"
 #include "octarc/measure/Registry.h"
 #include "octarc/sexcompat/Assoc.h"
+#include "octarc/sexcompat/Config.h"
 
 namespace octarc {
 
@@ -74,6 +75,21 @@ std::vector<std::string> octarcRunCards(const PreparedImage& image,
 // catalog/AppendedCatalog.h) and octarc's own.
 std::vector<std::string> appendedRunCards(const RunSummary& summary, const PreparedImage& image,
                                           const std::vector<ThresholdLevel>& levels);
+
+// WRITE_XML: what a detect or measure run adds to its settings and configuration for the XML
+// run summary (catalog/RunXml.h).
+struct XmlRunFacts {
+  std::string commandLine;                // as typed, e.g. "octarc detect a.fits -c x.sex"
+  std::vector<RunSummary> extensions;     // one per image extension
+  std::vector<std::int64_t> levelCounts;  // thresholds per extension
+  std::vector<std::string> warnings;      // printed (or, when QUIET, not) during the run
+  double durationSec = 0.0;
+};
+// The XML text: the catalog's columns, each extension's counts, every key of `schema` with its
+// value in `config`.
+std::string runXmlText(const RunSettings& settings, const sexcompat::Config& config,
+                       const std::vector<sexcompat::KeySpec>& schema,
+                       const std::vector<ColumnSpec>& columns, const XmlRunFacts& facts);
 
 // `context` with its WCS replaced by a copy held in `storage`: a WCS serialises its
 // transforms, so each measuring thread uses its own.

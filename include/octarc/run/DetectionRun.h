@@ -33,6 +33,7 @@ struct DetectedExtension {
   std::vector<std::int64_t> order;  // catalog order of the rows; empty: as stored
   FitsHeader header;                // the image header
   std::vector<std::string> cards;   // the run's LDAC_IMHEAD cards (runHeaderCards)
+  RunSummary summary;               // the run's values (the XML run summary, WRITE_XML)
   std::vector<ThresholdLevel> levels;
   std::vector<std::int64_t> objectsPerLevel;
 };

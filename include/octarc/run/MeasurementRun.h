@@ -38,6 +38,8 @@ struct MeasuredExtension {
   Table table;
   FitsHeader header;
   std::vector<std::string> cards;  // new catalog: runHeaderCards; appending: appendedRunCards
+  RunSummary summary;              // the run's values (the XML run summary, WRITE_XML)
+  std::int64_t levelCount = 0;
   // Appending: for each level, the rows of `table` its catalog takes, in its row order.
   std::vector<std::vector<std::int64_t>> catalogRows;
 };

@@ -149,7 +149,7 @@ std::vector<std::int64_t> findSaturatedPixels(const ImageF& raw, double levelAdu
 
 // A FILTER_NAME given without a directory and absent from the working directory is looked up,
 // as a convenience, in octarc's data directory (core/DataFiles.h) and then in Debian's
-// source-extractor share directory.
+// source-extractor share directory; found nowhere, IoError naming the three places.
 std::string resolveFilterFile(const std::string& path);
 
 }  // namespace octarc

@@ -89,10 +89,13 @@ struct RunSettings {
   std::vector<std::string> checkImageTypes;  // CHECKIMAGE_TYPE (detect)
   std::vector<std::string> checkImageNames;  // CHECKIMAGE_NAME (detect)
 
-  bool assoc = false;        // VECTOR_ASSOC or NUMBER_ASSOC requested (set later)
-  bool quiet = false;        // VERBOSE_TYPE QUIET
-  bool verboseFull = false;  // VERBOSE_TYPE FULL: also the time spent in each stage
-  int threads = 0;           // NTHREADS; 0 = all cores
+  bool assoc = false;               // VECTOR_ASSOC or NUMBER_ASSOC requested (set later)
+  bool quiet = false;               // VERBOSE_TYPE QUIET
+  bool verboseFull = false;         // VERBOSE_TYPE FULL: also the time spent in each stage
+  bool writeXml = false;            // WRITE_XML: SExtractor's XML run summary (catalog/RunXml.h)
+  std::string xmlName = "sex.xml";  // XML_NAME
+  std::string xslUrl;               // XSL_URL, named in the XML's prologue
+  int threads = 0;                  // NTHREADS; 0 = all cores
 };
 
 // Reads every key octarc uses from a loaded configuration; ConfigError on inconsistent values.

@@ -19,6 +19,7 @@
 
 #include "octarc/core/Progress.h"
 #include "octarc/core/Table.h"
+#include "octarc/io/Ds9Region.h"
 #include "octarc/lenslight/LensSubtraction.h"
 #include "octarc/run/DetectionRun.h"
 #include "octarc/run/PreparedImage.h"
@@ -39,13 +40,15 @@ namespace octarc {
 std::vector<sexcompat::KeySpec> searchKeys();
 
 struct SearchRunSettings {
-  RunSettings run;               // the image, weights, levels, columns (as for detect)
-  std::string gridPath;          // GRID_NAME
-  std::string maskPath;          // MASK_NAME, "" for none
-  int borderPix = 0;             // MASK_BORDER
-  std::string inputCatalogPath;  // INPUT_CATALOG: its LDAC_OBJECTS instead of detecting
-  std::string outputDir;         // OUTPUT_DIR
-  SearchSettings search;         // pixelScaleArcsec set by the run (PIXEL_SCALE or the WCS)
+  RunSettings run;                     // the image, weights, levels, columns (as for detect)
+  std::string gridPath;                // GRID_NAME
+  std::string maskPath;                // MASK_NAME, "" for none
+  int borderPix = 0;                   // MASK_BORDER
+  double maskPointRadiusArcsec = 0.0;  // MASK_POINT_RADIUS: a point of MASK_NAME masks this
+                                       // circle (0: a point is an error)
+  std::string inputCatalogPath;        // INPUT_CATALOG: its LDAC_OBJECTS instead of detecting
+  std::string outputDir;               // OUTPUT_DIR
+  SearchSettings search;               // pixelScaleArcsec set by the run (PIXEL_SCALE or the WCS)
   StampSettings stamps;
   bool writeStamps = true;  // STAMPS
   // COLOUR_IMAGE: images of other bands on the measurement image's pixel grid, background-
@@ -103,6 +106,12 @@ struct SearchRun {
 // pixel grid (a ConfigError naming both). ConfigError / IoError on bad settings or input; nothing
 // is written.
 SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log);
+
+// The shapes of the DS9 region file `maskPath` (MASK_NAME, or a batch tile's mask) on the image
+// `imagePath`, its points circles of MASK_POINT_RADIUS (pixels through PIXEL_SCALE, or the
+// image's WCS when PIXEL_SCALE is 0). ConfigError / IoError as readDs9Regions.
+std::vector<RegionShape> readSearchMask(const SearchRunSettings& settings,
+                                        const std::string& maskPath, const std::string& imagePath);
 
 // One report space's line of a summary: "  NAME (cut): N candidate(s), D per deg2" (without the
 // density when there is no area).

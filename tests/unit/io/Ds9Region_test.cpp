@@ -51,8 +51,9 @@ const Cards kSkyCards = {{"CTYPE1", "'RA---TAN'"},
                          {"CD2_2", num(kScaleDeg* std::cos(kRotationRad))},
                          {"RADESYS", "'ICRS'"}};
 
-std::vector<RegionShape> parse(const std::string& text, const Cards& cards = {}) {
-  return parseDs9Regions(text, "mask.reg", makeHeader(cards), "image.fits");
+std::vector<RegionShape> parse(const std::string& text, const Cards& cards = {},
+                               double pointRadiusPix = 0.0) {
+  return parseDs9Regions(text, "mask.reg", makeHeader(cards), "image.fits", pointRadiusPix);
 }
 
 TEST(Ds9Region, ImageCircleBoxEllipsePolygonByHand) {
@@ -278,10 +279,50 @@ TEST(Ds9Region, BrokenWcsCardsOnlyStopSkyShapes) {
 }
 
 TEST(Ds9Region, AreaLessShapesAreSkipped) {
-  const auto shapes =
-      parse("image\npoint(10,10) # point=x\ntext(5,5) # text={hi}\nline(1,1,5,5)\ncircle(1,1,1)\n");
+  const auto shapes = parse("image\ntext(5,5) # text={hi}\nline(1,1,5,5)\ncircle(1,1,1)\n");
   ASSERT_EQ(shapes.size(), 1U);
-  EXPECT_EQ(shapes[0].lineNumber, 5);
+  EXPECT_EQ(shapes[0].lineNumber, 4);
+}
+
+// A point masks nothing by itself: without a radius it is refused, never dropped; with one it
+// is that circle, in every way DS9 writes it.
+TEST(Ds9Region, PointsNeedARadius) {
+  test::expectError<ConfigError>([] { parse("image\npoint(10,10) # point=x\n"); },
+                                 {"mask.reg:2", "point", "MASK_POINT_RADIUS"});
+  test::expectError<ConfigError>([] { parse("image\ncircle point(10,10)\n"); },
+                                 {"mask.reg:2", "MASK_POINT_RADIUS"});
+  const auto shapes = parse("image\npoint(10,20)\n-box point(30,40)\n", {}, 2.5);
+  ASSERT_EQ(shapes.size(), 2U);
+  EXPECT_EQ(shapes[0].kind, RegionShapeKind::Circle);
+  EXPECT_EQ(shapes[0].xCentre, 10.0);
+  EXPECT_EQ(shapes[0].yCentre, 20.0);
+  EXPECT_EQ(shapes[0].semiAxis1Pix, 2.5);
+  EXPECT_FALSE(shapes[0].exclude);
+  EXPECT_TRUE(shapes[1].exclude);
+  EXPECT_TRUE(shapes[1].contains(31.5, 41.5));   // 2.12 pixels away
+  EXPECT_FALSE(shapes[1].contains(32.0, 42.0));  // 2.83 pixels away
+  test::expectError<ConfigError>([] { parse("image\npoint(10)\n", {}, 1.0); },
+                                 {"mask.reg:2", "point needs x, y"});
+}
+
+TEST(Ds9Region, AnnulusIsTheRingBetweenItsRadii) {
+  const auto shapes = parse("image\nannulus(50,60,3,5)\n");
+  ASSERT_EQ(shapes.size(), 1U);
+  EXPECT_EQ(shapes[0].kind, RegionShapeKind::Annulus);
+  EXPECT_FALSE(shapes[0].contains(50.0, 60.0));  // the hole
+  EXPECT_FALSE(shapes[0].contains(52.9, 60.0));
+  EXPECT_TRUE(shapes[0].contains(53.1, 60.0));
+  EXPECT_TRUE(shapes[0].contains(50.0, 55.1));
+  EXPECT_FALSE(shapes[0].contains(50.0, 54.9));
+  const auto b = shapes[0].bounds();
+  EXPECT_EQ(b[0], 45.0);
+  EXPECT_EQ(b[1], 55.0);
+  EXPECT_EQ(b[2], 55.0);
+  EXPECT_EQ(b[3], 65.0);
+  test::expectError<ConfigError>([] { parse("image\nannulus(1,1,3,4,5)\n"); },
+                                 {"mask.reg:2", "annulus needs", "one annulus"});
+  test::expectError<ConfigError>([] { parse("image\nannulus(1,1,5,4)\n"); },
+                                 {"mask.reg:2", "inner radius"});
 }
 
 TEST(Ds9Region, BadLinesNameTheFileAndLine) {
@@ -290,8 +331,8 @@ TEST(Ds9Region, BadLinesNameTheFileAndLine) {
   test::expectError<ConfigError>([] { parse("image\n\ncircle(1,x,3)\n"); }, {"mask.reg:3", "'x'"});
   test::expectError<ConfigError>([] { parse("image\ncircle 1 1 3\n"); },
                                  {"mask.reg:2", "region shape"});
-  test::expectError<ConfigError>([] { parse("image\nannulus(1,1,3,4)\n"); },
-                                 {"mask.reg:2", "annulus", "not supported"});
+  test::expectError<ConfigError>([] { parse("image\npanda(1,1,0,360,4,3,4,1)\n"); },
+                                 {"mask.reg:2", "panda", "not supported"});
   test::expectError<ConfigError>([] { parse("galactic\ncircle(1,1,3)\n"); },
                                  {"mask.reg:1", "galactic"});
   test::expectError<ConfigError>([] { parse("image; hexagon(1,1,3)\n"); },
@@ -334,7 +375,8 @@ TEST(Ds9Region, RandomShapesAgreeWithAstropyRegions) {
   std::uniform_real_distribution<double> angle(-180.0, 360.0);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::string text = "# Region file format: DS9 version 4.1\nglobal color=green\n";
-  const int kShapes = 24;
+  const int kShapes = 36;
+  const double kPointRadiusPix = 12.5;
   for (int i = 0; i < kShapes; ++i) {
     const bool sky = i % 2 == 1;
     const std::string sign = unit(rng) < 0.3 ? "-" : "";
@@ -353,7 +395,7 @@ TEST(Ds9Region, RandomShapesAgreeWithAstropyRegions) {
       return num(150.1 + xi / std::cos(2.2 * kRadPerDeg)) + "," + num(2.2 + eta);
     };
     auto length = [&](double pixels) { return sky ? num(pixels * 0.2) + "\"" : num(pixels); };
-    switch (i % 8 / 2) {
+    switch (i % 12 / 2) {
       case 0:
         line += sign + "circle(" + position(x, y) + "," + length(size(rng)) + ")";
         break;
@@ -364,6 +406,15 @@ TEST(Ds9Region, RandomShapesAgreeWithAstropyRegions) {
       case 2:
         line += sign + "ellipse(" + position(x, y) + "," + length(size(rng)) + "," +
                 length(size(rng)) + "," + num(angle(rng)) + ")";
+        break;
+      case 4: {
+        const double inner = size(rng);
+        line += sign + "annulus(" + position(x, y) + "," + length(inner) + "," +
+                length(inner + size(rng)) + ")";
+        break;
+      }
+      case 5:
+        line += sign + "point(" + position(x, y) + ")";  // regions reads no "circle point"
         break;
       default: {
         line += sign + "polygon(";
@@ -377,7 +428,7 @@ TEST(Ds9Region, RandomShapesAgreeWithAstropyRegions) {
     }
     text += line + " # text={shape " + std::to_string(i) + "}\n";
   }
-  const auto shapes = parse(text, kSkyCards);
+  const auto shapes = parse(text, kSkyCards, kPointRadiusPix);
   ASSERT_EQ(shapes.size(), static_cast<std::size_t>(kShapes));
   { std::ofstream(dir / "random.reg") << text; }
 
@@ -398,7 +449,8 @@ TEST(Ds9Region, RandomShapesAgreeWithAstropyRegions) {
   const std::string script =
       "import numpy as np\n"
       "from astropy.wcs import WCS\n"
-      "from regions import Regions, PixCoord, SkyRegion\n"
+      "from regions import Regions, PixCoord, SkyRegion, PointPixelRegion, "
+      "CirclePixelRegion\n"
       "wcs = WCS(" +
       cardsPython +
       ")\n"
@@ -413,6 +465,11 @@ TEST(Ds9Region, RandomShapesAgreeWithAstropyRegions) {
       "inc = [r.meta.get('include', 1) != 0 for r in regs]\n"
       "for r in regs:\n"
       "    p = r.to_pixel(wcs) if isinstance(r, SkyRegion) else r\n"
+      // regions' points contain nothing: octarc's are circles of the point radius
+      "    if isinstance(p, PointPixelRegion):\n"
+      "        p = CirclePixelRegion(p.center, " +
+      num(kPointRadiusPix) +
+      ")\n"
       "    p.meta['include'] = 1\n"  // regions inverts contains() of exclude shapes
       "    rows.append(p.contains(pix))\n"
       "anyinc = any(inc)\n"

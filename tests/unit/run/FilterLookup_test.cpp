@@ -1,10 +1,11 @@
 // Where a FILTER_NAME is looked for (README, Usage): the name as given when it exists or has a
-// directory, else params/ of the source tree, else /usr/share/source-extractor/.
+// directory, else params/ of the source tree, else /usr/share/source-extractor/, else an error.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 
+#include "ExpectError.h"
 #include "TestPaths.h"
 #include "octarc/run/PreparedImage.h"
 
@@ -44,9 +45,16 @@ TEST_F(FilterLookup, TheWorkingDirectoryComesFirst) {
   EXPECT_EQ(resolveFilterFile("default.conv"), "default.conv");
 }
 
-TEST_F(FilterLookup, NamesWithADirectoryOrFoundNowhereAreKeptAsGiven) {
+TEST_F(FilterLookup, NamesWithADirectoryAreKeptAsGiven) {
   EXPECT_EQ(resolveFilterFile("sub/gauss_2.0_5x5.conv"), "sub/gauss_2.0_5x5.conv");
-  EXPECT_EQ(resolveFilterFile("no-such-mask.conv"), "no-such-mask.conv");
+}
+
+// A name found nowhere is an error naming it and every place searched.
+TEST_F(FilterLookup, NamesFoundNowhereAreAnErrorNamingThePlaces) {
+  test::expectIoError(
+      [] { (void)resolveFilterFile("no-such-mask.conv"); },
+      {"no-such-mask.conv", "FILTER_NAME", "working directory",
+       (fs::path(OCTARC_SOURCE_DIR) / "params").string(), "/usr/share/source-extractor"});
 }
 
 }  // namespace

@@ -72,13 +72,21 @@ TEST(SearchMask, CircleHoldsTheLatticePointsOfGausssCircle) {
   // A 7 x 7 box around the same centre holds all 29 and 20 more: the box minus the circle.
   settings.regions = regions("image; box(10,10,7,7); -circle(10,10,3)\n");
   EXPECT_EQ(SearchMask(20, 20, settings).searchedPixelCount(), 49 - 29);
+  // An annulus of radii 1.5 and 3 holds the 29 minus the 9 with dx^2 + dy^2 < 2.25; two
+  // include shapes search their union, and an exclude-only file cuts from the whole image.
+  settings.regions = regions("image; annulus(10,10,1.5,3)\n");
+  EXPECT_EQ(SearchMask(20, 20, settings).searchedPixelCount(), 29 - 9);
+  settings.regions = regions("image; circle(5,5,3); circle(15,15,3)\n");
+  EXPECT_EQ(SearchMask(20, 20, settings).searchedPixelCount(), 2 * 29);
+  settings.regions = regions("image; -circle(5,5,3); -annulus(15,15,1.5,3)\n");
+  EXPECT_EQ(SearchMask(20, 20, settings).searchedPixelCount(), 400 - 29 - 20);
   // A shape partly off the image counts only the pixels inside it.
   settings.regions = regions("image; box(1,1,5,5)\n");
   EXPECT_EQ(SearchMask(20, 20, settings).searchedPixelCount(), 3 * 3);
 }
 
 // Painting shape by shape inside bounding boxes gives DS9's rule (regionContains) at every
-// pixel centre, for rotated boxes and ellipses, a polygon and shapes over the edge.
+// pixel centre, for rotated boxes and ellipses, a polygon, annuli and shapes over the edge.
 TEST(SearchMask, EveryPixelFollowsTheRegionRule) {
   SearchMaskSettings settings;
   settings.regions = regions(
@@ -87,7 +95,9 @@ TEST(SearchMask, EveryPixelFollowsTheRegionRule) {
       "box(15.2,4.1,9.5,3.3,-62)\n"
       "-ellipse(8,8,2.5,1.2,100)\n"
       "polygon(12,12,19.5,13,14,21.7,16,15)\n"
-      "-box(20,20,4,6,45)\n");
+      "-box(20,20,4,6,45)\n"
+      "annulus(4.2,15.7,1.6,3.9)\n"
+      "-annulus(13.5,9.5,1.1,2.7)\n");
   const SearchMask mask(20, 20, settings);
   std::int64_t count = 0;
   for (int y = 0; y < 20; ++y) {

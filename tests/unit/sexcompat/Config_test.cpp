@@ -115,6 +115,35 @@ TEST(Config, UnknownKeyInFileWarnsButOnCommandLineFails) {
   }
 }
 
+// A key octarc does not act on warns once when it is set: always on the command line, in a file
+// only to another value than its default (a template lists every key at its default).
+TEST(Config, IgnoredKeysThatAreSetWarnOnce) {
+  std::vector<KeySpec> keys = schema();
+  KeySpec nthresh = key("DEBLEND_NTHRESH", Kind::Int, {"32"});
+  nthresh.ignored = true;
+  KeySpec clean = key("CLEAN", Kind::Bool, {"Y"});
+  clean.ignored = true;
+  KeySpec xml = key("XML_NAME", Kind::String, {"sex.xml"});
+  xml.ignored = true;
+  keys.insert(keys.end(), {nthresh, clean, xml});
+  const auto dir = test::scratchDir();
+  std::vector<std::string> warnings;
+  (void)Config::load(keys, "", {}, &warnings);
+  EXPECT_TRUE(warnings.empty());
+  const std::string path =
+      test::writeTextFile(dir / "ignored.sex", "DEBLEND_NTHRESH 32\nCLEAN N\nXML_NAME sex.xml\n");
+  (void)Config::load(keys, path, {}, &warnings);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0], path + ":2: CLEAN is ignored by octarc (setting it has no effect)");
+  warnings.clear();
+  (void)Config::load(keys, path, {{"DEBLEND_NTHRESH", "64"}, {"CLEAN", "Y"}, {"clean", "N"}},
+                     &warnings);
+  ASSERT_EQ(warnings.size(), 2u);
+  EXPECT_EQ(warnings[0],
+            "command line: -DEBLEND_NTHRESH is ignored by octarc (setting it has no effect)");
+  EXPECT_EQ(warnings[1], "command line: -CLEAN is ignored by octarc (setting it has no effect)");
+}
+
 // Runs load() and returns the error message ("" if none).
 std::string loadError(const std::string& file,
                       std::vector<std::pair<std::string, std::string>> ov) {

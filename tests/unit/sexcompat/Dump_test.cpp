@@ -34,7 +34,11 @@ Config reload(const std::string& text, const std::vector<KeySpec>& schema) {
   std::ofstream(file) << text;
   std::vector<std::string> warnings;
   Config c = Config::load(schema, file.string(), {}, &warnings);
-  EXPECT_TRUE(warnings.empty()) << warnings.front();
+  // Keys octarc ignores set to another value than their default are said to have no effect;
+  // nothing else is warned of.
+  for (const std::string& w : warnings) {
+    EXPECT_NE(w.find("is ignored by octarc (setting it has no effect)"), std::string::npos) << w;
+  }
   return c;
 }
 

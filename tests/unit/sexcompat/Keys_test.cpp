@@ -98,13 +98,17 @@ TEST(SextractorKeys, SharedNttEmmiConfigLoadsWithoutWarnings) {
   EXPECT_TRUE(c.getBool("WRITE_XML"));
 }
 
-TEST(SextractorKeys, SharedSepReferenceConfigLoadsWithoutWarnings) {
+// Every key of a real configuration is known; the only warnings are for the keys octarc does not
+// act on that it sets to another value than their default (its deblending, here).
+TEST(SextractorKeys, SharedSepReferenceConfigLoadsWithoutUnknownKeys) {
   OCTARC_REQUIRE_SHARED_DATA(shared);
   const auto path = shared / "sep-reference" / "default.sex";
   if (!std::filesystem::exists(path)) OCTARC_SKIP_MISSING() << path << " not found";
   std::vector<std::string> warnings;
   Config::load(sextractorKeys(), path.string(), {}, &warnings);
-  EXPECT_TRUE(warnings.empty()) << warnings.front();
+  for (const std::string& w : warnings) {
+    EXPECT_NE(w.find("is ignored by octarc (setting it has no effect)"), std::string::npos) << w;
+  }
 }
 
 TEST(SextractorKeys, DebianDefaultSexLoadsWithoutWarnings) {

@@ -112,6 +112,18 @@ TEST(ParamFile, EverySourceExtractorParameterReads) {
   ASSERT_EQ(r.size(), names.size());
   EXPECT_GT(r.size(), 400u);
   for (std::size_t i = 0; i < r.size(); ++i) EXPECT_EQ(r[i].name, names[i]);
+  // octarc's own list of SExtractor's parameters is exactly this one.
+  for (const std::string& name : names) EXPECT_TRUE(isSextractorParameter(name)) << name;
+}
+
+TEST(ParamFile, NamesSExtractorDoesNotKnowAreNotItsParameters) {
+  EXPECT_TRUE(isSextractorParameter("MAG_AUTO"));
+  EXPECT_TRUE(isSextractorParameter("FLUX_RADIUS"));
+  EXPECT_TRUE(isSextractorParameter("NUMBER"));
+  EXPECT_FALSE(isSextractorParameter("ARCNESS"));  // octarc's own
+  EXPECT_FALSE(isSextractorParameter("MAG_AUTOX"));
+  EXPECT_FALSE(isSextractorParameter("mag_auto"));  // .param names are upper case
+  EXPECT_FALSE(isSextractorParameter(""));
 }
 
 }  // namespace

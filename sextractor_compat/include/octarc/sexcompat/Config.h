@@ -31,6 +31,10 @@ struct KeySpec {
   // values); '"' quotes are dropped and '#' starts a comment, in .sex files and on the command
   // line alike. Other keys split at SExtractor's separators (blank, tab, '=', ',', ';', '"').
   bool expression = false;
+  // A key SExtractor has and octarc accepts but does not act on: its comment says "(ignored by
+  // octarc)", and setting it (on the command line, or in a file to another value than its
+  // default) draws a warning from Config::load.
+  bool ignored = false;
 };
 
 // A validated set of configuration values, one entry per key of the schema it was loaded with.
@@ -44,6 +48,9 @@ class Config {
   // message appended to `warnings` (may be null). A key given with an empty list, where the key
   // allows one (a bare "WEIGHT_TYPE" line, "WEIGHT_THRESH ,"), counts as not given, as in
   // SExtractor: it keeps its value (the default unless set before) and is not explicit.
+  // A key marked ignored (KeySpec::ignored) that is set on the command line, or in the file to
+  // another value than its default (a template lists every key), adds one warning to `warnings`
+  // naming where it was set: the setting has no effect.
   static Config load(const std::vector<KeySpec>& schema, const std::string& sexFile,
                      const std::vector<std::pair<std::string, std::string>>& overrides,
                      std::vector<std::string>* warnings);
@@ -78,6 +85,7 @@ class Config {
     std::vector<std::string> text;  // canonical text: keywords upper case, booleans "Y"/"N"
     bool isExplicit = false;
     bool givenWithoutValue = false;
+    std::string where;  // where the value was last set: "file:line" or "command line"
   };
   const Value& find(std::string_view key) const;
   static void setValue(Value& v, const KeySpec& spec, const std::vector<std::string>& raw,

@@ -51,12 +51,20 @@ struct KeyRow {
   }
   // Marks a key SExtractor has and octarc accepts but does not act on.
   KeyRow& ignored() {
-    const auto eol = spec.comment.find('\n');
-    spec.comment.insert(eol == std::string::npos ? spec.comment.size() : eol,
-                        " (ignored by octarc)");
+    markIgnored(spec);
     return *this;
   }
   operator KeySpec() const { return spec; }  // NOLINT: table syntax
+
+  // Marks `spec` ignored (KeySpec::ignored) and says so in its comment; also for a key of a
+  // table that another command's table builds on.
+  static void markIgnored(KeySpec& spec) {
+    if (spec.ignored) return;
+    spec.ignored = true;
+    const auto eol = spec.comment.find('\n');
+    spec.comment.insert(eol == std::string::npos ? spec.comment.size() : eol,
+                        " (ignored by octarc)");
+  }
 };
 
 }  // namespace octarc::sexcompat

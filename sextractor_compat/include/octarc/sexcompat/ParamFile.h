@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace octarc::sexcompat {
@@ -19,5 +20,9 @@ struct ParamRequest {
 // Throws IoError if the file cannot be read and ConfigError "<file>:<line>: ..." for a size that
 // is not a positive integer.
 std::vector<ParamRequest> readParamFile(const std::string& path);
+
+// True when `name` (upper case, as written in a .param file) is one of SExtractor 2.25's catalog
+// parameters, whether octarc measures it or not.
+bool isSextractorParameter(std::string_view name);
 
 }  // namespace octarc::sexcompat
