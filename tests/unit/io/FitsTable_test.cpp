@@ -166,7 +166,7 @@ TEST(FitsTable, ReadsOnlyTheColumnsAsked) {
 }
 
 TEST(FitsTable, AstropyReadsWhatItWrites) {
-  if (!test::haveAstropy()) GTEST_SKIP() << "astropy not available in /usr/bin/python3";
+  if (!test::haveAstropy()) OCTARC_SKIP_MISSING() << "/usr/bin/python3 with astropy not available";
   const fs::path path = test::scratchDir() / "tables.fits";
   writeFitsTables(path.string(), sampleTables());
   std::string out;
@@ -207,7 +207,7 @@ TEST(FitsTable, AstropyReadsWhatItWrites) {
 }
 
 TEST(FitsTable, FitsverifyReportsNoError) {
-  if (!test::haveFitsverify()) GTEST_SKIP() << "fitsverify not installed";
+  OCTARC_REQUIRE_PROGRAM("fitsverify");
   const fs::path path = test::scratchDir() / "tables.fits";
   writeFitsTables(path.string(), sampleTables());
   std::string report;
@@ -227,7 +227,7 @@ TEST(FitsTable, FitsverifyReportsNoError) {
 }
 
 TEST(FitsTable, ReadsWhatAstropyWrites) {
-  if (!test::haveAstropy()) GTEST_SKIP() << "astropy not available in /usr/bin/python3";
+  if (!test::haveAstropy()) OCTARC_SKIP_MISSING() << "/usr/bin/python3 with astropy not available";
   const fs::path path = test::scratchDir() / "astropy.fits";
   std::string out;
   ASSERT_EQ(

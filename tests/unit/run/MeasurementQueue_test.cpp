@@ -72,14 +72,35 @@ TEST(MeasurementQueue, RowsEqualDirectMeasurementForAnyThreadCount) {
   }
 }
 
+// finish() with nothing queued returns at once (a hang would stop the test at ctest's timeout),
+// touches no row and leaves the queue working: an object added afterwards is measured into its
+// row by the next finish(), whether measured in add() (1 thread) or on the workers.
 TEST(MeasurementQueue, FinishWithNothingQueuedReturns) {
   ImageF image(4, 4, 1.0f);
   MeasureContext context;
   context.measurement = &image;
-  const MeasurementPlan plan = planOf({"NUMBER"});
-  MeasurementQueue queue(plan, context, 2);
-  queue.finish();
-  queue.finish();
+  context.detection = &image;
+  const MeasurementPlan plan = planOf({"NUMBER", "FLUX_ISO"});
+  for (int threads : {1, 2}) {
+    Table table(plan.columns());
+    double* untouched = table.appendRow();
+    untouched[0] = -7.0;
+    untouched[1] = -8.0;
+    MeasurementQueue queue(plan, context, threads);
+    queue.finish();
+    queue.finish();
+    EXPECT_EQ(table.row(0)[0], -7.0) << "threads " << threads;
+    EXPECT_EQ(table.row(0)[1], -8.0) << "threads " << threads;
+    Segment s;
+    s.number = 5;
+    for (std::int64_t p = 0; p < 3; ++p) s.pixels.push_back(p);
+    queue.add(std::move(s), table.appendRow());
+    queue.finish();
+    ASSERT_EQ(table.rows(), 2);
+    EXPECT_EQ(table.row(1)[0], 5.0) << "threads " << threads;
+    EXPECT_EQ(table.row(1)[1], 3.0) << "threads " << threads;  // three pixels of 1
+    EXPECT_EQ(table.row(0)[0], -7.0) << "threads " << threads;
+  }
 }
 
 }  // namespace
