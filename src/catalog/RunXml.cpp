@@ -6,6 +6,8 @@
 #include <ctime>
 #include <sstream>
 
+#include "octarc/core/Format.h"
+
 namespace octarc {
 
 namespace {
@@ -111,33 +113,12 @@ std::string capitalised(const std::string& key) {
   return out;
 }
 
+// XML text and double-quoted attributes: the HTML escapes (core/Format.h), and '?' for the
+// control characters XML 1.0 cannot hold (all but tab, newline and carriage return).
 std::string escape(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        // XML 1.0 has no control characters but tab, newline and carriage return.
-        if (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n' && c != '\r') {
-          out += '?';
-        } else {
-          out += c;
-        }
-    }
+  std::string out = escapeHtml(text);
+  for (char& c : out) {
+    if (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n' && c != '\r') c = '?';
   }
   return out;
 }
