@@ -13,6 +13,32 @@ from octarc_testlib import (SOURCE_DIR, WorkDirTest, fitsverify_errors, ldac_obj
 PIXEL_SCALE = 0.257
 
 
+def recovered_arcs(rows, truth, scale=PIXEL_SCALE):
+    """The report's arc rules applied here to the catalog and the truth list: a row is an arc of
+    a system when it is resolved (sqrt(2) SIZE > 1"), >= 1" from the system's lens and within 2"
+    of one of its lensed images; "other objects" are resolved rows farther than theta_E + 4" from
+    every lens. Returns {system: best arcness}, the arcs' arcness and the others' arcness."""
+    lenses = truth[truth[:, 5] == 1]
+    resolved = np.sqrt(2) * rows["SIZE_IMAGE"] * scale > 1.0
+    finite = np.isfinite(rows["ARCNESS"])
+    arc_of = np.zeros(len(rows), int)
+    near_system = np.zeros(len(rows), bool)
+    for lens in lenses:
+        system = int(lens[8])
+        from_lens = np.hypot(rows["X_IMAGE"] - lens[1], rows["Y_IMAGE"] - lens[2]) * scale
+        near_system |= from_lens < lens[7] + 4.0
+        images = truth[(truth[:, 5] == 2) & (truth[:, 8] == system)]
+        near = np.zeros(len(rows), bool)
+        for im in images:
+            near |= np.hypot(rows["X_IMAGE"] - im[1], rows["Y_IMAGE"] - im[2]) * scale < 2.0
+        arc_of[near & resolved & (from_lens >= 1.0)] = system
+    arcs = (arc_of > 0) & finite
+    found = {int(system): float(rows["ARCNESS"][arcs & (arc_of == system)].max())
+             for system in set(arc_of[arcs])}
+    others = ~arcs & ~near_system & resolved & finite
+    return found, rows["ARCNESS"][arcs], rows["ARCNESS"][others]
+
+
 class SmallDemo(WorkDirTest):
 
     def test_small_demo_runs_and_reports(self):
@@ -63,20 +89,8 @@ class SmallDemo(WorkDirTest):
 
         # The arc count recomputed here with the report's rules: an object >= 1" from its lens,
         # sqrt(2) SIZE > 1", within 2" of one of the system's lensed images, at any level.
-        found = {}
+        found, _, _ = recovered_arcs(rows, truth)
         lenses = truth[truth[:, 5] == 1]
-        for lens in lenses:
-            system = int(lens[8])
-            images = truth[(truth[:, 5] == 2) & (truth[:, 8] == system)]
-            from_lens = np.hypot(rows["X_IMAGE"] - lens[1], rows["Y_IMAGE"] - lens[2]) * PIXEL_SCALE
-            ok = ((from_lens >= 1.0) & (np.sqrt(2) * rows["SIZE_IMAGE"] * PIXEL_SCALE > 1.0)
-                  & np.isfinite(rows["ARCNESS"]))
-            near = np.zeros(len(rows), bool)
-            for im in images:
-                dist = np.hypot(rows["X_IMAGE"] - im[1], rows["Y_IMAGE"] - im[2]) * PIXEL_SCALE
-                near |= dist < 2.0
-            if np.any(ok & near):
-                found[system] = rows["ARCNESS"][ok & near].max()
         m = re.search(r"Injected arcs detected: (\d+) of (\d+) systems", text)
         self.assertEqual(int(m.group(2)), 6)
         self.assertEqual(int(m.group(1)), len(found))
@@ -119,8 +133,10 @@ class SmallDemo(WorkDirTest):
 
 
 class ReadmeFigures(WorkDirTest):
-    """The demo output the README quotes is what `octarc demo` prints with its default options:
-    every quoted line (but the "..." that stand for the others) is a line of the output."""
+    """The figures the README quotes from `octarc demo` (default options) against values computed
+    here from the demo's output files (image, catalog, truth list, candidates) and from the
+    arithmetic of the quoted lines themselves: the README's numbers, not octarc's printout, are
+    what is checked, so a stale README or a report that prints a wrong figure fails."""
 
     def quoted_lines(self):
         with open(os.path.join(SOURCE_DIR, "README.md")) as f:
@@ -128,14 +144,90 @@ class ReadmeFigures(WorkDirTest):
         block = text.split("`octarc demo` simulates", 1)[1].split("```\n", 2)[1]
         return [line for line in block.splitlines() if line.strip() != "..."]
 
-    def test_readme_quotes_the_default_demo(self):
-        quoted = self.quoted_lines()
-        self.assertGreaterEqual(len(quoted), 6)
-        self.assertTrue(any(line.startswith("Injected arcs detected:") for line in quoted))
-        proc = run_octarc("demo", "--out", self.path("demo"), "--quiet")
-        printed = proc.stdout.splitlines()
-        for line in quoted:
-            self.assertIn(line, printed)
+    def quoted(self, pattern):
+        """The groups of the one quoted line that matches `pattern`."""
+        matches = [m for m in (re.search(pattern, line) for line in self.lines) if m]
+        self.assertEqual(len(matches), 1, "README lines matching %r" % pattern)
+        return matches[0].groups()
+
+    def assertRounded(self, quoted, value, what):
+        """`quoted` (text) is `value` rounded to the decimals it is written with."""
+        decimals = len(quoted.split(".")[1]) if "." in quoted else 0
+        self.assertLessEqual(abs(float(quoted) - value), 0.5 * 10.0 ** -decimals + 1e-9,
+                             "%s: README %s, computed %r" % (what, quoted, value))
+
+    def test_readme_figures_are_the_default_demos(self):
+        self.lines = self.quoted_lines()
+        out = self.path("demo")
+        run_octarc("demo", "--out", out, "--quiet")
+        image = fits.getdata(os.path.join(out, "field.fits"))
+        truth = np.loadtxt(os.path.join(out, "field.truth.txt"), ndmin=2)
+        rows, _ = ldac_objects(os.path.join(out, "field.ldac"))
+        with fits.open(os.path.join(out, "candidates", "candidates.fits")) as f:
+            cand = f["LDAC_OBJECTS"].data.copy()
+            cand_header = f["LDAC_OBJECTS"].header.copy()
+        per_candidate = np.loadtxt(os.path.join(out, "injection-candidates.txt"), ndmin=2)
+
+        # The field: its systems, its size in pixels and arcminutes.
+        (lens_count,) = self.quoted(r"^octarc demo: a simulated survey field with (\d+) injected")
+        systems = set(truth[truth[:, 8] > 0, 8].astype(int))
+        self.assertEqual(int(lens_count), len(systems))
+        width, height, scale, width_arcmin, height_arcmin = self.quoted(
+            r"^  (\d+) x (\d+) px of ([\d.]+)\" \(([\d.]+)' x ([\d.]+)'\)")
+        self.assertEqual((int(height), int(width)), image.shape)
+        self.assertEqual(float(scale), PIXEL_SCALE)
+        self.assertRounded(width_arcmin, int(width) * PIXEL_SCALE / 60, "width [']")
+        self.assertRounded(height_arcmin, int(height) * PIXEL_SCALE / 60, "height [']")
+
+        # Injected arcs detected, and their arcness, from the catalog and the truth list.
+        found, arc_arcness, other_arcness = recovered_arcs(rows, truth)
+        detected, of = self.quoted(r"^Injected arcs detected: (\d+) of (\d+) systems")
+        self.assertEqual(int(of), len(systems))
+        self.assertEqual(int(detected), len(found))
+        (median_best,) = self.quoted(r"^  median best ARCNESS ([\d.]+)$")
+        self.assertRounded(median_best, np.median(list(found.values())), "median best ARCNESS")
+        for label, values in (("injected arcs", arc_arcness), ("other objects", other_arcness)):
+            n, median, percent = self.quoted(
+                r"^  %s +(\d+) rows: median ([\d.]+), ([\d.]+)%% above 0.1$" % label)
+            self.assertEqual(int(n), len(values), label)
+            self.assertRounded(median, np.median(values), label + " median")
+            self.assertRounded(percent, 100.0 * np.mean(values > 0.1), label + " % above 0.1")
+
+        # The search: rows and level-1 objects of the catalog (the whole field is searched),
+        # the rejected percentage from the quoted counts.
+        objects, searched, selected, rejected = self.quoted(
+            r"^  (\d+) objects \((\d+) rows at all levels\) searched; (\d+) rows selected "
+            r"\(([\d.]+)% rejected\)$")
+        self.assertEqual(int(objects), int(np.sum(rows["THRESH_LEVEL"] == 1)))
+        self.assertEqual(int(searched), len(rows))
+        self.assertEqual(int(selected), cand_header["NROWSEL"])
+        self.assertGreaterEqual(int(selected), len(cand))
+        self.assertRounded(rejected, 100.0 * (1.0 - int(selected) / int(searched)), "% rejected")
+
+        # The candidates: their count, per deg2 of the field, and those without a lens.
+        count, per_deg2, dark = self.quoted(
+            r"^  (\d+) candidate\(s\), ([\d.]+) per deg2; (\d+) without a visible lens$")
+        self.assertEqual(int(count), len(cand))
+        area_deg2 = int(width) * int(height) * (PIXEL_SCALE / 3600.0) ** 2
+        self.assertRounded(per_deg2, int(count) / area_deg2, "candidates per deg2")
+        self.assertEqual(int(dark), int(np.sum((cand["CAND_FLAGS"] & 1) != 0)))
+        self.assertEqual(int(dark), int(np.sum(cand["LENS_NUMBER"] == 0)))
+
+        # Which candidates are injected arcs: the candidates' own rows against the truth list
+        # (a candidate also counts when a row of it at another level matches, which its best
+        # row alone cannot show, so the arcs found from best rows are a subset).
+        arcs, others = self.quoted(
+            r"^  (\d+) candidate\(s\) are arcs of injected lenses, (\d+) are other objects$")
+        self.assertEqual(int(arcs) + int(others), len(cand))
+        self.assertEqual(int(arcs), int(np.sum(per_candidate[:, 1] > 0)))
+        lenses = truth[truth[:, 5] == 1]
+        for i, row in enumerate(cand):
+            for lens in lenses:
+                images = truth[(truth[:, 5] == 2) & (truth[:, 8] == lens[8])]
+                from_lens = np.hypot(row["X_IMAGE"] - lens[1], row["Y_IMAGE"] - lens[2])
+                from_images = np.hypot(row["X_IMAGE"] - images[:, 1], row["Y_IMAGE"] - images[:, 2])
+                if from_lens * PIXEL_SCALE >= 1.0 and np.any(from_images * PIXEL_SCALE <= 2.0):
+                    self.assertGreater(per_candidate[i, 1], 0, "candidate %d" % (i + 1))
 
 
 class IntoRealImage(WorkDirTest):

@@ -101,7 +101,10 @@ class SimulatedCatalog(WorkDirTest):
         self.assertGreater(len(found), 0)
         self.assertTrue(np.all(found["LENS_DISTANCE"] >= 1.0))
         self.assertTrue(np.all(np.sqrt(2) * found["SIZE_IMAGE"] * 0.257 > 1.0))
-        self.assertTrue(np.all((found["ARCNESS"] >= 0) & (found["ARCNESS"] <= 0.25)))
+        # At most the maximum of a uniform thin circular arc, 0.2314 (METHOD.md section 1): the
+        # seeing's blur adds second moments and no third, so a lensed arc of a smooth source
+        # stays below it (arbitrary light has no bound: Octopole.ArcnessHasNoUpperBound).
+        self.assertTrue(np.all((found["ARCNESS"] >= 0) & (found["ARCNESS"] <= 0.2314)))
         self.assertTrue(np.all(np.isnan(s["ARCNESS"][s["ARC_FOUND"] == 0])))
         # One chosen row per found system in the arc table, which holds every arc row.
         chosen = a[a["CHOSEN"] == 1]

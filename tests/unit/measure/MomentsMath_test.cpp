@@ -401,27 +401,6 @@ TEST(Octopole, ThinCircularArcMatchesTheClosedForm) {
   }
 }
 
-// The reference values METHOD.md quotes for thin arcs are the closed form's, to their 3
-// decimals: arcness at phi = 5 ... 150 deg (0 for the full ring), e at 30 and 90 deg; and its
-// maximum, 0.2314, lies at phi = 88.5 deg.
-TEST(Octopole, MethodReferenceTableIsTheClosedForm) {
-  const double table[][2] = {{5, 0.020},  {15, 0.060}, {30, 0.116},  {45, 0.164},
-                             {60, 0.201}, {90, 0.231}, {120, 0.194}, {150, 0.101}};
-  for (const auto& row : table) {
-    EXPECT_NEAR(test::uniformArc(1.0, 1.0, row[0] * kPi / 180.0).arcness, row[1], 5e-4) << row[0];
-  }
-  EXPECT_NEAR(test::uniformArc(1.0, 1.0, kPi - 1e-6).arcness, 0.0, 1e-5);
-  EXPECT_NEAR(test::uniformArc(1.0, 1.0, 30 * kPi / 180.0).e, 0.964, 5e-4);
-  EXPECT_NEAR(test::uniformArc(1.0, 1.0, 90 * kPi / 180.0).e, 0.681, 5e-4);
-  double best = 0.0, bestDeg = 0.0;
-  for (int k = 1; k < 18000; ++k) {
-    const double a = test::uniformArc(1.0, 1.0, k * 0.01 * kPi / 180.0).arcness;
-    if (a > best) best = a, bestDeg = k * 0.01;
-  }
-  EXPECT_NEAR(best, 0.23143, 1e-5);
-  EXPECT_NEAR(bestDeg, 88.5, 0.05);
-}
-
 TEST(Octopole, FarFromOriginKeepsThirdMoments) {
   const Points near = pixelArc(10.0, 10.0, 6.0, 0.8, 0.4);
   Points far;

@@ -481,6 +481,70 @@ TEST(Plugins, RasterisedArcsMatchTheClosedForm) {
       worstArcness, worstE, worstSize);
 }
 
+// The reference values METHOD.md section 1 quotes for uniform thin circular arcs, measured by
+// the ARCNESS and E_IMAGE columns on arcs rasterised here: a band of width w = 1 px at radius
+// R, centred off the pixel grid, pointing in an arbitrary direction. What separates these from
+// the quoted values:
+//  - the quotes are rounded (to 3 decimals: at most 5e-4 off; the maximum 0.2314 to 4);
+//  - a pixel's area given to its centre, and the band's width, add 1/12 px^2 of variance along
+//    the arc and (1 + w^2)/12 across it: s^2 grows by d = (2 + w^2)/12 px^2 while the third
+//    moments (of a symmetric smoothing) stay, so to first order arcness shrinks by 1.5 d / s^2
+//    of itself and e moves by at most (1 + e) d / s^2; allowed: twice that;
+//  - the ends of the band are cut across pixels whose area sits at their centres, which places
+//    each end to within half a pixel along the arc: the opening phi to within 0.5 / R, and
+//    arcness and e change with phi by at most 0.25 and 0.5 per radian (the closed form's
+//    steepest slopes, ArcClosedForm.h: 0.231 near phi = 0 and 0.475 at 134 deg).
+// With R = 1000 px the last two add at most 1.3e-4 to arcness and 2.6e-4 to e (reached: 4e-5 at
+// R = 300 px). The full ring (phi = 180 deg) has arcness 0 up to the 1/256 quantisation of the
+// rasterised areas (reached: 7e-6).
+TEST(Plugins, MethodReferenceTableIsWhatArcnessMeasures) {
+  const double width = 1.0, d = (2.0 + width * width) / 12.0;
+  const MeasurementPlan plan =
+      MeasurementPlan::build({{"ARCNESS"}, {"E_IMAGE"}, {"SIZE_IMAGE"}}, {}, nullptr);
+  struct Measured {
+    double arcness, e, s2;
+  };
+  const auto measure = [&](double radius, double phiDeg) {
+    const int size = 2 * int(radius) + 21;
+    const double c = 0.5 * (size - 1);
+    const ImageF image =
+        rasterisedArc(size, c + 0.3, c - 0.4, radius - 0.5 * width, radius + 0.5 * width,
+                      phiDeg * std::numbers::pi / 180.0, 37.0 * std::numbers::pi / 180.0);
+    Segment s{1, 1, 0, {}, {}};
+    for (std::int64_t p = 0; p < image.size(); ++p)
+      if (image[p] > 0.0f) s.pixels.push_back(p);
+    MeasureContext context;
+    context.measurement = &image;
+    context.detection = &image;
+    const Row r(plan, s, context);
+    return Measured{r["ARCNESS"], r["E_IMAGE"], r["SIZE_IMAGE"] * r["SIZE_IMAGE"]};
+  };
+  const double radius = 1000.0, dPhi = 0.5 / radius;
+  const double table[][2] = {{5, 0.020},  {15, 0.060}, {30, 0.116},  {45, 0.164},
+                             {60, 0.201}, {90, 0.231}, {120, 0.194}, {150, 0.101}};
+  for (const auto& [phiDeg, quoted] : table) {
+    const Measured m = measure(radius, phiDeg);
+    EXPECT_NEAR(m.arcness, quoted, 5e-4 + 2 * 1.5 * d / m.s2 * quoted + 0.25 * dPhi)
+        << phiDeg << " deg";
+    if (phiDeg == 30.0 || phiDeg == 90.0) {
+      const double quotedE = phiDeg == 30.0 ? 0.964 : 0.681;
+      EXPECT_NEAR(m.e, quotedE, 5e-4 + 2 * (1 + quotedE) * d / m.s2 + 0.5 * dPhi)
+          << phiDeg << " deg";
+    }
+  }
+  EXPECT_NEAR(measure(radius, 180.0).arcness, 0.0, 1e-4);
+  // The maximum, 0.2314 at phi = 88.5 deg: on a 1-degree scan (R = 300 px) the largest value,
+  // at 88 or 89 deg (the closed form's slope is 0 there, so no end term; its curvature moves it
+  // by 1e-5 half a degree away).
+  double best = 0.0, bestDeg = 0.0, bestS2 = 0.0;
+  for (double phiDeg = 84.0; phiDeg <= 93.0; phiDeg += 1.0) {
+    const Measured m = measure(300.0, phiDeg);
+    if (m.arcness > best) best = m.arcness, bestDeg = phiDeg, bestS2 = m.s2;
+  }
+  EXPECT_NEAR(best, 0.2314, 5e-5 + 2 * 1.5 * d / bestS2 * best + 1e-5);
+  EXPECT_NEAR(bestDeg, 88.5, 0.5);
+}
+
 TEST(Plugins, FilteredDetectionWeightsShapesButNotFlux) {
   // Detection image brighter on the right: the SExtractor-named shape follows it, FLUX_ISO and
   // the octopole columns follow the measurement image.

@@ -1,0 +1,191 @@
+// What an inspector gets from a hand-made search result: the region marks, the stamps (cut-out,
+// display range, marks, captions) and the contact sheet, each value known in advance.
+#include "octarc/search/Inspection.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+namespace octarc {
+namespace {
+
+constexpr double kScale = 0.25;  // arcsec per pixel: the lens circle of 1" has radius 4 px
+
+// Rows: 0 the first candidate's arc, 1 its lens, 2 the second candidate's arc (no lens).
+Table handCatalog() {
+  using T = ColumnType;
+  Table t({{"X_IMAGE", "", "pixel", "", T::Float32, "%10.3f"},
+           {"Y_IMAGE", "", "pixel", "", T::Float32, "%10.3f"},
+           {"A_IMAGE", "", "pixel", "", T::Float32, "%9.3f"},
+           {"B_IMAGE", "", "pixel", "", T::Float32, "%9.3f"},
+           {"THETA_IMAGE", "", "deg", "", T::Float32, "%5.1f"},
+           {"ARCNESS", "", "", "", T::Float32, "%8.4f"},
+           {"E_IMAGE", "", "", "", T::Float32, "%7.4f"},
+           {"SNR_ISO", "", "", "", T::Float32, "%10.2f"},
+           {"MAG_ISO", "", "mag", "", T::Float32, "%8.4f"}});
+  const std::vector<std::vector<double>> rows = {{10.5, 20.25, 4, 1.5, 30, 0.1875, 0.75, 55, 21.5},
+                                                 {15.5, 25.5, 6, 5, -10, 0.01, 0.1, 300, 19},
+                                                 {100, 50, 3, 1, 90, 0.125, 0.625, 42, 22.25}};
+  for (const auto& r : rows) {
+    double* out = t.appendRow();
+    for (std::size_t c = 0; c < r.size(); ++c) out[c] = r[c];
+  }
+  return t;
+}
+
+SearchResult handResult() {
+  SearchResult r;
+  Candidate a;
+  a.row = 0;
+  a.passedLevels = {2, 3};
+  a.probability = 0.5;
+  a.contourLevel = 0.75;
+  a.name = "OCTARC J095950.40+021000.0";
+  a.lens = CandidateLens{1, 15.5, 25.5, 149.961, 2.167, 1.75};
+  Candidate b;
+  b.row = 2;
+  b.passedLevels = {3};
+  b.probability = 0.25;
+  b.flags = kCandidateDarkLens;
+  r.candidates = {a, b};
+  return r;
+}
+
+TEST(Inspection, RegionMarksAreArcEllipsesAndLensCircles) {
+  const std::vector<RegionMark> marks = candidateRegionMarks(handCatalog(), handResult(), kScale);
+  ASSERT_EQ(marks.size(), 3u);  // arc 1, its lens, arc 2 (no lens)
+  EXPECT_EQ(marks[0].kind, RegionShapeKind::Ellipse);
+  EXPECT_EQ(marks[0].xCentre, 10.5);
+  EXPECT_EQ(marks[0].yCentre, 20.25);
+  EXPECT_EQ(marks[0].semiAxis1Pix, 12.0);  // 3 A_IMAGE
+  EXPECT_EQ(marks[0].semiAxis2Pix, 4.5);   // 3 B_IMAGE
+  EXPECT_NEAR(marks[0].angleRad, std::numbers::pi / 6, 1e-12);
+  EXPECT_EQ(marks[0].colour, "green");
+  EXPECT_EQ(marks[0].text, "1");
+  EXPECT_EQ(marks[1].kind, RegionShapeKind::Circle);
+  EXPECT_EQ(marks[1].xCentre, 15.5);
+  EXPECT_EQ(marks[1].yCentre, 25.5);
+  EXPECT_EQ(marks[1].semiAxis1Pix, 4.0);  // 1" at 0.25"/px
+  EXPECT_EQ(marks[1].colour, "red");
+  EXPECT_EQ(marks[2].text, "2");
+  EXPECT_EQ(marks[2].semiAxis1Pix, 9.0);
+  EXPECT_NEAR(marks[2].angleRad, std::numbers::pi / 2, 1e-12);
+}
+
+TEST(Inspection, StampFileNamesAreNumberedFromOne) {
+  EXPECT_EQ(stampFileName(0), "stamps/0001.png");
+  EXPECT_EQ(stampFileName(122), "stamps/0123.png");
+}
+
+TEST(Inspection, StampCutsAroundTheLensWithTheDisplayRangeOfItsPixels) {
+  // A 4" stamp at 0.25"/px is 16 px. Candidate 1's lens is at 1-based (15.5, 25.5), 0-based
+  // (14.5, 24.5): centre pixel (15, 25), cut-out from (7, 17). There the image holds 0 ... 255,
+  // each once; elsewhere 1000.
+  ImageF image(104, 80, 1000.0f);
+  for (int j = 0; j < 16; ++j)
+    for (int i = 0; i < 16; ++i) image(7 + i, 17 + j) = float(i + 16 * j);
+  StampSettings settings;
+  settings.sideArcsec = 4.0;
+  settings.sizePix = 123;
+  const Table catalog = handCatalog();
+  const SearchResult result = handResult();
+  const Stamp s = candidateStamp(image, catalog, result, 0, nullptr, kScale, settings);
+  ASSERT_EQ(s.pixels.width(), 16);
+  ASSERT_EQ(s.pixels.height(), 16);
+  EXPECT_EQ(s.xFirstFits, 8.0);
+  EXPECT_EQ(s.yFirstFits, 18.0);
+  EXPECT_EQ(s.pixels(0, 0), 0.0f);
+  EXPECT_EQ(s.pixels(15, 15), 255.0f);
+  EXPECT_EQ(s.pixels(3, 2), 35.0f);
+  // Quantiles of 0 ... 255 (at (n - 1) q): median 127.5, 15.87 % 40.4685, 99.7 % 254.235.
+  // Black one robust sigma below the median, white at the 99.7th percentile.
+  EXPECT_NEAR(s.displayLowAdu, 127.5 - (127.5 - 40.4685), 1e-9);
+  EXPECT_NEAR(s.displayHighAdu, 254.235, 1e-9);
+  EXPECT_FALSE(s.hasSkyDirections);  // no WCS
+  EXPECT_EQ(s.pixelScaleArcsec, kScale);
+  EXPECT_EQ(s.sizePix, 123);
+  ASSERT_EQ(s.marks.size(), 2u);
+  EXPECT_TRUE(s.marks[0].ellipse);
+  EXPECT_EQ(s.marks[0].xFits, 10.5);
+  EXPECT_EQ(s.marks[0].semiAxis1Pix, 12.0);
+  EXPECT_FALSE(s.marks[1].ellipse);
+  EXPECT_EQ(s.marks[1].xFits, 15.5);
+  EXPECT_EQ(s.marks[1].semiAxis1Pix, 4.0);
+  EXPECT_EQ(s.marks[1].label, "lens");
+  EXPECT_EQ(s.title, "#1  OCTARC J095950.40+021000.0");
+  EXPECT_NE(s.subtitle.find("S/N = 55"), std::string::npos) << s.subtitle;
+  EXPECT_NE(s.subtitle.find("e = 0.75"), std::string::npos) << s.subtitle;
+  EXPECT_NE(s.subtitle.find("theta_E = 1.75\""), std::string::npos) << s.subtitle;
+
+  // Candidate 2, without a lens, is centred on its arc: 1-based (100, 50), cut-out from
+  // 0-based (91, 41); columns 104 ... 106 lie outside the image and stay NaN.
+  const Stamp t = candidateStamp(image, catalog, result, 1, nullptr, kScale, settings);
+  EXPECT_EQ(t.xFirstFits, 92.0);
+  EXPECT_EQ(t.yFirstFits, 42.0);
+  EXPECT_EQ(t.pixels(12, 0), 1000.0f);
+  EXPECT_TRUE(std::isnan(t.pixels(13, 0)));
+  EXPECT_TRUE(std::isnan(t.pixels(15, 15)));
+  EXPECT_EQ(t.marks.size(), 1u);
+  EXPECT_EQ(t.title, "#2");
+  EXPECT_NE(t.subtitle.find("no lens seen"), std::string::npos) << t.subtitle;
+  // Every finite pixel 1000: a flat range, widened to one ADU.
+  EXPECT_EQ(t.displayLowAdu, 1000.0);
+  EXPECT_EQ(t.displayHighAdu, 1001.0);
+  EXPECT_THROW(candidateStamp(image, catalog, result, 2, nullptr, kScale, settings),
+               std::out_of_range);
+}
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t p = text.find(what); p != std::string::npos; p = text.find(what, p + 1)) ++n;
+  return n;
+}
+
+TEST(Inspection, ContactSheetHasACardAndARowPerCandidate) {
+  SearchResult result = handResult();
+  result.candidates[0].arcMags = {{21.5, 0.03}, {22.25, 0.04}};
+  result.candidates[0].lensMags = {{19.0, 0.01}, {20.5, 0.02}};
+  ContactSheetInfo info;
+  info.title = "field <1> & co";
+  info.catalogFile = "candidates.fits";
+  info.regionFile = "candidates.reg";
+  info.summaryLines = {"2 candidate(s)", "a < b"};
+  const std::string html = contactSheetHtml(handCatalog(), result, info);
+  EXPECT_NE(html.find("<title>field &lt;1&gt; &amp; co</title>"), std::string::npos);
+  EXPECT_NE(html.find("a &lt; b<br>"), std::string::npos);
+  EXPECT_NE(html.find("<a href=\"candidates.fits\">"), std::string::npos);
+  EXPECT_NE(html.find("<a href=\"candidates.reg\">"), std::string::npos);
+  EXPECT_NE(html.find("id=\"status\""), std::string::npos);
+  // Self-contained: nothing fetched from elsewhere.
+  EXPECT_EQ(html.find("http"), std::string::npos);
+  EXPECT_EQ(html.find("<script src"), std::string::npos);
+  EXPECT_EQ(count(html, "class=\"card\""), 2u);
+  const std::size_t first = html.find("data-number=\"1\""), second = html.find("data-number=\"2\"");
+  ASSERT_NE(first, std::string::npos);
+  ASSERT_NE(second, std::string::npos);
+  EXPECT_LT(first, second);
+  EXPECT_NE(html.find("data-number=\"1\" data-prob=\"0.5\" data-arcness=\"0.1875\" "
+                      "data-snr=\"55\" data-mag=\"21.5\""),
+            std::string::npos);
+  EXPECT_EQ(count(html, "<img src=\"stamps/0001.png\""), 1u);
+  EXPECT_EQ(count(html, "<img src=\"stamps/0002.png\""), 1u);
+  EXPECT_NE(html.find("<tr id=\"c1\"><td>1</td><td>OCTARC J095950.40+021000.0</td><td>10.50</td>"
+                      "<td>20.25</td><td>21.50</td><td>0.1875</td><td>0.750</td><td>55.0</td>"),
+            std::string::npos)
+      << html;
+  EXPECT_NE(html.find("<td>2,3</td><td>1.75</td>"), std::string::npos);
+  EXPECT_NE(html.find("<td>3</td><td>dark?</td>"), std::string::npos);
+  EXPECT_EQ(html.find("colours arc / lens"), std::string::npos);  // no bands, no column
+
+  info.colourBands = {"g"};
+  const std::string withColours = contactSheetHtml(handCatalog(), result, info);
+  EXPECT_NE(withColours.find("<th>colours arc / lens</th>"), std::string::npos);
+  EXPECT_NE(withColours.find("<td>g 0.75 / 1.50</td>"), std::string::npos);  // 22.25 - 21.5 ...
+  EXPECT_NE(withColours.find("<td>g - / -</td>"), std::string::npos);        // none: "-"
+}
+
+}  // namespace
+}  // namespace octarc
