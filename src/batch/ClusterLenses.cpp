@@ -50,9 +50,6 @@ std::string serialise(const LensRun& run) {
   put(out, run.skipped);
   put(out, run.drawn);
   put(out, run.rendered);
-  put(out, run.weightSum);
-  put(out, run.arcWeightSum);
-  put(out, run.arcWeightSquaredSum);
   const StageTimings& t = run.timings;
   for (const double v : {t.drawSec, t.rayTraceSec, t.lensLightSec, t.psfSec, t.noiseSec,
                          t.detectionSec, t.arcRulesSec}) {
@@ -71,9 +68,6 @@ void appendShare(LensRun& run, const std::string& in) {
   run.skipped += take<std::int64_t>(in, at);
   run.drawn += take<std::int64_t>(in, at);
   run.rendered += take<std::int64_t>(in, at);
-  run.weightSum += take<double>(in, at);
-  run.arcWeightSum += take<double>(in, at);
-  run.arcWeightSquaredSum += take<double>(in, at);
   StageTimings t;
   for (double* v : {&t.drawSec, &t.rayTraceSec, &t.lensLightSec, &t.psfSec, &t.noiseSec,
                     &t.detectionSec, &t.arcRulesSec}) {
@@ -102,6 +96,7 @@ LensRun runLensSimulationOnCluster(const Cluster& cluster, const SimulationSetup
   if (!cluster.isRoot()) return LensRun();
   LensRun all = std::move(mine);
   for (std::size_t k = 1; k < shares.size(); ++k) appendShare(all, shares[k]);
+  all.sumWeights();  // in row order, as on one rank
   // Stamps beyond the root's share are remade here: a system is the same wherever it is made.
   for (std::int64_t i = std::int64_t(all.stamps.size()); i < stampCount; ++i) {
     all.stamps.push_back(simulateSystem(setup, sources, seed, i, true).image);

@@ -197,11 +197,6 @@ LensRun runLensSimulation(const SimulationSetup& setup, const SourceDatabase& so
     if (!d.rendered) continue;  // counted, and stood for by the weights of the others
     const double weight = d.weight();
     ++out.rendered;
-    out.weightSum += weight;
-    if (r.chosenArc >= 0) {
-      out.arcWeightSum += weight;
-      out.arcWeightSquaredSum += weight * weight;
-    }
     double* row = out.systems.appendRow();
     const double nan = std::nan("");
     const double truth[] = {double(d.index),
@@ -260,7 +255,22 @@ LensRun runLensSimulation(const SimulationSetup& setup, const SourceDatabase& so
 
   for (int k = 0; k < stampCount; ++k)
     out.stamps.push_back(std::move(results[std::size_t(k)].image));
+  out.sumWeights();
   return out;
+}
+
+void LensRun::sumWeights() {
+  const int weight = systems.requireColumn("SIM_WEIGHT", "lens run");
+  const int found = systems.requireColumn("ARC_FOUND", "lens run");
+  weightSum = arcWeightSum = arcWeightSquaredSum = 0;
+  for (std::int64_t r = 0; r < systems.rows(); ++r) {
+    const double w = systems.value(r, weight);
+    weightSum += w;
+    if (systems.value(r, found) == 1.0) {
+      arcWeightSum += w;
+      arcWeightSquaredSum += w * w;
+    }
+  }
 }
 
 double LensRun::effectiveArcs() const {

@@ -44,8 +44,11 @@ struct LensRun {
   std::int64_t rejections = 0;      // draws the sampler turned down (LensSystemDraw::rejections)
   std::int64_t skipped = 0;         // systems below the skip limit (LensSystemDraw::skipped)
   std::int64_t rendered = 0;        // rows of `systems`
-  double weightSum = 0;             // of SIM_WEIGHT over the rendered systems
-  double arcWeightSum = 0, arcWeightSquaredSum = 0;  // over the systems with an arc
+  // Of SIM_WEIGHT over the rendered systems, and of it and its square over those with an arc,
+  // summed in row order (sumWeights) so that they do not depend on threads or ranks.
+  double weightSum = 0;
+  double arcWeightSum = 0, arcWeightSquaredSum = 0;
+  void sumWeights();
   // Kish's effective number of arcs, (sum w)^2 / sum w^2 over the systems with an arc: the
   // number of plainly drawn arcs that would give estimates as precise.
   double effectiveArcs() const;
