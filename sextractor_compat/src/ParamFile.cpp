@@ -16,7 +16,7 @@ namespace {
 
 // Every catalog parameter `source-extractor -dp` (2.25) lists, sorted.
 // clang-format off
-constexpr std::array kSextractorParameters = {
+constexpr const char* kSextractorParameters[] = {
     "ALPHAMODEL_B1950", "ALPHAMODEL_J2000", "ALPHAMODEL_SKY", "ALPHAPEAK_B1950", "ALPHAPEAK_J2000",
     "ALPHAPEAK_SKY", "ALPHAPSF_B1950", "ALPHAPSF_J2000", "ALPHAPSF_SKY", "ALPHAWIN_B1950",
     "ALPHAWIN_J2000", "ALPHAWIN_SKY", "ALPHA_B1950", "ALPHA_J2000", "ALPHA_SKY", "AMODEL_IMAGE",
@@ -106,8 +106,8 @@ constexpr std::array kSextractorParameters = {
 }  // namespace
 
 bool isSextractorParameter(std::string_view name) {
-  return std::binary_search(kSextractorParameters.begin(), kSextractorParameters.end(), name,
-                            [](std::string_view a, std::string_view b) { return a < b; });
+  return std::binary_search(std::begin(kSextractorParameters), std::end(kSextractorParameters),
+                            name, [](std::string_view a, std::string_view b) { return a < b; });
 }
 
 std::vector<ParamRequest> readParamFile(const std::string& path) {
