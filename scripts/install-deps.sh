@@ -29,6 +29,8 @@ packages=(
   libpng-dev
   # Least-squares fits (the Gaussian FWHM of the skewness distributions): Ceres Solver
   libceres-dev
+  # The learned selection (SELECTION_METHOD TREES): gradient-boosted trees, XGBoost's C API
+  libxgboost-dev
   libgtest-dev
   googletest
   # Cluster runs (octarc batch, simulate lenses under mpirun or srun): Open MPI; its mpirun

@@ -33,23 +33,6 @@ void addAxisKeywords(const GridBinning& binning, std::vector<FitsKeyword>& k) {
   }
 }
 
-void addSetupKeywords(const SurveySetup& s, std::vector<FitsKeyword>& k) {
-  k.push_back(FitsKeyword::real("PIXSCALE", s.pixelScaleArcsec, "Pixel scale (arcsec/px)"));
-  k.push_back(FitsKeyword::real("SEEING", s.seeingFwhmArcsec, "Seeing FWHM (arcsec)"));
-  k.push_back(FitsKeyword::real("GAIN", s.gainElectronsPerAdu, "Gain (e-/ADU)"));
-  k.push_back(FitsKeyword::real("SKYSIGMA", s.skySigmaAdu, "Sky noise per pixel (ADU)"));
-  k.push_back(
-      FitsKeyword::integer("NTHRESH", std::int64_t(s.thresholdsSigma.size()), "Detection levels"));
-  for (std::size_t i = 0; i < s.thresholdsSigma.size(); ++i) {
-    k.push_back(FitsKeyword::real(numbered("THRESH", i + 1), s.thresholdsSigma[i],
-                                  "Detection level (sky sigma)"));
-  }
-  k.push_back(FitsKeyword::integer("MINAREA", s.minAreaPix, "DETECT_MINAREA (pixels)"));
-  k.push_back(FitsKeyword::text("POPFILE", s.populationFile, "Population relations file"));
-  k.push_back(FitsKeyword::unsignedInteger("SEED", s.seed, "Master seed of the simulations"));
-  k.push_back(FitsKeyword::integer("NSYSTEMS", s.systems, "Simulated systems"));
-}
-
 FitsTable binsTable(const SavedGrid& saved) {
   const OccupationGrid& grid = saved.grid;
   const std::int64_t dims = grid.binning().dimensions();
@@ -122,23 +105,6 @@ GridBinning readBinning(const FitsTable& t) {
   } catch (const ConfigError& e) {
     throw IoError(t.where() + ": " + e.what());
   }
-}
-
-SurveySetup readSetup(const FitsTable& t) {
-  SurveySetup s;
-  s.pixelScaleArcsec = t.number("PIXSCALE");
-  s.seeingFwhmArcsec = t.number("SEEING");
-  s.gainElectronsPerAdu = t.number("GAIN");
-  s.skySigmaAdu = t.number("SKYSIGMA");
-  const std::int64_t levels = t.integer("NTHRESH");
-  for (std::int64_t i = 1; i <= levels; ++i) {
-    s.thresholdsSigma.push_back(t.number(numbered("THRESH", std::size_t(i))));
-  }
-  s.minAreaPix = int(t.integer("MINAREA"));
-  s.populationFile = t.text("POPFILE");
-  s.seed = t.unsignedInteger("SEED");
-  s.systems = t.integer("NSYSTEMS");
-  return s;
 }
 
 OccupationGrid readGrid(const FitsTable& t, GridBinning binning) {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "octarc/core/Format.h"
+#include "octarc/io/FitsTable.h"
 
 namespace octarc {
 
@@ -55,6 +56,40 @@ std::vector<std::string> compareSetups(const SurveySetup& grid, const SurveySetu
     }
   }
   return warnings;
+}
+
+void addSetupKeywords(const SurveySetup& s, std::vector<FitsKeyword>& k) {
+  k.push_back(FitsKeyword::real("PIXSCALE", s.pixelScaleArcsec, "Pixel scale (arcsec/px)"));
+  k.push_back(FitsKeyword::real("SEEING", s.seeingFwhmArcsec, "Seeing FWHM (arcsec)"));
+  k.push_back(FitsKeyword::real("GAIN", s.gainElectronsPerAdu, "Gain (e-/ADU)"));
+  k.push_back(FitsKeyword::real("SKYSIGMA", s.skySigmaAdu, "Sky noise per pixel (ADU)"));
+  k.push_back(
+      FitsKeyword::integer("NTHRESH", std::int64_t(s.thresholdsSigma.size()), "Detection levels"));
+  for (std::size_t i = 0; i < s.thresholdsSigma.size(); ++i) {
+    k.push_back(FitsKeyword::real("THRESH" + std::to_string(i + 1), s.thresholdsSigma[i],
+                                  "Detection level (sky sigma)"));
+  }
+  k.push_back(FitsKeyword::integer("MINAREA", s.minAreaPix, "DETECT_MINAREA (pixels)"));
+  k.push_back(FitsKeyword::text("POPFILE", s.populationFile, "Population relations file"));
+  k.push_back(FitsKeyword::unsignedInteger("SEED", s.seed, "Master seed of the simulations"));
+  k.push_back(FitsKeyword::integer("NSYSTEMS", s.systems, "Simulated systems"));
+}
+
+SurveySetup readSetup(const FitsTable& t) {
+  SurveySetup s;
+  s.pixelScaleArcsec = t.number("PIXSCALE");
+  s.seeingFwhmArcsec = t.number("SEEING");
+  s.gainElectronsPerAdu = t.number("GAIN");
+  s.skySigmaAdu = t.number("SKYSIGMA");
+  const std::int64_t levels = t.integer("NTHRESH");
+  for (std::int64_t i = 1; i <= levels; ++i) {
+    s.thresholdsSigma.push_back(t.number("THRESH" + std::to_string(i)));
+  }
+  s.minAreaPix = int(t.integer("MINAREA"));
+  s.populationFile = t.text("POPFILE");
+  s.seed = t.unsignedInteger("SEED");
+  s.systems = t.integer("NSYSTEMS");
+  return s;
 }
 
 }  // namespace octarc

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "octarc/io/FitsTable.h"
+
 namespace octarc {
 
 // NaN, 0 or empty for what is not known; unknown fields are never compared.
@@ -40,5 +42,11 @@ struct SetupTolerances {
 // equal. |a - b| / |a| is compared with the tolerance, a being the grid's value.
 std::vector<std::string> compareSetups(const SurveySetup& grid, const SurveySetup& search,
                                        const SetupTolerances& tolerances = {});
+
+// The setup as header keywords of a grid or model file (PIXSCALE, SEEING, GAIN, SKYSIGMA,
+// NTHRESH, THRESHn, MINAREA, POPFILE, SEED, NSYSTEMS; NaN as an undefined value), and back
+// (IoError naming the table for a missing keyword).
+void addSetupKeywords(const SurveySetup& setup, std::vector<FitsKeyword>& keywords);
+SurveySetup readSetup(const FitsTable& table);
 
 }  // namespace octarc

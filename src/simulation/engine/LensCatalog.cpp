@@ -9,6 +9,7 @@
 #include "octarc/core/Conventions.h"
 #include "octarc/core/Parallel.h"
 #include "octarc/io/FitsImage.h"
+#include "octarc/selection/ArcContext.h"
 
 namespace octarc {
 
@@ -26,7 +27,8 @@ struct SystemResult {
   double sourceColourMag = 0.0, lensColourMag = 0.0;  // the second band's, drawn
   SecondBandMagnitudes band;                          // of the arc rows and the lens
   std::int64_t objectCount = 0;
-  std::vector<double> arcValues;  // arc rows, measuredColumns() each, in table order
+  // Arc rows, measuredColumns() then arcContextColumns() each, in table order.
+  std::vector<double> arcValues;
   std::vector<double> arcDistanceArcsec;
   int chosenArc = -1;  // index into the arc rows
   ImageF image;        // kept for the stamps file only
@@ -129,6 +131,7 @@ std::vector<ColumnSpec> lensSystemColumns(const std::string& band) {
              "Distance of the chosen arc to the lens centre"),
   };
   for (const ColumnSpec& m : measuredColumns()) c.push_back(m);
+  for (const ColumnSpec& m : arcContextColumns()) c.push_back(m);
   if (!band.empty()) {
     for (const ColumnSpec& t : bandTruthColumns(band)) c.push_back(t);
     for (const ColumnSpec& m : secondBandColumns(band)) c.push_back(m);
@@ -144,6 +147,7 @@ std::vector<ColumnSpec> lensArcColumns(const std::string& band) {
       column("LENS_DISTANCE", T::Float32, "%8.4f", "arcsec", "Distance to the lens centre"),
   };
   for (const ColumnSpec& m : measuredColumns()) c.push_back(m);
+  for (const ColumnSpec& m : arcContextColumns()) c.push_back(m);
   if (!band.empty()) {
     for (const ColumnSpec& m : secondBandColumns(band)) c.push_back(m);
   }
@@ -166,10 +170,17 @@ LensRun runLensSimulation(const SimulationSetup& setup, const SourceDatabase& so
         r.lensColourMag = s.lensColourMag;
         r.band = std::move(s.band);
         r.objectCount = s.objects.rows();
+        // The arcs' context among the stamp's objects, as the search sees a survey row's.
+        const std::vector<ArcContext> context =
+            s.arcs.arcRows.empty()
+                ? std::vector<ArcContext>()
+                : arcContexts(s.objects, {setup.observing.grid.pixelScaleArcsec});
         for (std::size_t a = 0; a < s.arcs.arcRows.size(); ++a) {
           const std::int64_t row = s.arcs.arcRows[a];
           const double* values = s.objects.row(row);
           r.arcValues.insert(r.arcValues.end(), values, values + s.objects.rowWidth());
+          const std::vector<double> c = contextValues(context[std::size_t(row)]);
+          r.arcValues.insert(r.arcValues.end(), c.begin(), c.end());
           r.arcDistanceArcsec.push_back(s.arcs.distanceArcsec[std::size_t(row)]);
           if (row == s.arcs.chosenRow) r.chosenArc = int(a);
         }
@@ -180,7 +191,7 @@ LensRun runLensSimulation(const SimulationSetup& setup, const SourceDatabase& so
       });
 
   // Tables, in system order.
-  const int measuredWidth = measuredPlan().rowWidth();
+  const int measuredWidth = measuredPlan().rowWidth() + int(arcContextColumns().size());
   const std::string bandName = setup.band ? setup.band->name : "";
   const std::vector<BandColumn> band =
       setup.band ? bandColumns(bandName) : std::vector<BandColumn>();

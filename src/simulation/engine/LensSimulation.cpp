@@ -35,8 +35,9 @@ const char* const kMeasuredNames[] = {
     "NUMBER",      "THRESH_LEVEL",  "PARENT_NUMBER", "THRESHOLD",   "X_IMAGE",
     "Y_IMAGE",     "ISOAREA_IMAGE", "FLUX_ISO",      "FLUXERR_ISO", "MAG_ISO",
     "SNR_ISO",     "FLUX_MAX",      "A_IMAGE",       "B_IMAGE",     "THETA_IMAGE",
-    "ELLIPTICITY", "SIZE_IMAGE",    "E_IMAGE",       "ARCNESS",     "ANTIARCNESS",
-    "SKEW_MAJOR",  "SKEW_MINOR",    "ARC_SIDE",      "FLAGS",       "OCT_FLAGS"};
+    "ELLIPTICITY", "SIZE_IMAGE",    "E_IMAGE",       "E1_IMAGE",    "E2_IMAGE",
+    "ARCNESS",     "ANTIARCNESS",   "SKEW_MAJOR",    "SKEW_MINOR",  "ARC_SIDE",
+    "FLAGS",       "OCT_FLAGS"};
 
 }  // namespace
 
