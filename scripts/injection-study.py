@@ -3,8 +3,14 @@
 simulated 2048^2 field with injected lenses, searched with the shipped demo grid) for several
 seeds and adds up, per search space, which injected lenses came back as candidates.
 
-    scripts/injection-study.py [--seeds 20] [--lenses 12] [--octarc build/release/bin/octarc]
+    scripts/injection-study.py [--seeds 20] [--first-seed 1] [--lenses 12] [--model M.fits]
+                               [--octarc build/release/bin/octarc]
     scripts/injection-study.py --ntt [--seeds 20] [--lenses 6] [--snr-min 10]
+
+With --model, every field is searched twice, with the grid (SELECTION_METHOD GRID) and with the
+model (TREES), and the completeness is also given against the spurious candidates per deg2 as
+LENS_SCORE's threshold falls ("Completeness against spurious candidates"): both methods in one
+table.
 
 --ntt injects into the real NTT/EMMI R frame of ../shared/data/real/ntt-emmi instead (its own
 sky, noise, objects and PSF). Its header has no WCS, gain or zero point, so the study assumes
@@ -72,7 +78,38 @@ def run_seed(octarc, seed, lenses, out, extra):
         cands = np.loadtxt(os.path.join(out, "injection-candidates.txt"), ndmin=2)
     area = fits.getheader(os.path.join(out, "candidates", "candidates.fits"),
                           "LDAC_OBJECTS")["SRCHAREA"]
-    return systems, cands.reshape(-1, 3), area
+    cands = cands.reshape(-1, 4)
+    # Each system's score: its (first, highest-ranked) candidate's LENS_SCORE; -1 when not found.
+    score = np.full(len(systems), -1.0)
+    found = systems[:, 3] > 0
+    score[found] = cands[systems[found, 3].astype(int) - 1, 3]
+    return np.column_stack([systems, score]), cands, area
+
+
+def wilson(k, n, z=1.0):
+    """Wilson score interval of k successes in n (z = 1: 68%)."""
+    if n == 0:
+        return 0.0, 1.0
+    p = k / n
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    return max(0.0, centre - half), min(1.0, centre + half)
+
+
+def completeness_at(systems, cands, area, per_deg2):
+    """Completeness when LENS_SCORE's threshold is the lowest that keeps the spurious candidates
+    at most per_deg2 (None: every candidate)."""
+    spurious_scores = np.sort(cands[cands[:, 1] == 0, 3])[::-1]
+    if per_deg2 is None:
+        threshold = -np.inf
+    else:
+        allowed = int(np.floor(per_deg2 * area))
+        threshold = spurious_scores[allowed] if allowed < len(spurious_scores) else -np.inf
+        # Strictly above the first spurious score left out.
+        threshold = np.nextafter(threshold, np.inf) if np.isfinite(threshold) else threshold
+    found = (systems[:, 7] >= threshold) & (systems[:, 3] > 0)
+    spurious = (spurious_scores >= threshold).sum()
+    return found.sum(), spurious
 
 
 def in_space(spaces, bit):
@@ -86,6 +123,8 @@ def fraction(k, n):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seeds", type=int, default=20)
+    parser.add_argument("--first-seed", type=int, default=1)
+    parser.add_argument("--model", help="also search with this lens model (SELECTION_METHOD TREES)")
     parser.add_argument("--lenses", type=int, default=None)
     parser.add_argument("--ntt", action="store_true", help="inject into the real NTT frame")
     parser.add_argument("--snr-min", type=float, default=40.0, help="the search's S/N floor")
@@ -95,23 +134,49 @@ def main():
     if args.lenses is None:
         args.lenses = 6 if args.ntt else 12
     systems, cands, area = [], [], 0.0
+    tree_systems, tree_cands = [], []
     with tempfile.TemporaryDirectory() as work:
         extra = (ntt_setup(args.octarc, work) if args.ntt else []) + ["--snr-min",
                                                                       str(args.snr_min)]
-        for seed in range(1, args.seeds + 1):
+        for seed in range(args.first_seed, args.first_seed + args.seeds):
             s, c, a = run_seed(args.octarc, seed, args.lenses, os.path.join(work, str(seed)),
                                extra)
             systems.append(s)
             cands.append(c)
             area += a
             print("seed %d: %d systems, %d candidates" % (seed, len(s), len(c)), file=sys.stderr)
+            if args.model:
+                s, c, _ = run_seed(args.octarc, seed, args.lenses,
+                                   os.path.join(work, "%d-trees" % seed),
+                                   extra + ["--model", args.model])
+                tree_systems.append(s)
+                tree_cands.append(c)
     systems = np.vstack(systems)
     cands = np.vstack(cands)
     theta, mag, found = systems[:, 1], systems[:, 2], systems[:, 3] > 0
     spaces, lens_right, estimate = systems[:, 4], systems[:, 5] == 1, systems[:, 6]
     where = "the NTT/EMMI frame" if args.ntt else "simulated 2048^2 fields"
-    print("%d seeds x %d injected lenses (theta_E >= 1.5\") in %s, %.4f deg2 searched, "
-          "SNR_MIN %g\n" % (args.seeds, args.lenses, where, area, args.snr_min))
+    print("%d seeds (%d-%d) x %d injected lenses (theta_E >= 1.5\") in %s, %.4f deg2 searched, "
+          "SNR_MIN %g\n" % (args.seeds, args.first_seed, args.first_seed + args.seeds - 1,
+                             args.lenses, where, area, args.snr_min))
+    curves = [("GRID", systems, cands)]
+    if args.model:
+        curves.append(("TREES", np.vstack(tree_systems), np.vstack(tree_cands)))
+    levels = [30, 100, 400, 1000, None]
+    print("Completeness against spurious candidates per deg2 (LENS_SCORE threshold lowered until "
+          "the spurious candidates reach the density; 68% Wilson intervals):\n")
+    print("| method | " + " | ".join("<= %d / deg2" % v if v else "every candidate"
+                                    for v in levels) + " |")
+    print("|---|" + "---|" * len(levels))
+    for name, sy, ca in curves:
+        row = [name]
+        for v in levels:
+            k, spurious = completeness_at(sy, ca, area, v)
+            lo, hi = wilson(k, len(sy))
+            row.append("%d/%d (%.0f%%, %.0f-%.0f%%) at %.0f" % (
+                k, len(sy), 100.0 * k / len(sy), 100 * lo, 100 * hi, spurious / area))
+        print("| " + " | ".join(row) + " |")
+    print()
     header = ["search space"] + ["theta_E %g-%g\"" % b if b[1] < 99 else "theta_E > %g\"" % b[0]
                                  for b in THETA_BINS]
     header += ["arc mag < 22", "22-23", "> 23", "all", "spurious / deg2", "lens right",

@@ -46,6 +46,10 @@ void printUsage() {
          "                    GRID_LEVEL stays connected (on fewer axes, with a WARNING, when\n"
          "                    none does on them all; none at all with too few arcs; NONE: no\n"
          "                    grid);\n"
+         "  MODEL_NAME        with SURVEY_CATALOG: the learned selection (gradient-boosted\n"
+         "                    trees telling the simulated arcs from the survey's rows, with the\n"
+         "                    context of each: the nearest brighter galaxy, the angle to it, a\n"
+         "                    counter-image), for the search's SELECTION_METHOD TREES;\n"
          "  CHECKPLOT_NAME    one check-plot per CHECKPLOT_TYPE on CHECKPLOT_DEV.\n"
          "\n"
          "Options:\n"
@@ -175,6 +179,7 @@ int runCalibrate(const std::vector<std::string>& args) {
   // The outputs, checked before anything is computed; they appear together at the end.
   std::vector<std::string> paths = {run.calibrationPath};
   if (!run.gridPath.empty()) paths.push_back(run.gridPath);
+  if (!run.modelPath.empty()) paths.push_back(run.modelPath);
   for (const CheckPlotRequest& p : run.plots) paths.push_back(p.path);
   std::vector<std::string> inputs = loaded->positional;
   if (!run.surveyCatalogPath.empty()) inputs.push_back(run.surveyCatalogPath);
@@ -195,6 +200,11 @@ int runCalibrate(const std::vector<std::string>& args) {
               << simulation.systems.rows() << " rendered)\n";
   }
   const CalibrationResult result = calibrate(simulation, survey ? &*survey : nullptr, run.settings);
+  std::optional<SavedLensModel> model;
+  if (run.model) {
+    if (!run.quiet) std::cerr << "> Training the lens model\n";
+    model = trainLensModel(simulation, *survey, *run.model);
+  }
 
   // The grid only when one was made: without, the warning below says why.
   OutputFiles files;
@@ -204,12 +214,20 @@ int runCalibrate(const std::vector<std::string>& args) {
     gridFile = files.size();
     files.add(run.gridPath);
   }
+  std::optional<std::size_t> modelFile;
+  if (model) {
+    modelFile = files.size();
+    files.add(run.modelPath);
+  }
   const std::size_t firstPlot = files.size();
   for (const CheckPlotRequest& p : run.plots) files.add(p.path);
   files.write(0,
               [&](const std::string& path) { writeFitsTables(path, calibrationTables(result)); });
   if (gridFile) {
     files.write(*gridFile, [&](const std::string& path) { saveGrid(path, *result.grid.grid); });
+  }
+  if (modelFile) {
+    files.write(*modelFile, [&](const std::string& path) { saveLensModel(path, *model); });
   }
   for (std::size_t i = 0; i < run.plots.size(); ++i) {
     Plot plot = calibrationPlot(result, run.plots[i].type);
@@ -220,6 +238,15 @@ int runCalibrate(const std::vector<std::string>& args) {
   }
   files.commit();
   if (!run.quiet) printSummary(run, result);
+  if (model && !run.quiet) {
+    const LensModelTraining& t = model->training;
+    std::printf("Lens model: %lld trees of depth %d on %s and %lld survey rows (S/N > %g, "
+                "resolved > %g\") -> %s\n",
+                static_cast<long long>(t.trees.rounds), t.trees.maxDepth,
+                countWithEffective(t.arcRows, t.effectiveArcs, "simulated arcs").c_str(),
+                static_cast<long long>(t.otherRows), t.snrMin, t.resolvedMinArcsec,
+                run.modelPath.c_str());
+  }
   // Always shown (QUIET too): a calibration without its grid, or with fewer axes, is not the
   // one asked for.
   if (!result.grid.warning.empty()) {

@@ -169,7 +169,8 @@ void printReport(std::ostream& o, const FieldSimulationSettings& s, const Simula
     << "  " << injectionSystemsPath(paths)
     << "  per injected lens: theta_E, arc mag, its candidate, lens right, theta_E estimate\n"
     << "  " << injectionCandidatesPath(paths)
-    << "  per candidate: the injected system it is an arc of (0: none), its spaces\n"
+    << "  per candidate: the injected system it is an arc of (0: none), its spaces, its "
+       "LENS_SCORE\n"
     << "Total " << formatNumber(times.totalSec, "%.1f", true) << " s\n"
     << "\nOpen " << search.outputDir << "/index.html in a browser to inspect the candidates.\n";
 }
@@ -191,11 +192,11 @@ void writeInjectionSystems(const std::string& path, const InjectionMatch& match)
 void writeInjectionCandidates(const std::string& path, const InjectionMatch& match,
                               const SearchRun& run) {
   std::ofstream f(path);
-  f << "# candidate system spaces (searched area "
+  f << "# candidate system spaces lens_score (searched area "
     << formatNumber(run.result.summary.searchedAreaDeg2, "%.8f") << " deg2)\n";
   for (std::size_t i = 0; i < match.candidateSystem.size(); ++i) {
     f << (i + 1) << ' ' << match.candidateSystem[i] << ' ' << run.result.candidates[i].spaces
-      << '\n';
+      << ' ' << formatNumber(run.result.candidates[i].lensScore, "%.6e") << '\n';
   }
   if (!f) throw IoError(path + ": cannot write");
 }
@@ -204,9 +205,11 @@ void writeInjectionCandidates(const std::string& path, const InjectionMatch& mat
 // (ASSOC), the shipped demo grid, the candidates into <out>/candidates.
 SearchRunSettings demoSearchSettings(const InjectedFieldFiles& paths, const std::string& shippedSex,
                                      const FieldSimulationSettings& s, const std::string& gridPath,
-                                     double snrMin, const std::string& lensLight) {
+                                     double snrMin, const std::string& lensLight,
+                                     const std::vector<std::pair<std::string, std::string>>& more) {
   std::vector<std::pair<std::string, std::string>> keys = recoveryDetectionKeys(paths, s.threads);
   keys.emplace_back("GRID_NAME", gridPath);
+  keys.insert(keys.end(), more.begin(), more.end());
   // The survey the field was made for (a real image's without a celestial WCS needs the scale).
   keys.emplace_back("PIXEL_SCALE", formatNumber(s.pixelScaleArcsec, "%.10g"));
   keys.emplace_back("SEEING_FWHM", formatNumber(s.seeingFwhmArcsec, "%.10g"));
@@ -247,6 +250,11 @@ int runDemo(const std::vector<std::string>& args) {
   add("gain", po::value<double>(), "e-/ADU (default 54)");
   add("grid", po::value<std::string>(), "occupation grid (default: the shipped demo grid)");
   add("snr-min", po::value<double>()->default_value(40.0), "the search's S/N floor (SNR_MIN)");
+  add("model", po::value<std::string>(),
+      "lens model: search with SELECTION_METHOD TREES (octarc calibrate -MODEL_NAME)");
+  add("score-min", po::value<double>()->default_value(0.0), "the search's SCORE_MIN");
+  add("lens-density", po::value<double>(),
+      "LENS_DENSITY, the prior of LENS_SCORE (default: the injected lenses per deg2)");
   add("lens-light", po::value<std::string>()->default_value("N"),
       "the search's LENS_LIGHT: N, LOCAL or IMAGE");
   add("population", po::value<std::string>(),
@@ -323,8 +331,20 @@ int runDemo(const std::vector<std::string>& args) {
     // 2. The search, detection and measurement included, in memory; the catalog and the
     // candidates are written from what it returns.
     if (!quiet) std::cerr << "> Searching at 15 levels with the demo grid (octarc search)\n";
+    // LENS_SCORE's prior: the field's own lens density unless told.
+    const double fieldDeg2 = double(s.sizePix) * double(s.sizePix) *
+                             std::pow(s.pixelScaleArcsec / 3600.0, 2);
+    const double lensDensity = vm->count("lens-density") ? (*vm)["lens-density"].as<double>()
+                                                         : double(s.lensCount) / fieldDeg2;
+    std::vector<std::pair<std::string, std::string>> more = {
+        {"LENS_DENSITY", formatNumber(lensDensity, "%.10g")},
+        {"SCORE_MIN", formatNumber((*vm)["score-min"].as<double>(), "%.10g")}};
+    if (vm->count("model")) {
+      more.emplace_back("SELECTION_METHOD", "TREES");
+      more.emplace_back("MODEL_NAME", (*vm)["model"].as<std::string>());
+    }
     search = demoSearchSettings(paths, shippedSex, s, gridPath, (*vm)["snr-min"].as<double>(),
-                                lensLight);
+                                lensLight, more);
     run = searchImage(search, RunLog());
     match = matchInjectedLenses(field.truth, run.catalog, run.result, run.pixelScaleArcsec,
                                 ArcRules(), kArcMatchArcsec, kLensMatchArcsec);

@@ -51,6 +51,20 @@ std::vector<KeySpec> calibrationKeys() {
       Row("CALIBRATION_NAME", Kind::String, {"calibration.fits"}, "the calibration tables (FITS)"),
       Row("GRID_NAME", Kind::String, {"arcs.grid.fits"},
           "the occupation-probability grid (FITS); NONE: no grid"),
+      Row("MODEL_NAME", Kind::String, {"NONE"},
+          "the learned selection's model (FITS; SELECTION_METHOD\nTREES of the search), trained "
+          "on the simulated arcs\nagainst SURVEY_CATALOG's rows; NONE: no model"),
+      Row("MODEL_SNR_MIN", Kind::Float, {"40"},
+          "S/N floor of the rows the model is trained on\n(the search's SNR_MIN)")
+          .range(0, 1e30),
+      Row("MODEL_RESOLVED_MIN", Kind::Float, {"1.0"},
+          "resolved size of those rows, arcsec (the search's\nRESOLVED_MIN)")
+          .range(0, 1e6),
+      Row("MODEL_TREES", Kind::Int, {"300", "5"}, "boosting rounds and depth of the trees")
+          .list(2, 2)
+          .range(1, 100000),
+      Row("MODEL_SEED", Kind::Int, {"1"}, "seed of the training (row subsampling)")
+          .range(0, 2147483647),
       Row("SEARCH_NAME", Kind::String, {}, "name of the search space of the grid").list(0, 1),
       Row("SEARCH_CUT", Kind::String, {},
           "its cut on the simulated arcs' columns, e.g.\nARCNESS > 0.15 && E_IMAGE > 0.6; "
@@ -177,6 +191,20 @@ CalibrationRun calibrationRunFromConfig(const sexcompat::Config& c,
   s.fractionCuts.ellipticityMin = c.getDouble("ELLIP_MIN");
   s.fractionCuts.snrMin = c.getDouble("SNR_MIN");
   if (c.count("SURVEY_CATALOG") > 0) run.surveyCatalogPath = c.getString("SURVEY_CATALOG");
+  if (c.getString("MODEL_NAME") != "NONE") {
+    run.modelPath = c.getString("MODEL_NAME");
+    if (run.surveyCatalogPath.empty()) {
+      throw ConfigError("MODEL_NAME: training a model needs SURVEY_CATALOG (the objects that are "
+                        "not lenses)");
+    }
+    LensModelSettings m;
+    m.snrMin = c.getDouble("MODEL_SNR_MIN");
+    m.resolvedMinArcsec = c.getDouble("MODEL_RESOLVED_MIN");
+    m.trees.rounds = c.getInt("MODEL_TREES", 0);
+    m.trees.maxDepth = c.getInt("MODEL_TREES", 1);
+    m.trees.seed = std::uint64_t(c.getInt("MODEL_SEED"));
+    run.model = m;
+  }
   if (c.getBool("NOISE_STUDY")) {
     NoiseThresholdSettings n;
     n.realisations = c.getInt("NOISE_REALISATIONS");

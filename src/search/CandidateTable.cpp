@@ -107,7 +107,11 @@ double secondaryValue(const RowView& v, double CandidateImage::*field) {
 std::vector<ColumnDef> definitions(const std::vector<std::string>& bands) {
   using T = ColumnType;
   std::vector<ColumnDef> defs = {
-      number("NUMBER", "Candidate number, by probability", "", T::Int32, "%6d",
+      number("NUMBER", "Candidate number, by LENS_SCORE", "", T::Int32, "%6d",
+             [](const RowView& v) { return double(v.number); }),
+      number("LENS_SCORE", "Expected fraction of lens arcs among rows of this score", "",
+             T::Float64, "%12.5e", [](const RowView& v) { return v.candidate.lensScore; }),
+      number("LENS_RANK", "Rank by LENS_SCORE (1: highest)", "", T::Int32, "%6d",
              [](const RowView& v) { return double(v.number); }),
       text("NAME", "IAU-style designation (J2000, truncated)",
            [](const RowView& v) { return v.candidate.name; }),
@@ -140,7 +144,7 @@ std::vector<ColumnDef> definitions(const std::vector<std::string>& bands) {
       copied("A_IMAGE", "Profile RMS along major axis", "pixel", T::Float32, "%9.3f"),
       copied("B_IMAGE", "Profile RMS along minor axis", "pixel", T::Float32, "%9.3f"),
       copied("THETA_IMAGE", "Position angle (CCW/x)", "deg", T::Float32, "%5.1f"),
-      number("PROB", "Occupation probability of the arc's grid bin", "", T::Float64, "%12.5e",
+      number("PROB", "Occupation probability of the arc's grid bin (GRID)", "", T::Float64, "%12.5e",
              [](const RowView& v) { return v.candidate.probability; }),
       number("CONTOUR", "Contour level at which the bin enters", "", T::Float64, "%8.5f",
              [](const RowView& v) { return v.candidate.contourLevel; }),
@@ -275,6 +279,14 @@ FitsTable candidateObjectsTable(const Table& catalog, const SearchResult& result
   k.push_back(FitsKeyword::real("CANDDEG2", s.candidatesPerDeg2(), "[deg-2] candidates per deg2"));
   k.push_back(
       FitsKeyword::real("REJFRAC", s.rejectedFraction(), "fraction of searched rows rejected"));
+  k.push_back(FitsKeyword::text("SELMETH", settings.method == SelectionMethod::Trees ? "TREES"
+                                                                                    : "GRID",
+                                "SELECTION_METHOD"));
+  k.push_back(FitsKeyword::real("LENSDENS", settings.lensDensityPerDeg2,
+                                "[deg-2] LENS_DENSITY: lens arcs expected"));
+  k.push_back(FitsKeyword::integer("NROWSCOR", s.rowsScored, "rows scored (S/N, resolved)"));
+  k.push_back(FitsKeyword::real("SCOREPRI", s.priorFraction, "prior of LENS_SCORE per row"));
+  k.push_back(FitsKeyword::real("SCOREMIN", settings.scoreMin, "SCORE_MIN"));
   k.push_back(FitsKeyword::real("SNRMIN", settings.snrMin, "S/N floor (SNR_ISO >)"));
   k.push_back(FitsKeyword::real("RESOLMIN", settings.resolvedMinArcsec,
                                 "[arcsec] resolved: sqrt(2) SIZE_IMAGE >"));

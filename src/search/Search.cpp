@@ -328,11 +328,15 @@ double SearchSummary::rejectedFraction() const {
 }
 
 SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
-  if (in.catalog == nullptr || in.grid == nullptr || in.mask == nullptr) {
-    throw ConfigError("search: a catalog, a grid and a searched area are needed");
+  const bool trees = s.method == SelectionMethod::Trees;
+  if (in.catalog == nullptr || in.mask == nullptr || (trees ? in.model == nullptr
+                                                            : in.grid == nullptr)) {
+    throw ConfigError(trees ? "search: a catalog, a lens model and a searched area are needed"
+                            : "search: a catalog, a grid and a searched area are needed");
   }
   if (!(s.pixelScaleArcsec > 0.0)) throw ConfigError("search: the pixel scale must be positive");
   if (!(s.lensRadiusArcsec >= 0.0)) throw ConfigError("LENS_RADIUS: must not be negative");
+  if (!(s.lensDensityPerDeg2 > 0.0)) throw ConfigError("LENS_DENSITY: must be positive");
   if (s.reportSpaces.size() > 30) throw ConfigError("SEARCH_SPACE: at most 30 spaces");
   if (!s.colourBands.empty() && (in.bands == nullptr || in.bands->size() != s.colourBands.size() ||
                                  in.measurementBand == nullptr || in.footprints == nullptr)) {
@@ -349,15 +353,18 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
     throw ConfigError("search: the lens-light marks do not match the catalog's rows");
   }
 
-  // Every cut, row by row.
-  const std::vector<RowScore> scores = scoreRows(in.grid->grid, in.grid->contour, catalog);
+  // The grid's scores and search space (GRID).
+  std::vector<RowScore> scores;
   std::vector<bool> gridSpace(static_cast<std::size_t>(n), true);
-  if (!in.grid->provenance.searchSpaceExpression.empty()) {
-    gridSpace =
-        SearchSpace(in.grid->provenance.searchSpace.empty() ? std::string("grid")
-                                                            : in.grid->provenance.searchSpace,
-                    in.grid->provenance.searchSpaceExpression)
-            .mask(catalog);
+  if (!trees) {
+    scores = scoreRows(in.grid->grid, in.grid->contour, catalog);
+    if (!in.grid->provenance.searchSpaceExpression.empty()) {
+      gridSpace =
+          SearchSpace(in.grid->provenance.searchSpace.empty() ? std::string("grid")
+                                                              : in.grid->provenance.searchSpace,
+                      in.grid->provenance.searchSpaceExpression)
+              .mask(catalog);
+    }
   }
   std::vector<std::vector<bool>> spaceMasks;
   for (const SearchSpace& space : s.reportSpaces) spaceMasks.push_back(space.mask(catalog));
@@ -370,8 +377,8 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
       in.wcs != nullptr ? in.mask->searchedAreaDeg2(*in.wcs)
                         : double(summary.searchedPixels) * std::pow(s.pixelScaleArcsec / 3600.0, 2);
   std::vector<TreeRow> tree(static_cast<std::size_t>(n));
-  std::vector<bool> passed(std::size_t(n), false);
-  std::vector<double> probability(std::size_t(n), kNaN);
+  // Rows inside the searched area, above the S/N floor and resolved: the rows scored.
+  std::vector<std::int64_t> scored;
   std::unordered_map<std::int64_t, std::size_t> rowOf;
   rowOf.reserve(std::size_t(n));
   const double resolvedMinPix = s.resolvedMinArcsec / s.pixelScaleArcsec;
@@ -393,12 +400,44 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
     if (tree[i].level == 1 && !addedResidualRow(in, i)) ++summary.objectsSearched;
     const double snr = catalog.value(r, c.snr);
     const double size = catalog.value(r, c.size);
-    passed[i] = snr > s.snrMin && std::sqrt(2.0) * size > resolvedMinPix && gridSpace[i] &&
-                scores[i].selected;
-    if (passed[i]) {
-      probability[i] = scores[i].probability;
-      ++summary.rowsSelected;
+    if (snr > s.snrMin && std::sqrt(2.0) * size > resolvedMinPix) scored.push_back(r);
+  }
+  summary.rowsScored = std::int64_t(scored.size());
+  summary.priorFraction =
+      searchPriorFraction(s.lensDensityPerDeg2, summary.searchedAreaDeg2, summary.rowsScored,
+                          trees ? in.model->training.arcRowsPerSystem : 1.0);
+  const double priorLogOdds = std::log(summary.priorFraction / (1.0 - summary.priorFraction));
+
+  // LENS_SCORE of the rows scored.
+  std::vector<double> lensScore(std::size_t(n), kNaN);
+  if (trees) {
+    const std::vector<ArcContext> contexts =
+        arcContexts(catalog, {s.pixelScaleArcsec, in.model->contextRadiusArcsec});
+    const FeatureRows features = lensFeatures(catalog, scored, s.pixelScaleArcsec, &contexts);
+    const std::vector<double> logOdds = in.model->trees.logOdds(features, s.threads);
+    const double shift = priorLogOddsShift(in.model->training, summary.priorFraction);
+    for (std::size_t k = 0; k < scored.size(); ++k) {
+      lensScore[std::size_t(scored[k])] = logistic(logOdds[k] + shift);
     }
+  } else {
+    // The searched rows' share of each occupied bin, one row added to every bin.
+    std::vector<double> rowsInBin(std::size_t(in.grid->grid.occupiedBins()), 1.0);
+    for (const std::int64_t r : scored) {
+      if (scores[std::size_t(r)].rank >= 0) rowsInBin[std::size_t(scores[std::size_t(r)].rank)] += 1;
+    }
+    const double rowsTotal = double(scored.size()) + double(rowsInBin.size());
+    for (const std::int64_t r : scored) {
+      const RowScore& score = scores[std::size_t(r)];
+      if (score.rank < 0) continue;
+      const double rowShare = rowsInBin[std::size_t(score.rank)] / rowsTotal;
+      lensScore[std::size_t(r)] = logistic(std::log(score.probability / rowShare) + priorLogOdds);
+    }
+  }
+  std::vector<bool> passed(std::size_t(n), false);
+  for (const std::int64_t r : scored) {
+    const std::size_t i = std::size_t(r);
+    passed[i] = lensScore[i] >= s.scoreMin && (trees || (gridSpace[i] && scores[i].selected));
+    if (passed[i]) ++summary.rowsSelected;
   }
   for (std::size_t k = 0; k < s.reportSpaces.size(); ++k) {
     SpaceCount count{s.reportSpaces[k].name(), s.reportSpaces[k].expression(), 0, 0};
@@ -407,7 +446,7 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
     summary.spaces.push_back(count);
   }
 
-  const std::vector<MergedObject> objects = mergeAcrossLevels(tree, passed, probability);
+  const std::vector<MergedObject> objects = mergeAcrossLevels(tree, passed, lensScore);
   const double lensRadiusPix = s.lensRadiusArcsec / s.pixelScaleArcsec;
   const RowCells nearby(catalog, c, tree, lensRadiusPix);
   const int arcnessColumn = catalog.findColumn("ARCNESS");
@@ -418,8 +457,9 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
     cand.row = object.bestRow;
     cand.rows = object.rows;
     cand.passedLevels = object.passedLevels;
-    cand.probability = scores[object.bestRow].probability;
-    cand.contourLevel = scores[object.bestRow].entryLevel;
+    cand.lensScore = lensScore[object.bestRow];
+    cand.probability = trees ? kNaN : scores[object.bestRow].probability;
+    cand.contourLevel = trees ? kNaN : scores[object.bestRow].entryLevel;
     for (std::size_t k = 0; k < s.reportSpaces.size(); ++k) {
       for (const std::size_t r : object.rows) {
         if (spaceMasks[k][r]) cand.spaces |= 1u << k;

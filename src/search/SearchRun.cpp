@@ -142,7 +142,11 @@ void requireColumns(const Table& catalog, const std::vector<std::string>& names,
 // Every file the search reads, for the check that none lies inside OUTPUT_DIR.
 std::vector<NamedInput> searchInputs(const SearchRunSettings& s) {
   std::vector<NamedInput> inputs = runInputs(s.run, s.assoc ? s.assoc->listPath : std::string());
-  inputs.push_back({"GRID_NAME", s.gridPath});
+  if (s.search.method == SelectionMethod::Trees) {
+    inputs.push_back({"MODEL_NAME", s.modelPath});
+  } else {
+    inputs.push_back({"GRID_NAME", s.gridPath});
+  }
   if (!s.maskPath.empty()) inputs.push_back({"MASK_NAME", s.maskPath});
   if (!s.inputCatalogPath.empty()) inputs.push_back({"INPUT_CATALOG", s.inputCatalogPath});
   for (const std::string& path : s.colourImagePaths) inputs.push_back({"COLOUR_IMAGE", path});
@@ -305,8 +309,15 @@ std::vector<KeySpec> searchKeys() {
   }
   // clang-format off
   const std::vector<KeySpec> own = {
+    Row("SELECTION_METHOD", Kind::Keyword, {"GRID"}, "GRID (the occupation grid, GRID_NAME) or\n"
+        "TREES (the learned selection, MODEL_NAME)").keywords({"GRID", "TREES"}),
     Row("GRID_NAME", Kind::String, {"arcs.grid.fits"},
         "the occupation grid (octarc calibrate)"),
+    Row("MODEL_NAME", Kind::String, {"lens.model.fits"},
+        "the lens model (octarc calibrate -MODEL_NAME)"),
+    Row("LENS_DENSITY", Kind::Float, {"1.0"}, "lens arcs expected per deg2: the prior of\n"
+        "LENS_SCORE").range(1e-9, 1e9),
+    Row("SCORE_MIN", Kind::Float, {"0"}, "candidates have LENS_SCORE at least this").range(0, 1),
     Row("SEARCH_SPACE", Kind::String, defaultSearchSpaces(),
         "report spaces: NAME: cut, ... (a word ending in ':'\nstarts a space)")
         .list(0, 1024).expression(),
@@ -364,7 +375,12 @@ SearchRunSettings searchSettingsFromConfig(const sexcompat::Config& c, RunSettin
       throw ConfigError("ASSOCSELEC_TYPE: a search keeps every row (the component tree); use ALL");
     }
   }
+  s.search.method =
+      c.getString("SELECTION_METHOD") == "TREES" ? SelectionMethod::Trees : SelectionMethod::Grid;
   s.gridPath = c.getString("GRID_NAME");
+  s.modelPath = c.getString("MODEL_NAME");
+  s.search.lensDensityPerDeg2 = c.getDouble("LENS_DENSITY");
+  s.search.scoreMin = c.getDouble("SCORE_MIN");
   s.search.reportSpaces = parseSearchSpaces(c.getStrings("SEARCH_SPACE"));
   if (s.search.reportSpaces.size() > 30) throw ConfigError("SEARCH_SPACE: at most 30 spaces");
   if (c.count("MASK_NAME") > 0) s.maskPath = c.getString("MASK_NAME");
@@ -423,8 +439,14 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
   // Everything that can be checked is checked before any pixel is read.
   checkOutputDirectory(settings);
   checkColourImageGrids(settings);
-  // A GRID_NAME without a directory may be a shipped grid (-GRID_NAME demo.grid.fits).
-  run.grid = loadGrid(existingUserOrDataFile(settings.gridPath, "GRID_NAME file"));
+  // A GRID_NAME or MODEL_NAME without a directory may be a shipped one (-GRID_NAME
+  // demo.grid.fits).
+  const bool trees = settings.search.method == SelectionMethod::Trees;
+  if (trees) {
+    run.model = loadLensModel(existingUserOrDataFile(settings.modelPath, "MODEL_NAME file"));
+  } else {
+    run.grid = loadGrid(existingUserOrDataFile(settings.gridPath, "GRID_NAME file"));
+  }
   SearchMaskSettings maskSettings;
   if (!settings.maskPath.empty()) {
     maskSettings.regions = readSearchMask(settings, settings.maskPath, rs.imagePaths[0]);
@@ -491,8 +513,18 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
   here.skySigmaAdu = run.image.sigmaAdu;
   for (const ThresholdLevel& t : run.levels) here.thresholdsSigma.push_back(t.thresholdSigma);
   here.minAreaPix = rs.minAreaPix;
-  for (const std::string& d : compareSetups(run.grid->provenance.setup, here)) {
-    run.warnings.push_back("the grid " + settings.gridPath + " was made for another setup: " + d);
+  const std::string selector = trees ? "the model " + settings.modelPath
+                                     : "the grid " + settings.gridPath;
+  for (const std::string& d :
+       compareSetups(trees ? run.model->setup : run.grid->provenance.setup, here)) {
+    run.warnings.push_back(selector + " was made for another setup: " + d);
+  }
+  if (trees && (settings.search.snrMin < run.model->training.snrMin ||
+                settings.search.resolvedMinArcsec < run.model->training.resolvedMinArcsec)) {
+    run.warnings.push_back(selector + " was trained on rows with S/N > " +
+                           formatNumber(run.model->training.snrMin, "%g") + " and resolved > " +
+                           formatNumber(run.model->training.resolvedMinArcsec, "%g") +
+                           "\"; rows below are scored by extrapolation");
   }
 
   if (!run.image.variance.empty()) maskSettings.varianceAdu2 = &run.image.variance;
@@ -504,7 +536,8 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
   search.pixelScaleArcsec = run.pixelScaleArcsec;
   SearchInput input;
   input.catalog = &run.catalog;
-  input.grid = &*run.grid;
+  input.grid = run.grid ? &*run.grid : nullptr;
+  input.model = run.model ? &*run.model : nullptr;
   input.mask = &mask;
   input.wcs = wcs;
   input.footprints = run.footprints ? &*run.footprints : nullptr;
@@ -565,7 +598,7 @@ std::vector<std::string> searchSummaryLines(const SearchRun& run,
   lines.push_back((rs.dualImage() ? "Images " + rs.detectionImagePath() + " (detection), " +
                                         rs.measurementImagePath() + " (measurement)"
                                   : "Image " + rs.imagePaths.front()) +
-                  ", grid " + settings.gridPath);
+                  (run.model ? ", model " + settings.modelPath : ", grid " + settings.gridPath));
   std::string area = std::to_string(s.searchedPixels) + " pixels searched";
   area += " (" + formatNumber(s.searchedAreaDeg2, "%.5f") + " deg2" +
           (run.image.wcs ? std::string(")") : std::string(", from PIXEL_SCALE: no WCS)"));

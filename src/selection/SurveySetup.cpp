@@ -18,7 +18,7 @@ void compareValue(const char* what, const char* unit, double gridValue, double s
   if (std::isnan(gridValue) || std::isnan(searchValue)) return;
   const double apart = std::fabs(searchValue - gridValue) / std::fabs(gridValue);
   if (!(apart > tolerance)) return;
-  warnings.push_back(std::string(what) + ": the grid was made for " +
+  warnings.push_back(std::string(what) + ": made for " +
                      formatNumber(gridValue, "%.6g") + unit + ", the search has " +
                      formatNumber(searchValue, "%.6g") + " (" +
                      formatNumber(100.0 * apart, "%.6g") + "% apart, tolerance " +
@@ -39,12 +39,12 @@ std::vector<std::string> compareSetups(const SurveySetup& grid, const SurveySetu
   compareValue("sky noise", " ADU", grid.skySigmaAdu, search.skySigmaAdu, tolerances.skySigma,
                warnings);
   if (grid.minAreaPix > 0 && search.minAreaPix > 0 && grid.minAreaPix != search.minAreaPix) {
-    warnings.push_back("DETECT_MINAREA: the grid was made for " + std::to_string(grid.minAreaPix) +
+    warnings.push_back("DETECT_MINAREA: made for " + std::to_string(grid.minAreaPix) +
                        " pixels, the search has " + std::to_string(search.minAreaPix));
   }
   if (!grid.thresholdsSigma.empty() && !search.thresholdsSigma.empty()) {
     if (grid.thresholdsSigma.size() != search.thresholdsSigma.size()) {
-      warnings.push_back("thresholds: the grid was made for " +
+      warnings.push_back("thresholds: made for " +
                          std::to_string(grid.thresholdsSigma.size()) + " levels, the search has " +
                          std::to_string(search.thresholdsSigma.size()));
     } else {

@@ -2,10 +2,12 @@
 // command line, `-d`/`-dd` dumps), and the settings they give for a simulation output.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "octarc/calibration/Calibration.h"
+#include "octarc/calibration/LensModelTraining.h"
 #include "octarc/plot/CheckPlot.h"
 #include "octarc/sexcompat/Config.h"
 
@@ -23,6 +25,8 @@ struct CalibrationRun {
   std::string calibrationPath;    // CALIBRATION_NAME
   std::string gridPath;           // GRID_NAME; "" for NONE (settings.makeGrid false)
   std::string surveyCatalogPath;  // SURVEY_CATALOG, "" for none
+  std::string modelPath;          // MODEL_NAME; "" for NONE
+  std::optional<LensModelSettings> model;  // with modelPath
   PlotDevice plotDevice = PlotDevice::Png;
   std::vector<CheckPlotRequest> plots;
   int plotWidthPix = 800, plotHeightPix = 600;

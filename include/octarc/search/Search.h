@@ -2,12 +2,24 @@
 // candidates, in memory.
 //
 //   catalog rows (every level) --> searched area (selection/SearchMask.h, on X_IMAGE, Y_IMAGE)
-//     --> selection: SNR_ISO > S/N floor, resolved (sqrt(2) SIZE_IMAGE > RESOLVED_MIN), in the
-//         grid's own search space, in a selected bin of the grid (selection/GridScore.h)
-//     --> one candidate per physical object (search/LevelMerge.h)
+//     --> selection: SNR_ISO > S/N floor, resolved (sqrt(2) SIZE_IMAGE > RESOLVED_MIN), then
+//         GRID: in the grid's own search space, in a selected bin of the grid
+//         (selection/GridScore.h); TREES: LENS_SCORE of the lens model at least SCORE_MIN
+//         (selection/LensModel.h, with each row's context, selection/ArcContext.h)
+//     --> LENS_SCORE of every selected row (below), the best row of each object the
+//         highest-scoring one
+//     --> one candidate per physical object (search/LevelMerge.h), ordered by LENS_SCORE
 //     --> its lens and Einstein radius (search/LensFinder.h), its name (search/CandidateName.h)
 //     --> with colour bands: magnitudes of the arc and the lens (measure/Colour.h), the
 //         dark-lens pair criterion (search/DarkLens.h), the colour cut
+//
+// LENS_SCORE reads as the expected fraction of lens arcs among rows of that score: the odds of
+// an arc row against another row, times the prior odds, the prior being LENS_DENSITY arc systems
+// per deg2 seen in ARCROWS rows each among the rows above the S/N floor and resolved
+// (selection/LensModel.h, searchPriorFraction). TREES: the model's odds. GRID: the ratio of the
+// arcs' density in the row's bin (its occupation probability) to the searched rows' own density
+// there (the bin's share of them, one row added to every bin), so that a bin the survey fills is
+// worth less than one only arcs reach.
 //
 // The report spaces (e.g. the paper's "a > 0.15, e > 0.6, S/N > 40") only label candidates:
 // a candidate is in a space when one of its passing rows is. Nothing here reads or writes files.
@@ -28,6 +40,7 @@
 #include "octarc/search/DarkLens.h"
 #include "octarc/search/LensFinder.h"
 #include "octarc/selection/GridFile.h"
+#include "octarc/selection/LensModel.h"
 #include "octarc/selection/SearchMask.h"
 #include "octarc/selection/SearchSpace.h"
 
@@ -59,7 +72,13 @@ struct ColourCut {
 inline constexpr std::int64_t kNotLensLightRow = -1;  // a row of the image itself
 inline constexpr std::int64_t kLensOnlyRow = -2;      // a fitted galaxy kept as a lens only
 
+enum class SelectionMethod { Grid, Trees };
+
 struct SearchSettings {
+  SelectionMethod method = SelectionMethod::Grid;  // SELECTION_METHOD
+  double lensDensityPerDeg2 = 1.0;                 // LENS_DENSITY: the prior of LENS_SCORE
+  double scoreMin = 0.0;                           // SCORE_MIN: LENS_SCORE at least this
+  int threads = 0;                                 // of the model's prediction (0: every core)
   double snrMin = 40.0;            // S/N floor: SNR_ISO above it
   double resolvedMinArcsec = 1.0;  // resolved: sqrt(2) * SIZE_IMAGE above it (METHOD 3)
   double pixelScaleArcsec = 0.0;   // > 0
@@ -97,8 +116,9 @@ struct Candidate {
   std::vector<std::size_t> rows;  // every passing row of the object
   std::vector<int> passedLevels;
   std::uint32_t spaces = 0;                                 // bit i: in report space i
-  double probability = 0.0;                                 // of the best row's bin
-  double contourLevel = 0.0;                                // at which that bin enters the contour
+  double lensScore = 0.0;                                   // LENS_SCORE of the best row
+  double probability = 0.0;     // of the best row's grid bin (NaN with TREES)
+  double contourLevel = 0.0;    // at which that bin enters the contour (NaN with TREES)
   std::string name;                                         // designation, "" without WCS
   double raDeg = std::numeric_limits<double>::quiet_NaN();  // J2000 of the best row
   double decDeg = std::numeric_limits<double>::quiet_NaN();
@@ -128,13 +148,15 @@ struct SearchSummary {
   double searchedAreaDeg2 = std::numeric_limits<double>::quiet_NaN();
   std::int64_t searchedPixels = 0;
   std::vector<SpaceCount> spaces;  // the report spaces, in order
+  std::int64_t rowsScored = 0;     // rows above the S/N floor and resolved (the prior's rows)
+  double priorFraction = 0.0;      // the prior of LENS_SCORE (searchPriorFraction)
   // Candidates per square degree (NaN without area) and the fraction of searched rows rejected.
   double candidatesPerDeg2() const;
   double rejectedFraction() const;
 };
 
 struct SearchResult {
-  std::vector<Candidate> candidates;  // by probability, highest first
+  std::vector<Candidate> candidates;  // by LENS_SCORE, highest first (LENS_RANK 1 first)
   SearchSummary summary;
 };
 
@@ -145,7 +167,7 @@ struct SearchResult {
 // also when `pixels` is a lens-light residual) give colours.
 struct SearchInput {
   const Table* catalog = nullptr;  // every level, searchRequiredColumns() and the grid's columns
-  const SavedGrid* grid = nullptr;
+  const SavedGrid* grid = nullptr;             // SELECTION_METHOD GRID
   const SearchMask* mask = nullptr;
   const Wcs* wcs = nullptr;  // null: pixel positions only
   const SegmentationRuns* footprints = nullptr;
@@ -167,6 +189,9 @@ struct SearchInput {
   bool residualRowsAreExtra = false;
   const BandImage* measurementBand = nullptr;
   const std::vector<BandImage>* bands = nullptr;
+  // SELECTION_METHOD TREES: the lens model (the catalog then needs FLUX_ISO, ARCNESS,
+  // ANTIARCNESS and E_IMAGE too).
+  const SavedLensModel* model = nullptr;
 };
 
 // ConfigError for a missing column, a bad setting or inconsistent inputs.

@@ -41,7 +41,8 @@ std::vector<sexcompat::KeySpec> searchKeys();
 
 struct SearchRunSettings {
   RunSettings run;                     // the image, weights, levels, columns (as for detect)
-  std::string gridPath;                // GRID_NAME
+  std::string gridPath;                // GRID_NAME (SELECTION_METHOD GRID)
+  std::string modelPath;               // MODEL_NAME (SELECTION_METHOD TREES)
   std::string maskPath;                // MASK_NAME, "" for none
   int borderPix = 0;                   // MASK_BORDER
   double maskPointRadiusArcsec = 0.0;  // MASK_POINT_RADIUS: a point of MASK_NAME masks this
@@ -81,7 +82,8 @@ struct SearchRun {
   Table catalog;        // every row of every level
   std::optional<SegmentationRuns> footprints;  // when detected here
   std::vector<ThresholdLevel> levels;
-  std::optional<SavedGrid> grid;  // GRID_NAME (always set by searchImage)
+  std::optional<SavedGrid> grid;        // GRID_NAME, with SELECTION_METHOD GRID
+  std::optional<SavedLensModel> model;  // MODEL_NAME, with SELECTION_METHOD TREES
   SearchResult result;
   double pixelScaleArcsec = 0.0;
   std::vector<std::string> warnings;       // grid made for another setup, no WCS, ...

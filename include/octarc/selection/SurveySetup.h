@@ -37,7 +37,7 @@ struct SetupTolerances {
 };
 
 // One line per difference between the setup a grid was made for and the setup of a search,
-// e.g. "seeing FWHM: the grid was made for 0.9 arcsec, the search has 1.2 (33% apart,
+// e.g. "seeing FWHM: made for 0.9 arcsec, the search has 1.2 (33% apart,
 // tolerance 10%)"; empty when they agree. DETECT_MINAREA and the number of thresholds must be
 // equal. |a - b| / |a| is compared with the tolerance, a being the grid's value.
 std::vector<std::string> compareSetups(const SurveySetup& grid, const SurveySetup& search,

@@ -127,6 +127,20 @@ TEST(Search, EveryCutMergeAndLensByHand) {
   EXPECT_FALSE(alone.lens);
   EXPECT_NE(alone.flags & kCandidateDarkLens, 0);
 
+  // LENS_SCORE. Rows scored (searched, above the S/N floor, resolved): 0-4, 7, 8, 10 and 11.
+  // With one row added to each occupied bin, bin 1 holds 2 of 12 rows and bin 2 holds 3 (rows 2,
+  // 11): likelihood ratios 0.5 / (2/12) = 3 and 0.4 / (3/12) = 1.6. The prior: LENS_DENSITY 1
+  // per deg2 over the searched area, one row per system, among the 9 rows.
+  EXPECT_EQ(r.summary.rowsScored, 9);
+  const double prior = r.summary.searchedAreaDeg2 / 9.0;
+  EXPECT_DOUBLE_EQ(r.summary.priorFraction, prior);
+  auto posterior = [&](double ratio) {
+    const double odds = ratio * prior / (1.0 - prior);
+    return odds / (1.0 + odds);
+  };
+  EXPECT_NEAR(arc.lensScore / posterior(3.0), 1.0, 1e-12);
+  EXPECT_NEAR(alone.lensScore / posterior(1.6), 1.0, 1e-12);
+
   ASSERT_EQ(r.summary.spaces.size(), 2U);
   EXPECT_EQ(r.summary.spaces[0].candidates, 2);
   EXPECT_EQ(r.summary.spaces[0].rowsPassed, 2);  // rows 2 and 11
@@ -365,17 +379,19 @@ TEST(Search, LocalResidualRowsAddArcsNotLensesOrObjects) {
   const SearchResult r = searchCandidates(in, s);
   EXPECT_EQ(r.summary.rowsSearched, 5);
   EXPECT_EQ(r.summary.objectsSearched, 2);  // the image's two objects
-  // Row 4 is row 0's twin (0.5 px), dropped; rows 0 and 3 remain.
+  // Row 4 is row 0's twin (0.5 px), dropped; rows 0 and 3 remain. By LENS_SCORE row 3 first:
+  // of the 5 rows scored (one added per bin, 8 in all), bin 1 holds rows 0 and 4, 3 of 8
+  // (ratio 0.5 / (3/8) = 1.33), bin 2 row 3 alone, 2 of 8 (0.4 / (2/8) = 1.6).
   ASSERT_EQ(r.candidates.size(), 2U);
-  EXPECT_EQ(r.candidates[0].row, 0U);
-  ASSERT_TRUE(r.candidates[0].lens);
-  EXPECT_EQ(r.candidates[0].lens->row, 1U);  // the image's galaxy, not its residual
-  EXPECT_EQ(r.candidates[0].flags & kCandidateLensLight, 0);
-  EXPECT_EQ(r.candidates[1].row, 3U);
+  EXPECT_EQ(r.candidates[1].row, 0U);
   ASSERT_TRUE(r.candidates[1].lens);
-  EXPECT_EQ(r.candidates[1].lens->row, 1U);
-  EXPECT_DOUBLE_EQ(r.candidates[1].lens->einsteinRadiusArcsec, std::hypot(30.0, 10.0) * kScale);
-  EXPECT_NE(r.candidates[1].flags & kCandidateLensLight, 0);
+  EXPECT_EQ(r.candidates[1].lens->row, 1U);  // the image's galaxy, not its residual
+  EXPECT_EQ(r.candidates[1].flags & kCandidateLensLight, 0);
+  EXPECT_EQ(r.candidates[0].row, 3U);
+  ASSERT_TRUE(r.candidates[0].lens);
+  EXPECT_EQ(r.candidates[0].lens->row, 1U);
+  EXPECT_DOUBLE_EQ(r.candidates[0].lens->einsteinRadiusArcsec, std::hypot(30.0, 10.0) * kScale);
+  EXPECT_NE(r.candidates[0].flags & kCandidateLensLight, 0);
 
   // With the galaxy's fitted centre, the residual's arc is measured from it; the image's arc
   // keeps the catalog's centroid.
@@ -383,11 +399,11 @@ TEST(Search, LocalResidualRowsAddArcsNotLensesOrObjects) {
   in.fittedCentres = &fitted;
   const SearchResult f = searchCandidates(in, s);
   ASSERT_EQ(f.candidates.size(), 2U);
-  EXPECT_DOUBLE_EQ(f.candidates[0].lens->yPix, 110.0);
-  EXPECT_EQ(f.candidates[1].lens->row, 1U);
-  EXPECT_DOUBLE_EQ(f.candidates[1].lens->xPix, 100.0);
-  EXPECT_DOUBLE_EQ(f.candidates[1].lens->yPix, 112.0);
-  EXPECT_DOUBLE_EQ(f.candidates[1].lens->einsteinRadiusArcsec, std::hypot(30.0, 12.0) * kScale);
+  EXPECT_DOUBLE_EQ(f.candidates[1].lens->yPix, 110.0);
+  EXPECT_EQ(f.candidates[0].lens->row, 1U);
+  EXPECT_DOUBLE_EQ(f.candidates[0].lens->xPix, 100.0);
+  EXPECT_DOUBLE_EQ(f.candidates[0].lens->yPix, 112.0);
+  EXPECT_DOUBLE_EQ(f.candidates[0].lens->einsteinRadiusArcsec, std::hypot(30.0, 12.0) * kScale);
 }
 
 // An arc found in a fitted galaxy's residual keeps that galaxy as its lens: the dark-lens pair

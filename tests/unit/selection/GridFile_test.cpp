@@ -281,15 +281,15 @@ TEST(SurveySetup, DifferencesBeyondTheTolerancesAreWarned) {
   const std::vector<std::string> w = compareSetups(grid, search);
   ASSERT_EQ(w.size(), 5u);
   EXPECT_EQ(w[0],
-            "pixel scale: the grid was made for 0.257 arcsec/px, the search has 0.2 "
+            "pixel scale: made for 0.257 arcsec/px, the search has 0.2 "
             "(22.179% apart, tolerance 1%)");
   EXPECT_EQ(w[1],
-            "seeing FWHM: the grid was made for 0.9 arcsec, the search has 1.2 (33.3333% "
+            "seeing FWHM: made for 0.9 arcsec, the search has 1.2 (33.3333% "
             "apart, tolerance 10%)");
   EXPECT_EQ(w[2],
-            "gain: the grid was made for 54 e-/ADU, the search has 60 (11.1111% apart, "
+            "gain: made for 54 e-/ADU, the search has 60 (11.1111% apart, "
             "tolerance 10%)");
-  EXPECT_EQ(w[3], "DETECT_MINAREA: the grid was made for 5 pixels, the search has 6");
+  EXPECT_EQ(w[3], "DETECT_MINAREA: made for 5 pixels, the search has 6");
   EXPECT_NE(w[4].find("threshold 3: "), std::string::npos) << w[4];
   EXPECT_NE(w[4].find("(2% apart, tolerance 1%)"), std::string::npos) << w[4];
 
@@ -298,7 +298,7 @@ TEST(SurveySetup, DifferencesBeyondTheTolerancesAreWarned) {
   fewer.thresholdsSigma = {3.0, 6.0};
   const std::vector<std::string> levels = compareSetups(grid, fewer);
   ASSERT_EQ(levels.size(), 1u);
-  EXPECT_EQ(levels[0], "thresholds: the grid was made for 15 levels, the search has 2");
+  EXPECT_EQ(levels[0], "thresholds: made for 15 levels, the search has 2");
   EXPECT_TRUE(compareSetups(grid, SurveySetup{}).empty());
   // Tighter tolerances make the seeing of 0.95 a difference.
   SurveySetup close = grid;
