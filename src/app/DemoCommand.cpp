@@ -254,7 +254,8 @@ int runDemo(const std::vector<std::string>& args) {
       "lens model: search with SELECTION_METHOD TREES (octarc calibrate -MODEL_NAME)");
   add("score-min", po::value<double>()->default_value(0.0), "the search's SCORE_MIN");
   add("lens-density", po::value<double>(),
-      "LENS_DENSITY, the prior of LENS_SCORE (default: the injected lenses per deg2)");
+      "LENS_DENSITY, the prior of LENS_SCORE (default: the injected lenses per deg2, 1 "
+      "without)");
   add("lens-light", po::value<std::string>()->default_value("N"),
       "the search's LENS_LIGHT: N, LOCAL or IMAGE");
   add("population", po::value<std::string>(),
@@ -335,7 +336,8 @@ int runDemo(const std::vector<std::string>& args) {
     const double fieldDeg2 = double(s.sizePix) * double(s.sizePix) *
                              std::pow(s.pixelScaleArcsec / 3600.0, 2);
     const double lensDensity = vm->count("lens-density") ? (*vm)["lens-density"].as<double>()
-                                                         : double(s.lensCount) / fieldDeg2;
+                               : s.lensCount > 0           ? double(s.lensCount) / fieldDeg2
+                                                           : 1.0;
     std::vector<std::pair<std::string, std::string>> more = {
         {"LENS_DENSITY", formatNumber(lensDensity, "%.10g")},
         {"SCORE_MIN", formatNumber((*vm)["score-min"].as<double>(), "%.10g")}};

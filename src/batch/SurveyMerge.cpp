@@ -194,7 +194,7 @@ SurveyCandidates mergeTiles(const std::vector<TileCandidates>& tiles, double mat
   std::vector<Copy> copies;
   std::vector<Vec3> where;
   std::vector<bool> onSky;
-  std::vector<double> probability, centreChord;
+  std::vector<double> score, centreChord;
   std::vector<std::int64_t> tileNumber;
   for (std::size_t t = 0; t < tiles.size(); ++t) {
     const FitsTable& table = tiles[t].candidates;
@@ -206,7 +206,7 @@ SurveyCandidates mergeTiles(const std::vector<TileCandidates>& tiles, double mat
     }
     const std::int64_t n = table.rows();
     const std::vector<double> ra = table.doubles("ALPHA_J2000"), dec = table.doubles("DELTA_J2000");
-    const std::vector<double> prob = table.doubles("PROB");
+    const std::vector<double> prob = table.doubles("LENS_SCORE");
     const std::vector<std::int64_t> number = table.integers("NUMBER");
     for (std::int64_t r = 0; r < n; ++r) {
       copies.push_back({t, r});
@@ -215,7 +215,7 @@ SurveyCandidates mergeTiles(const std::vector<TileCandidates>& tiles, double mat
       onSky.push_back(sky);
       where.push_back(sky ? unitVector(ra[std::size_t(r)], dec[std::size_t(r)]) : Vec3{});
       centreChord.push_back(sky ? chord2(where.back(), footprints[t].centre) : 0.0);
-      probability.push_back(prob[std::size_t(r)]);
+      score.push_back(prob[std::size_t(r)]);
       tileNumber.push_back(number[std::size_t(r)]);
     }
   }
@@ -268,10 +268,10 @@ SurveyCandidates mergeTiles(const std::vector<TileCandidates>& tiles, double mat
     if (onSky[i] && radiusChord > 0) keptCells[cellOf(where[i])].push_back(i);
   }
   out.duplicatesRemoved = out.tileCandidates - std::int64_t(kept.size());
-  // Survey order: by probability (NaN last), then tile, then the tile's own order.
+  // Survey order: by LENS_SCORE (NaN last), then tile, then the tile's own order.
   std::sort(kept.begin(), kept.end(), [&](std::size_t a, std::size_t b) {
-    const double pa = std::isnan(probability[a]) ? -INFINITY : probability[a];
-    const double pb = std::isnan(probability[b]) ? -INFINITY : probability[b];
+    const double pa = std::isnan(score[a]) ? -INFINITY : score[a];
+    const double pb = std::isnan(score[b]) ? -INFINITY : score[b];
     if (pa != pb) return pa > pb;
     return std::tie(copies[a].tile, tileNumber[a]) < std::tie(copies[b].tile, tileNumber[b]);
   });
@@ -281,7 +281,7 @@ SurveyCandidates mergeTiles(const std::vector<TileCandidates>& tiles, double mat
   table.name = "LDAC_OBJECTS";
   FitsColumn number;
   number.name = "NUMBER";
-  number.comment = "Candidate number over the survey, by probability";
+  number.comment = "Candidate number over the survey, by LENS_SCORE";
   number.display = "I7";
   number.values = std::vector<std::int32_t>();
   FitsColumn tileName;
@@ -311,7 +311,13 @@ SurveyCandidates mergeTiles(const std::vector<TileCandidates>& tiles, double mat
     std::get<std::vector<std::int32_t>>(table.columns[2].values)
         .push_back(std::int32_t(tileNumber[kept[k]]));
     for (std::size_t c = 0; c < sourceColumns.size(); ++c) {
-      appendValue(table.columns[3 + c], from.columns[sourceColumns[c]], copy.row);
+      FitsColumn& column = table.columns[3 + c];
+      // The rank is the survey's, as NUMBER.
+      if (column.name == "LENS_RANK") {
+        std::get<std::vector<std::int32_t>>(column.values).push_back(std::int32_t(k + 1));
+      } else {
+        appendValue(column, from.columns[sourceColumns[c]], copy.row);
+      }
     }
     ++out.keptPerTile[copy.tile];
   }

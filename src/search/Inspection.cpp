@@ -211,7 +211,8 @@ std::string contactSheetHtml(const Table& catalog, const SearchResult& result,
   o << "Catalog: <a href=\"" << escapeHtml(info.catalogFile) << "\">"
     << escapeHtml(info.catalogFile) << "</a>; DS9 regions: <a href=\""
     << escapeHtml(info.regionFile) << "\">" << escapeHtml(info.regionFile) << "</a></p>\n"
-    << "<p>Sort by: <button data-key=\"prob\">probability</button>"
+    << "<p>Sort by: <button data-key=\"score\">score</button>"
+       "<button data-key=\"prob\">probability</button>"
        "<button data-key=\"arcness\">arcness</button><button data-key=\"snr\">S/N</button>"
        "<button data-key=\"mag\" data-asc=\"1\">magnitude</button>"
        "<button data-key=\"number\" data-asc=\"1\">number</button> "
@@ -225,12 +226,13 @@ std::string contactSheetHtml(const Table& catalog, const SearchResult& result,
     const double snr = valueOf(catalog, c.row, "SNR_ISO");
     const double mag = valueOf(catalog, c.row, "MAG_ISO");
     const std::string id = "c" + std::to_string(i + 1);
-    o << "<div class=\"card\" data-number=\"" << (i + 1) << "\" data-prob=\""
+    o << "<div class=\"card\" data-number=\"" << (i + 1) << "\" data-score=\""
+      << dataNumber(c.lensScore) << "\" data-prob=\""
       << dataNumber(c.probability) << "\" data-arcness=\"" << dataNumber(arcness)
       << "\" data-snr=\"" << dataNumber(snr) << "\" data-mag=\"" << dataNumber(mag) << "\">"
       << "<a href=\"" << stamp << "\"><img src=\"" << stamp << "\" alt=\"candidate " << (i + 1)
       << "\"></a><a href=\"#" << id << "\">#" << (i + 1) << "</a> " << escapeHtml(c.name)
-      << "<br>P " << formatNumber(c.probability, "%.3g") << ", a "
+      << "<br>score " << formatNumber(c.lensScore, "%.3g") << ", a "
       << formatNumber(arcness, "%.3f", true) << ", S/N " << formatNumber(snr, "%.0f", true)
       << "</div>\n";
     rows << "<tr id=\"" << id << "\"><td>" << (i + 1) << "</td><td>" << escapeHtml(c.name)
@@ -239,7 +241,8 @@ std::string contactSheetHtml(const Table& catalog, const SearchResult& result,
          << "</td><td>" << formatNumber(mag, "%.2f", true) << "</td><td>"
          << formatNumber(arcness, "%.4f", true) << "</td><td>"
          << formatNumber(valueOf(catalog, c.row, "E_IMAGE"), "%.3f", true) << "</td><td>"
-         << formatNumber(snr, "%.1f", true) << "</td><td>" << formatNumber(c.probability, "%.4g")
+         << formatNumber(snr, "%.1f", true) << "</td><td>" << formatNumber(c.lensScore, "%.4g")
+         << "</td><td>" << formatNumber(c.probability, "%.4g")
          << "</td><td>" << formatNumber(c.contourLevel, "%.4f", true) << "</td><td>";
     for (std::size_t k = 0; k < c.passedLevels.size(); ++k) {
       rows << (k ? "," : "") << c.passedLevels[k];
@@ -251,7 +254,8 @@ std::string contactSheetHtml(const Table& catalog, const SearchResult& result,
     rows << "</td><td><a href=\"" << stamp << "\">stamp</a></td></tr>\n";
   }
   o << "</div>\n<table>\n<tr><th>#</th><th>name</th><th>X_IMAGE</th><th>Y_IMAGE</th>"
-       "<th>MAG_ISO</th><th>ARCNESS</th><th>E_IMAGE</th><th>SNR_ISO</th><th>PROB</th>"
+       "<th>MAG_ISO</th><th>ARCNESS</th><th>E_IMAGE</th><th>SNR_ISO</th><th>LENS_SCORE</th>"
+       "<th>PROB</th>"
        "<th>CONTOUR</th><th>levels</th><th>&theta;<sub>E</sub> [\"]</th>"
     << (info.colourBands.empty() ? "" : "<th>colours arc / lens</th>") << "<th></th></tr>\n"
     << rows.str() << "</table>\n"

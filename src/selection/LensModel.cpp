@@ -131,7 +131,7 @@ SavedLensModel loadLensModel(const std::string& path) {
   const std::vector<std::string> tables = listFitsTables(path);
   if (std::find(tables.begin(), tables.end(), kTableName) == tables.end()) {
     throw IoError(path + ": not an octarc lens model (no LENS_MODEL table; make one with "
-                         "octarc calibrate -SELECTION_METHOD TREES)");
+                         "octarc calibrate -MODEL_NAME)");
   }
   const FitsTable t = readFitsTable(path, kTableName);
   if (t.integer("OCTMODEL") != kFormat) {

@@ -40,8 +40,8 @@ struct SpaceTotal {
 };
 
 struct SurveyCandidates {
-  // NUMBER (1.. by probability over the survey), TILE, TILE_NUMBER (NUMBER in its tile), then
-  // the tiles' columns but NUMBER.
+  // NUMBER (1.. by LENS_SCORE over the survey), TILE, TILE_NUMBER (NUMBER in its tile), then
+  // the tiles' columns but NUMBER, LENS_RANK being the survey's rank (= NUMBER).
   FitsTable table;
   std::int64_t tileCandidates = 0;        // before duplicates are removed
   std::int64_t duplicatesRemoved = 0;     // copies dropped
