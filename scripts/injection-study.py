@@ -3,11 +3,11 @@
 simulated 2048^2 field with injected lenses, searched with the shipped demo grid) for several
 seeds and adds up, per search space, which injected lenses came back as candidates.
 
-    scripts/injection-study.py [--seeds 20] [--first-seed 1] [--lenses 12] [--model M.fits]
-                               [--octarc build/release/bin/octarc]
-    scripts/injection-study.py --ntt [--seeds 20] [--lenses 6] [--snr-min 10]
+    scripts/injection-study.py [--seeds 20] [--first-seed 1] [--lenses 12] [--trees]
+                               [--model M.fits] [--octarc build/release/bin/octarc]
+    scripts/injection-study.py --ntt [--seeds 20] [--lenses 6] [--snr-min 10] [--trees]
 
-With --model, every field is searched twice, with the grid (SELECTION_METHOD GRID) and with the
+With --trees, every field is searched twice, with the grid (SELECTION_METHOD GRID) and with the
 model (TREES), and the completeness is also given against the spurious candidates per deg2 as
 LENS_SCORE's threshold falls ("Completeness against spurious candidates"): both methods in one
 table.
@@ -40,14 +40,17 @@ THETA_BINS = [(1.5, 2.0), (2.0, 2.5), (2.5, 99.0)]
 MAG_BINS = [(0.0, 22.0), (22.0, 23.0), (23.0, 99.0)]
 
 
+SHIPPED_MODEL = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "params",
+                             "demo.model.fits")
 NTT_IMAGE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared", "data",
                          "real", "ntt-emmi", "galaxies.fits")
 NTT_SCALE, NTT_SEEING, NTT_GAIN, LIMIT_MAG = 0.35, 1.2, 1.7, 26.0
 
 
-def ntt_setup(octarc, work):
+def ntt_setup(octarc, work, snr_min):
     """The NTT frame's sky sigma (octarc's own background estimate), the zero point of a 26 mag
-    5-sigma limit, and a grid for that setup. Returns the demo options and the grid path."""
+    5-sigma limit, and a grid and a lens model for that setup (the model trained against the
+    frame's own objects, rows above snr_min). Returns the demo options and the model path."""
     catalog = os.path.join(work, "ntt.ldac")
     proc = subprocess.run([octarc, "detect", NTT_IMAGE, "-CATALOG_NAME", catalog, "-PIXEL_SCALE",
                            str(NTT_SCALE)], check=True, capture_output=True, text=True)
@@ -60,13 +63,23 @@ def ntt_setup(octarc, work):
                     "--pixel-scale", str(NTT_SCALE), "--seeing", str(NTT_SEEING), "--gain",
                     str(NTT_GAIN), "--zero-point", "%.4f" % zero_point, "--sky-sigma",
                     "%.4f" % sigma, "-o", sim, "--quiet"], check=True)
+    model = os.path.join(work, "ntt.model.fits")
     subprocess.run([octarc, "calibrate", sim, "-GRID_AXES", "ARCNESS,E_IMAGE,log10(SNR_ISO)",
                     "-NOISE_STUDY", "N", "-CHECKPLOT_TYPE", "NONE", "-CALIBRATION_NAME",
-                    os.path.join(work, "ntt-cal.fits"), "-GRID_NAME", grid], check=True,
+                    os.path.join(work, "ntt-cal.fits"), "-GRID_NAME", grid, "-SURVEY_CATALOG",
+                    catalog, "-MODEL_NAME", model, "-MODEL_SNR_MIN", str(snr_min)], check=True,
                    stdout=subprocess.DEVNULL, cwd=work)
     print("NTT frame: sky sigma %.2f ADU, zero point %.2f" % (sigma, zero_point), file=sys.stderr)
     return ["--into", NTT_IMAGE, "--pixel-scale", str(NTT_SCALE), "--seeing", str(NTT_SEEING),
-            "--gain", str(NTT_GAIN), "--mag-zero", "%.4f" % zero_point, "--grid", grid]
+            "--gain", str(NTT_GAIN), "--mag-zero", "%.4f" % zero_point, "--grid", grid], model
+
+
+def method_options(method, model):
+    """The demo's options for one selection method: every candidate (SCORE_MIN 0), so that the
+    curve runs down to the lowest score."""
+    if method == "GRID":
+        return ["--method", "GRID", "--score-min", "0"]
+    return ["--method", "TREES", "--model", model, "--score-min", "0"]
 
 
 def run_seed(octarc, seed, lenses, out, extra):
@@ -124,7 +137,10 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seeds", type=int, default=20)
     parser.add_argument("--first-seed", type=int, default=1)
-    parser.add_argument("--model", help="also search with this lens model (SELECTION_METHOD TREES)")
+    parser.add_argument("--trees", action="store_true",
+                        help="also search with a lens model (SELECTION_METHOD TREES): --model, "
+                        "the shipped demo model, or with --ntt one trained for the frame")
+    parser.add_argument("--model", help="the lens model of --trees on simulated fields")
     parser.add_argument("--lenses", type=int, default=None)
     parser.add_argument("--ntt", action="store_true", help="inject into the real NTT frame")
     parser.add_argument("--snr-min", type=float, default=40.0, help="the search's S/N floor")
@@ -136,19 +152,25 @@ def main():
     systems, cands, area = [], [], 0.0
     tree_systems, tree_cands = [], []
     with tempfile.TemporaryDirectory() as work:
-        extra = (ntt_setup(args.octarc, work) if args.ntt else []) + ["--snr-min",
-                                                                      str(args.snr_min)]
+        extra = ["--snr-min", str(args.snr_min)]
+        if args.ntt:
+            options, ntt_model = ntt_setup(args.octarc, work, args.snr_min)
+            extra += options
+            if args.trees:
+                args.model = ntt_model
+        elif args.trees and not args.model:
+            args.model = SHIPPED_MODEL
         for seed in range(args.first_seed, args.first_seed + args.seeds):
             s, c, a = run_seed(args.octarc, seed, args.lenses, os.path.join(work, str(seed)),
-                               extra)
+                               extra + method_options("GRID", None))
             systems.append(s)
             cands.append(c)
             area += a
             print("seed %d: %d systems, %d candidates" % (seed, len(s), len(c)), file=sys.stderr)
-            if args.model:
+            if args.trees:
                 s, c, _ = run_seed(args.octarc, seed, args.lenses,
                                    os.path.join(work, "%d-trees" % seed),
-                                   extra + ["--model", args.model])
+                                   extra + method_options("TREES", args.model))
                 tree_systems.append(s)
                 tree_cands.append(c)
     systems = np.vstack(systems)
@@ -160,7 +182,7 @@ def main():
           "SNR_MIN %g\n" % (args.seeds, args.first_seed, args.first_seed + args.seeds - 1,
                              args.lenses, where, area, args.snr_min))
     curves = [("GRID", systems, cands)]
-    if args.model:
+    if args.trees:
         curves.append(("TREES", np.vstack(tree_systems), np.vstack(tree_cands)))
     levels = [30, 100, 400, 1000, None]
     print("Completeness against spurious candidates per deg2 (LENS_SCORE threshold lowered until "

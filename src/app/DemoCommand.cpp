@@ -59,14 +59,16 @@ void printUsage(const po::options_description& options) {
                "Simulates a survey field with injected galaxy-galaxy lenses (octarc simulate\n"
                "field) and searches it (octarc search: every object at the 15 thresholds of the\n"
                "shipped octarc.sex, with the weight map and the truth list as an ASSOC list,\n"
-               "selected with the shipped demo grid, params/demo.grid.fits). Reports how many\n"
+               "selected by the shipped demo lens model, params/demo.model.fits, keeping\n"
+               "LENS_SCORE >= 0.01; --method GRID: by the shipped demo grid,\n"
+               "params/demo.grid.fits, as the paper did). Reports how many\n"
                "injected arcs were detected and their arcness, the candidates, and which of\n"
                "them are injected lenses; writes the catalog, the candidates, their stamps and\n"
                "the contact sheet.\n"
                "\n"
                "--into IMAGE injects the lenses into a real image instead (its own sky, noise\n"
                "and objects; give its --pixel-scale, and --seeing, --mag-zero, --gain for the\n"
-               "injected light), searched with --grid (a grid made for that setup).\n"
+               "injected light), searched with --grid or --model (made for that setup).\n"
                "\n"
                "Options:\n"
             << options;
@@ -98,8 +100,14 @@ std::string injectionCandidatesPath(const InjectedFieldFiles& paths) {
 
 void printCandidates(std::ostream& o, const SearchRun& run, const SearchRunSettings& settings,
                      const InjectionMatch& match) {
-  o << "\nSearch: octarc search -GRID_NAME " << settings.gridPath << " (SNR_ISO > "
-    << settings.search.snrMin << ", resolved, in the grid's contour)\n";
+  if (settings.search.method == SelectionMethod::Trees) {
+    o << "\nSearch: octarc search -SELECTION_METHOD TREES -MODEL_NAME " << settings.modelPath
+      << " (SNR_ISO > " << settings.search.snrMin << ", resolved, LENS_SCORE >= "
+      << settings.search.scoreMin << ")\n";
+  } else {
+    o << "\nSearch: octarc search -GRID_NAME " << settings.gridPath << " (SNR_ISO > "
+      << settings.search.snrMin << ", resolved, in the grid's contour)\n";
+  }
   for (const std::string& w : run.warnings) o << "  note: " << w << "\n";
   for (const std::string& line : searchSummaryLines(run, settings)) o << "  " << line << "\n";
   const std::int64_t spurious = match.spurious();
@@ -248,11 +256,13 @@ int runDemo(const std::vector<std::string>& args) {
   add("seeing", po::value<double>(), "PSF FWHM, arcsec (default 0.9)");
   add("mag-zero", po::value<double>(), "magnitude zero point (default 30)");
   add("gain", po::value<double>(), "e-/ADU (default 54)");
+  add("method", po::value<std::string>()->default_value("TREES"),
+      "SELECTION_METHOD of the search: TREES (the lens model) or GRID (the grid)");
   add("grid", po::value<std::string>(), "occupation grid (default: the shipped demo grid)");
   add("snr-min", po::value<double>()->default_value(40.0), "the search's S/N floor (SNR_MIN)");
   add("model", po::value<std::string>(),
-      "lens model: search with SELECTION_METHOD TREES (octarc calibrate -MODEL_NAME)");
-  add("score-min", po::value<double>()->default_value(0.0), "the search's SCORE_MIN");
+      "lens model (default: the shipped demo model; octarc calibrate -MODEL_NAME)");
+  add("score-min", po::value<double>(), "the search's SCORE_MIN (default: 0.01 with TREES, 0)");
   add("lens-density", po::value<double>(),
       "LENS_DENSITY, the prior of LENS_SCORE (default: the injected lenses per deg2, 1 "
       "without)");
@@ -301,18 +311,30 @@ int runDemo(const std::vector<std::string>& args) {
   // The shipped survey configuration and columns, found before anything is made.
   const std::string shippedSex = dataFile("octarc.sex");
   (void)dataFile("octarc.param");
+  const std::string method = (*vm)["method"].as<std::string>();
+  if (method != "TREES" && method != "GRID") {
+    throw ConfigError("--method: TREES or GRID, not '" + method + "'");
+  }
+  const bool trees = method == "TREES";
   const std::string gridPath =
       vm->count("grid") ? (*vm)["grid"].as<std::string>() : dataFile("demo.grid.fits");
+  const std::string modelPath =
+      vm->count("model") ? (*vm)["model"].as<std::string>() : dataFile("demo.model.fits");
 
   // The grid and population are read and the inputs checked against the outputs before anything
   // is made.
-  (void)loadGrid(gridPath);
+  if (trees) {
+    (void)loadLensModel(modelPath);
+  } else {
+    (void)loadGrid(gridPath);
+  }
   if (!s.populationPath.empty()) (void)simulation::readPopulationModel(s.populationPath);
   const InjectedFieldFiles paths = makeInjectedFieldDirectory((*vm)["out"].as<std::string>());
   for (const std::string& output : paths.files()) {
     refuseOutputOverInput(output, "--out", real.imagePath, "--into image");
     refuseOutputOverInput(output, "--out", real.weightPath, "--into-weight map");
-    refuseOutputOverInput(output, "--out", gridPath, "--grid");
+    refuseOutputOverInput(output, "--out", trees ? modelPath : gridPath,
+                          trees ? "--model" : "--grid");
     refuseOutputOverInput(output, "--out", s.populationPath, "--population");
   }
   // Until the last step is done the outputs are provisional: a failure or an interrupt
@@ -331,7 +353,10 @@ int runDemo(const std::vector<std::string>& args) {
     times.simulateSec = seconds();
     // 2. The search, detection and measurement included, in memory; the catalog and the
     // candidates are written from what it returns.
-    if (!quiet) std::cerr << "> Searching at 15 levels with the demo grid (octarc search)\n";
+    if (!quiet) {
+      std::cerr << "> Searching at 15 levels with the demo " << (trees ? "model" : "grid")
+                << " (octarc search)\n";
+    }
     // LENS_SCORE's prior: the field's own lens density unless told.
     const double fieldDeg2 = double(s.sizePix) * double(s.sizePix) *
                              std::pow(s.pixelScaleArcsec / 3600.0, 2);
@@ -340,11 +365,12 @@ int runDemo(const std::vector<std::string>& args) {
                                                            : 1.0;
     std::vector<std::pair<std::string, std::string>> more = {
         {"LENS_DENSITY", formatNumber(lensDensity, "%.10g")},
-        {"SCORE_MIN", formatNumber((*vm)["score-min"].as<double>(), "%.10g")}};
-    if (vm->count("model")) {
-      more.emplace_back("SELECTION_METHOD", "TREES");
-      more.emplace_back("MODEL_NAME", (*vm)["model"].as<std::string>());
-    }
+        {"SCORE_MIN", formatNumber(vm->count("score-min") ? (*vm)["score-min"].as<double>()
+                                   : trees                  ? 0.01
+                                                            : 0.0,
+                                   "%.10g")},
+        {"SELECTION_METHOD", method}};
+    if (trees) more.emplace_back("MODEL_NAME", modelPath);
     search = demoSearchSettings(paths, shippedSex, s, gridPath, (*vm)["snr-min"].as<double>(),
                                 lensLight, more);
     run = searchImage(search, RunLog());
