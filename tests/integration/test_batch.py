@@ -199,7 +199,8 @@ class BatchRanks(BatchFixture):
         self.assertEqual(header["NTILECND"], len(copies))
         self.assertEqual(header["NDUPLIC"], len(copies) - len(best))
         self.assertGreater(header["NDUPLIC"], 0)  # the overlaps hold objects seen twice
-        self.assertTrue(np.all(np.diff(data["PROB"]) <= 0))  # ranked by probability
+        self.assertTrue(np.all(np.diff(data["LENS_SCORE"]) <= 0))  # ranked by LENS_SCORE
+        self.assertEqual(list(data["LENS_RANK"]), list(data["NUMBER"]))
 
         # The union of the tiles' searched areas is the whole field's, as its own search has it.
         run_octarc("search", self.field, "-c", SEX, "-GRID_NAME", GRID, "-WEIGHT_TYPE",

@@ -21,7 +21,7 @@ CPACK = os.environ.get("OCTARC_CPACK", "cpack")
 # Every installed file and, for the data, its source in the tree.
 DATA = {"octarc.sex": "params/octarc.sex", "octarc.param": "params/octarc.param",
         "default.conv": "params/default.conv", "demo.grid.fits": "params/demo.grid.fits",
-        "dls.grid.fits": "params/dls.grid.fits",
+        "dls.grid.fits": "params/dls.grid.fits", "demo.model.fits": "params/demo.model.fits",
         "simulation/population.txt": "params/simulation/population.txt",
         "simulation/population-dls.txt": "params/simulation/population-dls.txt"}
 INSTALLED = sorted(["bin/octarc", "share/doc/octarc/README.md", "share/doc/octarc/LICENSE"] +
@@ -86,17 +86,18 @@ class InstalledTree(WorkDirTest):
                 self.assertNotIn(tree.encode(), binary)
 
         # The demo: its field simulated, searched with the shipped octarc.sex, octarc.param and
-        # demo grid.
+        # demo lens model.
         shipped = os.path.join(moved, "share", "octarc")
         proc, opened = self.run_traced("demo", ["demo", "--size", "512", "--lenses", "3",
                                                 "--seed", "2", "--out", "demo", "--quiet"],
                                        work, env)
         self.assertIn("Detection: octarc search -c %s/octarc.sex (15 levels" % shipped,
                       proc.stdout)
-        self.assertIn("Search: octarc search -GRID_NAME %s/demo.grid.fits" % shipped, proc.stdout)
+        self.assertIn("Search: octarc search -SELECTION_METHOD TREES -MODEL_NAME "
+                      "%s/demo.model.fits" % shipped, proc.stdout)
         self.assertIn("Injected arcs detected:", proc.stdout)
         # The field's lenses follow the Deep Lens Survey preset.
-        for name in ("octarc.sex", "octarc.param", "demo.grid.fits",
+        for name in ("octarc.sex", "octarc.param", "demo.model.fits",
                      "simulation/population-dls.txt"):
             self.assertIn(os.path.join(shipped, name), opened)
         rows = fits.getdata(os.path.join(work, "demo", "field.ldac"), "LDAC_OBJECTS")

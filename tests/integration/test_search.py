@@ -169,8 +169,27 @@ class SearchSelection(SearchFixture):
                           for members in root.values())
         got = sorted([int(v) for v in s.split(",")] for s in cand["LEVELS"])
         self.assertEqual(got, expected)
-        # Ranked by probability; ARCNESS and positions are those of a passing row.
-        self.assertTrue(np.all(np.diff(cand["PROB"]) <= 0))
+        # Ranked by LENS_SCORE, each candidate's the highest of its rows': the arcs' probability
+        # of the row's bin over the bin's share of the rows scored (searched, above the floor,
+        # resolved; one row added to each of the grid's occupied bins), times the prior odds of
+        # LENS_DENSITY (1 per deg2) over those rows.
+        self.assertTrue(np.all(np.diff(cand["LENS_SCORE"]) <= 0))
+        self.assertEqual(list(cand["LENS_RANK"]), list(range(1, len(cand) + 1)))
+        scored = good & (rows["SNR_ISO"] > float(SNR_MIN)) & (
+            np.sqrt(2) * rows["SIZE_IMAGE"] * scale > 1.0)
+        with fits.open(self.grid) as f:
+            bins, prob = f["OCC_GRID"].data["BIN"].reshape(-1), f["OCC_GRID"].data["PROB"]
+        in_bin = {int(b): 1 + int(np.sum(scored & (index[0] == b))) for b in bins}
+        total = scored.sum() + len(bins)
+        area = fits.getheader(self.path("out/candidates.fits"), "LDAC_OBJECTS")["SRCHAREA"]
+        prior = area / scored.sum()
+        odds = np.zeros(len(rows))
+        for b, p in zip(bins, prob):
+            odds[index[0] == b] = p / (in_bin[int(b)] / total) * prior / (1 - prior)
+        score = odds / (1 + odds)
+        expected = sorted(max(score[i] for i in members) for members in root.values())
+        np.testing.assert_allclose(sorted(cand["LENS_SCORE"]), expected, rtol=1e-9)
+        # ARCNESS and positions are those of a passing row.
         passing = {(round(float(x), 2), round(float(y), 2)) for x, y in
                    zip(rows["X_IMAGE"][passed], rows["Y_IMAGE"][passed])}
         for x, y in zip(cand["X_IMAGE"], cand["Y_IMAGE"]):
