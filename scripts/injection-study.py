@@ -199,6 +199,21 @@ def main():
                 k, len(sy), 100.0 * k / len(sy), 100 * lo, 100 * hi, spurious / area))
         print("| " + " | ".join(row) + " |")
     print()
+    # LENS_SCORE reads as the expected fraction of lens arcs among rows of that score (for the
+    # prior the demo sets: its injected lens density): the candidates binned by score, their mean
+    # score against the fraction that are injected arcs.
+    print("LENS_SCORE against the fraction of candidates that are injected arcs:\n")
+    print("| method | LENS_SCORE | candidates | mean LENS_SCORE | injected arcs |")
+    print("|---|---|---|---|---|")
+    for name, _, ca in curves:
+        for lo, hi in [(0.0, 0.01), (0.01, 0.1), (0.1, 0.5), (0.5, 1.01)]:
+            sel = (ca[:, 3] >= lo) & (ca[:, 3] < hi)
+            if not sel.any():
+                continue
+            arcs = (ca[sel, 1] > 0).sum()
+            print("| %s | %g-%g | %d | %.3f | %d (%.3f) |" % (
+                name, lo, min(hi, 1.0), sel.sum(), ca[sel, 3].mean(), arcs, arcs / sel.sum()))
+    print()
     header = ["search space"] + ["theta_E %g-%g\"" % b if b[1] < 99 else "theta_E > %g\"" % b[0]
                                  for b in THETA_BINS]
     header += ["arc mag < 22", "22-23", "> 23", "all", "spurious / deg2", "lens right",
