@@ -144,10 +144,8 @@ std::optional<LensMatch> findBrightestLens(const ArcGeometry& arc,
     const double dx = g.x - arc.xCentroid;
     const double dy = g.y - arc.yCentroid;
     const double distance = std::hypot(dx, dy);
-    if (!g.inArc) {
-      if (!(distance <= maxDistancePix) || distance < kSameObjectPix) continue;
-      if (arc.arcSide != 0 && dx * nx + dy * ny <= 0.0) continue;  // convex side
-    }
+    if (!g.inArc && (!(distance <= maxDistancePix) || distance < kSameObjectPix)) continue;
+    if (arc.arcSide != 0 && dx * nx + dy * ny <= 0.0) continue;  // convex side
     const double targetDistance = std::hypot(g.x - xTarget, g.y - yTarget);
     if (!best || brighterPeak(g, *best) ||
         (samePeak(g, *best) && targetDistance < bestTargetDistance)) {

@@ -43,7 +43,8 @@ struct LensCandidateGalaxy {
   int peakLevel = 0;
   double peakFlux = std::numeric_limits<double>::quiet_NaN();
   // The brightest peak inside the arc's own object, off its centroid: an arc blended with its
-  // lens, seen from the blend. Taken whatever its side and however near the centroid.
+  // lens, seen from the blend. Taken however near the centroid, on the concave side when known
+  // (an arc's own brightest part lies on its ridge, outside its centroid, on the convex side).
   bool inArc = false;
 };
 

@@ -156,20 +156,31 @@ TEST(FindBrightestLens, BrightestPeakThenNearestToTheCentre) {
   EXPECT_FALSE(findBrightestLens(arc, {galaxies[3], galaxies[4]}, 25.0));
 }
 
-TEST(FindBrightestLens, ThePeakOfABlendCountsOnAnySideAndAtAnyDistance) {
-  const ArcGeometry arc{10.0, 10.0, 0.0, +1, std::nullopt};
-  LensCandidateGalaxy core{10.1, 9.8, 7, 15, 500.0};  // on the convex side, 0.22 px off
+TEST(FindBrightestLens, ThePeakOfABlendCountsAtAnyDistanceOnTheConcaveSide) {
+  ArcGeometry arc{10.0, 10.0, 0.0, +1, std::nullopt};
+  LensCandidateGalaxy core{10.1, 10.2, 7, 15, 500.0};  // concave side (+y), 0.22 px off
   core.inArc = true;
   const std::vector<LensCandidateGalaxy> galaxies = {{10.0, 15.0, 1, 11, 100.0}, core};
-  const auto match = findBrightestLens(arc, galaxies, 25.0);
+  auto match = findBrightestLens(arc, galaxies, 25.0);
   ASSERT_TRUE(match);
   EXPECT_EQ(match->row, 7U);
   EXPECT_NEAR(match->einsteinRadiusPix, std::hypot(0.1, 0.2), 1e-12);
-  // Not marked as the arc's own: at the centroid (the arc itself) and convex, so left out.
-  core.inArc = false;
-  const auto other = findBrightestLens(arc, {galaxies[0], core}, 25.0);
-  ASSERT_TRUE(other);
-  EXPECT_EQ(other->row, 1U);
+  // Not marked as the arc's own: at the centroid (the arc itself), so left out.
+  LensCandidateGalaxy plain = core;
+  plain.inArc = false;
+  match = findBrightestLens(arc, {galaxies[0], plain}, 25.0);
+  ASSERT_TRUE(match);
+  EXPECT_EQ(match->row, 1U);
+  // On the convex side it is the arc's own ridge: out, unless the side is unknown.
+  LensCandidateGalaxy ridge = core;
+  ridge.y = 9.8;
+  match = findBrightestLens(arc, {galaxies[0], ridge}, 25.0);
+  ASSERT_TRUE(match);
+  EXPECT_EQ(match->row, 1U);
+  arc.arcSide = 0;
+  match = findBrightestLens(arc, {galaxies[0], ridge}, 25.0);
+  ASSERT_TRUE(match);
+  EXPECT_EQ(match->row, 7U);
 }
 
 // An SIS double: images at theta_E + beta and theta_E - beta on opposite sides of the lens.

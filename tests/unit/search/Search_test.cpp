@@ -421,16 +421,16 @@ TEST(Search, ResidualArcKeepsItsFittedLensWithColours) {
 
 // An arc blended with its lens: at level 1 one object whose centroid (100, 100) lies between the
 // two; at levels 2-4 its brightest peak, the lens's core, 4 px off; at level 2 the arc too,
-// 8 px off on the other side. The lens is the blend's peak (flag 64), the arc's distance that of
-// its farthest passing row.
+// 8 px off on the other side, so the blend curves towards the core (ARC_SIDE -1). The lens is
+// the blend's peak (flag 64), the arc's distance that of its farthest passing row.
 TEST(Search, ArcBlendedWithItsLensNamesTheBlendsPeak) {
   const Table catalog = catalogOf({
-      {100, 100, 1, 1, 0, 90, 5.0, 0.5, 0, 1, 0.15},   // 0: the blend, passes
+      {100, 100, 1, 1, 0, 90, 5.0, 0.5, 0, -1, 0.15},  // 0: the blend, concave side -y
       {100, 96, 2, 1, 1, 30, 2.0, 0.0, 0, 0, 0.01},    // 1: the lens core
       {100, 108, 2, 2, 1, 60, 3.5, 0.5, 0, 1, 0.25},   // 2: the arc, passes
       {100, 96, 3, 1, 1, 30, 1.5, 0.0, 0, 0, 0.01},    // 3: the core
       {100, 96.2, 4, 1, 1, 30, 1.5, 0.0, 0, 0, 0.01},  // 4: its peak
-      {100, 120, 1, 2, 0, 300, 6.0, 0.1, 0, 0, 0.01},  // 5: a galaxy on the concave side
+      {100, 80, 1, 2, 0, 300, 6.0, 0.1, 0, 0, 0.01},   // 5: a galaxy on the concave side
   });
   const SavedGrid grid = arcnessGrid();
   const SearchMask mask(200, 200, {});
