@@ -75,12 +75,12 @@ std::optional<LensMatch> findLens(const ArcGeometry& arc,
                                   const std::vector<LensCandidateGalaxy>& galaxies,
                                   double maxDistancePix);
 
-// The lens of an arc: among the galaxies within maxDistancePix of the arc centroid (at least
-// kSameObjectPix from it, unless inArc), on its concave side when arc.arcSide is +-1 (any side
-// when it is 0, unknown), the one whose peak is brightest (peakLevel, then peakFlux); among
-// equally bright ones, the one nearest to the centre of curvature as in findLens (nearest to the
-// arc centroid when the side is unknown). einsteinRadiusPix is the arc-lens distance. nullopt when
-// none qualifies: a possible dark lens. Measured on injected lenses (README, "Completeness and
+// The lens of an arc: among the galaxies within maxDistancePix of the arc centroid and at least
+// kSameObjectPix from it (an inArc peak at any distance), on its concave side when arc.arcSide is
+// +-1 (any side when it is 0, unknown), the one whose peak is brightest (peakLevel, then peakFlux);
+// among equally bright ones, the one nearest to the centre of curvature as in findLens (nearest to
+// the arc centroid when the side is unknown). einsteinRadiusPix is the arc-lens distance. nullopt
+// when none qualifies: a possible dark lens. Measured on injected lenses (README, "Completeness and
 // purity"), the brightest peak names the lens far more often than the nearest galaxy: ground
 // arcs of theta_E < 2.5" lie close to a bright lens and are often blended with it.
 std::optional<LensMatch> findBrightestLens(const ArcGeometry& arc,
