@@ -136,7 +136,9 @@ def fraction(k, n):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seeds", type=int, default=20)
-    parser.add_argument("--first-seed", type=int, default=1)
+    parser.add_argument("--first-seed", type=int, default=1,
+                        help="the first seed (the README's figures are from seeds 1-20; tune "
+                        "on others)")
     parser.add_argument("--trees", action="store_true",
                         help="also search with a lens model (SELECTION_METHOD TREES): --model, "
                         "the shipped demo model, or with --ntt one trained for the frame")
@@ -233,7 +235,7 @@ def main():
         spurious = ((cands[:, 1] == 0) & in_space(cands[:, 2], bit)).sum()
         row.append("%.0f (%d)" % (spurious / area, spurious) if area > 0 else "-")
         row.append(fraction((got & lens_right).sum(), got.sum()))
-        right = got & lens_right
+        right = got & lens_right & (estimate > 0)
         ratio = estimate[right] / theta[right]
         if len(ratio):
             q16, q50, q84 = np.percentile(ratio, [16, 50, 84])

@@ -164,10 +164,19 @@ std::vector<ColumnDef> definitions(const std::vector<std::string>& bands) {
              [](const RowView& v) { return v.candidate.lens ? v.candidate.lens->decDeg : kNaN; }),
       number("LENS_MAG", "Isophotal magnitude of the lens", "mag", T::Float32, "%8.4f",
              [](const RowView& v) { return v.lens("MAG_ISO"); }),
-      number("THETA_E", "Einstein radius estimate: arc-lens distance", "arcsec", T::Float32,
+      number("THETA_E", "Einstein radius estimate (see THETA_E_METHOD)", "arcsec", T::Float32,
              "%7.3f",
              [](const RowView& v) {
                return v.candidate.lens ? v.candidate.lens->einsteinRadiusArcsec : kNaN;
+             }),
+      number("THETA_E_METHOD", "THETA_E from: 1 counter-image 2 curvature 3 distance", "", T::Int16,
+             "%2d",
+             [](const RowView& v) {
+               return v.candidate.lens ? double(v.candidate.lens->thetaEMethod) : 0.0;
+             }),
+      number("LENS_DIST", "Arc-lens distance", "arcsec", T::Float32, "%7.3f",
+             [](const RowView& v) {
+               return v.candidate.lens ? v.candidate.lens->distanceArcsec : kNaN;
              }),
       number("CURV_X", "Centre of curvature x (1-based)", "pixel", T::Float32, "%10.3f",
              [](const RowView& v) {
@@ -190,8 +199,8 @@ std::vector<ColumnDef> definitions(const std::vector<std::string>& bands) {
       number("SEC_DELTA", "Declination of the counter-image (J2000)", "deg", T::Float64, "%+11.7f",
              [](const RowView& v) { return secondaryValue(v, &CandidateImage::decDeg); }),
       copied("FLAGS", "Extraction flags of the best row", "", T::Int16, "%3d"),
-      number("CAND_FLAGS", "1 no lens 2 no circle 4 no WCS 8 side? 16 resid. 32 pair", "", T::Int16,
-             "%3d", [](const RowView& v) { return double(v.candidate.flags); }),
+      number("CAND_FLAGS", "1 nolens 2 nocirc 4 noWCS 8 side 16 resid 32 pair 64 blend", "",
+             T::Int16, "%3d", [](const RowView& v) { return double(v.candidate.flags); }),
   };
   for (std::size_t k = 0; k < bands.size(); ++k) {
     for (ColumnDef& d : bandColumns(bands[k], k)) defs.push_back(std::move(d));

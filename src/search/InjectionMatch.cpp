@@ -82,7 +82,9 @@ InjectionMatch matchInjectedLenses(const std::vector<TruthRow>& truth, const Tab
       const TrueSystem& s = systems[id];
       o.lensRight = std::hypot(c.lens->xPix - s.lensX, c.lens->yPix - s.lensY) * pixelScaleArcsec <=
                     lensMatchArcsec;
-      o.einsteinRadiusEstimateArcsec = c.lens->einsteinRadiusArcsec;
+      // 0 when the arc lies on the lens (no estimate), as without a lens.
+      o.einsteinRadiusEstimateArcsec =
+          std::isfinite(c.lens->einsteinRadiusArcsec) ? c.lens->einsteinRadiusArcsec : 0.0;
     }
   }
   for (auto& [id, o] : outcomes) out.systems.push_back(o);

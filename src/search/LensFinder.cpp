@@ -2,6 +2,8 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <numbers>
+#include <utility>
 
 namespace octarc {
 
@@ -74,6 +76,36 @@ std::optional<CircleFit> fitCircle(const std::vector<double>& x, const std::vect
   return CircleFit{circle[0] + x0, circle[1] + y0, circle[2]};
 }
 
+namespace {
+
+// Where findLens measures a galaxy's nearness from: the fitted centre, unless it lies on the
+// convex side or beyond the search radius (a nearly straight arc): then the arc centroid.
+std::pair<double, double> curvatureTarget(const ArcGeometry& arc, double nx, double ny,
+                                          double maxDistancePix) {
+  if (arc.curvature) {
+    const double cx = arc.curvature->xCentre - arc.xCentroid;
+    const double cy = arc.curvature->yCentre - arc.yCentroid;
+    if (cx * nx + cy * ny > 0.0 && std::hypot(cx, cy) <= maxDistancePix) {
+      return {arc.curvature->xCentre, arc.curvature->yCentre};
+    }
+  }
+  return {arc.xCentroid, arc.yCentroid};
+}
+
+// True when a's peak is brighter than b's: the higher level, then the brighter pixel (a known
+// value beats NaN).
+bool brighterPeak(const LensCandidateGalaxy& a, const LensCandidateGalaxy& b) {
+  if (a.peakLevel != b.peakLevel) return a.peakLevel > b.peakLevel;
+  if (std::isnan(b.peakFlux)) return !std::isnan(a.peakFlux);
+  return a.peakFlux > b.peakFlux;
+}
+
+bool samePeak(const LensCandidateGalaxy& a, const LensCandidateGalaxy& b) {
+  return !brighterPeak(a, b) && !brighterPeak(b, a);
+}
+
+}  // namespace
+
 std::optional<LensMatch> findLens(const ArcGeometry& arc,
                                   const std::vector<LensCandidateGalaxy>& galaxies,
                                   double maxDistancePix) {
@@ -81,18 +113,7 @@ std::optional<LensMatch> findLens(const ArcGeometry& arc,
   // The unit vector from the arc centroid towards its concave side.
   const double nx = -std::sin(arc.thetaRad) * arc.arcSide;
   const double ny = std::cos(arc.thetaRad) * arc.arcSide;
-  // The fitted centre, unless it lies on the convex side or beyond the search radius (a nearly
-  // straight arc): then the galaxy nearest the arc itself.
-  double xTarget = arc.xCentroid;
-  double yTarget = arc.yCentroid;
-  if (arc.curvature) {
-    const double cx = arc.curvature->xCentre - arc.xCentroid;
-    const double cy = arc.curvature->yCentre - arc.yCentroid;
-    if (cx * nx + cy * ny > 0.0 && std::hypot(cx, cy) <= maxDistancePix) {
-      xTarget = arc.curvature->xCentre;
-      yTarget = arc.curvature->yCentre;
-    }
-  }
+  const auto [xTarget, yTarget] = curvatureTarget(arc, nx, ny, maxDistancePix);
   std::optional<LensMatch> best;
   double bestTargetDistance = 0.0;
   for (const LensCandidateGalaxy& g : galaxies) {
@@ -108,6 +129,69 @@ std::optional<LensMatch> findLens(const ArcGeometry& arc,
     }
   }
   return best;
+}
+
+std::optional<LensMatch> findBrightestLens(const ArcGeometry& arc,
+                                           const std::vector<LensCandidateGalaxy>& galaxies,
+                                           double maxDistancePix) {
+  const double nx = -std::sin(arc.thetaRad) * arc.arcSide;
+  const double ny = std::cos(arc.thetaRad) * arc.arcSide;
+  const auto [xTarget, yTarget] = arc.arcSide != 0 ? curvatureTarget(arc, nx, ny, maxDistancePix)
+                                                   : std::pair{arc.xCentroid, arc.yCentroid};
+  const LensCandidateGalaxy* best = nullptr;
+  double bestTargetDistance = 0.0;
+  for (const LensCandidateGalaxy& g : galaxies) {
+    const double dx = g.x - arc.xCentroid;
+    const double dy = g.y - arc.yCentroid;
+    const double distance = std::hypot(dx, dy);
+    if (!g.inArc && (!(distance <= maxDistancePix) || distance < kSameObjectPix)) continue;
+    if (arc.arcSide != 0 && dx * nx + dy * ny <= 0.0) continue;  // convex side
+    const double targetDistance = std::hypot(g.x - xTarget, g.y - yTarget);
+    if (!best || brighterPeak(g, *best) ||
+        (samePeak(g, *best) && targetDistance < bestTargetDistance)) {
+      best = &g;
+      bestTargetDistance = targetDistance;
+    }
+  }
+  if (best == nullptr) return std::nullopt;
+  return LensMatch{best->row, std::hypot(best->x - arc.xCentroid, best->y - arc.yCentroid)};
+}
+
+EinsteinRadiusEstimate estimateEinsteinRadius(double xLens, double yLens, double xArc, double yArc,
+                                              const std::optional<CircleFit>& curvature,
+                                              const std::vector<LensCandidateGalaxy>& others) {
+  EinsteinRadiusEstimate out;
+  const double ax = xArc - xLens;
+  const double ay = yArc - yLens;
+  const double distance = std::hypot(ax, ay);
+  if (!(distance >= kSameObjectPix)) return out;
+  const double maxCos = std::cos(kDoubleMinAngleDeg * std::numbers::pi / 180.0);
+  double bestCos = 0.0;
+  for (std::size_t i = 0; i < others.size(); ++i) {
+    const double sx = others[i].x - xLens;
+    const double sy = others[i].y - yLens;
+    const double counterDistance = std::hypot(sx, sy);
+    if (!(counterDistance >= kSameObjectPix && counterDistance <= distance)) continue;
+    const double cosAngle = (ax * sx + ay * sy) / (distance * counterDistance);
+    if (cosAngle > maxCos || (out.counterImage && cosAngle >= bestCos)) continue;
+    out.counterImage = i;
+    out.thetaEPix = einsteinRadiusFromDouble(distance, counterDistance);
+    out.method = ThetaEMethod::kCounterImage;
+    bestCos = cosAngle;
+  }
+  if (out.counterImage) return out;
+  if (curvature) {
+    const double offCentre = std::hypot(curvature->xCentre - xLens, curvature->yCentre - yLens);
+    if (offCentre <= kCurvatureCentreFraction * curvature->radius &&
+        curvature->radius >= 0.5 * distance && curvature->radius <= kCurvatureMaxRatio * distance) {
+      out.thetaEPix = curvature->radius;
+      out.method = ThetaEMethod::kCurvature;
+      return out;
+    }
+  }
+  out.thetaEPix = distance / kOuterImageDistanceRatio;
+  out.method = ThetaEMethod::kDistance;
+  return out;
 }
 
 }  // namespace octarc

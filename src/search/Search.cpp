@@ -20,6 +20,11 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+// The brightest peak of an arc's own object at least this far from its centroid is a lens it is
+// blended with: nearer, it is the arc's own core (a curved arc's centroid lies inside its ridge
+// by less than this at the scales of ground surveys; measured on injected lenses, README).
+constexpr double kInArcPeakMinArcsec = 0.2;
+
 // The catalog columns the search reads, by index.
 struct SearchColumns {
   int x, y, level, number, parent, snr, size, e1, e2, arcSide;
@@ -183,6 +188,34 @@ struct RowIndex {
   }
 };
 
+// The brightest peak of each row's object: the row at the highest level among the row and its
+// descendants, the brighter FLUX_MAX (when known) between rows of one level, then the lower row.
+std::vector<std::size_t> brightestPeaks(const std::vector<TreeRow>& tree,
+                                        const std::unordered_map<std::int64_t, std::size_t>& rowOf,
+                                        const std::vector<double>& fluxMax) {
+  std::vector<std::size_t> peak(tree.size());
+  std::vector<std::size_t> order(tree.size());
+  for (std::size_t i = 0; i < tree.size(); ++i) peak[i] = order[i] = i;
+  auto brighter = [&](std::size_t a, std::size_t b) {
+    if (tree[a].level != tree[b].level) return tree[a].level > tree[b].level;
+    const double fa = fluxMax.empty() ? kNaN : fluxMax[a];
+    const double fb = fluxMax.empty() ? kNaN : fluxMax[b];
+    if (fa > fb || (!std::isnan(fa) && std::isnan(fb))) return true;
+    if (fb > fa || (!std::isnan(fb) && std::isnan(fa))) return false;
+    return a < b;
+  };
+  // Children before parents: each passes its peak down one level.
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return tree[a].level > tree[b].level; });
+  for (const std::size_t i : order) {
+    if (tree[i].level <= 1) continue;
+    const auto up = rowOf.find(treeKey(tree[i].level - 1, tree[i].parentNumber));
+    if (up == rowOf.end()) continue;
+    if (brighter(peak[i], peak[up->second])) peak[up->second] = peak[i];
+  }
+  return peak;
+}
+
 // Where a candidate's counter-image may be: the rows placed as one, and the other objects near
 // the centre of curvature (which would be a visible lens).
 struct PairSearch {
@@ -285,7 +318,7 @@ void addColours(const SearchInput& in, const SearchSettings& s, const SearchColu
       if (!index.related(g.row, *found)) others.push_back(g);
     }
     if (!lensFreeCentre(circle, others)) continue;
-    // The counter-image is not the lens findLens may have taken it for.
+    // The counter-image is not the lens findBrightestLens may have taken it for.
     cand.lens.reset();
     cand.lensMags.clear();
     cand.flags |= kCandidateDarkLens | kCandidateDarkLensPair;
@@ -451,6 +484,19 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
   const RowCells nearby(catalog, c, tree, lensRadiusPix);
   const int arcnessColumn = catalog.findColumn("ARCNESS");
   const std::vector<std::optional<CircleFit>> curvatures = curvaturesOf(in, objects, tree);
+  const int fluxMaxColumn = catalog.findColumn("FLUX_MAX");
+  std::vector<double> fluxMax;
+  if (fluxMaxColumn >= 0) {
+    for (std::int64_t r = 0; r < n; ++r) fluxMax.push_back(catalog.value(r, fluxMaxColumn));
+  }
+  const std::vector<std::size_t> peaks = brightestPeaks(tree, rowOf, fluxMax);
+  int maxLevel = 1;
+  for (const TreeRow& t : tree) maxLevel = std::max(maxLevel, t.level);
+  const RowIndex index{tree, rowOf};
+  auto xOf = [&](std::size_t r) { return catalog.value(std::int64_t(r), c.x); };
+  auto yOf = [&](std::size_t r) { return catalog.value(std::int64_t(r), c.y); };
+  // A blend's peak nearer its centroid than this is the arc's own core, not a lens's.
+  const double inArcPeakMinPix = kInArcPeakMinArcsec / s.pixelScaleArcsec;
   for (std::size_t k = 0; k < objects.size(); ++k) {
     const MergedObject& object = objects[k];
     Candidate cand;
@@ -479,7 +525,8 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
     }
 
     // The lens: another galaxy at the arc's level or at the lowest one; the arc's own ancestors
-    // contain it (their centroids are pulled towards it) and are left out.
+    // contain it (their centroids are pulled towards it) and are left out. Each is placed at, and
+    // compared by, its brightest peak.
     std::vector<std::size_t> ancestors;
     for (TreeRow walk = id; walk.level > 1;) {
       const auto up = rowOf.find(treeKey(walk.level - 1, walk.parentNumber));
@@ -488,6 +535,11 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
       walk = tree[up->second];
     }
     const bool imageArc = lensLightOf(in, object.bestRow) < 0;
+    auto galaxyAt = [&](std::size_t row, bool inArc) {
+      const std::size_t p = peaks[row];
+      return LensCandidateGalaxy{
+          xOf(p), yOf(p), row, tree[p].level, fluxMax.empty() ? kNaN : fluxMax[p], inArc};
+    };
     std::vector<LensCandidateGalaxy> galaxies;
     for (const int level : {1, id.level}) {
       nearby.forEachNear(level, x, y, [&](std::size_t i) {
@@ -496,11 +548,18 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
             (imageArc && addedResidualRow(in, i))) {
           return;
         }
-        const double gx = catalog.value(std::int64_t(i), c.x);
-        const double gy = catalog.value(std::int64_t(i), c.y);
-        if (std::hypot(gx - x, gy - y) <= lensRadiusPix) galaxies.push_back({gx, gy, i});
+        if (std::hypot(xOf(i) - x, yOf(i) - y) <= lensRadiusPix) {
+          galaxies.push_back(galaxyAt(i, false));
+        }
       });
       if (id.level == 1) break;
+    }
+    // An arc blended with its lens: the blend's brightest peak, off its centroid, is the lens's
+    // core (a peak at the centroid is the arc's own).
+    const std::size_t ownPeak = peaks[object.bestRow];
+    if (imageArc && std::hypot(xOf(ownPeak) - x, yOf(ownPeak) - y) >= inArcPeakMinPix) {
+      galaxies.push_back(galaxyAt(object.bestRow, true));
+      galaxies.back().row = ownPeak;
     }
     ArcGeometry arc;
     arc.xCentroid = x;
@@ -511,43 +570,77 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
     arc.curvature = curvatures[k];
     cand.curvature = arc.curvature;
     if (!arc.curvature) cand.flags |= kCandidateNoCurvature;
-    // Below LENS_SIDE_ARCNESS the octopole does not tell the concave side: the nearest galaxy.
+    // Below LENS_SIDE_ARCNESS the octopole does not tell the concave side: any side.
     const double arcness = arcnessColumn >= 0 ? catalog.value(best, arcnessColumn) : kNaN;
     std::optional<LensMatch> match;
+    std::pair<double, double> lensXY;
     const std::int64_t fittedLens = lensLightOf(in, object.bestRow);
-    // A lens's position: a fitted galaxy's fitted centre, else its catalog centroid.
-    auto lensPosition = [&](std::size_t row) {
-      if (fittedLens >= 0 && in.fittedCentres != nullptr) {
-        const auto found = in.fittedCentres->find(row);
-        if (found != in.fittedCentres->end()) return found->second;
-      }
-      return std::pair{catalog.value(std::int64_t(row), c.x),
-                       catalog.value(std::int64_t(row), c.y)};
-    };
     if (fittedLens >= 0) {
-      // Found in the residual of a fitted galaxy: that galaxy is the lens.
+      // Found in the residual of a fitted galaxy: that galaxy is the lens, at its fitted centre
+      // (not pulled towards the arc, part of the galaxy's object, as its centroid is).
       cand.flags |= kCandidateLensLight;
-      const auto [lensX, lensY] = lensPosition(std::size_t(fittedLens));
-      match = LensMatch{std::size_t(fittedLens), std::hypot(lensX - x, lensY - y)};
-    } else if (std::abs(arcness) < s.sideMinArcness) {
-      cand.flags |= kCandidateSideUnknown;
-      for (const LensCandidateGalaxy& g : galaxies) {
-        const double d = std::hypot(g.x - x, g.y - y);
-        if (d > kSameObjectPix && (!match || d < match->einsteinRadiusPix)) match = {g.row, d};
+      lensXY = {xOf(std::size_t(fittedLens)), yOf(std::size_t(fittedLens))};
+      if (in.fittedCentres != nullptr) {
+        const auto found = in.fittedCentres->find(std::size_t(fittedLens));
+        if (found != in.fittedCentres->end()) lensXY = found->second;
       }
+      match = LensMatch{std::size_t(fittedLens), std::hypot(lensXY.first - x, lensXY.second - y)};
     } else {
-      match = findLens(arc, galaxies, lensRadiusPix);
+      if (std::abs(arcness) < s.sideMinArcness) {
+        cand.flags |= kCandidateSideUnknown;
+        arc.arcSide = 0;
+      }
+      match = findBrightestLens(arc, galaxies, lensRadiusPix);
+      if (match) {
+        for (const LensCandidateGalaxy& g : galaxies) {
+          if (g.row != match->row) continue;
+          lensXY = {g.x, g.y};
+          if (g.inArc) cand.flags |= kCandidateLensInArc;
+        }
+      }
     }
     if (match) {
       CandidateLens lens;
       lens.row = match->row;
-      std::tie(lens.xPix, lens.yPix) = lensPosition(match->row);
+      std::tie(lens.xPix, lens.yPix) = lensXY;
       if (in.wcs != nullptr) {
         const auto sky = in.wcs->pixelToJ2000(lens.xPix, lens.yPix);
         lens.raDeg = sky[0];
         lens.decDeg = sky[1];
       }
-      lens.einsteinRadiusArcsec = match->einsteinRadiusPix * s.pixelScaleArcsec;
+      // The arc's position: its centroid, or for a blend the passing row farthest from the lens
+      // (the blend's centroid is pulled onto the lens).
+      double xArc = x, yArc = y;
+      std::vector<LensCandidateGalaxy> counterImages;
+      if (cand.flags & kCandidateLensInArc) {
+        for (const std::size_t r : object.rows) {
+          if (std::hypot(xOf(r) - lens.xPix, yOf(r) - lens.yPix) >
+              std::hypot(xArc - lens.xPix, yArc - lens.yPix)) {
+            xArc = xOf(r);
+            yArc = yOf(r);
+          }
+        }
+      } else {
+        // Possible counter-images: objects at any level near the lens, neither the arc's nor
+        // the lens's core (a counter-image blended with the lens separates at a higher level).
+        const std::size_t lensPeak = fittedLens >= 0 ? match->row : peaks[match->row];
+        for (int level = 1; level <= maxLevel; ++level) {
+          nearby.forEachNear(level, lens.xPix, lens.yPix, [&](std::size_t i) {
+            if (index.related(i, object.bestRow) || index.related(i, lensPeak) ||
+                std::size_t(fittedLens) == i || (imageArc && addedResidualRow(in, i)) ||
+                lensLightOf(in, i) == kLensOnlyRow) {
+              return;
+            }
+            counterImages.push_back({xOf(i), yOf(i), i});
+          });
+        }
+      }
+      const EinsteinRadiusEstimate estimate = estimateEinsteinRadius(
+          lens.xPix, lens.yPix, xArc, yArc,
+          (cand.flags & kCandidateLensInArc) ? std::nullopt : arc.curvature, counterImages);
+      lens.distanceArcsec = std::hypot(xArc - lens.xPix, yArc - lens.yPix) * s.pixelScaleArcsec;
+      lens.einsteinRadiusArcsec = estimate.thetaEPix * s.pixelScaleArcsec;
+      lens.thetaEMethod = estimate.method;
       cand.lens = lens;
     } else {
       cand.flags |= kCandidateDarkLens;
@@ -556,7 +649,7 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
   }
   if (in.residualRowsAreExtra) dropResidualDuplicates(catalog, c, s, result.candidates);
   if (!s.colourBands.empty()) {
-    addColours(in, s, c, RowIndex{tree, rowOf}, nearby, lensRadiusPix, result.candidates);
+    addColours(in, s, c, index, nearby, lensRadiusPix, result.candidates);
   }
   if (s.colourCut) {
     const auto band = std::find(s.colourBands.begin(), s.colourBands.end(), s.colourCut->band);

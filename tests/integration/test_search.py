@@ -221,11 +221,23 @@ class SearchSelection(SearchFixture):
             self.assertTrue(re.fullmatch(r"OCTARC J\d{6}\.\d{2}[+-]\d{6}\.\d", row["NAME"]))
             has_lens = row["LENS_NUMBER"] > 0
             self.assertEqual(bool(row["CAND_FLAGS"] & 1), not has_lens)
-            if has_lens:
+            if not has_lens:
+                self.assertEqual(row["THETA_E_METHOD"], 0)
+                self.assertTrue(np.isnan(row["THETA_E"]) and np.isnan(row["LENS_DIST"]))
+                continue
+            scale = np.sqrt(abs(np.linalg.det(w.pixel_scale_matrix))) * 3600
+            if not row["CAND_FLAGS"] & 64:  # the arc is the candidate's centroid
                 d = np.hypot(row["LENS_X"] - row["X_IMAGE"], row["LENS_Y"] - row["Y_IMAGE"])
-                scale = np.sqrt(abs(np.linalg.det(w.pixel_scale_matrix))) * 3600
-                self.assertAlmostEqual(row["THETA_E"], d * scale, delta=1e-3 * row["THETA_E"])
-                self.assertLessEqual(row["THETA_E"], 6.0 + 1e-6)
+                self.assertAlmostEqual(row["LENS_DIST"], d * scale, delta=1e-3 * row["LENS_DIST"])
+                self.assertLessEqual(row["LENS_DIST"], 6.0 + 1e-6)
+            method, theta_e, dist = row["THETA_E_METHOD"], row["THETA_E"], row["LENS_DIST"]
+            if method == 1:  # the mean of the arc's and a nearer counter-image's distances
+                self.assertTrue(0.5 * dist <= theta_e <= dist * (1 + 1e-6))
+            elif method == 2:  # the circle's radius
+                self.assertAlmostEqual(theta_e, row["CURV_RADIUS"] * scale, delta=1e-3 * theta_e)
+            else:
+                self.assertEqual(method, 3)
+                self.assertAlmostEqual(theta_e, dist / (1 + 0.5 ** 0.5), delta=1e-3 * theta_e)
 
 
 class SearchOutputs(SearchFixture):

@@ -1,6 +1,7 @@
-// The lens of an arc candidate (METHOD.md section 4): the galaxy on the arc's concave side,
-// nearest to the arc's centre of curvature, within a search radius; the Einstein radius
-// estimated as the arc-lens distance (the arc taken to trace the critical curve).
+// The lens of an arc candidate (METHOD.md section 4): the galaxy with the brightest peak on the
+// arc's concave side within a search radius, ties going to the one nearest the arc's centre of
+// curvature; and its Einstein radius, from a counter-image, the arc's curvature or the arc-lens
+// distance (estimateEinsteinRadius).
 //
 // The centre of curvature comes from a circle fitted to the arc's pixels, weighted by flux:
 // Kasa's linear least squares for x^2 + y^2 + D x + E y + F = 0 (about the flux centroid, in
@@ -13,6 +14,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -36,6 +38,14 @@ struct LensCandidateGalaxy {
   double x = 0.0;
   double y = 0.0;
   std::size_t row = 0;  // the caller's row of the galaxy
+  // How bright its brightest peak is: the highest threshold level its object reaches, then its
+  // peak pixel value (NaN when unknown). A lens is brighter at its core than an arc.
+  int peakLevel = 0;
+  double peakFlux = std::numeric_limits<double>::quiet_NaN();
+  // The brightest peak inside the arc's own object, off its centroid: an arc blended with its
+  // lens, seen from the blend. Taken however near the centroid, on the concave side when known
+  // (an arc's own brightest part lies on its ridge, outside its centroid, on the convex side).
+  bool inArc = false;
 };
 
 struct ArcGeometry {
@@ -64,5 +74,63 @@ struct LensMatch {
 std::optional<LensMatch> findLens(const ArcGeometry& arc,
                                   const std::vector<LensCandidateGalaxy>& galaxies,
                                   double maxDistancePix);
+
+// The lens of an arc: among the galaxies within maxDistancePix of the arc centroid and at least
+// kSameObjectPix from it (an inArc peak at any distance), on its concave side when arc.arcSide is
+// +-1 (any side when it is 0, unknown), the one whose peak is brightest (peakLevel, then peakFlux);
+// among equally bright ones, the one nearest to the centre of curvature as in findLens (nearest to
+// the arc centroid when the side is unknown). einsteinRadiusPix is the arc-lens distance. nullopt
+// when none qualifies: a possible dark lens. Measured on injected lenses (README, "Completeness and
+// purity"), the brightest peak names the lens far more often than the nearest galaxy: ground
+// arcs of theta_E < 2.5" lie close to a bright lens and are often blended with it.
+std::optional<LensMatch> findBrightestLens(const ArcGeometry& arc,
+                                           const std::vector<LensCandidateGalaxy>& galaxies,
+                                           double maxDistancePix);
+
+// How THETA_E was estimated (the THETA_E_METHOD column).
+enum class ThetaEMethod : int {
+  kNone = 0,          // no lens: NaN
+  kCounterImage = 1,  // half the arc to counter-image distance through the lens
+  kCurvature = 2,     // the radius of the arc's circle, centred on the lens
+  kDistance = 3,      // the arc-lens distance, as the outer image of a typical double
+};
+
+// For a singular isothermal sphere the two images of a double lie on opposite sides of the lens,
+// at theta_E + beta and theta_E - beta: theta_E is the mean of their distances to the lens.
+inline double einsteinRadiusFromDouble(double arcDistancePix, double counterDistancePix) {
+  return 0.5 * (arcDistancePix + counterDistancePix);
+}
+
+// For sources spread evenly behind the lens's caustic (beta < theta_E, no magnification bias),
+// half lie within theta_E / sqrt(2) of the centre: the outer image of a double lies at
+// theta_E (1 + 1/sqrt 2) in the median. A strongly magnified source (beta -> 0) lies at theta_E,
+// so this is low by up to that factor, 0.59.
+inline constexpr double kOuterImageDistanceRatio = 1.7071067811865475;
+
+// A counter-image is on the opposite side: at least this angle from the arc about the lens.
+inline constexpr double kDoubleMinAngleDeg = 150.0;
+
+// The arc's circle describes the lens when its centre lies within this fraction of its radius
+// from the lens and the radius is between half and kCurvatureMaxRatio times the arc-lens
+// distance: the centroid of an arc of half-opening phi lies inside its ridge, at R sin(phi)/phi
+// (0.64 R for a half ring), and for an SIS the ridge of an off-centre image curves with a radius
+// between theta_E and its distance.
+inline constexpr double kCurvatureCentreFraction = 0.3;
+inline constexpr double kCurvatureMaxRatio = 1.6;
+
+struct EinsteinRadiusEstimate {
+  double thetaEPix = std::numeric_limits<double>::quiet_NaN();
+  ThetaEMethod method = ThetaEMethod::kNone;
+  std::optional<std::size_t> counterImage;  // index in `others` of the counter-image used
+};
+
+// theta_E of an arc at (xArc, yArc) lensed by a galaxy at (xLens, yLens), by the first that
+// applies: a counter-image among `others` (at least kDoubleMinAngleDeg from the arc about the
+// lens, at least kSameObjectPix from it and no farther than the arc; the most opposite one);
+// the arc's circle when it describes the lens; the arc-lens distance divided by
+// kOuterImageDistanceRatio. NaN and kNone when the arc lies on the lens.
+EinsteinRadiusEstimate estimateEinsteinRadius(double xLens, double yLens, double xArc, double yArc,
+                                              const std::optional<CircleFit>& curvature,
+                                              const std::vector<LensCandidateGalaxy>& others);
 
 }  // namespace octarc

@@ -9,7 +9,10 @@
 //     --> LENS_SCORE of every selected row (below), the best row of each object the
 //         highest-scoring one
 //     --> one candidate per physical object (search/LevelMerge.h), ordered by LENS_SCORE
-//     --> its lens and Einstein radius (search/LensFinder.h), its name (search/CandidateName.h)
+//     --> its lens and Einstein radius (search/LensFinder.h), its name (search/CandidateName.h):
+//         the galaxies near the arc, and the arc's own object when its brightest peak lies off
+//         its centroid (an arc blended with its lens), compared by their brightest peaks (the
+//         highest level their object reaches, then FLUX_MAX when the catalog has it)
 //     --> with colour bands: magnitudes of the arc and the lens (measure/Colour.h), the
 //         dark-lens pair criterion (search/DarkLens.h), the colour cut
 //
@@ -55,9 +58,10 @@ enum CandidateFlag : int {
   kCandidateDarkLens = 1,       // no galaxy on the concave side within LENS_RADIUS
   kCandidateNoCurvature = 2,    // no circle could be fitted to the arc's pixels (centroid used)
   kCandidateNoWcs = 4,          // the image has no celestial WCS: no RA, Dec or name
-  kCandidateSideUnknown = 8,    // |ARCNESS| below LENS_SIDE_ARCNESS: the nearest galaxy, any side
+  kCandidateSideUnknown = 8,    // |ARCNESS| below LENS_SIDE_ARCNESS: the lens on any side
   kCandidateLensLight = 16,     // found in the lens-light residual: its lens is the fitted galaxy
   kCandidateDarkLensPair = 32,  // a same-colour counter-image and no lens (search/DarkLens.h)
+  kCandidateLensInArc = 64,     // the lens is the brightest peak of the arc's own object (blended)
 };
 
 // Candidates are removed when, in `band`, the arc's colour minus the lens's exceeds
@@ -100,7 +104,10 @@ struct CandidateLens {
   double xPix = 0.0, yPix = 0.0;  // 1-based
   double raDeg = std::numeric_limits<double>::quiet_NaN();
   double decDeg = std::numeric_limits<double>::quiet_NaN();
-  double einsteinRadiusArcsec = 0.0;
+  // NaN when the arc lies on the lens; how it was estimated (search/LensFinder.h).
+  double einsteinRadiusArcsec = std::numeric_limits<double>::quiet_NaN();
+  ThetaEMethod thetaEMethod = ThetaEMethod::kNone;
+  double distanceArcsec = 0.0;  // from the arc (the passing row farthest from it, when blended)
 };
 
 // A position of a candidate's other image.

@@ -52,7 +52,7 @@ SearchResult handResult() {
   a.raDeg = 149.96;
   a.decDeg = 2.1666666666666667;
   a.curvature = CircleFit{12.0, 14.0, 6.5};
-  a.lens = CandidateLens{1, 15.5, 25.5, 149.961, 2.167, 1.75};
+  a.lens = CandidateLens{1, 15.5, 25.5, 149.961, 2.167, 1.75, ThetaEMethod::kCurvature, 2.5};
   Candidate b;
   b.row = 2;
   b.rows = {2};
@@ -126,8 +126,11 @@ TEST(CandidateTable, ObjectsTableValuesComeFromRowCandidateAndSummary) {
   EXPECT_EQ(t.doubles("LENS_X")[0], 15.5);
   EXPECT_EQ(t.doubles("LENS_MAG")[0], 19.0);
   EXPECT_EQ(t.doubles("THETA_E")[0], 1.75);
+  // How theta_E was estimated (0 without a lens) and the arc-lens distance.
+  EXPECT_EQ(t.integers("THETA_E_METHOD"), (std::vector<std::int64_t>{2, 0}));
+  EXPECT_EQ(t.doubles("LENS_DIST")[0], 2.5);
   EXPECT_EQ(t.doubles("LENS_DELTA")[0], 2.167);
-  for (const char* none : {"LENS_X", "LENS_Y", "LENS_MAG", "THETA_E", "SEC_X"})
+  for (const char* none : {"LENS_X", "LENS_Y", "LENS_MAG", "THETA_E", "LENS_DIST", "SEC_X"})
     EXPECT_TRUE(std::isnan(t.doubles(none)[1])) << none;
 
   // The summary: counts as given, the derived figures by hand.

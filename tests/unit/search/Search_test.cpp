@@ -112,7 +112,11 @@ TEST(Search, EveryCutMergeAndLensByHand) {
   EXPECT_EQ(arc.spaces, 3U);
   ASSERT_TRUE(arc.lens);
   EXPECT_EQ(arc.lens->row, 3U);
-  EXPECT_DOUBLE_EQ(arc.lens->einsteinRadiusArcsec, 10 * kScale);
+  EXPECT_DOUBLE_EQ(arc.lens->distanceArcsec, 10 * kScale);
+  // No circle, no counter-image (the decoy lies on the arc's side of the lens): the distance as
+  // that of the outer image of a double.
+  EXPECT_EQ(arc.lens->thetaEMethod, ThetaEMethod::kDistance);
+  EXPECT_DOUBLE_EQ(arc.lens->einsteinRadiusArcsec, 10 * kScale / kOuterImageDistanceRatio);
   EXPECT_EQ(arc.flags & kCandidateDarkLens, 0);
   EXPECT_NE(arc.flags & kCandidateNoWcs, 0);
   EXPECT_NE(arc.flags & kCandidateNoCurvature, 0);  // no footprints given
@@ -189,7 +193,7 @@ TEST(Search, NearestGalaxyWhenTheSideIsUnknown) {
   ASSERT_EQ(r.candidates[0].row, 0U);
   ASSERT_TRUE(r.candidates[0].lens);
   EXPECT_EQ(r.candidates[0].lens->row, 1U);
-  EXPECT_DOUBLE_EQ(r.candidates[0].lens->einsteinRadiusArcsec, 10 * kScale);
+  EXPECT_DOUBLE_EQ(r.candidates[0].lens->distanceArcsec, 10 * kScale);
   EXPECT_NE(r.candidates[0].flags & kCandidateSideUnknown, 0);
   s.sideMinArcness = 0.0;
   r = searchCandidates(in, s);
@@ -322,6 +326,13 @@ TEST(Search, NoDarkLensPairWithAnotherColourOrALensAtTheCentre) {
   ASSERT_TRUE(c.lens);
   EXPECT_EQ(c.lens->row, 2U);
   EXPECT_EQ(c.flags & (kCandidateDarkLens | kCandidateDarkLensPair), 0);
+  // The 3 x 3 block on the far side, 5 px from the lens, is the arc's counter-image: theta_E is
+  // the mean of the two images' distances to the lens.
+  EXPECT_EQ(c.lens->thetaEMethod, ThetaEMethod::kCounterImage);
+  const double arcDistance = std::hypot(catalog.value(0, 0) - 51.0, catalog.value(0, 1) - 51.0);
+  EXPECT_DOUBLE_EQ(c.lens->distanceArcsec, arcDistance * kScale);
+  EXPECT_NEAR(c.lens->einsteinRadiusArcsec, 0.5 * (arcDistance + 5.0) * kScale, 1e-12);
+  EXPECT_EQ(c.flags & kCandidateLensInArc, 0);
   ASSERT_EQ(c.lensMags.size(), 2U);
   EXPECT_NEAR(c.lensMags[0].mag, 30.0 - 2.5 * std::log10(360.0), 1e-9);
   EXPECT_NEAR(c.lensMags[1].mag - c.lensMags[0].mag, 2.5 * std::log10(4.0), 1e-9);
@@ -390,7 +401,7 @@ TEST(Search, LocalResidualRowsAddArcsNotLensesOrObjects) {
   EXPECT_EQ(r.candidates[0].row, 3U);
   ASSERT_TRUE(r.candidates[0].lens);
   EXPECT_EQ(r.candidates[0].lens->row, 1U);
-  EXPECT_DOUBLE_EQ(r.candidates[0].lens->einsteinRadiusArcsec, std::hypot(30.0, 10.0) * kScale);
+  EXPECT_DOUBLE_EQ(r.candidates[0].lens->distanceArcsec, std::hypot(30.0, 10.0) * kScale);
   EXPECT_NE(r.candidates[0].flags & kCandidateLensLight, 0);
 
   // With the galaxy's fitted centre, the residual's arc is measured from it; the image's arc
@@ -403,7 +414,7 @@ TEST(Search, LocalResidualRowsAddArcsNotLensesOrObjects) {
   EXPECT_EQ(f.candidates[0].lens->row, 1U);
   EXPECT_DOUBLE_EQ(f.candidates[0].lens->xPix, 100.0);
   EXPECT_DOUBLE_EQ(f.candidates[0].lens->yPix, 112.0);
-  EXPECT_DOUBLE_EQ(f.candidates[0].lens->einsteinRadiusArcsec, std::hypot(30.0, 12.0) * kScale);
+  EXPECT_DOUBLE_EQ(f.candidates[0].lens->distanceArcsec, std::hypot(30.0, 12.0) * kScale);
 }
 
 // An arc found in a fitted galaxy's residual keeps that galaxy as its lens: the dark-lens pair
@@ -422,6 +433,42 @@ TEST(Search, ResidualArcKeepsItsFittedLensWithColours) {
   EXPECT_EQ(c.flags & (kCandidateDarkLens | kCandidateDarkLensPair), 0);
   EXPECT_FALSE(c.secondary);
   EXPECT_NEAR(c.arcMags[1].mag - c.arcMags[0].mag, 0.7526, 1e-4);
+}
+
+// An arc blended with its lens: at level 1 one object whose centroid (100, 100) lies between the
+// two; at levels 2-4 its brightest peak, the lens's core, 4 px off; at level 2 the arc too,
+// 8 px off on the other side, so the blend curves towards the core (ARC_SIDE -1). The lens is
+// the blend's peak (flag 64), the arc's distance that of its farthest passing row.
+TEST(Search, ArcBlendedWithItsLensNamesTheBlendsPeak) {
+  const Table catalog = catalogOf({
+      {100, 100, 1, 1, 0, 90, 5.0, 0.5, 0, -1, 0.15},  // 0: the blend, concave side -y
+      {100, 96, 2, 1, 1, 30, 2.0, 0.0, 0, 0, 0.01},    // 1: the lens core
+      {100, 108, 2, 2, 1, 60, 3.5, 0.5, 0, 1, 0.25},   // 2: the arc, passes
+      {100, 96, 3, 1, 1, 30, 1.5, 0.0, 0, 0, 0.01},    // 3: the core
+      {100, 96.2, 4, 1, 1, 30, 1.5, 0.0, 0, 0, 0.01},  // 4: its peak
+      {100, 80, 1, 2, 0, 300, 6.0, 0.1, 0, 0, 0.01},   // 5: a galaxy on the concave side
+  });
+  const SavedGrid grid = arcnessGrid();
+  const SearchMask mask(200, 200, {});
+  SearchSettings s;
+  s.pixelScaleArcsec = kScale;
+  s.lensRadiusArcsec = 6.0;
+  SearchInput in;
+  in.catalog = &catalog;
+  in.grid = &grid;
+  in.mask = &mask;
+  const SearchResult r = searchCandidates(in, s);
+  ASSERT_EQ(r.candidates.size(), 1U);
+  const Candidate& c = r.candidates[0];
+  EXPECT_EQ(c.rows, (std::vector<std::size_t>{0, 2}));
+  ASSERT_TRUE(c.lens);
+  EXPECT_EQ(c.lens->row, 4U);
+  EXPECT_DOUBLE_EQ(c.lens->xPix, 100.0);
+  EXPECT_DOUBLE_EQ(c.lens->yPix, 96.2);
+  EXPECT_NE(c.flags & kCandidateLensInArc, 0);
+  EXPECT_DOUBLE_EQ(c.lens->distanceArcsec, 11.8 * kScale);
+  EXPECT_EQ(c.lens->thetaEMethod, ThetaEMethod::kDistance);
+  EXPECT_DOUBLE_EQ(c.lens->einsteinRadiusArcsec, 11.8 * kScale / kOuterImageDistanceRatio);
 }
 
 }  // namespace
