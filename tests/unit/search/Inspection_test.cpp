@@ -41,6 +41,7 @@ SearchResult handResult() {
   Candidate a;
   a.row = 0;
   a.passedLevels = {2, 3};
+  a.lensScore = 0.125;
   a.probability = 0.5;
   a.contourLevel = 0.75;
   a.name = "OCTARC J095950.40+021000.0";
@@ -48,6 +49,7 @@ SearchResult handResult() {
   Candidate b;
   b.row = 2;
   b.passedLevels = {3};
+  b.lensScore = 0.0625;
   b.probability = 0.25;
   b.flags = kCandidateDarkLens;
   r.candidates = {a, b};
@@ -167,13 +169,15 @@ TEST(Inspection, ContactSheetHasACardAndARowPerCandidate) {
   ASSERT_NE(first, std::string::npos);
   ASSERT_NE(second, std::string::npos);
   EXPECT_LT(first, second);
-  EXPECT_NE(html.find("data-number=\"1\" data-prob=\"0.5\" data-arcness=\"0.1875\" "
+  EXPECT_NE(html.find("data-number=\"1\" data-score=\"0.125\" data-prob=\"0.5\" "
+                      "data-arcness=\"0.1875\" "
                       "data-snr=\"55\" data-mag=\"21.5\""),
             std::string::npos);
   EXPECT_EQ(count(html, "<img src=\"stamps/0001.png\""), 1u);
   EXPECT_EQ(count(html, "<img src=\"stamps/0002.png\""), 1u);
   EXPECT_NE(html.find("<tr id=\"c1\"><td>1</td><td>OCTARC J095950.40+021000.0</td><td>10.50</td>"
-                      "<td>20.25</td><td>21.50</td><td>0.1875</td><td>0.750</td><td>55.0</td>"),
+                      "<td>20.25</td><td>21.50</td><td>0.1875</td><td>0.750</td><td>55.0</td>"
+                      "<td>0.125</td><td>0.5</td>"),
             std::string::npos)
       << html;
   EXPECT_NE(html.find("<td>2,3</td><td>1.75</td>"), std::string::npos);
