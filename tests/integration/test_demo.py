@@ -106,8 +106,10 @@ class SmallDemo(WorkDirTest):
 
         # The search: its candidates, and which injected lenses they are.
         cand = fits.getdata(os.path.join(out, "candidates", "candidates.fits"), "LDAC_OBJECTS")
-        self.assertIn("Search: octarc search -GRID_NAME", text)
+        self.assertIn("Search: octarc search -SELECTION_METHOD TREES -MODEL_NAME", text)
+        self.assertIn("LENS_SCORE >= 0.01)", text)
         self.assertIn("%d candidate(s)," % len(cand), text)
+        self.assertTrue(np.all(cand["LENS_SCORE"] >= 0.01))
         self.assertTrue(os.path.isfile(os.path.join(out, "candidates", "index.html")))
         systems = np.loadtxt(os.path.join(out, "injection-systems.txt"), ndmin=2)
         per_candidate = np.loadtxt(os.path.join(out, "injection-candidates.txt"), ndmin=2)
@@ -228,6 +230,24 @@ class ReadmeFigures(WorkDirTest):
                 from_images = np.hypot(row["X_IMAGE"] - images[:, 1], row["Y_IMAGE"] - images[:, 2])
                 if from_lens * PIXEL_SCALE >= 1.0 and np.any(from_images * PIXEL_SCALE <= 2.0):
                     self.assertGreater(per_candidate[i, 1], 0, "candidate %d" % (i + 1))
+
+        # The candidates in LENS_SCORE order, and the injected lenses the README lists with
+        # their candidate's rank, against the run's per-system outcomes.
+        self.assertTrue(np.all(np.diff(cand["LENS_SCORE"]) <= 0))
+        self.assertEqual(list(cand["LENS_RANK"]), list(range(1, len(cand) + 1)))
+        outcomes = np.loadtxt(os.path.join(out, "injection-systems.txt"), ndmin=2)
+        listed = [m.groups() for m in (re.match(
+            r'^ +(\d+) +([\d.]+)" +([\d.]+) +#(\d+) +(yes|no) +([\d.]+)"$', line)
+            for line in self.lines) if m]
+        self.assertEqual(len(listed), int(np.sum(outcomes[:, 3] > 0)))
+        for system, theta_e, mag, number, right, estimate in listed:
+            row = outcomes[outcomes[:, 0] == int(system)][0]
+            self.assertRounded(theta_e, row[1], "theta_E of system " + system)
+            self.assertRounded(mag, row[2], "arc mag of system " + system)
+            self.assertEqual(int(number), int(row[3]))
+            self.assertEqual(int(cand["LENS_RANK"][int(number) - 1]), int(number))
+            self.assertEqual(right == "yes", row[5] == 1)
+            self.assertRounded(estimate, row[6], "theta_E estimate of system " + system)
 
 
 class IntoRealImage(WorkDirTest):
