@@ -50,68 +50,93 @@ std::vector<QuickResidualObject> quickResidual(const ImageD& stamp, const ImageD
                                                double xPix, double yPix, double shapeRadiusPix,
                                                double minRadiusPix, double maxRadiusPix) {
   const std::int64_t w = stamp.width(), h = stamp.height();
-  // The shape: second moments of the positive pixels near the centre.
-  double sum = 0, xx = 0, yy = 0, xy = 0;
-  for (std::int64_t y = 0; y < h; ++y) {
-    for (std::int64_t x = 0; x < w; ++x) {
-      const double v = stamp(x, y), dx = double(x) - xPix, dy = double(y) - yPix;
-      if (!(v > 0) || !usable(v, varianceAdu2(x, y)) ||
-          dx * dx + dy * dy > shapeRadiusPix * shapeRadiusPix) {
-        continue;
-      }
-      sum += v;
-      xx += v * dx * dx;
-      yy += v * dy * dy;
-      xy += v * dx * dy;
-    }
-  }
+  // The shape: second moments of the positive pixels in an ellipse of that shape and of the
+  // area of a disc of shapeRadiusPix about the centre, a few times from a disc (the moments in
+  // a disc make any galaxy rounder; in an ellipse of its own shape they give its shape).
   double q = 1.0, theta = 0.0;
-  if (sum > 0) {
+  for (int round = 0; round < 4; ++round) {
+    const double cr = std::cos(theta), sr = std::sin(theta);
+    const double major2 = shapeRadiusPix * shapeRadiusPix / q,
+                 minor2 = shapeRadiusPix * shapeRadiusPix * q;
+    double sum = 0, xx = 0, yy = 0, xy = 0;
+    for (std::int64_t y = 0; y < h; ++y) {
+      for (std::int64_t x = 0; x < w; ++x) {
+        const double v = stamp(x, y), dx = double(x) - xPix, dy = double(y) - yPix;
+        const double a = cr * dx + sr * dy, b = -sr * dx + cr * dy;
+        if (!(v > 0) || !usable(v, varianceAdu2(x, y)) || a * a / major2 + b * b / minor2 > 1.0) {
+          continue;
+        }
+        sum += v;
+        xx += v * dx * dx;
+        yy += v * dy * dy;
+        xy += v * dx * dy;
+      }
+    }
+    if (!(sum > 0)) break;
     const double mean = 0.5 * (xx + yy) / sum, diff = 0.5 * (xx - yy) / sum;
     const double root = std::hypot(diff, xy / sum);
-    // Rounder than 0.3 at most: the moments of a small disc underestimate a flat galaxy.
     q = std::clamp(std::sqrt(std::max(mean - root, 0.0) / (mean + root)), 0.3, 1.0);
     theta = 0.5 * std::atan2(2.0 * xy, xx - yy);
   }
   const double c = std::cos(theta), s = std::sin(theta);
-  auto annulus = [&](std::int64_t x, std::int64_t y) {
+  auto radius = [&](std::int64_t x, std::int64_t y) {
     const double dx = double(x) - xPix, dy = double(y) - yPix;
     const double major = c * dx + s * dy, minor = (-s * dx + c * dy) / q;
-    return std::size_t(std::sqrt(major * major + minor * minor));
+    return std::sqrt(major * major + minor * minor);
   };
-  // The median of each annulus.
+  // The median of each annulus, at the mean radius of its pixels.
   std::vector<std::vector<double>> values;
+  std::vector<double> radiusSum;
   for (std::int64_t y = 0; y < h; ++y) {
     for (std::int64_t x = 0; x < w; ++x) {
       if (!usable(stamp(x, y), varianceAdu2(x, y))) continue;
-      const std::size_t k = annulus(x, y);
-      if (k >= values.size()) values.resize(k + 1);
+      const double r = radius(x, y);
+      const auto k = std::size_t(r);
+      if (k >= values.size()) {
+        values.resize(k + 1);
+        radiusSum.resize(k + 1, 0.0);
+      }
       values[k].push_back(stamp(x, y));
+      radiusSum[k] += r;
     }
   }
-  std::vector<double> median(values.size(), 0.0);
+  std::vector<double> knotRadius, knotLevel;
   for (std::size_t k = 0; k < values.size(); ++k) {
     std::vector<double>& v = values[k];
     if (v.empty()) continue;
     const auto mid = v.begin() + std::ptrdiff_t(v.size() / 2);
     std::nth_element(v.begin(), mid, v.end());
-    median[k] = *mid;
+    knotRadius.push_back(radiusSum[k] / double(v.size()));
+    knotLevel.push_back(*mid);
   }
+  if (knotRadius.empty()) return {};  // no usable pixel
+  // Linear between the annuli (a step would leave each annulus's inner edge above the model
+  // where the profile is steep, the edge of a piece at every radius).
+  auto level = [&](double r) {
+    const auto hi =
+        std::size_t(std::lower_bound(knotRadius.begin(), knotRadius.end(), r) - knotRadius.begin());
+    if (hi == 0) return knotLevel.front();
+    if (hi == knotRadius.size()) return knotLevel.back();
+    const double t = (r - knotRadius[hi - 1]) / (knotRadius[hi] - knotRadius[hi - 1]);
+    return knotLevel[hi - 1] + t * (knotLevel[hi] - knotLevel[hi - 1]);
+  };
   ImageD residual(w, h, 0.0);
   for (std::int64_t y = 0; y < h; ++y) {
     for (std::int64_t x = 0; x < w; ++x) {
       if (usable(stamp(x, y), varianceAdu2(x, y))) {
-        residual(x, y) = stamp(x, y) - median[annulus(x, y)];
+        residual(x, y) = stamp(x, y) - level(radius(x, y));
       }
     }
   }
   // Pixels above 3 sigma once smoothed on 3 x 3 (the clip of the fit, SersicFit.h), out to just
-  // beyond the largest radius.
-  const double reachPix = maxRadiusPix + 3.0;
+  // beyond the largest radius and not in the core: the annuli miss the cusp, and an arc near
+  // the core would join that residual and take its centroid inside the smallest radius.
+  const double reachPix = maxRadiusPix + 3.0, corePix = 0.8 * minRadiusPix;
   std::vector<std::uint8_t> above(std::size_t(w * h), 0);
   for (std::int64_t y = 0; y < h; ++y) {
     for (std::int64_t x = 0; x < w; ++x) {
-      if (std::hypot(double(x) - xPix, double(y) - yPix) > reachPix) continue;
+      const double d = std::hypot(double(x) - xPix, double(y) - yPix);
+      if (d > reachPix || d < corePix) continue;
       double r = 0, var = 0;
       for (std::int64_t v = std::max<std::int64_t>(y - 1, 0); v <= std::min(y + 1, h - 1); ++v) {
         for (std::int64_t u = std::max<std::int64_t>(x - 1, 0); u <= std::min(x + 1, w - 1); ++u) {

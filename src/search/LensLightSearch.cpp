@@ -184,7 +184,7 @@ void applyLensLight(SearchRun& run, const SearchRunSettings& settings, const Col
   ls.threads = settings.run.threads;
   // A residual object well below the S/N floor or unresolved will not make a candidate (the
   // margin: the residual's detection goes lower and catches more of it than the quick residual).
-  ls.prescreenMinSnr = 0.75 * settings.search.snrMin;
+  ls.prescreenMinSnr = 0.5 * settings.search.snrMin;
   ls.prescreenMinSizeArcsec = 0.75 * settings.search.resolvedMinArcsec;
   ls.searchRadiusArcsec = settings.search.lensRadiusArcsec;
   ls.fitHalfSideArcsec = settings.search.lensRadiusArcsec + 1.0;

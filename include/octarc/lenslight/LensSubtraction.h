@@ -106,12 +106,14 @@ struct Subtraction {
 // checks a run before its detection.
 void checkLensSelectColumns(const Table& catalog, const std::string& selectExpression);
 
-// The pre-screen's cheap model of a galaxy in `stamp`: the median of the pixels in elliptical
-// annuli 1 px wide about (xPix, yPix) (0-based), shaped by the second moments of the positive
-// pixels within 2" of it; a median, so that an arc covering part of an annulus stays in the
-// residual. Its residual, smoothed on 3 x 3 pixels, is cut at 3 sigma; the 8-connected pieces
-// whose centroid lies between minRadiusPix and maxRadiusPix from the centre are the objects,
-// with S/N = sum / sqrt(sum of variances) (sky noise only, a little above SNR_ISO).
+// The pre-screen's cheap model of a galaxy in `stamp`: the medians of the pixels in elliptical
+// annuli 1 px wide, linear between them, about (xPix, yPix) (0-based), shaped by the second moments
+// of the positive pixels within shapeRadiusPix of it (a median, so that an arc covering part of an
+// annulus stays in the residual; an arc or ring filling most of an annulus does not, which is why
+// the fit is robust). Its residual, smoothed on 3 x 3 pixels, is cut at 3 sigma outside a core of
+// 0.8 minRadiusPix (where the annuli miss the cusp, and an arc near it would join that piece);
+// the 8-connected pieces whose centroid lies between minRadiusPix and maxRadiusPix from the
+// centre are the objects, with S/N = sum / sqrt(sum of variances) (sky noise only).
 struct QuickResidualObject {
   double xPix = 0, yPix = 0;  // centroid, 0-based stamp pixels
   double fluxAdu = 0, snr = 0;

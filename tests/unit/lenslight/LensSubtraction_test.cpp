@@ -216,7 +216,9 @@ TEST(LensSubtraction, ThePrescreenFitsOnlyGalaxiesWithSomethingInTheirResidual) 
     return t;
   };
   SubtractionSettings s = settings();
+  // As a search with SNR_MIN 40, RESOLVED_MIN 1" and LENS_RADIUS 6" sets them.
   s.prescreenMinSnr = 20.0;
+  s.prescreenMinSizeArcsec = 0.75;
   s.searchRadiusArcsec = 6.0;
 
   const Subtraction alone =
@@ -225,7 +227,7 @@ TEST(LensSubtraction, ThePrescreenFitsOnlyGalaxiesWithSomethingInTheirResidual) 
   EXPECT_EQ(alone.galaxies[0].failure, kFitSkipped);
   EXPECT_FALSE(alone.galaxies[0].fitted());
   EXPECT_FALSE(alone.galaxies[0].subtracted());
-  EXPECT_TRUE(std::isnan(alone.galaxies[0].quickResidualSnr));
+  EXPECT_TRUE(std::isnan(alone.galaxies[0].quickResidualSnr)) << alone.galaxies[0].quickResidualSnr;
   EXPECT_EQ(alone.fittedCount(), 0);
   for (float v : alone.model.pixels()) ASSERT_EQ(v, 0.0f);
 
