@@ -14,8 +14,8 @@ grid, search space, SNR_MIN 40) is the demo's.
 
 Prints the README table (Markdown): completeness against theta_E and lens magnitude without and
 with subtraction, how many of the found lenses came from the residual (CAND_FLAGS 16), and the
-candidates that are no injected arc per deg2 in each run. A LOCAL field takes about a minute and
-a half on two threads."""
+candidates that are no injected arc per deg2 in each run. A field takes about ten seconds
+either way on two threads, most of it the simulation."""
 import argparse
 import os
 import re

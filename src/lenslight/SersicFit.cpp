@@ -59,6 +59,15 @@ struct StampResiduals {
   std::vector<std::int64_t> pixels;  // the fitted pixels' linear indices
   std::vector<double> inverseSigma;
   double psfSigmaPix;
+  double robustScale;  // SersicFitSettings::robustScaleSigma
+
+  // The residual whose square is the one-sided robust cost: Ceres minimises the sum of
+  // squares, and the numerical derivatives follow the transform.
+  double robust(double r) const {
+    if (!(robustScale > 0.0) || r <= 0.0) return r;
+    const double u = r / robustScale;
+    return robustScale * std::sqrt(std::log1p(u * u));
+  }
 
   bool operator()(double const* const* parameters, double* residuals) const {
     for (int i = 0; i < kParams; ++i) {
@@ -72,7 +81,7 @@ struct StampResiduals {
     const ImageD model = renderSersic(s, int(stamp->width()), int(stamp->height()), psfSigmaPix);
     for (std::size_t i = 0; i < pixels.size(); ++i) {
       const std::int64_t p = pixels[i];
-      residuals[i] = ((*stamp)[p] - model[p]) * inverseSigma[i];
+      residuals[i] = robust(((*stamp)[p] - model[p]) * inverseSigma[i]);
     }
     return true;
   }
@@ -124,7 +133,8 @@ SersicParams momentsStart(const ImageD& stamp) {
 SersicFitResult fitSersic(const ImageD& stamp, const ImageD& varianceAdu2,
                           const std::vector<std::uint8_t>& ignored, const SersicParams& start,
                           const SersicFitSettings& settings) {
-  auto* residuals = new StampResiduals{&stamp, {}, {}, settings.psfSigmaPix};
+  auto* residuals =
+      new StampResiduals{&stamp, {}, {}, settings.psfSigmaPix, settings.robustScaleSigma};
   for (std::int64_t p = 0; p < stamp.size(); ++p) {
     const double var = varianceAdu2[p];
     if (!ignored.empty() && ignored[std::size_t(p)] != 0) continue;
@@ -170,9 +180,12 @@ SersicFitResult fitSersic(const ImageD& stamp, const ImageD& varianceAdu2,
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::DENSE_QR;
   options.max_num_iterations = settings.maxIterations;
-  options.function_tolerance = 1e-12;
-  options.parameter_tolerance = 1e-12;
-  options.gradient_tolerance = 1e-14;
+  // Far below the parameters' errors (a relative change of 1e-7 of the cost is a change of chi^2
+  // of 1e-7 per pixel, where one sigma is a change of 1 in all), and reached in a few iterations
+  // where 1e-12 ran to the limit on noise.
+  options.function_tolerance = 1e-7;
+  options.parameter_tolerance = 1e-7;
+  options.gradient_tolerance = 1e-12;
   options.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
@@ -185,7 +198,13 @@ SersicFitResult fitSersic(const ImageD& stamp, const ImageD& varianceAdu2,
   constexpr double kAtBound = 1e-3;  // in log radius: 0.1 %
   out.radiusAtLimit = p[3] < std::log(settings.minHalfLightRadiusPix) + kAtBound ||
                       p[3] > std::log(maxRadiusPix) - kAtBound;
-  if (!summary.IsSolutionUsable()) return out;
+  out.shapeAtBound = p[4] < settings.minIndex * (1.0 + kAtBound) ||
+                     p[4] > settings.maxIndex * (1.0 - kAtBound) ||
+                     p[5] < settings.minAxisRatio * (1.0 + kAtBound) ||
+                     p[5] > (1.0 - kAtBound) / settings.minAxisRatio;
+  // A robust fit is a start for the masked one (LensLightSettings), whose errors are the ones
+  // reported: its own would cost another Jacobian.
+  if (!summary.IsSolutionUsable() || settings.robustScaleSigma > 0.0) return out;
 
   ceres::Covariance::Options covarianceOptions;
   covarianceOptions.algorithm_type = ceres::DENSE_SVD;
@@ -227,15 +246,19 @@ LensLightModel fitLensLightFrom(const ImageD& stamp, const ImageD& varianceAdu2,
   out.clipped.assign(std::size_t(stamp.size()), 0);
   SersicParams start = firstStart;
   const std::int64_t w = stamp.width(), h = stamp.height();
+  SersicFitSettings robust = settings.fit;
+  robust.robustScaleSigma = settings.robustScaleSigma;
+  robust.maxIterations = std::min(settings.fit.maxIterations, settings.robustMaxIterations);
   for (int round = 0;; ++round) {
-    out.fit = fitSersic(stamp, varianceAdu2, out.clipped, start, settings.fit);
+    out.fit =
+        fitSersic(stamp, varianceAdu2, out.clipped, start, round == 0 ? robust : settings.fit);
     out.model = renderSersic(out.fit.params, int(w), int(h), settings.fit.psfSigmaPix);
     out.residual = stamp;
     for (std::int64_t p = 0; p < stamp.size(); ++p) out.residual[p] -= out.model[p];
     if (round == settings.clipRounds) break;
     // Positive outliers, the residual over its noise averaged on 3 x 3 pixels (so that an arc's
-    // faint edges go with it, and single noise peaks stay).
-    std::vector<std::uint8_t> next(std::size_t(stamp.size()), 0);
+    // faint edges go with it, and single noise peaks stay), grown by a pixel.
+    std::vector<std::uint8_t> above(std::size_t(stamp.size()), 0);
     for (std::int64_t y = 0; y < h; ++y) {
       for (std::int64_t x = 0; x < w; ++x) {
         double sum = 0, var = 0;
@@ -244,18 +267,33 @@ LensLightModel fitLensLightFrom(const ImageD& stamp, const ImageD& varianceAdu2,
           for (std::int64_t u = std::max<std::int64_t>(x - 1, 0); u <= std::min(x + 1, w - 1);
                ++u) {
             const double r = out.residual(u, v), s2 = varianceAdu2(u, v);
-            if (!std::isfinite(r) || !(s2 > 0)) continue;
+            if (!std::isfinite(r) || !(s2 > 0) || !std::isfinite(s2)) continue;
             sum += r;
             var += s2;
             ++count;
           }
         }
         if (count > 0 && sum > settings.clipSigma * std::sqrt(var)) {
-          next[std::size_t(y * w + x)] = 1;
+          above[std::size_t(y * w + x)] = 1;
         }
       }
     }
-    if (next == out.clipped) break;
+    std::vector<std::uint8_t> next(std::size_t(stamp.size()), 0);
+    for (std::int64_t y = 0; y < h; ++y) {
+      for (std::int64_t x = 0; x < w; ++x) {
+        if (!above[std::size_t(y * w + x)]) continue;
+        for (std::int64_t v = std::max<std::int64_t>(y - 1, 0); v <= std::min(y + 1, h - 1); ++v) {
+          for (std::int64_t u = std::max<std::int64_t>(x - 1, 0); u <= std::min(x + 1, w - 1);
+               ++u) {
+            next[std::size_t(v * w + u)] = 1;
+          }
+        }
+      }
+    }
+    // The robust fit is always followed by a plain one (its errors); a plain fit whose mask
+    // stays the same is done.
+    const bool robustRound = round == 0 && settings.robustScaleSigma > 0.0;
+    if (next == out.clipped && !robustRound) break;
     out.clipped = std::move(next);
     start = out.fit.params;
   }

@@ -182,13 +182,20 @@ void applyLensLight(SearchRun& run, const SearchRunSettings& settings, const Col
   ls.pixelScaleArcsec = run.pixelScaleArcsec;
   ls.seeingFwhmArcsec = settings.run.seeingFwhmArcsec;
   ls.threads = settings.run.threads;
+  // A residual object well below the S/N floor or unresolved will not make a candidate (the
+  // margin: the residual's detection goes lower and catches more of it than the quick residual).
+  ls.prescreenMinSnr = 0.5 * settings.search.snrMin;
+  ls.prescreenMinSizeArcsec = 0.75 * settings.search.resolvedMinArcsec;
+  ls.searchRadiusArcsec = settings.search.lensRadiusArcsec;
+  ls.fitHalfSideArcsec = settings.search.lensRadiusArcsec + 1.0;
   if (log) log("> Fitting lens galaxies (LENS_SELECT " + ls.selectExpression + ")");
   run.lensLight = lenslight::subtractLensLight(run.image.hdu.pixels, run.image.variance,
                                                run.image.sigmaAdu, run.catalog, ls);
   const lenslight::Subtraction& sub = *run.lensLight;
   if (log) {
-    log("> " + std::to_string(sub.galaxies.size()) + " galaxies fitted, " +
-        std::to_string(sub.subtractedCount()) + " subtracted; detecting the residual");
+    log("> " + std::to_string(sub.galaxies.size()) + " galaxies chosen, " +
+        std::to_string(sub.fittedCount()) + " fitted, " + std::to_string(sub.subtractedCount()) +
+        " subtracted; detecting the residual");
   }
   PreparedImage residual = residualImage(run.image, sub, settings.run);
   ResidualCatalog found = detectResidual(residual, run, settings, columns);
@@ -260,7 +267,9 @@ FitsTable lensFitTable(const SearchRun& run) {
     return g.fit.degreesOfFreedom > 0 ? g.fit.chi2 / double(g.fit.degreesOfFreedom) : NAN;
   });
   integer("SERSIC_ITER", "solver iterations", [](const G& g) { return g.fit.iterations; });
-  integer("LENSFIT_FLAGS", "1 unconverged, 2 centre/radius, 4 few pixels",
+  column("QUICK_SNR", "", "S/N of the pre-screen's residual object (NaN: none)",
+         [](const G& g) { return g.quickResidualSnr; });
+  integer("LENSFIT_FLAGS", "1 unconv., 2 centre/radius, 4 few px, 8 at bound, 16 not fitted",
           [](const G& g) { return g.failure; });
   return t;
 }

@@ -644,14 +644,15 @@ std::vector<std::string> searchSummaryLines(const SearchRun& run,
     std::int64_t found = 0;
     for (const Candidate& c : run.result.candidates) found += (c.flags & kCandidateLensLight) != 0;
     const bool local = settings.lensLight.mode == lenslight::SubtractionMode::Local;
+    const std::int64_t fitted = sub.fittedCount();
     lines.push_back(std::string("Lens light (LENS_LIGHT ") + (local ? "LOCAL" : "IMAGE") +
-                    "): " + std::to_string(sub.galaxies.size()) + " galaxies fitted (" +
-                    settings.lensLight.selectExpression + "), " +
+                    "): " + std::to_string(sub.galaxies.size()) + " galaxies chosen (" +
+                    settings.lensLight.selectExpression + "), " + std::to_string(fitted) +
+                    " galaxies fitted (the others' quick residual holds nothing), " +
                     std::to_string(sub.subtractedCount()) + " subtracted, " +
-                    std::to_string(std::int64_t(sub.galaxies.size()) - sub.subtractedCount()) +
-                    " left in (fit failed); " + std::to_string(run.lensLightRows) +
-                    " residual rows near them; " + std::to_string(found) +
-                    " candidate(s) from the residual");
+                    std::to_string(fitted - sub.subtractedCount()) + " left in (fit failed); " +
+                    std::to_string(run.lensLightRows) + " residual rows near them; " +
+                    std::to_string(found) + " candidate(s) from the residual");
   }
   return lines;
 }

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -40,19 +41,37 @@ struct SubtractionSettings {
   // "MAG_ISO < 20.5 && E_IMAGE < 0.5 && FLAGS < 4": bright, not very elongated galaxies, neither
   // saturated (a star's core) nor cut by the image border.
   std::string selectExpression = "MAG_ISO < 20.5 && E_IMAGE < 0.5 && FLAGS < 4";
-  double cutoutArcsec = 20.0;   // side of the square fitted around each galaxy
+  double cutoutArcsec = 20.0;  // side of the square modelled around each galaxy
+  // Half the side of the square fitted, within the cut-out (0: the whole cut-out); the model is
+  // drawn over the whole cut-out. A search fits out to 1" beyond its LENS_RADIUS: the arcs it
+  // looks for lie inside, and the fit's cost goes with the pixels drawn.
+  double fitHalfSideArcsec = 0.0;
   double pixelScaleArcsec = 0;  // > 0
   double seeingFwhmArcsec = 0;  // the model's Gaussian PSF; 0: none
   LensLightSettings fit;        // psfSigmaPix is set from the seeing
   int threads = 1;
+  // The pre-screen (quickResidual below): a chosen galaxy is fitted only when the residual of a
+  // cheap model of it holds an object of at least this S/N and this size (sqrt(2) SIZE_IMAGE)
+  // between kMinLensArcArcsec and searchRadiusArcsec from its centre that the image does not
+  // already separate; 0 fits every chosen galaxy. A search sets them to 3/4 of its SNR_MIN and
+  // RESOLVED_MIN, below which no residual object makes a candidate (the margin: the search
+  // measures the residual at lower thresholds), and the radius to its LENS_RADIUS.
+  double prescreenMinSnr = 0.0;
+  double prescreenMinSizeArcsec = 0.0;
+  double searchRadiusArcsec = 6.0;
 };
 
-// Why a galaxy was left in the image (FittedGalaxy::failure), as bits of LENSFIT_FLAGS.
+// LENSFIT_FLAGS, the bits of FittedGalaxy::failure. 1, 2, 4 and 16 leave the galaxy in the
+// image; 8 is a warning, the model is subtracted.
 enum FitFailure : int {
   kFitNotConverged = 1,   // the solver stopped without converging
   kFitOutsideCutout = 2,  // the fitted centre left the cut-out, or the radius ran to a limit
   kFitTooFewPixels = 4,   // fewer usable pixels than parameters (bad weights, an edge)
+  kFitAtBound = 8,        // the index or the axis ratio ended on a bound (SersicFitSettings)
+  kFitSkipped = 16,       // not fitted: its quick residual holds nothing to search (pre-screen)
 };
+inline constexpr int kFitLeftInImage =
+    kFitNotConverged | kFitOutsideCutout | kFitTooFewPixels | kFitSkipped;
 
 struct FittedGalaxy {
   // Its level-1 row in the searched catalog (LENS_LIGHT IMAGE: moved to the row appended for it
@@ -62,9 +81,13 @@ struct FittedGalaxy {
   double xPix = 0, yPix = 0;    // the catalog's centroid, 1-based
   std::int64_t x0 = 0, y0 = 0;  // the cut-out's first pixel, 0-based
   std::int64_t width = 0, height = 0;
-  SersicFitResult fit;  // centre in cut-out pixels (0-based)
-  int failure = 0;      // FitFailure bits; 0: subtracted
-  bool subtracted() const { return failure == 0; }
+  SersicFitResult fit;  // centre in cut-out pixels (0-based); the start only when skipped
+  int failure = 0;      // FitFailure bits (LENSFIT_FLAGS)
+  // S/N of the brightest object of the pre-screen's quick residual that decided the fit (NaN:
+  // no pre-screen, or nothing in the residual).
+  double quickResidualSnr = std::numeric_limits<double>::quiet_NaN();
+  bool fitted() const { return (failure & kFitSkipped) == 0; }
+  bool subtracted() const { return (failure & kFitLeftInImage) == 0; }
   // The fitted centre as 1-based image pixels.
   double fittedXPix() const;
   double fittedYPix() const;
@@ -75,6 +98,7 @@ struct Subtraction {
   ImageF model;                        // every subtracted galaxy's model (ADU), image-sized
   ImageF residual;                     // pixels - model
   std::int64_t subtractedCount() const;
+  std::int64_t fittedCount() const;  // not skipped by the pre-screen
 };
 
 // ConfigError when `catalog` lacks a column subtractLensLight needs (X_IMAGE, Y_IMAGE,
@@ -82,8 +106,28 @@ struct Subtraction {
 // checks a run before its detection.
 void checkLensSelectColumns(const Table& catalog, const std::string& selectExpression);
 
+// The pre-screen's cheap model of a galaxy in `stamp`: the medians of the pixels in elliptical
+// annuli 1 px wide, linear between them, about (xPix, yPix) (0-based), shaped by the second moments
+// of the positive pixels within shapeRadiusPix of it (a median, so that an arc covering part of an
+// annulus stays in the residual; an arc or ring filling most of an annulus does not, which is why
+// the fit is robust). Its residual, smoothed on 3 x 3 pixels, is cut at 3 sigma outside a core of
+// 0.8 minRadiusPix (where the annuli miss the cusp, and an arc near it would join that piece);
+// the 8-connected pieces whose centroid lies between minRadiusPix and maxRadiusPix from the
+// centre are the objects, with S/N = sum / sqrt(sum of variances) (sky noise only).
+struct QuickResidualObject {
+  double xPix = 0, yPix = 0;  // centroid, 0-based stamp pixels
+  double fluxAdu = 0, snr = 0;
+  double sizePix = 0;  // sqrt(Ixx + Iyy) of its positive residual, as SIZE_IMAGE
+};
+std::vector<QuickResidualObject> quickResidual(const ImageD& stamp, const ImageD& varianceAdu2,
+                                               double xPix, double yPix, double shapeRadiusPix,
+                                               double minRadiusPix, double maxRadiusPix);
+
 // Chooses the galaxies among the level-1 rows of `catalog` (X_IMAGE, Y_IMAGE, THRESH_LEVEL and
-// the expression's columns), fits each in its cut-out of `pixels` (background-subtracted) with
+// the expression's columns; FLUX_ISO, when there, for the pre-screen), pre-screens each
+// (SubtractionSettings::prescreenMinSnr: an object of the quick residual with no row of the
+// catalog within 0.5" of it holding at least half its flux, i.e. not one the image already
+// separates), fits each in its cut-out of `pixels` (background-subtracted) with
 // per-pixel variances `varianceAdu2` (a weight map's; empty: sigmaAdu^2 everywhere), on
 // `settings.threads` threads, and builds the model and residual images. ConfigError for a bad
 // expression or settings; `progress` hears of each galaxy.

@@ -23,12 +23,13 @@ namespace octarc {
 void applyLensLight(SearchRun& run, const SearchRunSettings& settings, const ColumnPlan& columns,
                     const RunLog& log);
 
-// The FITS table of the fitted galaxies (EXTNAME LENSFIT), one row each, in catalog order:
+// The FITS table of the chosen galaxies (EXTNAME LENSFIT), one row each, in catalog order:
 // NUMBER of the galaxy's level-1 row in the image's detection, LENS_NUMBER (the candidates'
 // LENS_NUMBER of it, SearchRun::lensNumbers), X_IMAGE/Y_IMAGE (catalog), the fitted centre, flux,
 // half-light radius, index, axis ratio and angle with their errors, chi^2 per degree of
-// freedom, the solver's iterations and LENSFIT_FLAGS (lenslight::FitFailure bits; 0 =
-// subtracted).
+// freedom, the solver's iterations, the pre-screen's QUICK_SNR and LENSFIT_FLAGS
+// (lenslight::FitFailure bits: 0 or 8 subtracted, 8 an index or axis ratio at its bound, 16 not
+// fitted by the pre-screen; the parameters of a galaxy not fitted are its start).
 FitsTable lensFitTable(const SearchRun& run);
 
 }  // namespace octarc

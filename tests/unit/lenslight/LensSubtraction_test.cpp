@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "octarc/core/Error.h"
@@ -169,6 +170,98 @@ TEST(LensSubtraction, AFailedFitLeavesItsGalaxyInTheImage) {
   EXPECT_THROW(subtractLensLight(image, ImageF(), sigmaAdu, catalog, bad), ConfigError);
   bad.selectExpression = "FLUX_AUTO > 1";  // no such column
   EXPECT_THROW(subtractLensLight(image, ImageF(), sigmaAdu, catalog, bad), ConfigError);
+}
+
+// An arc in the halo: a ridge of Gaussian width 1.2 px along +-40 degrees of a circle of
+// `radiusPix` about (xPix, yPix) (1-based), towards +x, holding `fluxAdu` before the seeing.
+void addArc(ImageD& image, double xPix, double yPix, double radiusPix, double fluxAdu) {
+  ImageD arc(image.width(), image.height(), 0.0);
+  double total = 0;
+  for (std::int64_t y = 0; y < arc.height(); ++y) {
+    for (std::int64_t x = 0; x < arc.width(); ++x) {
+      const double dx = double(x) - (xPix - 1.0), dy = double(y) - (yPix - 1.0);
+      if (std::abs(std::atan2(dy, dx)) > 40.0 * std::numbers::pi / 180.0) continue;
+      arc(x, y) = std::exp(-0.5 * std::pow((std::hypot(dx, dy) - radiusPix) / 1.2, 2));
+      total += arc(x, y);
+    }
+  }
+  for (std::int64_t i = 0; i < arc.size(); ++i) image[i] += arc[i] * fluxAdu / total;
+}
+
+// The pre-screen: a bright galaxy alone is not fitted; with an arc in its halo it is; with a
+// neighbour it is unless the catalog already holds the neighbour as an object of its own.
+TEST(LensSubtraction, ThePrescreenFitsOnlyGalaxiesWithSomethingInTheirResidual) {
+  const double sigmaAdu = 4.0;
+  auto image = [&](bool arc, bool neighbour) {
+    ImageD sky(120, 120, 0.0);
+    addGalaxy(sky, 60.4, 60.2, 1.5e5, 7.0, 4.0, 0.75, 0.4);
+    if (arc) addArc(sky, 60.4, 60.2, 12.0, 4000.0);  // 3" from the centre, S/N about 100
+    if (neighbour) addGalaxy(sky, 60.0, 76.0, 4000.0, 1.5, 1.0, 0.8, 0.0);  // 4" away
+    ImageD seen = simulation::applyGaussianSeeing(sky, kSeeingArcsec / kScaleArcsec, 1.0);
+    std::mt19937_64 rng(8);
+    std::normal_distribution<double> noise(0.0, sigmaAdu);
+    for (double& v : seen.pixels()) v += noise(rng);
+    return toFloat(seen);
+  };
+  // The galaxy's row; the neighbour's own row (with most of its flux) when `separated`.
+  auto catalog = [](bool separated) {
+    Table t({spec("NUMBER"), spec("THRESH_LEVEL"), spec("X_IMAGE"), spec("Y_IMAGE"),
+             spec("MAG_ISO"), spec("FLUX_ISO")});
+    double* row = t.appendRow();
+    row[0] = 1, row[1] = 1, row[2] = 60.4, row[3] = 60.2, row[4] = 17.6, row[5] = 1.4e5;
+    if (separated) {
+      row = t.appendRow();
+      row[0] = 2, row[1] = 3, row[2] = 60.1, row[3] = 75.8, row[4] = 21.2, row[5] = 3500.0;
+    }
+    return t;
+  };
+  SubtractionSettings s = settings();
+  // As a search with SNR_MIN 40, RESOLVED_MIN 1" and LENS_RADIUS 6" sets them.
+  s.prescreenMinSnr = 20.0;
+  s.prescreenMinSizeArcsec = 0.75;
+  s.searchRadiusArcsec = 6.0;
+
+  const Subtraction alone =
+      subtractLensLight(image(false, false), ImageF(), sigmaAdu, catalog(false), s);
+  ASSERT_EQ(alone.galaxies.size(), 1u);
+  EXPECT_EQ(alone.galaxies[0].failure, kFitSkipped);
+  EXPECT_FALSE(alone.galaxies[0].fitted());
+  EXPECT_FALSE(alone.galaxies[0].subtracted());
+  EXPECT_TRUE(std::isnan(alone.galaxies[0].quickResidualSnr)) << alone.galaxies[0].quickResidualSnr;
+  EXPECT_EQ(alone.fittedCount(), 0);
+  for (float v : alone.model.pixels()) ASSERT_EQ(v, 0.0f);
+
+  const Subtraction withArc =
+      subtractLensLight(image(true, false), ImageF(), sigmaAdu, catalog(false), s);
+  ASSERT_TRUE(withArc.galaxies[0].subtracted()) << withArc.galaxies[0].failure;
+  EXPECT_GT(withArc.galaxies[0].quickResidualSnr, 50.0);
+  EXPECT_NEAR(withArc.galaxies[0].fit.params.sersicIndex, 4.0, 0.3);
+
+  const ImageF crowded = image(false, true);
+  EXPECT_TRUE(
+      subtractLensLight(crowded, ImageF(), sigmaAdu, catalog(false), s).galaxies[0].subtracted());
+  EXPECT_EQ(subtractLensLight(crowded, ImageF(), sigmaAdu, catalog(true), s).galaxies[0].failure,
+            kFitSkipped);
+
+  // Without the pre-screen every chosen galaxy is fitted.
+  s.prescreenMinSnr = 0.0;
+  EXPECT_TRUE(subtractLensLight(image(false, false), ImageF(), sigmaAdu, catalog(false), s)
+                  .galaxies[0]
+                  .subtracted());
+}
+
+TEST(LensSubtraction, AFitOnABoundIsFlaggedAndSubtracted) {
+  const double sigmaAdu = 4.0;
+  ImageD sky(100, 100, 0.0);
+  addGalaxy(sky, 50.0, 50.0, 1e5, 6.0, 4.0, 0.8, 0.0);
+  const ImageF image = toFloat(simulation::applyGaussianSeeing(sky, 3.6, 1.0));
+  SubtractionSettings s = settings();
+  s.fit.fit.maxIndex = 2.5;  // below the galaxy's 4
+  const Subtraction sub =
+      subtractLensLight(image, ImageF(), sigmaAdu, catalogOf({{1, 1, 50, 50}}), s);
+  EXPECT_EQ(sub.galaxies[0].failure, kFitAtBound);
+  EXPECT_TRUE(sub.galaxies[0].subtracted());
+  EXPECT_EQ(sub.subtractedCount(), 1);
 }
 
 TEST(LensSubtraction, ResidualRowsBelongToTheNearestSubtractedGalaxy) {
