@@ -61,7 +61,8 @@ TileCandidates tile(const std::string& name, double crpix1, const std::vector<Ro
   t.candidates.columns = {
       {"NUMBER", "", "", "", 1, number, "", ""},     {"NAME", "", "", "", 0, names, "", ""},
       {"ALPHA_J2000", "", "deg", "", 1, ra, "", ""}, {"DELTA_J2000", "", "deg", "", 1, dec, "", ""},
-      {"PROB", "", "", "", 1, prob, "", ""},         {"SPACES", "", "", "", 1, spaces, "", ""}};
+      {"LENS_SCORE", "", "", "", 1, prob, "", ""},   {"LENS_RANK", "", "", "", 1, number, "", ""},
+      {"SPACES", "", "", "", 1, spaces, "", ""}};
   t.candidates.keywords = {FitsKeyword::integer("NSPACES", 1), FitsKeyword::text("SPNAME1", "A015"),
                            FitsKeyword::text("SPEXPR1", "ARCNESS > 0.15")};
   return t;
@@ -79,10 +80,12 @@ TEST(SurveyMerge, OverlapCopiesKeptOnceAndTheUnionArea) {
   EXPECT_EQ(merged.tileCandidates, 6);
   EXPECT_EQ(merged.duplicatesRemoved, 1);
   ASSERT_EQ(merged.table.rows(), 5);
-  // By probability: B#1 (0.9), C#1 (0.7), A#2 (0.5), A#3 (0.4), B#2 (0.1).
+  // By LENS_SCORE: B#1 (0.9), C#1 (0.7), A#2 (0.5), A#3 (0.4), B#2 (0.1).
   EXPECT_EQ(merged.table.strings("TILE"), (std::vector<std::string>{"B", "C", "A", "A", "B"}));
   EXPECT_EQ(merged.table.integers("TILE_NUMBER"), (std::vector<std::int64_t>{1, 1, 2, 3, 2}));
   EXPECT_EQ(merged.table.integers("NUMBER"), (std::vector<std::int64_t>{1, 2, 3, 4, 5}));
+  // The rank is the survey's, not the tile's (A#3 was 3rd in its tile).
+  EXPECT_EQ(merged.table.integers("LENS_RANK"), (std::vector<std::int64_t>{1, 2, 3, 4, 5}));
   EXPECT_EQ(merged.table.strings("NAME")[0], "B-1");
   EXPECT_EQ(merged.keptPerTile, (std::vector<std::int64_t>{2, 2, 1}));
   ASSERT_EQ(merged.spaces.size(), 1u);
