@@ -1,6 +1,7 @@
 #include "octarc/calibration/LensModelTraining.h"
 
 #include <cmath>
+#include <unordered_map>
 #include <vector>
 
 #include "octarc/calibration/Weights.h"
@@ -24,27 +25,48 @@ SavedLensModel trainLensModel(const SimulationOutput& simulation, const Table& s
   const double scale = simulation.setup.pixelScaleArcsec;
   if (!(scale > 0.0)) throw ConfigError(simulation.path + ": no pixel scale (OCTPIXSC)");
   const Table& systems = simulation.systems;
-  if (systems.findColumn(arcContextColumns().front().name) < 0) {
+  if (simulation.arcs.findColumn(arcContextColumns().front().name) < 0) {
     throw ConfigError(simulation.path +
                       ": no context columns (CTX_...): made by an older octarc simulate lenses; "
                       "simulate again to train a model");
   }
   const int found = systems.requireColumn("ARC_FOUND", "model training");
   const int weightColumn = systems.requireColumn("SIM_WEIGHT", "model training");
-  const int arcRows = systems.requireColumn("N_ARC_ROWS", "model training");
-  const int simSnr = systems.requireColumn("SNR_ISO", "model training");
-  const int simSize = systems.requireColumn("SIZE_IMAGE", "model training");
-  std::vector<std::int64_t> arcs;
-  std::vector<double> arcWeights;
-  double rowsPerSystem = 0.0, systemsWeight = 0.0;
-  for (std::int64_t r = 0; r < systems.rows(); ++r) {
-    if (systems.value(r, found) != 1.0) continue;
-    const double w = systems.value(r, weightColumn);
-    rowsPerSystem += w * systems.value(r, arcRows);
-    systemsWeight += w;
-    if (!eligible(systems, r, simSnr, simSize, scale, settings)) continue;
+  const int systemColumn = systems.requireColumn("SYSTEM", "model training");
+  // Every arc row (every level) above the floor and resolved, as the search scores every row:
+  // each arc system weighs its SIM_WEIGHT, shared among its rows. The ARCS table follows the
+  // systems table (outputs in turn, each by SYSTEM), so its rows are matched to their systems
+  // in one walk (SYSTEM alone repeats across combined outputs).
+  const Table& arcTable = simulation.arcs;
+  const int arcSystem = arcTable.requireColumn("SYSTEM", "model training");
+  const int arcSnr = arcTable.requireColumn("SNR_ISO", "model training");
+  const int arcSize = arcTable.requireColumn("SIZE_IMAGE", "model training");
+  std::vector<std::int64_t> arcs, systemOfArc;
+  std::int64_t at = 0;
+  for (std::int64_t r = 0; r < arcTable.rows(); ++r) {
+    const double system = arcTable.value(r, arcSystem);
+    while (at < systems.rows() && systems.value(at, systemColumn) != system) ++at;
+    if (at == systems.rows()) {
+      throw ConfigError(simulation.path + ": ARCS row " + std::to_string(r + 1) +
+                        " belongs to no system of the systems table, in order");
+    }
+    if (systems.value(at, found) != 1.0 || !eligible(arcTable, r, arcSnr, arcSize, scale, settings)) {
+      continue;
+    }
     arcs.push_back(r);
-    arcWeights.push_back(w);
+    systemOfArc.push_back(at);
+  }
+  std::unordered_map<std::int64_t, int> rowsOfSystem;
+  for (const std::int64_t system : systemOfArc) ++rowsOfSystem[system];
+  std::vector<double> arcWeights;
+  double systemsWeight = 0.0, rowsPerSystem = 0.0;
+  for (std::int64_t r = 0; r < systems.rows(); ++r) {
+    if (systems.value(r, found) == 1.0) systemsWeight += systems.value(r, weightColumn);
+  }
+  for (const std::int64_t system : systemOfArc) {
+    const double w = systems.value(system, weightColumn);
+    arcWeights.push_back(w / rowsOfSystem[system]);
+    rowsPerSystem += w;  // summed over the system's rows: its weight times its rows
   }
   const int surveySnr = survey.requireColumn("SNR_ISO", "model training (survey catalog)");
   const int surveySize = survey.requireColumn("SIZE_IMAGE", "model training (survey catalog)");
@@ -59,7 +81,7 @@ SavedLensModel trainLensModel(const SimulationOutput& simulation, const Table& s
   }
   const std::vector<ArcContext> contexts =
       arcContexts(survey, {scale, settings.contextRadiusArcsec});
-  const FeatureRows arcFeatures = lensFeatures(systems, arcs, scale, nullptr);
+  const FeatureRows arcFeatures = lensFeatures(arcTable, arcs, scale, nullptr);
   const FeatureRows otherFeatures = lensFeatures(survey, others, scale, &contexts);
 
   // The arcs' weights scaled to the survey rows' sum: the classes weigh the same.

@@ -62,22 +62,28 @@ class SearchTrees(WorkDirTest):
     def test_model_header_counts_the_rows_trained_on(self):
         h = fits.getheader(self.model, "LENS_MODEL")
         systems = fits.getdata(self.sim, "LDAC_OBJECTS")
-        arc = systems["ARC_FOUND"] == 1
-        usable = arc & (systems["SNR_ISO"] > 40) & (
-            np.sqrt(2) * systems["SIZE_IMAGE"] * SCALE > 1.0)
+        arcs = fits.getdata(self.sim, "ARCS")
+        found = systems["ARC_FOUND"] == 1
+        weight = dict(zip(systems["SYSTEM"][found], systems["SIM_WEIGHT"][found].astype(float)))
+        # Every arc row (every level) above the floor and resolved; each arc system weighs its
+        # SIM_WEIGHT, shared among its rows.
+        usable = np.array([s in weight for s in arcs["SYSTEM"]]) & (arcs["SNR_ISO"] > 40) & (
+            np.sqrt(2) * arcs["SIZE_IMAGE"] * SCALE > 1.0)
         rows = fits.getdata(self.catalog, "LDAC_OBJECTS")
         others = (rows["SNR_ISO"] > 40) & (np.sqrt(2) * rows["SIZE_IMAGE"] * SCALE > 1.0)
         self.assertGreater(usable.sum(), 10)
         self.assertEqual(h["NARC"], usable.sum())
         self.assertEqual(h["NOTHER"], others.sum())
-        # The classes weigh the same: the arcs' SIM_WEIGHT scaled to the other rows' count.
+        # The classes weigh the same: the arcs' weights scaled to the other rows' count.
         self.assertEqual(h["ARCWEIGH"], others.sum())
         self.assertEqual(h["OTHWEIGH"], others.sum())
-        w = systems["SIM_WEIGHT"][usable].astype(float)
+        systems_used, per_system = np.unique(arcs["SYSTEM"][usable], return_counts=True)
+        count = dict(zip(systems_used, per_system))
+        w = np.array([weight[s] / count[s] for s in arcs["SYSTEM"][usable]])
         self.assertAlmostEqual(h["NEFFARC"], w.sum() ** 2 / (w ** 2).sum(), places=6)
-        wa = systems["SIM_WEIGHT"][arc].astype(float)
-        self.assertAlmostEqual(h["ARCROWS"],
-                               (wa * systems["N_ARC_ROWS"][arc]).sum() / wa.sum(), places=9)
+        # ARCROWS: the usable rows per arc system, every arc system counted.
+        expected = sum(weight[s] * count[s] for s in count) / sum(weight.values())
+        self.assertAlmostEqual(h["ARCROWS"], expected, places=9)
         self.assertEqual(h["ROUNDS"], 60)
         self.assertEqual(h["DEPTH"], 4)
         self.assertEqual([h["FEAT%d" % i] for i in range(1, h["NFEAT"] + 1)][:4],

@@ -2,8 +2,9 @@
 // trees that tell the simulated arcs of a lens population from a survey's own objects, the
 // paper's premise being that nearly every survey object is not a lens.
 //
-//   simulated arcs (ARC_FOUND = 1, with the context columns simulate lenses writes; weighted by
-//   SIM_WEIGHT) + the survey catalog's rows (every level; context computed here)
+//   simulated arcs (every arc row, every level, of the ARC_FOUND = 1 systems, with the context
+//   columns simulate lenses writes; each system weighs its SIM_WEIGHT, shared among its rows)
+//   + the survey catalog's rows (every level; context computed here)
 //   --> rows above the S/N floor and resolved, as the search takes them
 //   --> the two classes weighted to equal sums --> selection/TreeModel.h --> the model file
 #pragma once

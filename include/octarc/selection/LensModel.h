@@ -17,10 +17,11 @@
 //
 // File layout: an empty primary HDU and one BINTABLE, LENS_MODEL. Header: OCTMODEL (format 1),
 // METHOD ("TREES"), NFEAT and FEATn (the features), CTXRAD (the context's reach, arcsec), the
-// training (NARC simulated arc rows, ARCWEIGH their SIM_WEIGHT sum, NEFFARC their Kish effective
-// number, NOTHER other rows, OTHWEIGH their weight, SNRMIN and RESMIN the rows' S/N floor and
-// resolved size in arcsec, ROUNDS, DEPTH, ETA, SUBSAMPL, TRSEED), ARCROWS (mean arc rows per
-// simulated arc system, every level: N_ARC_ROWS) and the survey setup (SurveySetup.h), MODELLEN
+// training (NARC simulated arc rows, every level, ARCWEIGH their weight, NEFFARC their Kish
+// effective number, NOTHER other rows, OTHWEIGH their weight, SNRMIN and RESMIN the rows' S/N
+// floor and resolved size in arcsec, ROUNDS, DEPTH, ETA, SUBSAMPL, TRSEED), ARCROWS (the mean
+// number of such arc rows per simulated arc system, ARC_FOUND = 1, weighted) and the survey
+// setup (SurveySetup.h), MODELLEN
 // (characters of the model). One column MODEL of 1000-character strings: XGBoost's JSON model,
 // cut in order (the last string shorter).
 #pragma once
@@ -53,7 +54,7 @@ struct LensModelTraining {
   double otherWeight = 0.0;
   double snrMin = 0.0;
   double resolvedMinArcsec = 0.0;
-  double arcRowsPerSystem = 1.0;  // mean N_ARC_ROWS of the arc systems (weighted)
+  double arcRowsPerSystem = 1.0;  // mean arc rows trained on per arc system (weighted)
   TreeTraining trees;
 };
 
