@@ -52,7 +52,8 @@ def run_field(octarc, seed, lenses, population, mode, out):
     flags) and the searched area in deg2."""
     subprocess.run([octarc, "demo", "--seed", str(seed), "--lenses", str(lenses), "--out", out,
                     "--population", population, "--min-einstein-radius", "1",
-                    "--max-einstein-radius", "3", "--lens-light", mode, "--quiet"], check=True,
+                    "--max-einstein-radius", "3", "--lens-light", mode, "--method", "GRID",
+                    "--quiet"], check=True,
                    stdout=subprocess.DEVNULL)
     systems = np.loadtxt(os.path.join(out, "injection-systems.txt"), ndmin=2)
     with warnings.catch_warnings():
