@@ -6,7 +6,7 @@
 #                           rows of a simulated 4096^2 field of that setup without lenses
 #                           (`octarc demo --seed 1001 --lenses 0`, a seed no study uses), rows
 #                           above S/N 40 and resolved, as the demo searches them.
-# About 15 CPU-minutes. Usage: scripts/make-models.sh [path/to/octarc]
+# About 10 CPU-minutes (7 minutes on two cores). Usage: scripts/make-models.sh [path/to/octarc]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 octarc=${1:-build/release/bin/octarc}
@@ -19,7 +19,8 @@ for seed in 11 12; do
   outputs+=("$work/demo-$seed.fits")
 done
 wait
-"$octarc" demo --seed 1001 --size 4096 --lenses 0 --out "$work/field" --quiet > /dev/null
+"$octarc" demo --seed 1001 --size 4096 --lenses 0 --method GRID --out "$work/field" --quiet \
+  > /dev/null
 "$octarc" calibrate "${outputs[@]}" -SURVEY_CATALOG "$work/field/field.ldac" \
   -MODEL_NAME "$work/demo.model.fits" -GRID_NAME NONE -NOISE_STUDY N -CHECKPLOT_TYPE NONE \
   -CALIBRATION_NAME "$work/calibration.fits" > "$work/summary.txt"
