@@ -15,7 +15,8 @@ from .cpp files of the io and catalog stages: public headers never expose fitsio
   - <fitsio.h>, <longnam.h> and <wcslib/...> only from the io and catalog stages, and from no
     public header other than those of include/octarc/io/detail/;
   - a private header in src/<stage>/ only from files of that stage;
-  - <mpi.h> only from the .cpp files of the cluster stage.
+  - <mpi.h> only from the .cpp files of the cluster stage;
+  - <xgboost/...> only from src/selection/TreeModel.cpp (the learned selection's trees).
 
 Usage: /usr/bin/python3 scripts/check-layering.py [SOURCE_DIR]
 Output: one line per violation, "file:line: <stage> includes <stage> (why)", and exit status 1;
@@ -58,6 +59,8 @@ DETAIL_PREFIX = "octarc/io/detail/"
 INCLUDE = re.compile(r'^\s*#\s*include\s*([<"])([^>"]+)[>"]')
 WRAPPED_LIBRARY = re.compile(r"^(fitsio2?\.h|longnam\.h|wcslib/.*|wcslib\.h)$")
 MPI_HEADER = re.compile(r"^mpi\.h$")  # MPI: only in the .cpp files of the cluster stage
+XGBOOST_HEADER = re.compile(r"^xgboost/")  # XGBoost: only in its wrapper
+XGBOOST_WRAPPER = "src/selection/TreeModel.cpp"
 
 
 def stage_folders(name, folders):
@@ -156,6 +159,9 @@ def check_file(source_dir, relpath, order, target_of, visible):
         if MPI_HEADER.match(header) and (stage != "cluster" or relpath.startswith("include/")):
             problems.append("%s includes %s (MPI is used only by the .cpp files of the cluster "
                             "stage)" % (where, header))
+        if XGBOOST_HEADER.match(header) and relpath != XGBOOST_WRAPPER:
+            problems.append("%s includes %s (XGBoost is used only by %s)"
+                            % (where, header, XGBOOST_WRAPPER))
         if WRAPPED_LIBRARY.match(header):
             if stage not in WRAPPING_STAGES:
                 problems.append("%s includes %s (cfitsio and wcslib are used only by the io and "

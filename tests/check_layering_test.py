@@ -142,6 +142,20 @@ class CheckLayeringTest(unittest.TestCase):
         self.assertReported(lines, "src/run/Batch.cpp:1: run includes mpi.h", "cluster stage")
         self.assertEqual(len(lines), 2, lines)
 
+    def test_xgboost_outside_its_wrapper(self):
+        write_tree(self.root, {
+            "src/selection/TreeModel.cpp": "#include <xgboost/c_api.h>\n",  # the one place
+            "src/selection/Other.cpp": "#include <xgboost/c_api.h>\n",
+            "include/octarc/selection/TreeModel.h": "#include <xgboost/c_api.h>\n",
+        })
+        status, lines = run_checker(self.root)
+        self.assertEqual(status, 1)
+        self.assertReported(lines, "src/selection/Other.cpp:1: selection includes xgboost/c_api.h",
+                            "only by src/selection/TreeModel.cpp")
+        self.assertReported(lines, "include/octarc/selection/TreeModel.h:1: selection includes "
+                            "xgboost/c_api.h", "only by src/selection/TreeModel.cpp")
+        self.assertEqual(len(lines), 2, lines)
+
     def test_cfitsio_outside_io(self):
         write_tree(self.root, {
             "src/simulation/Table.cpp": "#include <fitsio.h>\n",

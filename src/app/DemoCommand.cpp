@@ -264,8 +264,8 @@ int runDemo(const std::vector<std::string>& args) {
       "lens model (default: the shipped demo model; octarc calibrate -MODEL_NAME)");
   add("score-min", po::value<double>(), "the search's SCORE_MIN (default: 0.01 with TREES, 0)");
   add("lens-density", po::value<double>(),
-      "LENS_DENSITY, the prior of LENS_SCORE (default: the injected lenses per deg2, 1 "
-      "without)");
+      "LENS_DENSITY, the prior of LENS_SCORE (default: the injected lenses per deg2, each "
+      "counted as an arc; 1 without)");
   add("lens-light", po::value<std::string>()->default_value("N"),
       "the search's LENS_LIGHT: N, LOCAL or IMAGE");
   add("population", po::value<std::string>(),

@@ -34,27 +34,34 @@ SavedLensModel trainLensModel(const SimulationOutput& simulation, const Table& s
   const int weightColumn = systems.requireColumn("SIM_WEIGHT", "model training");
   const int systemColumn = systems.requireColumn("SYSTEM", "model training");
   // Every arc row (every level) above the floor and resolved, as the search scores every row:
-  // each arc system weighs its SIM_WEIGHT, shared among its rows. The ARCS table follows the
-  // systems table (outputs in turn, each by SYSTEM), so its rows are matched to their systems
-  // in one walk (SYSTEM alone repeats across combined outputs).
+  // each arc system weighs its SIM_WEIGHT, shared among its rows. Within each combined output
+  // the ARCS table follows the systems table by SYSTEM, so its rows are matched to their
+  // systems in one walk per output (SYSTEM alone repeats across outputs).
   const Table& arcTable = simulation.arcs;
   const int arcSystem = arcTable.requireColumn("SYSTEM", "model training");
   const int arcSnr = arcTable.requireColumn("SNR_ISO", "model training");
   const int arcSize = arcTable.requireColumn("SIZE_IMAGE", "model training");
   std::vector<std::int64_t> arcs, systemOfArc;
-  std::int64_t at = 0;
-  for (std::int64_t r = 0; r < arcTable.rows(); ++r) {
-    const double system = arcTable.value(r, arcSystem);
-    while (at < systems.rows() && systems.value(at, systemColumn) != system) ++at;
-    if (at == systems.rows()) {
-      throw ConfigError(simulation.path + ": ARCS row " + std::to_string(r + 1) +
-                        " belongs to no system of the systems table, in order");
+  const std::size_t outputs = simulation.systemsStart.size();
+  for (std::size_t k = 0; k < outputs; ++k) {
+    std::int64_t at = simulation.systemsStart[k];
+    const std::int64_t systemsEnd =
+        k + 1 < outputs ? simulation.systemsStart[k + 1] : systems.rows();
+    const std::int64_t arcsEnd = k + 1 < outputs ? simulation.arcsStart[k + 1] : arcTable.rows();
+    for (std::int64_t r = simulation.arcsStart[k]; r < arcsEnd; ++r) {
+      const double system = arcTable.value(r, arcSystem);
+      while (at < systemsEnd && systems.value(at, systemColumn) != system) ++at;
+      if (at == systemsEnd) {
+        throw ConfigError(simulation.path + ": ARCS row " + std::to_string(r + 1) +
+                          " belongs to no system of its output's systems table, in order");
+      }
+      if (systems.value(at, found) != 1.0 ||
+          !eligible(arcTable, r, arcSnr, arcSize, scale, settings)) {
+        continue;
+      }
+      arcs.push_back(r);
+      systemOfArc.push_back(at);
     }
-    if (systems.value(at, found) != 1.0 || !eligible(arcTable, r, arcSnr, arcSize, scale, settings)) {
-      continue;
-    }
-    arcs.push_back(r);
-    systemOfArc.push_back(at);
   }
   std::unordered_map<std::int64_t, int> rowsOfSystem;
   for (const std::int64_t system : systemOfArc) ++rowsOfSystem[system];

@@ -269,6 +269,8 @@ SimulationOutput combineSimulationOutputs(std::vector<SimulationOutput> outputs)
       throw ConfigError(o.path + ": simulated for another survey setup than " + out.path + " (" +
                         differences.front() + ")");
     }
+    out.systemsStart.push_back(out.systems.rows());
+    out.arcsStart.push_back(out.arcs.rows());
     for (Table* t : {&o.systems, &o.arcs}) {
       Table& into = t == &o.systems ? out.systems : out.arcs;
       bool sameColumns = t->columns().size() == into.columns().size();

@@ -534,6 +534,7 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
 
   SearchSettings search = settings.search;
   search.pixelScaleArcsec = run.pixelScaleArcsec;
+  search.threads = resolveThreads(settings.run.threads);
   SearchInput input;
   input.catalog = &run.catalog;
   input.grid = run.grid ? &*run.grid : nullptr;
@@ -689,6 +690,7 @@ void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings
   const fs::path root = tempPath;
   SearchSettings search = settings.search;
   search.pixelScaleArcsec = run.pixelScaleArcsec;
+  search.threads = resolveThreads(settings.run.threads);
   const Table& catalog = run.catalog;
   const Wcs* wcs = run.image.wcs ? &*run.image.wcs : nullptr;
   // An error names the temporary folder; writeSearchOutputs puts OUTPUT_DIR in its place.

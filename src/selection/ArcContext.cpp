@@ -111,7 +111,8 @@ std::vector<ArcContext> arcContexts(const Table& catalog, const ArcContextSettin
     level[i] = catalog.value(r, col[2]);
     parent[i] = catalog.value(r, col[4]);
     flux[i] = catalog.value(r, col[5]);
-    rowOf[treeKey(level[i], catalog.value(r, col[3]))] = i;
+    const double number = catalog.value(r, col[3]);
+    if (std::isfinite(level[i]) && std::isfinite(number)) rowOf[treeKey(level[i], number)] = i;
   }
   const double maxPix = settings.maxDistanceArcsec / settings.pixelScaleArcsec;
   // The counter-image lies up to kCounterMaxRatio neighbour distances beyond the neighbour.
@@ -120,7 +121,11 @@ std::vector<ArcContext> arcContexts(const Table& catalog, const ArcContextSettin
   std::vector<ArcContext> out(n, none);
   std::vector<std::size_t> ancestors;
   for (std::size_t i = 0; i < n; ++i) {
-    if (!std::isfinite(x[i]) || !std::isfinite(y[i]) || !std::isfinite(flux[i])) continue;
+    // Not a row to describe: no position, no positive flux, or no place in the component tree.
+    if (!std::isfinite(x[i]) || !std::isfinite(y[i]) || !(flux[i] > 0.0) ||
+        !std::isfinite(level[i]) || !std::isfinite(parent[i])) {
+      continue;
+    }
     ancestors.clear();
     for (std::size_t walk = i; level[walk] > 1.0;) {
       const auto up = rowOf.find(treeKey(level[walk] - 1.0, parent[walk]));
@@ -169,7 +174,7 @@ std::vector<ArcContext> arcContexts(const Table& catalog, const ArcContextSettin
     double counterDist = 0.0;
     const double cosMin = std::cos(kCounterMinAngleDeg * kRadPerDeg);
     cells.forEachNear(x[nb], y[nb], [&](std::size_t j) {
-      if (j == i || j == nb || isAncestor(j) || !(flux[j] < flux[nb])) return;
+      if (j == i || j == nb || isAncestor(j) || !(flux[j] < flux[nb]) || !(flux[j] > 0.0)) return;
       const double ex = x[j] - x[nb], ey = y[j] - y[nb];
       const double d = std::hypot(ex, ey);
       if (d <= kCounterMinRatio * nbDist || d > kCounterMaxRatio * nbDist) return;

@@ -85,6 +85,10 @@ FeatureRows lensFeatures(const Table& table, const std::vector<std::int64_t>& ro
       }
     }
   }
+  // XGBoost reads NaN as missing, but refuses infinities (a zero flux or size): missing too.
+  for (float& v : out.values) {
+    if (!std::isfinite(v)) v = std::numeric_limits<float>::quiet_NaN();
+  }
   return out;
 }
 
@@ -165,14 +169,16 @@ SavedLensModel loadLensModel(const std::string& path) {
     throw IoError(t.where() + ": ARCWEIGH, OTHWEIGH and ARCROWS must be positive");
   }
   m.setup = readSetup(t);
-  const auto length = std::size_t(t.integer("MODELLEN"));
+  const std::int64_t modelLength = t.integer("MODELLEN");
+  if (modelLength <= 0) throw IoError(t.where() + ": MODELLEN must be positive");
+  const auto length = std::size_t(modelLength);
   std::string json;
   json.reserve(length);
   // Reading strips trailing blanks: each string is padded back to its written length.
   for (const std::string& chunk : t.strings("MODEL")) {
+    const std::size_t want = std::min(kChunk, length - std::min(length, json.size()));
     json += chunk;
-    const std::size_t want = std::min(length, (json.size() + kChunk - 1) / kChunk * kChunk);
-    if (json.size() < want) json.append(want - json.size(), ' ');
+    if (chunk.size() < want) json.append(want - chunk.size(), ' ');
   }
   if (json.size() != length) {
     throw IoError(t.where() + ": the model holds " + std::to_string(json.size()) +

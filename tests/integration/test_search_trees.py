@@ -32,6 +32,9 @@ class SearchTrees(WorkDirTest):
         cls.sim = os.path.join(cls.dir, "sim.fits")
         run_octarc("simulate", "lenses", "-n", "8000", "--seed", "7", "--preset", "dls",
                    "--sky-sigma", "1.283", "-o", cls.sim, "--quiet")
+        cls.sim2 = os.path.join(cls.dir, "sim2.fits")
+        run_octarc("simulate", "lenses", "-n", "4000", "--seed", "8", "--preset", "dls",
+                   "--sky-sigma", "1.283", "-o", cls.sim2, "--quiet")
         cls.field_dir = os.path.join(cls.dir, "field")
         run_octarc("demo", "--size", "1024", "--lenses", "4", "--seed", "3", "--out",
                    cls.field_dir, "--quiet")
@@ -45,8 +48,8 @@ class SearchTrees(WorkDirTest):
         shutil.rmtree(cls.dir)
 
     @classmethod
-    def train(cls, model, *extra):
-        return run_octarc("calibrate", cls.sim, "-SURVEY_CATALOG", cls.catalog, "-MODEL_NAME",
+    def train(cls, model, *extra, sims=None):
+        return run_octarc("calibrate", *(sims or [cls.sim]), "-SURVEY_CATALOG", cls.catalog, "-MODEL_NAME",
                           model, "-MODEL_TREES", "60,4", "-GRID_NAME", "NONE", "-NOISE_STUDY",
                           "N", "-CHECKPLOT_TYPE", "NONE", "-CALIBRATION_NAME",
                           os.path.join(cls.dir, "cal-%d.fits" % os.getpid()), *extra,
@@ -59,41 +62,58 @@ class SearchTrees(WorkDirTest):
                           "-OUTPUT_DIR", self.path(out), "-STAMPS", "N", *extra, check=check,
                           cwd=self.work)
 
-    def test_model_header_counts_the_rows_trained_on(self):
-        h = fits.getheader(self.model, "LENS_MODEL")
-        systems = fits.getdata(self.sim, "LDAC_OBJECTS")
-        arcs = fits.getdata(self.sim, "ARCS")
+    def usable_arcs(self, sim):
+        """The arc rows a model is trained on, their weights, and the ARCROWS sums."""
+        systems = fits.getdata(sim, "LDAC_OBJECTS")
+        arcs = fits.getdata(sim, "ARCS")
         found = systems["ARC_FOUND"] == 1
         weight = dict(zip(systems["SYSTEM"][found], systems["SIM_WEIGHT"][found].astype(float)))
         # Every arc row (every level) above the floor and resolved; each arc system weighs its
         # SIM_WEIGHT, shared among its rows.
         usable = np.array([s in weight for s in arcs["SYSTEM"]]) & (arcs["SNR_ISO"] > 40) & (
             np.sqrt(2) * arcs["SIZE_IMAGE"] * SCALE > 1.0)
+        systems_used, per_system = np.unique(arcs["SYSTEM"][usable], return_counts=True)
+        count = dict(zip(systems_used, per_system))
+        w = np.array([weight[s] / count[s] for s in arcs["SYSTEM"][usable]])
+        return w, sum(weight[s] * count[s] for s in count), sum(weight.values())
+
+    def test_model_header_counts_the_rows_trained_on(self):
+        h = fits.getheader(self.model, "LENS_MODEL")
+        w, rows_weight, systems_weight = self.usable_arcs(self.sim)
         rows = fits.getdata(self.catalog, "LDAC_OBJECTS")
         others = (rows["SNR_ISO"] > 40) & (np.sqrt(2) * rows["SIZE_IMAGE"] * SCALE > 1.0)
-        self.assertGreater(usable.sum(), 10)
-        self.assertEqual(h["NARC"], usable.sum())
+        self.assertGreater(len(w), 10)
+        self.assertEqual(h["NARC"], len(w))
         self.assertEqual(h["NOTHER"], others.sum())
         # The classes weigh the same: the arcs' weights scaled to the other rows' count.
         self.assertEqual(h["ARCWEIGH"], others.sum())
         self.assertEqual(h["OTHWEIGH"], others.sum())
-        systems_used, per_system = np.unique(arcs["SYSTEM"][usable], return_counts=True)
-        count = dict(zip(systems_used, per_system))
-        w = np.array([weight[s] / count[s] for s in arcs["SYSTEM"][usable]])
         self.assertAlmostEqual(h["NEFFARC"], w.sum() ** 2 / (w ** 2).sum(), places=6)
         # ARCROWS: the usable rows per arc system, every arc system counted.
-        expected = sum(weight[s] * count[s] for s in count) / sum(weight.values())
-        self.assertAlmostEqual(h["ARCROWS"], expected, places=9)
+        self.assertAlmostEqual(h["ARCROWS"], rows_weight / systems_weight, places=9)
+
+        # Two outputs together (their SYSTEM numbers repeat): each arc row is weighed by its
+        # own output's system.
+        both = self.path("both.model.fits")
+        self.train(both, sims=[self.sim, self.sim2])
+        hb = fits.getheader(both, "LENS_MODEL")
+        w2, rows2, systems2 = self.usable_arcs(self.sim2)
+        self.assertEqual(hb["NARC"], len(w) + len(w2))
+        wb = np.concatenate([w, w2])
+        self.assertAlmostEqual(hb["NEFFARC"], wb.sum() ** 2 / (wb ** 2).sum(), places=6)
+        self.assertAlmostEqual(hb["ARCROWS"], (rows_weight + rows2) / (systems_weight + systems2),
+                               places=9)
         self.assertEqual(h["ROUNDS"], 60)
         self.assertEqual(h["DEPTH"], 4)
         self.assertEqual([h["FEAT%d" % i] for i in range(1, h["NFEAT"] + 1)][:4],
                          ["ARCNESS", "ANTIARCNESS", "E_IMAGE", "log10(SNR_ISO)"])
         # The simulated arcs carry the context columns the model reads.
-        self.assertIn("CTX_NB_DIST", systems.columns.names)
+        self.assertIn("CTX_NB_DIST", fits.getdata(self.sim, "ARCS").columns.names)
 
-    def test_training_is_reproducible_on_any_thread_count(self):
+    def test_training_is_reproducible(self):
+        # Trained again from the same files and seed (on one thread, always): the same model.
         again = self.path("again.model.fits")
-        self.train(again, "-NTHREADS", "1")
+        self.train(again)
         a = fits.getdata(self.model, "LENS_MODEL")["MODEL"]
         b = fits.getdata(again, "LENS_MODEL")["MODEL"]
         self.assertEqual(list(a), list(b))
@@ -109,7 +129,7 @@ class SearchTrees(WorkDirTest):
         self.assertTrue(np.all((score > 0) & (score < 1)))
         self.assertEqual(list(t["LENS_RANK"]), list(range(1, len(t) + 1)))
         self.assertEqual(list(t["NUMBER"]), list(t["LENS_RANK"]))
-        # The same scores on one thread.
+        # The same scores with the trees predicting on one thread (NTHREADS).
         self.search("one", "-NTHREADS", "1")
         np.testing.assert_array_equal(
             fits.getdata(self.path("one/candidates.fits"), "LDAC_OBJECTS")["LENS_SCORE"], score)

@@ -24,6 +24,9 @@ struct SimulationOutput {
   std::string band;            // OCTBAND: the second band (simulate lenses --band), "" for none
   FitsHeader header;           // its LDAC_IMHEAD (the run's OCT* cards)
   int outputs = 1;             // how many outputs were combined into this one
+  // Where each combined output's rows start in `systems` and in `arcs` (one entry per output;
+  // SYSTEM repeats across outputs, so an arc row's system is looked for within its output).
+  std::vector<std::int64_t> systemsStart = {0}, arcsStart = {0};
 };
 
 // The source galaxies of a run to remake: a RealGalaxyCatalog, or the synthetic generator as

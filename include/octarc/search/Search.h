@@ -18,7 +18,8 @@
 //
 // LENS_SCORE reads as the expected fraction of lens arcs among rows of that score: the odds of
 // an arc row against another row, times the prior odds, the prior being LENS_DENSITY arc systems
-// per deg2 seen in ARCROWS rows each among the rows above the S/N floor and resolved
+// per deg2 seen in ARCROWS rows each (the model's; 1 for GRID) among the rows above the S/N
+// floor and resolved
 // (selection/LensModel.h, searchPriorFraction). TREES: the model's odds. GRID: the ratio of the
 // arcs' density in the row's bin (its occupation probability) to the searched rows' own density
 // there (the bin's share of them, one row added to every bin), so that a bin the survey fills is

@@ -24,7 +24,10 @@
 //     neighbour, the brightest. CTX_COUNTER: its distance from the neighbour over the row's;
 //     CTX_COUNTER_DMAG: its magnitude minus the row's.
 // NaN for what does not exist (no neighbour: every column; no counter-image: the two CTX_COUNTER
-// columns), and for rows whose position or flux is not finite.
+// columns), and for rows whose position is not finite, whose FLUX_ISO is not positive or whose
+// THRESH_LEVEL or PARENT_NUMBER is not finite; rows of no positive flux are never neighbours'
+// counter-images. A neighbour of SIZE_IMAGE 0 gives an infinite CTX_NB_DSIZE (the features read
+// it as missing, selection/LensModel.h).
 #pragma once
 
 #include <string>

@@ -8,7 +8,6 @@
 #pragma once
 
 #include <cstdint>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -49,7 +48,8 @@ class TreeModel {
 
   int features() const { return features_; }
   // The log-odds (margin) of label 1 for each row, as the training weights gave it. `threads`:
-  // 0 for every core. ConfigError for rows of another width.
+  // 0 for every core. ConfigError for rows of another width. It sets the model's thread count,
+  // so one model is not to be used from two threads at once.
   std::vector<double> logOdds(const FeatureRows& rows, int threads = 0) const;
 
  private:
