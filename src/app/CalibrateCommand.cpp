@@ -240,12 +240,12 @@ int runCalibrate(const std::vector<std::string>& args) {
   if (!run.quiet) printSummary(run, result);
   if (model && !run.quiet) {
     const LensModelTraining& t = model->training;
-    std::printf("Lens model: %lld trees of depth %d on %s and %lld survey rows (S/N > %g, "
-                "resolved > %g\") -> %s\n",
-                static_cast<long long>(t.trees.rounds), t.trees.maxDepth,
-                countWithEffective(t.arcRows, t.effectiveArcs, "simulated arcs").c_str(),
-                static_cast<long long>(t.otherRows), t.snrMin, t.resolvedMinArcsec,
-                run.modelPath.c_str());
+    std::printf(
+        "Lens model: %lld trees of depth %d on %s and %lld survey rows (S/N > %g, "
+        "resolved > %g\") -> %s\n",
+        static_cast<long long>(t.trees.rounds), t.trees.maxDepth,
+        countWithEffective(t.arcRows, t.effectiveArcs, "simulated arcs").c_str(),
+        static_cast<long long>(t.otherRows), t.snrMin, t.resolvedMinArcsec, run.modelPath.c_str());
   }
   // Always shown (QUIET too): a calibration without its grid, or with fewer axes, is not the
   // one asked for.

@@ -102,8 +102,8 @@ void printCandidates(std::ostream& o, const SearchRun& run, const SearchRunSetti
                      const InjectionMatch& match) {
   if (settings.search.method == SelectionMethod::Trees) {
     o << "\nSearch: octarc search -SELECTION_METHOD TREES -MODEL_NAME " << settings.modelPath
-      << " (SNR_ISO > " << settings.search.snrMin << ", resolved, LENS_SCORE >= "
-      << settings.search.scoreMin << ")\n";
+      << " (SNR_ISO > " << settings.search.snrMin
+      << ", resolved, LENS_SCORE >= " << settings.search.scoreMin << ")\n";
   } else {
     o << "\nSearch: octarc search -GRID_NAME " << settings.gridPath << " (SNR_ISO > "
       << settings.search.snrMin << ", resolved, in the grid's contour)\n";
@@ -203,8 +203,8 @@ void writeInjectionCandidates(const std::string& path, const InjectionMatch& mat
   f << "# candidate system spaces lens_score (searched area "
     << formatNumber(run.result.summary.searchedAreaDeg2, "%.8f") << " deg2)\n";
   for (std::size_t i = 0; i < match.candidateSystem.size(); ++i) {
-    f << (i + 1) << ' ' << match.candidateSystem[i] << ' ' << run.result.candidates[i].spaces
-      << ' ' << formatNumber(run.result.candidates[i].lensScore, "%.6e") << '\n';
+    f << (i + 1) << ' ' << match.candidateSystem[i] << ' ' << run.result.candidates[i].spaces << ' '
+      << formatNumber(run.result.candidates[i].lensScore, "%.6e") << '\n';
   }
   if (!f) throw IoError(path + ": cannot write");
 }
@@ -358,16 +358,16 @@ int runDemo(const std::vector<std::string>& args) {
                 << " (octarc search)\n";
     }
     // LENS_SCORE's prior: the field's own lens density unless told.
-    const double fieldDeg2 = double(s.sizePix) * double(s.sizePix) *
-                             std::pow(s.pixelScaleArcsec / 3600.0, 2);
+    const double fieldDeg2 =
+        double(s.sizePix) * double(s.sizePix) * std::pow(s.pixelScaleArcsec / 3600.0, 2);
     const double lensDensity = vm->count("lens-density") ? (*vm)["lens-density"].as<double>()
-                               : s.lensCount > 0           ? double(s.lensCount) / fieldDeg2
-                                                           : 1.0;
+                               : s.lensCount > 0         ? double(s.lensCount) / fieldDeg2
+                                                         : 1.0;
     std::vector<std::pair<std::string, std::string>> more = {
         {"LENS_DENSITY", formatNumber(lensDensity, "%.10g")},
         {"SCORE_MIN", formatNumber(vm->count("score-min") ? (*vm)["score-min"].as<double>()
-                                   : trees                  ? 0.01
-                                                            : 0.0,
+                                   : trees                ? 0.01
+                                                          : 0.0,
                                    "%.10g")},
         {"SELECTION_METHOD", method}};
     if (trees) more.emplace_back("MODEL_NAME", modelPath);

@@ -194,8 +194,9 @@ CalibrationRun calibrationRunFromConfig(const sexcompat::Config& c,
   if (c.getString("MODEL_NAME") != "NONE") {
     run.modelPath = c.getString("MODEL_NAME");
     if (run.surveyCatalogPath.empty()) {
-      throw ConfigError("MODEL_NAME: training a model needs SURVEY_CATALOG (the objects that are "
-                        "not lenses)");
+      throw ConfigError(
+          "MODEL_NAME: training a model needs SURVEY_CATALOG (the objects that are "
+          "not lenses)");
     }
     LensModelSettings m;
     m.snrMin = c.getDouble("MODEL_SNR_MIN");

@@ -144,8 +144,8 @@ std::vector<ColumnDef> definitions(const std::vector<std::string>& bands) {
       copied("A_IMAGE", "Profile RMS along major axis", "pixel", T::Float32, "%9.3f"),
       copied("B_IMAGE", "Profile RMS along minor axis", "pixel", T::Float32, "%9.3f"),
       copied("THETA_IMAGE", "Position angle (CCW/x)", "deg", T::Float32, "%5.1f"),
-      number("PROB", "Occupation probability of the arc's grid bin (GRID)", "", T::Float64, "%12.5e",
-             [](const RowView& v) { return v.candidate.probability; }),
+      number("PROB", "Occupation probability of the arc's grid bin (GRID)", "", T::Float64,
+             "%12.5e", [](const RowView& v) { return v.candidate.probability; }),
       number("CONTOUR", "Contour level at which the bin enters", "", T::Float64, "%8.5f",
              [](const RowView& v) { return v.candidate.contourLevel; }),
       number("SPACES", "Report spaces the arc is in (bit n-1: SPNAMEn)", "", T::Int32, "%6d",
@@ -288,9 +288,8 @@ FitsTable candidateObjectsTable(const Table& catalog, const SearchResult& result
   k.push_back(FitsKeyword::real("CANDDEG2", s.candidatesPerDeg2(), "[deg-2] candidates per deg2"));
   k.push_back(
       FitsKeyword::real("REJFRAC", s.rejectedFraction(), "fraction of searched rows rejected"));
-  k.push_back(FitsKeyword::text("SELMETH", settings.method == SelectionMethod::Trees ? "TREES"
-                                                                                    : "GRID",
-                                "SELECTION_METHOD"));
+  k.push_back(FitsKeyword::text(
+      "SELMETH", settings.method == SelectionMethod::Trees ? "TREES" : "GRID", "SELECTION_METHOD"));
   k.push_back(FitsKeyword::real("LENSDENS", settings.lensDensityPerDeg2,
                                 "[deg-2] LENS_DENSITY: lens arcs expected"));
   k.push_back(FitsKeyword::integer("NROWSCOR", s.rowsScored, "rows scored (S/N, resolved)"));

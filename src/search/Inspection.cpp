@@ -227,9 +227,9 @@ std::string contactSheetHtml(const Table& catalog, const SearchResult& result,
     const double mag = valueOf(catalog, c.row, "MAG_ISO");
     const std::string id = "c" + std::to_string(i + 1);
     o << "<div class=\"card\" data-number=\"" << (i + 1) << "\" data-score=\""
-      << dataNumber(c.lensScore) << "\" data-prob=\""
-      << dataNumber(c.probability) << "\" data-arcness=\"" << dataNumber(arcness)
-      << "\" data-snr=\"" << dataNumber(snr) << "\" data-mag=\"" << dataNumber(mag) << "\">"
+      << dataNumber(c.lensScore) << "\" data-prob=\"" << dataNumber(c.probability)
+      << "\" data-arcness=\"" << dataNumber(arcness) << "\" data-snr=\"" << dataNumber(snr)
+      << "\" data-mag=\"" << dataNumber(mag) << "\">"
       << "<a href=\"" << stamp << "\"><img src=\"" << stamp << "\" alt=\"candidate " << (i + 1)
       << "\"></a><a href=\"#" << id << "\">#" << (i + 1) << "</a> " << escapeHtml(c.name)
       << "<br>score " << formatNumber(c.lensScore, "%.3g") << ", a "
@@ -242,8 +242,8 @@ std::string contactSheetHtml(const Table& catalog, const SearchResult& result,
          << formatNumber(arcness, "%.4f", true) << "</td><td>"
          << formatNumber(valueOf(catalog, c.row, "E_IMAGE"), "%.3f", true) << "</td><td>"
          << formatNumber(snr, "%.1f", true) << "</td><td>" << formatNumber(c.lensScore, "%.4g")
-         << "</td><td>" << formatNumber(c.probability, "%.4g")
-         << "</td><td>" << formatNumber(c.contourLevel, "%.4f", true) << "</td><td>";
+         << "</td><td>" << formatNumber(c.probability, "%.4g") << "</td><td>"
+         << formatNumber(c.contourLevel, "%.4f", true) << "</td><td>";
     for (std::size_t k = 0; k < c.passedLevels.size(); ++k) {
       rows << (k ? "," : "") << c.passedLevels[k];
     }

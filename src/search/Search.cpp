@@ -362,8 +362,8 @@ double SearchSummary::rejectedFraction() const {
 
 SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
   const bool trees = s.method == SelectionMethod::Trees;
-  if (in.catalog == nullptr || in.mask == nullptr || (trees ? in.model == nullptr
-                                                            : in.grid == nullptr)) {
+  if (in.catalog == nullptr || in.mask == nullptr ||
+      (trees ? in.model == nullptr : in.grid == nullptr)) {
     throw ConfigError(trees ? "search: a catalog, a lens model and a searched area are needed"
                             : "search: a catalog, a grid and a searched area are needed");
   }
@@ -456,7 +456,8 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
     // The searched rows' share of each occupied bin, one row added to every bin.
     std::vector<double> rowsInBin(std::size_t(in.grid->grid.occupiedBins()), 1.0);
     for (const std::int64_t r : scored) {
-      if (scores[std::size_t(r)].rank >= 0) rowsInBin[std::size_t(scores[std::size_t(r)].rank)] += 1;
+      if (scores[std::size_t(r)].rank >= 0)
+        rowsInBin[std::size_t(scores[std::size_t(r)].rank)] += 1;
     }
     const double rowsTotal = double(scored.size()) + double(rowsInBin.size());
     for (const std::int64_t r : scored) {

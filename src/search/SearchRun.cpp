@@ -513,8 +513,8 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
   here.skySigmaAdu = run.image.sigmaAdu;
   for (const ThresholdLevel& t : run.levels) here.thresholdsSigma.push_back(t.thresholdSigma);
   here.minAreaPix = rs.minAreaPix;
-  const std::string selector = trees ? "the model " + settings.modelPath
-                                     : "the grid " + settings.gridPath;
+  const std::string selector =
+      trees ? "the model " + settings.modelPath : "the grid " + settings.gridPath;
   for (const std::string& d :
        compareSetups(trees ? run.model->setup : run.grid->provenance.setup, here)) {
     run.warnings.push_back(selector + " was made for another setup: " + d);

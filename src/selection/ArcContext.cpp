@@ -40,7 +40,8 @@ class Cells {
   Cells(const std::vector<double>& x, const std::vector<double>& y, double sidePix)
       : side_(std::max(sidePix, 1.0)) {
     for (std::size_t i = 0; i < x.size(); ++i) {
-      if (std::isfinite(x[i]) && std::isfinite(y[i])) cells_[key(cell(x[i]), cell(y[i]))].push_back(i);
+      if (std::isfinite(x[i]) && std::isfinite(y[i]))
+        cells_[key(cell(x[i]), cell(y[i]))].push_back(i);
     }
   }
   template <typename F>

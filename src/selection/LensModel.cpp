@@ -121,7 +121,8 @@ void saveLensModel(const std::string& path, const SavedLensModel& m) {
   const std::string json = m.trees.toJson();
   k.push_back(FitsKeyword::integer("MODELLEN", std::int64_t(json.size()), "Model characters"));
   std::vector<std::string> chunks;
-  for (std::size_t at = 0; at < json.size(); at += kChunk) chunks.push_back(json.substr(at, kChunk));
+  for (std::size_t at = 0; at < json.size(); at += kChunk)
+    chunks.push_back(json.substr(at, kChunk));
   FitsColumn column;
   column.name = "MODEL";
   column.comment = "XGBoost JSON model, in order";
@@ -134,8 +135,9 @@ void saveLensModel(const std::string& path, const SavedLensModel& m) {
 SavedLensModel loadLensModel(const std::string& path) {
   const std::vector<std::string> tables = listFitsTables(path);
   if (std::find(tables.begin(), tables.end(), kTableName) == tables.end()) {
-    throw IoError(path + ": not an octarc lens model (no LENS_MODEL table; make one with "
-                         "octarc calibrate -MODEL_NAME)");
+    throw IoError(path +
+                  ": not an octarc lens model (no LENS_MODEL table; make one with "
+                  "octarc calibrate -MODEL_NAME)");
   }
   const FitsTable t = readFitsTable(path, kTableName);
   if (t.integer("OCTMODEL") != kFormat) {

@@ -18,9 +18,8 @@ void compareValue(const char* what, const char* unit, double gridValue, double s
   if (std::isnan(gridValue) || std::isnan(searchValue)) return;
   const double apart = std::fabs(searchValue - gridValue) / std::fabs(gridValue);
   if (!(apart > tolerance)) return;
-  warnings.push_back(std::string(what) + ": made for " +
-                     formatNumber(gridValue, "%.6g") + unit + ", the search has " +
-                     formatNumber(searchValue, "%.6g") + " (" +
+  warnings.push_back(std::string(what) + ": made for " + formatNumber(gridValue, "%.6g") + unit +
+                     ", the search has " + formatNumber(searchValue, "%.6g") + " (" +
                      formatNumber(100.0 * apart, "%.6g") + "% apart, tolerance " +
                      formatNumber(100.0 * tolerance, "%.6g") + "%)");
 }
@@ -44,8 +43,8 @@ std::vector<std::string> compareSetups(const SurveySetup& grid, const SurveySetu
   }
   if (!grid.thresholdsSigma.empty() && !search.thresholdsSigma.empty()) {
     if (grid.thresholdsSigma.size() != search.thresholdsSigma.size()) {
-      warnings.push_back("thresholds: made for " +
-                         std::to_string(grid.thresholdsSigma.size()) + " levels, the search has " +
+      warnings.push_back("thresholds: made for " + std::to_string(grid.thresholdsSigma.size()) +
+                         " levels, the search has " +
                          std::to_string(search.thresholdsSigma.size()));
     } else {
       for (std::size_t i = 0; i < grid.thresholdsSigma.size(); ++i) {

@@ -38,10 +38,10 @@ class Matrix {
  public:
   explicit Matrix(const FeatureRows& rows) {
     check(XGBSetGlobalConfig("{\"verbosity\": 0}"), "configuring");
-    check(XGDMatrixCreateFromMat(rows.values.data(), bst_ulong(rows.rows()),
-                                 bst_ulong(rows.features), std::numeric_limits<float>::quiet_NaN(),
-                                 &handle_),
-          "reading the feature rows");
+    check(
+        XGDMatrixCreateFromMat(rows.values.data(), bst_ulong(rows.rows()), bst_ulong(rows.features),
+                               std::numeric_limits<float>::quiet_NaN(), &handle_),
+        "reading the feature rows");
   }
   ~Matrix() { XGDMatrixFree(handle_); }
   Matrix(const Matrix&) = delete;
@@ -105,8 +105,7 @@ TreeModel TreeModel::train(const FeatureRows& rows, const std::vector<int>& labe
   }
   const Matrix matrix(rows);
   check(XGDMatrixSetFloatInfo(matrix.handle(), "label", label.data(), bst_ulong(n)), "labels");
-  check(XGDMatrixSetFloatInfo(matrix.handle(), "weight", weight.data(), bst_ulong(n)),
-        "weights");
+  check(XGDMatrixSetFloatInfo(matrix.handle(), "weight", weight.data(), bst_ulong(n)), "weights");
   TreeModel model;
   model.features_ = rows.features;
   DMatrixHandle handles[] = {matrix.handle()};

@@ -22,10 +22,10 @@ struct CheckPlotRequest {
 
 struct CalibrationRun {
   CalibrationSettings settings;
-  std::string calibrationPath;    // CALIBRATION_NAME
-  std::string gridPath;           // GRID_NAME; "" for NONE (settings.makeGrid false)
-  std::string surveyCatalogPath;  // SURVEY_CATALOG, "" for none
-  std::string modelPath;          // MODEL_NAME; "" for NONE
+  std::string calibrationPath;             // CALIBRATION_NAME
+  std::string gridPath;                    // GRID_NAME; "" for NONE (settings.makeGrid false)
+  std::string surveyCatalogPath;           // SURVEY_CATALOG, "" for none
+  std::string modelPath;                   // MODEL_NAME; "" for NONE
   std::optional<LensModelSettings> model;  // with modelPath
   PlotDevice plotDevice = PlotDevice::Png;
   std::vector<CheckPlotRequest> plots;

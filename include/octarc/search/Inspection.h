@@ -49,8 +49,8 @@ struct ContactSheetInfo {
 
 // The contact sheet: one self-contained HTML page (no network, no external script) with the
 // stamps in a grid, each with its number, linked to the full-size PNG and to its values (a
-// table row); sortable by LENS_SCORE, probability, arcness, S/N, magnitude or number (buttons, or the URL
-// fragment "#sort=KEY" or "#sort=KEY-asc"). Once loaded, the page writes into the element
+// table row); sortable by LENS_SCORE, probability, arcness, S/N, magnitude or number (buttons, or
+// the URL fragment "#sort=KEY" or "#sort=KEY-asc"). Once loaded, the page writes into the element
 // id="status" how many stamp images loaded and the cards' order ("images 12/12 loaded; order
 // 3,1,2,...").
 std::string contactSheetHtml(const Table& catalog, const SearchResult& result,

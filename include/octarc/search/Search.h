@@ -84,7 +84,7 @@ struct SearchSettings {
   double lensDensityPerDeg2 = 1.0;                 // LENS_DENSITY: the prior of LENS_SCORE
   double scoreMin = 0.0;                           // SCORE_MIN: LENS_SCORE at least this
   int threads = 0;                                 // of the model's prediction (0: every core)
-  double snrMin = 40.0;            // S/N floor: SNR_ISO above it
+  double snrMin = 40.0;                            // S/N floor: SNR_ISO above it
   double resolvedMinArcsec = 1.0;  // resolved: sqrt(2) * SIZE_IMAGE above it (METHOD 3)
   double pixelScaleArcsec = 0.0;   // > 0
   double lensRadiusArcsec = 6.0;   // how far from the arc a lens may lie
@@ -123,11 +123,11 @@ struct Candidate {
   std::size_t row = 0;            // the best row, in the catalog
   std::vector<std::size_t> rows;  // every passing row of the object
   std::vector<int> passedLevels;
-  std::uint32_t spaces = 0;                                 // bit i: in report space i
-  double lensScore = 0.0;                                   // LENS_SCORE of the best row
-  double probability = 0.0;     // of the best row's grid bin (NaN with TREES)
-  double contourLevel = 0.0;    // at which that bin enters the contour (NaN with TREES)
-  std::string name;                                         // designation, "" without WCS
+  std::uint32_t spaces = 0;   // bit i: in report space i
+  double lensScore = 0.0;     // LENS_SCORE of the best row
+  double probability = 0.0;   // of the best row's grid bin (NaN with TREES)
+  double contourLevel = 0.0;  // at which that bin enters the contour (NaN with TREES)
+  std::string name;           // designation, "" without WCS
   double raDeg = std::numeric_limits<double>::quiet_NaN();  // J2000 of the best row
   double decDeg = std::numeric_limits<double>::quiet_NaN();
   std::optional<CircleFit> curvature;  // in 1-based pixel coordinates
@@ -174,8 +174,8 @@ struct SearchResult {
 // of the footprints, which they need) and `measurementBand` (the measurement image, unsubtracted
 // also when `pixels` is a lens-light residual) give colours.
 struct SearchInput {
-  const Table* catalog = nullptr;  // every level, searchRequiredColumns() and the grid's columns
-  const SavedGrid* grid = nullptr;             // SELECTION_METHOD GRID
+  const Table* catalog = nullptr;   // every level, searchRequiredColumns() and the grid's columns
+  const SavedGrid* grid = nullptr;  // SELECTION_METHOD GRID
   const SearchMask* mask = nullptr;
   const Wcs* wcs = nullptr;  // null: pixel positions only
   const SegmentationRuns* footprints = nullptr;

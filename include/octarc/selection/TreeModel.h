@@ -14,10 +14,10 @@
 namespace octarc {
 
 struct TreeTraining {
-  int rounds = 300;         // boosting rounds (trees)
-  int maxDepth = 5;         // of each tree
+  int rounds = 300;  // boosting rounds (trees)
+  int maxDepth = 5;  // of each tree
   double learningRate = 0.1;
-  double subsample = 0.8;   // of the rows per tree
+  double subsample = 0.8;  // of the rows per tree
   double minChildWeight = 1.0;
   std::uint64_t seed = 1;
 };

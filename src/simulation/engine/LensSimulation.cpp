@@ -32,12 +32,11 @@ double threadCpuSec() {
 // The columns every detected object gets: position, isophotal photometry, shape and the
 // octopole arc statistics, as `octarc detect` measures them.
 const char* const kMeasuredNames[] = {
-    "NUMBER",      "THRESH_LEVEL",  "PARENT_NUMBER", "THRESHOLD",   "X_IMAGE",
-    "Y_IMAGE",     "ISOAREA_IMAGE", "FLUX_ISO",      "FLUXERR_ISO", "MAG_ISO",
-    "SNR_ISO",     "FLUX_MAX",      "A_IMAGE",       "B_IMAGE",     "THETA_IMAGE",
-    "ELLIPTICITY", "SIZE_IMAGE",    "E_IMAGE",       "E1_IMAGE",    "E2_IMAGE",
-    "ARCNESS",     "ANTIARCNESS",   "SKEW_MAJOR",    "SKEW_MINOR",  "ARC_SIDE",
-    "FLAGS",       "OCT_FLAGS"};
+    "NUMBER",        "THRESH_LEVEL", "PARENT_NUMBER", "THRESHOLD",   "X_IMAGE",    "Y_IMAGE",
+    "ISOAREA_IMAGE", "FLUX_ISO",     "FLUXERR_ISO",   "MAG_ISO",     "SNR_ISO",    "FLUX_MAX",
+    "A_IMAGE",       "B_IMAGE",      "THETA_IMAGE",   "ELLIPTICITY", "SIZE_IMAGE", "E_IMAGE",
+    "E1_IMAGE",      "E2_IMAGE",     "ARCNESS",       "ANTIARCNESS", "SKEW_MAJOR", "SKEW_MINOR",
+    "ARC_SIDE",      "FLAGS",        "OCT_FLAGS"};
 
 }  // namespace
 

@@ -50,8 +50,8 @@ TreeTraining smallTraining() {
 
 TEST(TreeModel, LearnsAThresholdRuleAndKeepsItThroughJson) {
   const Sample train = separable(2000, 1);
-  const TreeModel model = TreeModel::train(train.rows, train.labels, train.weights,
-                                           smallTraining());
+  const TreeModel model =
+      TreeModel::train(train.rows, train.labels, train.weights, smallTraining());
   EXPECT_EQ(model.features(), 2);
   // Rows away from the edge at 0.6: the sign of the log-odds is the rule.
   FeatureRows probe;
@@ -71,8 +71,7 @@ TEST(TreeModel, LearnsAThresholdRuleAndKeepsItThroughJson) {
   EXPECT_EQ(again.logOdds(probe), odds);
   EXPECT_EQ(model.logOdds(probe, 1), model.logOdds(probe, 2));
   // Trained again from the same rows and seed: the same model.
-  const TreeModel twin = TreeModel::train(train.rows, train.labels, train.weights,
-                                          smallTraining());
+  const TreeModel twin = TreeModel::train(train.rows, train.labels, train.weights, smallTraining());
   EXPECT_EQ(twin.toJson(), model.toJson());
 }
 
@@ -100,12 +99,12 @@ TEST(TreeModel, WeightsMoveTheOddsByTheirRatio) {
 TEST(TreeModel, BadInputIsAConfigError) {
   const Sample s = separable(10, 2);
   std::vector<int> one(10, 1);
-  test::expectError<ConfigError>(
-      [&] { TreeModel::train(s.rows, one, s.weights, smallTraining()); }, {"both classes"});
+  test::expectError<ConfigError>([&] { TreeModel::train(s.rows, one, s.weights, smallTraining()); },
+                                 {"both classes"});
   std::vector<double> zero = s.weights;
   zero[3] = 0.0;
-  test::expectError<ConfigError>(
-      [&] { TreeModel::train(s.rows, s.labels, zero, smallTraining()); }, {"weight"});
+  test::expectError<ConfigError>([&] { TreeModel::train(s.rows, s.labels, zero, smallTraining()); },
+                                 {"weight"});
   test::expectError<ConfigError>([&] { TreeModel::fromJson("{not a model", 2); }, {"not a model"});
   const TreeModel model = TreeModel::train(s.rows, s.labels, s.weights, smallTraining());
   FeatureRows three;
