@@ -3,7 +3,8 @@
 # UndefinedBehaviorSanitizer in build/fuzz, writes their seed corpus (scripts/make-fuzz-corpus.py:
 # testdata/, params/ and small generated files) and runs each target for SECONDS (default 600).
 # SECONDS=0 explores nothing: each target replays its corpus (seeds and kept inputs), every input
-# once (libFuzzer's -runs=0), which is what scripts/test.sh does.
+# once (libFuzzer's -runs=0). The test suite replays the seeds the same way without libFuzzer, in
+# its sanitizer build (fuzz/CMakeLists.txt: the ctest tests fuzz.TARGET).
 # Inputs that grow coverage are kept in build/fuzz/corpus/TARGET and reused by the next run; a
 # crash, sanitizer report, leak (tests/lsan.supp lists the known leaks of cfitsio itself), hang
 # (an input taking over 30 s: the targets run under ASan, at low priority, beside other work) or
@@ -25,12 +26,9 @@ if [ ${#targets[@]} -eq 0 ]; then
 fi
 jobs=${OCTARC_FUZZ_JOBS:-1}
 
-scripts/install-deps.sh
-# A new tree builds only the fuzz targets; one that scripts/test.sh configured keeps its tests.
-tests=()
-[ -f build/fuzz/CMakeCache.txt ] || tests=(-DOCTARC_BUILD_TESTS=OFF)
+scripts/install-deps.sh fuzz
 CC=clang-14 CXX=clang++-14 cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DOCTARC_FUZZ=ON "${tests[@]}" >/dev/null
+  -DOCTARC_FUZZ=ON -DOCTARC_BUILD_TESTS=OFF >/dev/null
 cmake --build build/fuzz -j "$(nproc)" --target octarc_fuzz
 /usr/bin/python3 scripts/make-fuzz-corpus.py build/fuzz/seeds
 mkdir -p build/fuzz/logs
