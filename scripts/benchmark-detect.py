@@ -4,13 +4,15 @@ each writing its catalog and segmentation map) against one `octarc detect` run w
 
 Usage: /usr/bin/python3 scripts/benchmark-detect.py [--octarc PATH] [--workdir DIR]
                                                     [--sizes 4096,10000] [--repeats N]
-                                                    [--octarc-runs N]
+                                                    [--octarc-runs N] [--sex-pixstack N]
+                                                    [--no-sync]
 Generates reproducible synthetic fields (seeded), runs both ways on the same file in the same
 run, and prints a Markdown table (wall time, CPU time, peak memory, objects) for the README.
-Every command starts after a sync; the octarc figures are those of the median of --octarc-runs
-runs (default 5), the source-extractor figures the sum of its 15 runs. Both must find the same
-number of objects at every level (octarc's rows per THRESH_LEVEL against the rows of each
-source-extractor run): the script stops with an error naming the levels that differ.
+Every command starts after a sync (not with --no-sync); the octarc figures are those of the
+median of --octarc-runs runs (default 5), the source-extractor figures the sum of its 15 runs.
+Both must find the same number of objects at every level (octarc's rows per THRESH_LEVEL
+against the rows of each source-extractor run): the script stops with an error naming the
+levels that differ.
 """
 import argparse
 import os
@@ -53,11 +55,12 @@ def make_field(path, size, n_sources, seed):
     fits.PrimaryHDU(image, hdr).writeto(path, overwrite=True)
 
 
-def timed(cmd, cwd):
+def timed(cmd, cwd, sync=True):
     """Runs cmd; returns (wall s, user+sys s, peak RSS MiB). Dirty pages left by the previous
-    command (segmentation maps, catalogs) are flushed first, so that no command pays for the
-    write-back of another one."""
-    os.sync()
+    command (segmentation maps, catalogs) are flushed first (unless sync is False), so that no
+    command pays for the write-back of another one."""
+    if sync:
+        os.sync()
     t0 = time.perf_counter()
     proc = subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     _, status, usage = os.wait4(proc.pid, 0)
@@ -81,7 +84,14 @@ def main():
     ap.add_argument("--repeats", type=int, default=1)
     ap.add_argument("--octarc-runs", type=int, default=5,
                     help="octarc runs per measurement; the median run is reported")
+    ap.add_argument("--sex-pixstack", type=int, default=30000000,
+                    help="source-extractor's MEMORY_PIXSTACK (it allocates and clears the whole "
+                         "stack at every run: enough for a 10000^2 field by default)")
+    ap.add_argument("--no-sync", action="store_true",
+                    help="do not flush the disks before each command (for checking the object "
+                         "counts only: the times are then not comparable)")
     args = ap.parse_args()
+    sync = not args.no_sync
     octarc = os.path.abspath(args.octarc)
     work = args.workdir or tempfile.mkdtemp(prefix="octarc-bench-")
     os.makedirs(work, exist_ok=True)
@@ -114,10 +124,10 @@ def main():
                                  "-CATALOG_NAME", os.path.join(work, "sex%d.ldac" % k),
                                  "-DETECT_THRESH", "%.6f" % t, "-ANALYSIS_THRESH", "%.6f" % t,
                                  "-DEBLEND_NTHRESH", "1", "-CLEAN", "N", "-MASK_TYPE", "NONE",
-                                 "-MEMORY_PIXSTACK", "30000000", "-MEMORY_OBJSTACK", "65000",
+                                 "-MEMORY_PIXSTACK", str(args.sex_pixstack), "-MEMORY_OBJSTACK", "65000",
                                  "-CHECKIMAGE_TYPE", "SEGMENTATION",
                                  "-CHECKIMAGE_NAME", os.path.join(work, "sex%d.seg.fits" % k),
-                                 "-WRITE_XML", "N"] + common, work)
+                                 "-WRITE_XML", "N"] + common, work, sync)
                 wall, cpu, rss = wall + w, cpu + c, max(rss, r)
             sex_per_level = [len(fits.getdata(os.path.join(work, "sex%d.ldac" % k), 2))
                              for k in range(LEVELS)]
@@ -133,7 +143,7 @@ def main():
                                      "-CATALOG_TYPE", "FITS_LDAC", "-CATALOG_NAME", out,
                                      "-DETECT_THRESH", str(T_MIN), "-DETECT_THRESH_MAX",
                                      str(T_MAX), "-DETECT_NLEVELS", str(LEVELS)] + common + extra,
-                                    work) for _ in range(max(1, args.octarc_runs)))
+                                    work, sync) for _ in range(max(1, args.octarc_runs)))
                 w, c, r = runs[len(runs) // 2]
                 levels = fits.getdata(out, 2)["THRESH_LEVEL"]
                 per_level = [int(np.sum(levels == k + 1)) for k in range(LEVELS)]

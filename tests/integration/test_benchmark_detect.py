@@ -15,7 +15,8 @@ class BenchmarkScript(WorkDirTest):
         proc = subprocess.run(["/usr/bin/python3",
                                os.path.join(SOURCE_DIR, "scripts", "benchmark-detect.py"),
                                "--octarc", OCTARC, "--workdir", self.work, "--sizes", "600",
-                               "--octarc-runs", "1"], capture_output=True, text=True)
+                               "--octarc-runs", "1", "--no-sync",
+                               "--sex-pixstack", "400000"], capture_output=True, text=True)
         self.assertEqual(proc.returncode, 0, proc.stderr)
         rows = [line for line in proc.stdout.splitlines() if line.startswith("| 600")]
         self.assertEqual(len(rows), 3, proc.stdout)

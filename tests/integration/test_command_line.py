@@ -138,13 +138,18 @@ class CommandHelp(WorkDirTest):
             text = self.help_text(command)
             listed = re.findall(r"^  (?:-\w \[ )?--([a-z][\w-]*)(?: \])?( \S+)?", text, re.M)
             self.assertGreater(len(listed), 3, command)
-            for name, argument in listed:
-                if name == "help":
-                    continue   # -h is given below
-                args = ["--" + name] + (["1"] if argument else [])
+            options = [["--" + name] + (["1"] if argument else [])
+                       for name, argument in listed if name != "help"]   # -h is given below
+            # Every option in one run; when that run fails, one run per option names it.
+            together = run_octarc(*command, *sum(options, []), "-h", check=False)
+            if together.returncode == 0:
+                continue
+            for args in options:
                 proc = run_octarc(*command, *args, "-h", check=False)
                 self.assertEqual(proc.returncode, 0, "%s %s: %s" % (" ".join(command),
                                                                      " ".join(args), proc.stderr))
+            self.fail("%s: its options are accepted one at a time, not together: %s"
+                      % (" ".join(command), together.stderr))
 
     def test_version(self):
         for command in (("measure",), ("detect",)):

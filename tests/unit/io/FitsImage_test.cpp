@@ -184,7 +184,12 @@ TEST(FitsImage, LargeFloatImagesReadTheSameWhicheverWay) {
   expectStored(readImage((dir / "big.fits").string() + "[1]"), 1.0, 0.0);
   FitsWriter(dir / "bigscaled.fits").image(-32, {width, height}, raw, {card("BZERO", "10.0")});
   expectStored(readImage((dir / "bigscaled.fits").string()), 1.0, 10.0);
-  FitsWriter(dir / "big.fits.gz").image(-32, {width, height}, raw);
+  // Compressed by gzip itself: cfitsio writing a .gz grows its memory file by realloc, which
+  // the sanitizers' allocator turns into a copy of the whole file per step.
+  FitsWriter(dir / "bigprimary.fits").image(-32, {width, height}, raw);
+  ASSERT_EQ(test::run("gzip -c '" + (dir / "bigprimary.fits").string() + "' > '" +
+                      (dir / "big.fits.gz").string() + "'"),
+            0);
   expectStored(readImage((dir / "big.fits.gz").string()), 1.0, 0.0);
 }
 
