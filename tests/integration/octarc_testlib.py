@@ -99,9 +99,24 @@ def write_param(path, names):
 
 
 PURE_THRESHOLDING = ["-DEBLEND_NTHRESH", "1", "-DEBLEND_MINCONT", "1.0", "-CLEAN", "N",
-                     "-MASK_TYPE", "NONE", "-MEMORY_PIXSTACK", "3000000",
-                     "-MEMORY_OBJSTACK", "30000", "-MEMORY_BUFSIZE", "4096",
-                     "-VERBOSE_TYPE", "QUIET", "-WRITE_XML", "N"]
+                     "-MASK_TYPE", "NONE", "-MEMORY_OBJSTACK", "30000",
+                     "-MEMORY_BUFSIZE", "4096", "-VERBOSE_TYPE", "QUIET", "-WRITE_XML", "N"]
+
+
+def sextractor_pixstack(images, workdir):
+    """A MEMORY_PIXSTACK that cannot overflow: the pixel count of the largest image HDU of
+    `images` (one path, or two for dual-image mode, "a,b"; relative to workdir), at least the
+    default 300 000: the stack holds pixels above the threshold, each once. source-extractor
+    allocates and clears the whole stack at every run: a fixed 3 M stack took a third of each
+    run on a 1024^2 image."""
+    pixels = 0
+    for image in images.split(","):
+        with fits.open(os.path.join(workdir, image.split("[")[0])) as f:
+            for hdu in f:
+                shape = getattr(hdu, "shape", None) or ()
+                if len(shape) >= 2:
+                    pixels = max(pixels, int(np.prod(shape)))
+    return max(300000, pixels)
 
 
 def run_sextractor(image, workdir, tag, param, threshold, extra=(), checkimages=()):
@@ -115,7 +130,8 @@ def run_sextractor(image, workdir, tag, param, threshold, extra=(), checkimages=
            "-PARAMETERS_NAME", param, "-CATALOG_TYPE", "FITS_LDAC", "-CATALOG_NAME", cat,
            "-DETECT_THRESH", str(threshold), "-ANALYSIS_THRESH", str(threshold),
            "-FILTER_NAME", os.path.join(SEX_SHARE, "default.conv"),
-           "-STARNNW_NAME", os.path.join(SEX_SHARE, "default.nnw")] + PURE_THRESHOLDING + \
+           "-STARNNW_NAME", os.path.join(SEX_SHARE, "default.nnw"),
+           "-MEMORY_PIXSTACK", str(sextractor_pixstack(image, workdir))] + PURE_THRESHOLDING + \
           list(extra)
     if checks:
         cmd += ["-CHECKIMAGE_TYPE", ",".join(checks), "-CHECKIMAGE_NAME", ",".join(checks.values())]
