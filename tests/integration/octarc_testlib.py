@@ -105,10 +105,10 @@ PURE_THRESHOLDING = ["-DEBLEND_NTHRESH", "1", "-DEBLEND_MINCONT", "1.0", "-CLEAN
 
 def sextractor_pixstack(images, workdir):
     """A MEMORY_PIXSTACK that cannot overflow: the pixel count of the largest image HDU of
-    `images` (one path, or two for dual-image mode, "a,b"; relative to workdir), at least the
-    default 300 000: the stack holds pixels above the threshold, each once. source-extractor
-    allocates and clears the whole stack at every run: a fixed 3 M stack took a third of each
-    run on a 1024^2 image."""
+    `images` (one path, or two for dual-image mode, "a,b"; relative to workdir) plus 2
+    (SExtractor stops at its last free slot), at least the default 300 000: the stack holds
+    pixels above the threshold, each once. source-extractor allocates and clears the whole stack
+    at every run: a fixed 3 M stack took a third of each run on a 1024^2 image."""
     pixels = 0
     for image in images.split(","):
         with fits.open(os.path.join(workdir, image.split("[")[0])) as f:
@@ -116,7 +116,7 @@ def sextractor_pixstack(images, workdir):
                 shape = getattr(hdu, "shape", None) or ()
                 if len(shape) >= 2:
                     pixels = max(pixels, int(np.prod(shape)))
-    return max(300000, pixels)
+    return max(300000, pixels + 2)
 
 
 def run_sextractor(image, workdir, tag, param, threshold, extra=(), checkimages=()):

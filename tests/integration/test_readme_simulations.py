@@ -89,8 +89,16 @@ class ReadmeSimulations(WorkDirTest):
         for name in ("calibration.fits", "arcs.grid.fits", "arcness.pdf"):
             self.assertTrue(os.path.exists(self.path(name)), name)
 
-        # The calibration figures of 150 000 systems: a study, remade by hand.
+        # The calibration figures of 150 000 systems: a study, remade by hand with
+        # scripts/readme_studies.py; its reading of the README is checked here.
         self.assertEqual(KNOWN[4:6], readme_studies.COMMANDS)
+        with open(README) as f:
+            text = f.read()
+        for marker, lines, _ in readme_studies.STUDIES:
+            commands, printed = readme_studies.blocks_after(text, marker)
+            self.assertEqual(commands, lines)
+            self.assertTrue(printed and printed[0].startswith("150000 simulated systems"),
+                            printed)
 
         # The two-band run and its colour cut study, then the small run whose study is printed.
         self.run_line(KNOWN[6])
