@@ -12,7 +12,7 @@
 namespace octarc::sexcompat {
 namespace {
 
-constexpr double kBig = 1e30;              // SExtractor's starting value of MIN/NEAREST searches
+constexpr double kSearchStart = 1e30;      // SExtractor's starting value of MIN/NEAREST searches
 constexpr double kMinTotalWeight = 1e-30;  // MEAN/MAG_MEAN below this: no match
 constexpr double kMagnitudeLimit = 99.0;   // |mag| >= 99 is "no magnitude" in MAG_MEAN/MAG_SUM
 constexpr double kNoMagnitude = 99.0;      // MAG_SUM of a non-positive flux sum
@@ -163,7 +163,8 @@ AssocList::Match AssocList::match(double xFits, double yFits) const {
   if (rowGuess <= -1.0 || static_cast<std::int64_t>(rowGuess) >= naxis2_) return m;
 
   const double r2 = radiusPix_ * radiusPix_;
-  double best = (type_ == AssocType::Min || type_ == AssocType::Nearest) ? kBig : -kBig;
+  double best =
+      (type_ == AssocType::Min || type_ == AssocType::Nearest) ? kSearchStart : -kSearchStart;
   double totalWeight = 0.0;
   const std::size_t n = m.values.size();
   auto it = std::lower_bound(entries_.begin(), entries_.end(), yFits - radiusPix_,

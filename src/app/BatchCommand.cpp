@@ -17,7 +17,7 @@ namespace octarc {
 namespace {
 
 // clang-format off
-void printUsage() {
+void printBatchUsage() {
   std::cout <<
       "Usage: octarc batch MANIFEST [-c survey.sex] [-KEY value ...]\n"
       "       mpirun -np N octarc batch MANIFEST ...     (or srun octarc batch ...)\n"
@@ -69,7 +69,7 @@ int runBatch(const std::vector<std::string>& args) {
   std::optional<BatchSettings> settings;
   std::exception_ptr error;
   try {
-    loaded = loadRun(args, "batch", batchKeys(), printUsage, {}, "manifest", true);
+    loaded = loadRun(args, "batch", batchKeys(), printBatchUsage, {}, "manifest", true);
     if (loaded) settings = batchSettingsFromConfig(loaded->config, loaded->settings);
   } catch (const Error&) {
     error = std::current_exception();

@@ -24,7 +24,7 @@ namespace octarc {
 
 namespace {
 
-void printUsage() {
+void printCalibrateUsage() {
   std::cout
       << "Usage: octarc calibrate SIM.fits [SIM2.fits ...] [-c calibrate.conf] [-KEY value ...]\n"
          "\n"
@@ -151,8 +151,9 @@ void printSummary(const CalibrationRun& run, const CalibrationResult& r) {
 }  // namespace
 
 int runCalibrate(const std::vector<std::string>& args) {
-  std::optional<LoadedConfig> loaded = loadConfig(args, "calibrate", calibrationKeys(), printUsage,
-                                                  nullptr, false, "simulation file name");
+  std::optional<LoadedConfig> loaded =
+      loadConfig(args, "calibrate", calibrationKeys(), printCalibrateUsage, nullptr, false,
+                 "simulation file name");
   if (!loaded) return 0;
   if (loaded->positional.empty()) {
     throw ConfigError("give the octarc simulate lenses output(s) to calibrate (see -h)");

@@ -53,7 +53,7 @@ struct DemoTimes {
   double simulateSec = 0, searchSec = 0, totalSec = 0;
 };
 
-void printUsage(const po::options_description& options) {
+void printDemoUsage(const po::options_description& options) {
   std::cout << "Usage: octarc demo [--size 2048] [--lenses 12] [--seed S] [--out DIR] [--quiet]\n"
                "\n"
                "Simulates a survey field with injected galaxy-galaxy lenses (octarc simulate\n"
@@ -85,7 +85,7 @@ std::optional<po::variables_map> parseOptions(const std::vector<std::string>& ar
     throw ConfigError(std::string(e.what()) + " (see octarc demo -h)");
   }
   if (vm.count("help")) {
-    printUsage(options);
+    printDemoUsage(options);
     return std::nullopt;
   }
   return vm;

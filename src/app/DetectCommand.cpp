@@ -25,7 +25,7 @@ namespace octarc {
 namespace {
 
 // clang-format off
-void printUsage() {
+void printDetectUsage() {
   std::cout <<
       "Usage: octarc detect IMAGE [-c config.sex] [-KEY value ...]\n"
       "       octarc detect DETECT_IMAGE,MEASURE_IMAGE [-c config.sex] [-KEY value ...]\n"
@@ -65,7 +65,7 @@ void printUsage() {
 
 int runDetect(const std::vector<std::string>& args) {
   const auto start = std::chrono::steady_clock::now();
-  std::optional<LoadedRun> run = loadRun(args, "detect", printUsage);
+  std::optional<LoadedRun> run = loadRun(args, "detect", printDetectUsage);
   if (!run) return 0;
   requireImages(run->settings, "detect", true);
   const RunSettings& s = run->settings;

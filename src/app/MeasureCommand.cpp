@@ -31,7 +31,7 @@ namespace octarc {
 
 namespace {
 
-void printUsage() {
+void printMeasureUsage() {
   std::cout
       << "Usage: octarc measure IMAGE [-c config.sex] [-KEY value ...]\n"
          "\n"
@@ -54,7 +54,7 @@ void printUsage() {
 
 int runMeasure(const std::vector<std::string>& args) {
   const auto start = std::chrono::steady_clock::now();
-  std::optional<LoadedRun> run = loadRun(args, "measure", printUsage);
+  std::optional<LoadedRun> run = loadRun(args, "measure", printMeasureUsage);
   if (!run) return 0;
   requireImages(run->settings, "measure", false);
   const RunSettings& s = run->settings;

@@ -18,7 +18,7 @@ namespace octarc {
 namespace {
 
 // clang-format off
-void printUsage() {
+void printSearchUsage() {
   std::cout <<
       "Usage: octarc search IMAGE [-c survey.sex] [-KEY value ...]\n"
       "       octarc search DETECT_IMAGE,MEASURE_IMAGE [-c survey.sex] [-KEY value ...]\n"
@@ -86,7 +86,7 @@ void printCandidateColumns() {
 
 int runSearch(const std::vector<std::string>& args) {
   std::optional<LoadedRun> loaded =
-      loadRun(args, "search", searchKeys(), printUsage, printCandidateColumns);
+      loadRun(args, "search", searchKeys(), printSearchUsage, printCandidateColumns);
   if (!loaded) return 0;
   requireImages(loaded->settings, "search", true);
   SearchRunSettings settings = searchSettingsFromConfig(loaded->config, loaded->settings);

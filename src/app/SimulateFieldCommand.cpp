@@ -20,7 +20,7 @@ namespace po = boost::program_options;
 
 namespace {
 
-void printUsage() {
+void printSimulateFieldUsage() {
   std::cout
       << "Usage: octarc simulate field -o FIELD.fits [options]\n"
          "\n"
@@ -80,7 +80,7 @@ int runSimulateField(const std::vector<std::string>& args) {
     throw ConfigError(std::string(e.what()) + " (see octarc simulate field -h)");
   }
   if (vm.count("help")) {
-    printUsage();
+    printSimulateFieldUsage();
     std::cout << options;
     return 0;
   }

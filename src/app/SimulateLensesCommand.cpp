@@ -32,7 +32,7 @@ namespace {
 namespace po = boost::program_options;
 namespace sim = octarc::simulation;
 
-void printUsage(const po::options_description& options) {
+void printSimulateLensesUsage(const po::options_description& options) {
   std::cout
       << "Usage: octarc simulate lenses -n N --seed S -o OUT.fits [options]\n"
          "\n"
@@ -150,7 +150,7 @@ int runSimulateLenses(const std::vector<std::string>& args) {
     throw ConfigError(std::string("simulate lenses: ") + e.what() + " (see -h)");
   }
   if (vm.count("help")) {
-    printUsage(options);
+    printSimulateLensesUsage(options);
     return 0;
   }
   if (!vm.count("count")) throw ConfigError("simulate lenses: -n N is required (see -h)");

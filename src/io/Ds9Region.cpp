@@ -22,7 +22,7 @@ constexpr double kArcsecPerDeg = 3600.0;
 
 enum class RegionSystem { Image, Physical, SkyJ2000 };
 
-std::string_view trim(std::string_view text) {
+std::string_view trimWhitespace(std::string_view text) {
   const auto first = text.find_first_not_of(" \t\r\n");
   if (first == std::string_view::npos) return {};
   const auto last = text.find_last_not_of(" \t\r\n");
@@ -45,7 +45,7 @@ struct ParseContext {
 }
 
 std::optional<double> plainNumber(std::string_view text) {
-  text = trim(text);
+  text = trimWhitespace(text);
   if (!text.empty() && text.front() == '+') text.remove_prefix(1);
   double value = 0.0;
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
@@ -64,7 +64,7 @@ double number(const ParseContext& context, std::string_view text, const char* wh
 // "12:34:56.7", "-05:06:07" or "12h34m56.7s", "-5d06m07s": the value in the unit of the first
 // field (hours or degrees); the sign of the first field applies to the whole.
 std::optional<double> sexagesimal(std::string_view text) {
-  std::string normalised(trim(text));
+  std::string normalised(trimWhitespace(text));
   for (char& c : normalised) {
     if (c == ':' || c == 'h' || c == 'd' || c == 'm' || c == 's') c = ' ';
   }
@@ -72,7 +72,7 @@ std::optional<double> sexagesimal(std::string_view text) {
   std::string field;
   double value = 0.0;
   double unit = 1.0;
-  const bool negative = trim(text).starts_with('-');
+  const bool negative = trimWhitespace(text).starts_with('-');
   std::vector<double> parts;
   while (fields >> field) {
     const auto part = plainNumber(field);
@@ -93,7 +93,7 @@ std::optional<double> sexagesimal(std::string_view text) {
 }
 
 double skyLongitudeDeg(const ParseContext& context, std::string_view text) {
-  const std::string t = lowercase(trim(text));
+  const std::string t = lowercase(trimWhitespace(text));
   std::optional<double> deg;
   if (t.find(':') != std::string::npos || t.find('h') != std::string::npos) {
     const auto hours = sexagesimal(t);
@@ -108,7 +108,7 @@ double skyLongitudeDeg(const ParseContext& context, std::string_view text) {
 }
 
 double skyLatitudeDeg(const ParseContext& context, std::string_view text) {
-  const std::string t = lowercase(trim(text));
+  const std::string t = lowercase(trimWhitespace(text));
   std::optional<double> deg;
   if (t.find(':') != std::string::npos || t.find('m') != std::string::npos) {
     deg = sexagesimal(t);
@@ -125,7 +125,7 @@ double skyLatitudeDeg(const ParseContext& context, std::string_view text) {
 
 // A sky size in arcsec: degrees unless marked ", ', d or r.
 double skySizeArcsec(const ParseContext& context, std::string_view text) {
-  const std::string_view t = trim(text);
+  const std::string_view t = trimWhitespace(text);
   double scale = kArcsecPerDeg;
   std::string_view digits = t;
   if (!t.empty()) {
@@ -157,7 +157,7 @@ double skySizeArcsec(const ParseContext& context, std::string_view text) {
 // A size in image pixels: `ltm` image pixels per unit of the shape's system, unless marked i
 // (image pixels) or p (physical pixels).
 double pixelSize(const ParseContext& context, std::string_view text, double ltm) {
-  std::string_view t = trim(text);
+  std::string_view t = trimWhitespace(text);
   if (!t.empty() && t.back() == 'i') {
     ltm = 1.0;
     t.remove_suffix(1);
@@ -381,7 +381,7 @@ std::optional<RegionSystem> coordinateSystem(const ParseContext& context, const 
 // One ';'-separated part of a line: a coordinate system, a global line or a shape.
 void parsePart(const ParseContext& context, std::string_view part, RegionSystem& system,
                bool& systemSet, int lineNumber, std::vector<RegionShape>& shapes) {
-  part = trim(part);
+  part = trimWhitespace(part);
   if (part.empty()) return;
   const std::string word = lowercase(part);
   if (word.starts_with("global")) return;
@@ -394,15 +394,15 @@ void parsePart(const ParseContext& context, std::string_view part, RegionSystem&
   std::string_view body = part;
   if (body.front() == '-' || body.front() == '+') {
     exclude = body.front() == '-';
-    body = trim(body.substr(1));
+    body = trimWhitespace(body.substr(1));
   }
   const auto open = body.find('(');
   const auto close = body.rfind(')');
   if (open == std::string_view::npos || close == std::string_view::npos || close < open ||
-      !trim(body.substr(close + 1)).empty()) {
+      !trimWhitespace(body.substr(close + 1)).empty()) {
     fail(context, "cannot read '" + std::string(part) + "' as a region shape");
   }
-  std::string name = lowercase(trim(body.substr(0, open)));
+  std::string name = lowercase(trimWhitespace(body.substr(0, open)));
   // DS9 also writes points as "circle point(x, y)", "box point(x, y)", ...
   if (name.size() > 6 && name.ends_with(" point")) name = "point";
   const auto args = splitArguments(context, body.substr(open + 1, close - open - 1));

@@ -20,7 +20,6 @@ namespace octarc {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kJ2000Jd = 2451545.0;
 constexpr double kDaysPerJulianCentury = 36525.0;
 constexpr double kArcsecPerRad = 180.0 * 3600.0 / std::numbers::pi;

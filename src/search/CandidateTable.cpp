@@ -8,13 +8,12 @@
 #include <variant>
 
 #include "octarc/catalog/Catalog.h"
+#include "octarc/core/Conventions.h"
 #include "octarc/search/CandidateName.h"
 
 namespace octarc {
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // What a column's value is computed from.
 struct RowView {

@@ -12,7 +12,6 @@ namespace octarc {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kArcEllipseScale = 3.0;  // the arc's ellipse: 3 A x 3 B
 constexpr double kLensCircleArcsec = 1.0;
 

@@ -18,8 +18,6 @@ namespace octarc {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
 // The brightest peak of an arc's own object at least this far from its centroid is a lens it is
 // blended with: nearer, it is the arc's own core (a curved arc's centroid lies inside its ridge
 // by less than this at the scales of ground surveys; measured on injected lenses, README).

@@ -13,7 +13,6 @@ namespace octarc {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The counter-image's window, in units of the neighbour distance, and its least opening angle.
 constexpr double kCounterMinRatio = 0.25;
 constexpr double kCounterMaxRatio = 1.5;

@@ -13,7 +13,7 @@ namespace octarc {
 
 namespace {
 
-constexpr const char* kTableName = "OCC_GRID";
+constexpr const char* kGridTableName = "OCC_GRID";
 constexpr std::int64_t kFormatVersion = 2;
 constexpr std::int64_t kOldestVersion = 1;  // no WEIGHT column: the counts are the weights
 
@@ -50,7 +50,7 @@ FitsTable binsTable(const SavedGrid& saved) {
     selected.push_back(saved.contour.selects(std::int64_t(r)) ? 1 : 0);
   }
   FitsTable t;
-  t.name = kTableName;
+  t.name = kGridTableName;
   t.columns = {
       {"BIN", "Bin index along each axis (0-based)", "", "", int(dims), std::move(bin), "", ""},
       {"COUNT", "Simulated arcs in the bin", "", "", 1, std::move(count), "", ""},
@@ -171,13 +171,13 @@ void saveGrid(const std::string& path, const SavedGrid& saved) {
 
 SavedGrid loadGrid(const std::string& path) {
   const std::vector<std::string> tables = listFitsTables(path);
-  if (std::find(tables.begin(), tables.end(), kTableName) == tables.end()) {
+  if (std::find(tables.begin(), tables.end(), kGridTableName) == tables.end()) {
     std::string list;
     for (const std::string& name : tables) list += (list.empty() ? "" : ", ") + name;
-    throw IoError(path + ": not an occupation grid (no " + kTableName + " table" +
+    throw IoError(path + ": not an occupation grid (no " + kGridTableName + " table" +
                   (list.empty() ? std::string() : "; tables: " + list) + ")");
   }
-  const FitsTable t = readFitsTable(path, kTableName);
+  const FitsTable t = readFitsTable(path, kGridTableName);
   if (!t.hasKeyword("OCTGRID")) {
     throw IoError(t.where() + ": not an occupation grid (keyword OCTGRID missing)");
   }

@@ -11,7 +11,7 @@ namespace octarc {
 
 namespace {
 
-constexpr const char* kTableName = "LENS_MODEL";
+constexpr const char* kModelTableName = "LENS_MODEL";
 constexpr std::int64_t kFormat = 1;
 constexpr std::size_t kChunk = 1000;  // characters per MODEL string
 
@@ -94,7 +94,7 @@ FeatureRows lensFeatures(const Table& table, const std::vector<std::int64_t>& ro
 
 void saveLensModel(const std::string& path, const SavedLensModel& m) {
   FitsTable t;
-  t.name = kTableName;
+  t.name = kModelTableName;
   auto& k = t.keywords;
   k.push_back(FitsKeyword::integer("OCTMODEL", kFormat, "octarc lens model format"));
   k.push_back(FitsKeyword::text("METHOD", "TREES", "Gradient-boosted trees (XGBoost)"));
@@ -134,12 +134,12 @@ void saveLensModel(const std::string& path, const SavedLensModel& m) {
 
 SavedLensModel loadLensModel(const std::string& path) {
   const std::vector<std::string> tables = listFitsTables(path);
-  if (std::find(tables.begin(), tables.end(), kTableName) == tables.end()) {
+  if (std::find(tables.begin(), tables.end(), kModelTableName) == tables.end()) {
     throw IoError(path +
                   ": not an octarc lens model (no LENS_MODEL table; make one with "
                   "octarc calibrate -MODEL_NAME)");
   }
-  const FitsTable t = readFitsTable(path, kTableName);
+  const FitsTable t = readFitsTable(path, kModelTableName);
   if (t.integer("OCTMODEL") != kFormat) {
     throw IoError(t.where() + ": lens model format " + std::to_string(t.integer("OCTMODEL")) +
                   ", this octarc reads format " + std::to_string(kFormat));

@@ -26,12 +26,18 @@
 //   Bins are half-open, [lo + k w, lo + (k + 1) w); the S/N axis is log10(SNR_ISO); bins are
 //   ordered by probability, ties by packed index (axis 0 fastest), lowest first. Written out in
 //   selection/GridBinning.h and selection/OccupationGrid.h.
+//
+// Missing values
+//   A quantity that cannot be measured for an object is NaN (kNaN), with a flag saying why.
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <numbers>
 
 namespace octarc {
+
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // 1-based FITS pixel coordinate of the centre of the pixel with 0-based index i.
 constexpr double toFitsPixel(double zeroBasedIndex) {

@@ -12,9 +12,9 @@
 #include <limits>
 #include <span>
 
-namespace octarc {
+#include "octarc/core/Conventions.h"
 
-inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+namespace octarc {
 
 // ---------------------------------------------------------------------------------------------
 // SExtractor isophotal second moments (SEXTRACTOR.md §3, one-pass sums as SExtractor does them).

@@ -16,7 +16,7 @@
 namespace octarc {
 namespace {
 
-ColumnSpec column(const char* name) {
+ColumnSpec doubleColumn(const char* name) {
   ColumnSpec c;
   c.name = name;
   c.type = ColumnType::Float64;
@@ -26,9 +26,9 @@ ColumnSpec column(const char* name) {
 constexpr const char* kArcs = "ARC_FOUND == 1 && ARCNESS > 0.1";
 
 // Systems: (ARC_FOUND, ARCNESS, ARC_COLOUR_g, LENS_COLOUR_g).
-Table systemsTable(const std::vector<std::array<double, 4>>& rows) {
-  Table t(
-      {column("ARC_FOUND"), column("ARCNESS"), column("ARC_COLOUR_g"), column("LENS_COLOUR_g")});
+Table colourTable(const std::vector<std::array<double, 4>>& rows) {
+  Table t({doubleColumn("ARC_FOUND"), doubleColumn("ARCNESS"), doubleColumn("ARC_COLOUR_g"),
+           doubleColumn("LENS_COLOUR_g")});
   for (const auto& r : rows) std::copy(r.begin(), r.end(), t.appendRow());
   return t;
 }
@@ -38,19 +38,19 @@ TEST(ColourCut, FractionsKeptCountedByHand) {
   // Ten arcs (ARC_FOUND 1, ARCNESS > 0.1): arc minus lens colours -1.0, -0.75, -0.75, -0.5,
   // -0.25, 0.0, 0.5 and 1.5 (exact in binary), and two without a lens colour. Three rows that are
   // not arcs, whatever their colours.
-  const Table t = systemsTable({{1, 0.12, 0.25, 1.25},
-                                {1, 0.15, 0.5, 1.25},
-                                {1, 0.20, 0.5, 1.25},
-                                {1, 0.11, 0.75, 1.25},
-                                {1, 0.13, 1.0, 1.25},
-                                {1, 0.14, 1.0, 1.0},
-                                {1, 0.18, 1.5, 1.0},
-                                {1, 0.16, 2.5, 1.0},
-                                {1, 0.12, 0.5, nan},
-                                {1, 0.19, 0.5, nan},
-                                {1, 0.05, 0.0, 2.0},   // arcness too low
-                                {0, 0.30, 0.0, 2.0},   // no arc found
-                                {1, nan, 0.0, 2.0}});  // no arcness: not an arc
+  const Table t = colourTable({{1, 0.12, 0.25, 1.25},
+                               {1, 0.15, 0.5, 1.25},
+                               {1, 0.20, 0.5, 1.25},
+                               {1, 0.11, 0.75, 1.25},
+                               {1, 0.13, 1.0, 1.25},
+                               {1, 0.14, 1.0, 1.0},
+                               {1, 0.18, 1.5, 1.0},
+                               {1, 0.16, 2.5, 1.0},
+                               {1, 0.12, 0.5, nan},
+                               {1, 0.19, 0.5, nan},
+                               {1, 0.05, 0.0, 2.0},   // arcness too low
+                               {0, 0.30, 0.0, 2.0},   // no arc found
+                               {1, nan, 0.0, 2.0}});  // no arcness: not an arc
   ColourCutSettings s;
   s.maxLoMag = -1.0;
   s.maxHiMag = 1.0;
@@ -83,9 +83,9 @@ TEST(ColourCut, FractionsKeptCountedByHand) {
 
 // With SIM_WEIGHT: the fractions kept are weight sums, the levels reached by weight.
 TEST(ColourCut, WeightedFractionsAndLevels) {
-  ColumnSpec w = column("SIM_WEIGHT");
-  Table t(
-      {column("ARC_FOUND"), column("ARCNESS"), column("ARC_COLOUR_g"), column("LENS_COLOUR_g"), w});
+  ColumnSpec w = doubleColumn("SIM_WEIGHT");
+  Table t({doubleColumn("ARC_FOUND"), doubleColumn("ARCNESS"), doubleColumn("ARC_COLOUR_g"),
+           doubleColumn("LENS_COLOUR_g"), w});
   // Differences -0.5 (weight 1), 0.0 (weight 6), 0.5 (weight 2), one without colour (weight 1).
   const std::vector<std::array<double, 5>> rows = {{1, 0.2, 0.5, 1.0, 1.0},
                                                    {1, 0.2, 1.0, 1.0, 6.0},
@@ -117,7 +117,7 @@ TEST(ColourCut, WeightedFractionsAndLevels) {
 }
 
 TEST(ColourCut, MissingColumnsAndBadRangesAreNamed) {
-  const Table t = systemsTable({{1, 0.2, 0.5, 1.2}});
+  const Table t = colourTable({{1, 0.2, 0.5, 1.2}});
   ColourCutSettings s;
   try {
     colourCutStudy(t, "i", kArcs, s);

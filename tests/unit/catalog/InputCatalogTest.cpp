@@ -22,7 +22,8 @@
 namespace octarc {
 namespace {
 
-const char* kParam = "NUMBER\nX_IMAGE\nY_IMAGE\nISOAREA_IMAGE\nFLUX_ISO\nFLUX_APER(3)\nFLAGS\n";
+const char* kInputParam =
+    "NUMBER\nX_IMAGE\nY_IMAGE\nISOAREA_IMAGE\nFLUX_ISO\nFLUX_APER(3)\nFLAGS\n";
 
 std::vector<ColumnSpec> octopoleColumns() {
   return {
@@ -56,7 +57,7 @@ class InputCatalog : public ::testing::Test {
     test::writeSmallImage(dir_ / "small.fits");
     test::writeTwoExtensionImage(dir_ / "mef.fits");
     std::FILE* f = std::fopen((dir_ / "t.param").c_str(), "w");
-    std::fputs(kParam, f);
+    std::fputs(kInputParam, f);
     std::fclose(f);
   }
 

@@ -9,16 +9,12 @@
 #include <string>
 #include <vector>
 
+#include "TestFiles.h"
 #include "TestPaths.h"
 #include "octarc/core/Error.h"
 
 namespace octarc {
 namespace {
-
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 TEST(AtomicFile, CommitReplacesTargetAndAbandonLeavesItUntouched) {
   auto dir = test::scratchDir();
@@ -29,14 +25,14 @@ TEST(AtomicFile, CommitReplacesTargetAndAbandonLeavesItUntouched) {
     std::ofstream(f.tempPath()) << "half-written";
     // no commit: as if the run failed
   }
-  EXPECT_EQ(slurp(target), "old");
+  EXPECT_EQ(test::readFile(target), "old");
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), {}), 1);
   {
     AtomicFile f(target.string());
     std::ofstream(f.tempPath()) << "new";
     f.commit();
   }
-  EXPECT_EQ(slurp(target), "new");
+  EXPECT_EQ(test::readFile(target), "new");
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), {}), 1);
 }
 
@@ -61,8 +57,8 @@ TEST(OutputFiles, NothingAppearsUntilCommitThenEverything) {
     out.write(1, [](const std::string& p) { std::ofstream(p) << "new image"; });
     // Both written, not committed (a failure, or an exception, from here on): the old set.
   }
-  EXPECT_EQ(slurp(dir / "cat.ldac"), "old catalog");
-  EXPECT_EQ(slurp(dir / "seg.fits"), "old image");
+  EXPECT_EQ(test::readFile(dir / "cat.ldac"), "old catalog");
+  EXPECT_EQ(test::readFile(dir / "seg.fits"), "old image");
   EXPECT_EQ(entries(dir), (std::vector<std::string>{"cat.ldac", "seg.fits"}));
   OutputFiles out;
   out.add((dir / "cat.ldac").string());
@@ -70,11 +66,11 @@ TEST(OutputFiles, NothingAppearsUntilCommitThenEverything) {
   out.write(0, [](const std::string& p) { std::ofstream(p) << "new catalog"; });
   // The second output was never written: commit refuses, the old set stays.
   EXPECT_THROW(out.commit(), IoError);
-  EXPECT_EQ(slurp(dir / "cat.ldac"), "old catalog");
+  EXPECT_EQ(test::readFile(dir / "cat.ldac"), "old catalog");
   out.write(1, [](const std::string& p) { std::ofstream(p) << "new image"; });
   out.commit();
-  EXPECT_EQ(slurp(dir / "cat.ldac"), "new catalog");
-  EXPECT_EQ(slurp(dir / "seg.fits"), "new image");
+  EXPECT_EQ(test::readFile(dir / "cat.ldac"), "new catalog");
+  EXPECT_EQ(test::readFile(dir / "seg.fits"), "new image");
   EXPECT_EQ(entries(dir), (std::vector<std::string>{"cat.ldac", "seg.fits"}));
 }
 

@@ -11,6 +11,7 @@
 #include <iterator>
 #include <string>
 
+#include "TestFiles.h"
 #include "TestPaths.h"
 #include "octarc/core/AtomicFile.h"
 
@@ -71,11 +72,6 @@ TEST(Interrupt, HeldBackDuringRenamesThenTheRunEndsWithItsOutputs) {
   EXPECT_TRUE(fs::exists(dir / "a.txt"));
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
 TEST(Interrupt, AfterTheOutputsAreInPlaceTheLineSaysTheyAreComplete) {
   const fs::path dir = test::scratchDir();
   const fs::path log = dir / "stderr.txt";
@@ -90,7 +86,7 @@ TEST(Interrupt, AfterTheOutputsAreInPlaceTheLineSaysTheyAreComplete) {
   });
   EXPECT_EQ(status, 130);
   EXPECT_TRUE(fs::exists(dir / "cat.ldac"));
-  EXPECT_EQ(slurp(log),
+  EXPECT_EQ(test::readFile(log),
             "test: interrupted by SIGINT after its outputs were written; they are "
             "complete\n");
 }

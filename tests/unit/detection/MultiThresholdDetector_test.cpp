@@ -26,7 +26,7 @@ std::vector<std::int32_t> labelsOf(const ImageI32& image) {
 }
 
 using Pixels = std::vector<std::int64_t>;
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr float kNaNf = std::numeric_limits<float>::quiet_NaN();
 
 // Everything the detector emitted, in emission order, plus the sink call boundaries.
 struct Detected {
@@ -142,8 +142,8 @@ TEST(MultiThresholdDetector, ComparesInSinglePrecisionLikeSourceExtractor) {
 
 TEST(MultiThresholdDetector, NonFinitePixelsNeverJoinAndSplitObjects) {
   const float inf = std::numeric_limits<float>::infinity();
-  const ImageF image = rows(5, {5, 5, kNaN, 5, 5,  //
-                                0, 0, kNaN, 0, inf});
+  const ImageF image = rows(5, {5, 5, kNaNf, 5, 5,  //
+                                0, 0, kNaNf, 0, inf});
   const Detected got = detect(image, settingsOf({1}, 1));
   expectObjects(got, {{1, 1, 0, {0, 1}}, {1, 2, 0, {3, 4}}});
 }
@@ -161,7 +161,7 @@ TEST(MultiThresholdDetector, ChildSplitsIntoTwoAtHigherLevel) {
 
 TEST(MultiThresholdDetector, ThresholdScaleMap) {
   const ImageF image = rows(4, {3, 3, 3, 3});
-  ImageF scale = rows(4, {1, 0, 2, kNaN});
+  ImageF scale = rows(4, {1, 0, 2, kNaNf});
   DetectionSettings settings = settingsOf({2, 5}, 1);
   settings.thresholdScale = &scale;
   // Pixel 0: 3 > 2*1 (level 1 only). Pixel 1: factor 0 -> never. Pixel 2: 3 > 4? no.
@@ -175,7 +175,7 @@ TEST(MultiThresholdDetector, ThresholdScaleMap) {
 
 TEST(MultiThresholdDetector, EmptyAllNaNAndConstantImages) {
   EXPECT_TRUE(detect(ImageF(), settingsOf({1}, 1)).objects.empty());
-  EXPECT_TRUE(detect(ImageF(6, 5, kNaN), settingsOf({1, 2}, 1)).objects.empty());
+  EXPECT_TRUE(detect(ImageF(6, 5, kNaNf), settingsOf({1, 2}, 1)).objects.empty());
   EXPECT_TRUE(detect(ImageF(6, 5, 1.0f), settingsOf({1, 2}, 1)).objects.empty());
   // A constant image above the lowest level is one object covering everything.
   const Detected got = detect(ImageF(3, 2, 1.5f), settingsOf({1, 2}, 1));
@@ -274,7 +274,7 @@ ImageF randomImage(std::int64_t w, std::int64_t h, std::uint32_t seed, double na
   ImageF image = applyFilter(white, box);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (float& v : image.pixels()) {
-    if (u(rng) < nanFraction) v = kNaN;
+    if (u(rng) < nanFraction) v = kNaNf;
   }
   return image;
 }
@@ -353,7 +353,7 @@ TEST(MultiThresholdDetector, RandomImagesWithThresholdScaleMatchNaive) {
   const ImageF image = randomImage(120, 90, 77, 0.005);
   ImageF scale(120, 90);
   for (float& v : scale.pixels()) v = u(rng);  // includes factors <= 0
-  scale[5] = kNaN;
+  scale[5] = kNaNf;
   checkAgainstNaive(image, &scale, {0.8, 1.6, 3.2}, 2);
 }
 

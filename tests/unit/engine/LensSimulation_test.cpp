@@ -9,6 +9,7 @@
 #include <set>
 #include <vector>
 
+#include "EngineTestSetup.h"
 #include "LensTestSupport.h"
 #include "TestPaths.h"
 #include "octarc/app/Commands.h"
@@ -93,23 +94,9 @@ TEST(SelectArcs, RandomLevelThenBrightestArcAllRowsKept) {
   EXPECT_EQ(chosen, (std::set<std::int64_t>{2, 5, 8}));
 }
 
-SimulationSetup testSetup() {
-  SimulationSetup setup;
-  setup.population = sim::readPopulationModel(sim::populationPresetPath("dls"));
-  setup.observing.skySigmaAdu = 1.0;
-  for (int k = 0; k < 15; ++k) setup.thresholdsAdu.push_back(2.5 * std::pow(8.0, k / 14.0));
-  return setup;
-}
-
-SourceDatabase testSources() {
-  sim::SyntheticGalaxyOptions options;
-  options.stampHalfLightRadii = 4.0;
-  return SourceDatabase::synthetic(6, 42, options);
-}
-
 TEST(SimulateSystem, BigEinsteinRadiusAndBrightSourceGiveAnArc) {
-  const SimulationSetup setup = testSetup();
-  const SourceDatabase sources = testSources();
+  const SimulationSetup setup = test::engineTestSetup();
+  const SourceDatabase sources = test::engineTestSources();
   // A spiral source (database row 1) of 22.5 mag, 1.5" from the centre of a b = 2.5" lens of
   // 23 mag (sky sigma 1 ADU: the source has 1000 times the sky sigma in total flux).
   sim::LensSystem sys;
@@ -142,8 +129,8 @@ TEST(SimulateSystem, BigEinsteinRadiusAndBrightSourceGiveAnArc) {
 }
 
 TEST(SimulateSystem, EachIndexIsReproducibleOnItsOwn) {
-  const SimulationSetup setup = testSetup();
-  const SourceDatabase sources = testSources();
+  const SimulationSetup setup = test::engineTestSetup();
+  const SourceDatabase sources = test::engineTestSources();
   const SimulatedSystem a = simulateSystem(setup, sources, 99, 5, true);
   (void)simulateSystem(setup, sources, 99, 4, false);  // other systems in between change nothing
   const SimulatedSystem b = simulateSystem(setup, sources, 99, 5, true);
@@ -173,8 +160,8 @@ TEST(SimulateSystem, EachIndexIsReproducibleOnItsOwn) {
 // Every drawn system is strongly lensed: its source has at least two images (counted from the
 // lens equation), and the region beyond theta_E inside the cut is drawn too.
 TEST(DrawLensSystem, EverySourceHasAtLeastTwoImages) {
-  const SimulationSetup setup = testSetup();
-  const SourceDatabase sources = testSources();
+  const SimulationSetup setup = test::engineTestSetup();
+  const SourceDatabase sources = test::engineTestSources();
   int beyondEinsteinRadius = 0;
   for (std::int64_t i = 0; i < 1000; ++i) {
     const LensSystemDraw d = drawLensSystem(setup, sources, std::uint64_t(21), i);
@@ -193,14 +180,14 @@ TEST(DrawLensSystem, EverySourceHasAtLeastTwoImages) {
 // theta_E is the SIS closed form 4 pi (sigma/c)^2 D_ls/D_s with D_ls = (D_C(z_s) - D_C(z_l)) /
 // (1 + z_s).
 TEST(DrawLensSystem, PairsFollowTheCrossSectionOverVolume) {
-  SimulationSetup setup = testSetup();
+  SimulationSetup setup = test::engineTestSetup();
   setup.population = sim::readPopulationModel(sim::populationPresetPath("physical"));
   for (auto& [type, relation] : setup.population.sourceRedshift) {
     relation.zAtRef = 2.0;
     relation.slopePerMag = 0.0;
     relation.scatter = 0.0;
   }
-  const SourceDatabase sources = testSources();
+  const SourceDatabase sources = test::engineTestSources();
   const sim::FlatLambdaCdm& c = setup.cosmology;
   const double zs = 2.0, dcS = c.comovingDistanceMpc(zs);
   constexpr int kSystems = 4000;
@@ -242,8 +229,9 @@ TEST(DrawLensSystem, PairsFollowTheCrossSectionOverVolume) {
 }
 
 TEST(DrawLensSystem, PairsWithoutASourceRedshiftAreRedrawnReproducibly) {
-  SimulationSetup setup = testSetup();
-  const SourceDatabase sources = testSources();  // types in turn elliptical, spiral, irregular
+  SimulationSetup setup = test::engineTestSetup();
+  const SourceDatabase sources =
+      test::engineTestSources();  // types in turn elliptical, spiral, irregular
   // Elliptical sources at z = 5 +- 0.01: never inside 0.2 < z < 3, so pairs with an elliptical
   // stamp are drawn again; the other types at z = 0.6 +- 0.05, so lenses at z > 0.7 have no
   // cross-section (source.min_dz_behind_lens 0.1) and are turned down.
@@ -287,7 +275,7 @@ std::string readBytes(const std::filesystem::path& p) {
 // c2 (m_s - m_lim) + c3 ln(r_s / FWHM) + c4 (m_l - m_lim), r = clamp(scale sqrt(p), floor, 1);
 // 0 below the skip limit, 1 above it for a plain draw.
 TEST(RenderProbability, IsTheClampedRootOfTheLogisticArcProbability) {
-  SimulationSetup setup = testSetup();
+  SimulationSetup setup = test::engineTestSetup();
   setup.population.skipEinsteinRadiusBelowArcsec = 0.5;
   LensSystemDraw d;
   d.einsteinRadiusArcsec = 1.3;
@@ -324,11 +312,11 @@ TEST(RenderProbability, IsTheClampedRootOfTheLogisticArcProbability) {
 // Horvitz-Thompson estimate, within 4 of its standard errors sqrt(sum (1 - r) / r^2) over the
 // rendered), and the weighted mean theta_E is the mean over every system above the limit.
 TEST(ImportanceSampling, RendersPlainSystemsAndItsWeightsGiveThePopulation) {
-  SimulationSetup plain = testSetup();
+  SimulationSetup plain = test::engineTestSetup();
   plain.population.skipEinsteinRadiusBelowArcsec = 0.5;
   SimulationSetup weighted = plain;
   weighted.sampling = Sampling::Importance;
-  const SourceDatabase sources = testSources();
+  const SourceDatabase sources = test::engineTestSources();
   const std::uint64_t seed = 17;
   double above = 0, weightSum = 0, variance = 0, thetaSum = 0, weightedThetaSum = 0;
   std::int64_t rendered = 0, firstRendered = -1;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "EngineTestSetup.h"
 #include "ExpectError.h"
 #include "TestPaths.h"
 #include "octarc/app/Commands.h"
@@ -20,20 +21,6 @@ namespace octarc {
 namespace {
 
 namespace sim = octarc::simulation;
-
-SimulationSetup testSetup() {
-  SimulationSetup setup;
-  setup.population = sim::readPopulationModel(sim::populationPresetPath("dls"));
-  setup.observing.skySigmaAdu = 1.0;
-  for (int k = 0; k < 15; ++k) setup.thresholdsAdu.push_back(2.5 * std::pow(8.0, k / 14.0));
-  return setup;
-}
-
-SourceDatabase testSources() {
-  sim::SyntheticGalaxyOptions options;
-  options.stampHalfLightRadii = 4.0;
-  return SourceDatabase::synthetic(6, 42, options);
-}
 
 ImageF toFloat(const ImageD& image) {
   ImageF out(image.width(), image.height());
@@ -67,10 +54,10 @@ double mixedColour(double s, double l, double sourceColour, double lensColour) {
 // The footprints' exact fractions, from the source and the lens rendered apart, must then give
 // the measured colours to float precision (1e-4 mag).
 TEST(SecondBand, NoiselessColoursComeBack) {
-  SimulationSetup setup = testSetup();
+  SimulationSetup setup = test::engineTestSetup();
   setup.observing.addNoise = false;
   setup.band = SecondBand{"g", {0.4, 0.0}, {1.2, 0.0}};
-  const SourceDatabase sources = testSources();
+  const SourceDatabase sources = test::engineTestSources();
   sim::LensSystem sys;
   sys.mass = {3.0, 0.05, 0.0, 0.3};
   sys.light = {4.0, 0.5, 0.8, 0.3, 0.0};
@@ -121,11 +108,11 @@ TEST(SecondBand, NoiselessColoursComeBack) {
 
 // The same seed gives the same second band; the first band is the same with or without it.
 TEST(SecondBand, ReproducibleAndFirstBandUnchanged) {
-  SimulationSetup one = testSetup();
+  SimulationSetup one = test::engineTestSetup();
   one.population.sigmaMinKmPerS = 330.0;  // large Einstein radii: arcs in a few systems
   SimulationSetup two = one;
   two.band = SecondBand{};
-  const SourceDatabase sources = testSources();
+  const SourceDatabase sources = test::engineTestSources();
   int measured = 0;
   std::vector<double> sourceColours;
   for (std::int64_t i = 0; i < 24; ++i) {
@@ -161,9 +148,9 @@ TEST(SecondBand, ReproducibleAndFirstBandUnchanged) {
 // The band's columns are scalar columns like any: an expression of the search's names works on
 // both tables of a run.
 TEST(SecondBand, ColumnsWorkInExpressions) {
-  SimulationSetup setup = testSetup();
+  SimulationSetup setup = test::engineTestSetup();
   setup.band = SecondBand{};
-  const SourceDatabase sources = testSources();
+  const SourceDatabase sources = test::engineTestSources();
   const LensRun run = runLensSimulation(setup, sources, 5, 16, 2, 0, {});
   for (const Table* t : {&run.systems, &run.arcs}) {
     const std::vector<double> v =

@@ -16,14 +16,13 @@
 #include "TestCommands.h"
 #include "TestFiles.h"
 #include "TestPaths.h"
+#include "octarc/core/Conventions.h"
 #include "octarc/core/Error.h"
 
 namespace octarc {
 namespace {
 
 namespace fs = std::filesystem;
-
-constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
 std::string astropyScript() {
   return std::string(OCTARC_SOURCE_DIR) + "/tests/unit/io/fits_table_astropy.py";
@@ -58,7 +57,7 @@ std::vector<FitsTable> sampleTables() {
              std::vector<std::int64_t>{std::numeric_limits<std::int64_t>::min(), 9007199254740993LL,
                                        std::numeric_limits<std::int64_t>::max()}),
       column("F32", std::vector<float>{1.5f, std::nanf(""), -0.25f}, 1, "mag", "F8.3"),
-      column("F64", std::vector<double>{0.1, 1e-300, kNan}, 1, "deg", "", "a float64"),
+      column("F64", std::vector<double>{0.1, 1e-300, kNaN}, 1, "deg", "", "a float64"),
       column("NAME", std::vector<std::string>{"lens", "", "arc 'x'"}, 8),
       column("AUTO", std::vector<std::string>{"a", "longest", "b"}, 0),
       column("VEC", std::vector<double>{1, 2, 3, 4, 5, 6, 7, 8, 9}, 3, "pixel", "E12.4",
@@ -73,7 +72,7 @@ std::vector<FitsTable> sampleTables() {
       FitsKeyword::real("PIXSCALE", 0.257, "arcsec/px"),
       FitsKeyword::real("GAIN", 54.0, "e-/ADU"),
       FitsKeyword::real("TINY", 1.25e-7),
-      FitsKeyword::real("UNKNOWN", kNan, "not known"),
+      FitsKeyword::real("UNKNOWN", kNaN, "not known"),
       FitsKeyword::text("SHORT", "it's", "a quote inside"),
       FitsKeyword::text("LONG", kLongText, "continued"),
   };

@@ -12,10 +12,11 @@
 namespace octarc {
 namespace {
 
-constexpr double kScale = 0.25;  // arcsec per pixel: the lens circle of 1" has radius 4 px
+constexpr double kInspectionScale =
+    0.25;  // arcsec per pixel: the lens circle of 1" has radius 4 px
 
 // Rows: 0 the first candidate's arc, 1 its lens, 2 the second candidate's arc (no lens).
-Table handCatalog() {
+Table inspectedCatalog() {
   using T = ColumnType;
   Table t({{"X_IMAGE", "", "pixel", "", T::Float32, "%10.3f"},
            {"Y_IMAGE", "", "pixel", "", T::Float32, "%10.3f"},
@@ -36,7 +37,7 @@ Table handCatalog() {
   return t;
 }
 
-SearchResult handResult() {
+SearchResult inspectedResult() {
   SearchResult r;
   Candidate a;
   a.row = 0;
@@ -57,7 +58,8 @@ SearchResult handResult() {
 }
 
 TEST(Inspection, RegionMarksAreArcEllipsesAndLensCircles) {
-  const std::vector<RegionMark> marks = candidateRegionMarks(handCatalog(), handResult(), kScale);
+  const std::vector<RegionMark> marks =
+      candidateRegionMarks(inspectedCatalog(), inspectedResult(), kInspectionScale);
   ASSERT_EQ(marks.size(), 3u);  // arc 1, its lens, arc 2 (no lens)
   EXPECT_EQ(marks[0].kind, RegionShapeKind::Ellipse);
   EXPECT_EQ(marks[0].xCentre, 10.5);
@@ -92,9 +94,9 @@ TEST(Inspection, StampCutsAroundTheLensWithTheDisplayRangeOfItsPixels) {
   StampSettings settings;
   settings.sideArcsec = 4.0;
   settings.sizePix = 123;
-  const Table catalog = handCatalog();
-  const SearchResult result = handResult();
-  const Stamp s = candidateStamp(image, catalog, result, 0, nullptr, kScale, settings);
+  const Table catalog = inspectedCatalog();
+  const SearchResult result = inspectedResult();
+  const Stamp s = candidateStamp(image, catalog, result, 0, nullptr, kInspectionScale, settings);
   ASSERT_EQ(s.pixels.width(), 16);
   ASSERT_EQ(s.pixels.height(), 16);
   EXPECT_EQ(s.xFirstFits, 8.0);
@@ -107,7 +109,7 @@ TEST(Inspection, StampCutsAroundTheLensWithTheDisplayRangeOfItsPixels) {
   EXPECT_NEAR(s.displayLowAdu, 127.5 - (127.5 - 40.4685), 1e-9);
   EXPECT_NEAR(s.displayHighAdu, 254.235, 1e-9);
   EXPECT_FALSE(s.hasSkyDirections);  // no WCS
-  EXPECT_EQ(s.pixelScaleArcsec, kScale);
+  EXPECT_EQ(s.pixelScaleArcsec, kInspectionScale);
   EXPECT_EQ(s.sizePix, 123);
   ASSERT_EQ(s.marks.size(), 2u);
   EXPECT_TRUE(s.marks[0].ellipse);
@@ -124,7 +126,7 @@ TEST(Inspection, StampCutsAroundTheLensWithTheDisplayRangeOfItsPixels) {
 
   // Candidate 2, without a lens, is centred on its arc: 1-based (100, 50), cut-out from
   // 0-based (91, 41); columns 104 ... 106 lie outside the image and stay NaN.
-  const Stamp t = candidateStamp(image, catalog, result, 1, nullptr, kScale, settings);
+  const Stamp t = candidateStamp(image, catalog, result, 1, nullptr, kInspectionScale, settings);
   EXPECT_EQ(t.xFirstFits, 92.0);
   EXPECT_EQ(t.yFirstFits, 42.0);
   EXPECT_EQ(t.pixels(12, 0), 1000.0f);
@@ -136,7 +138,7 @@ TEST(Inspection, StampCutsAroundTheLensWithTheDisplayRangeOfItsPixels) {
   // Every finite pixel 1000: a flat range, widened to one ADU.
   EXPECT_EQ(t.displayLowAdu, 1000.0);
   EXPECT_EQ(t.displayHighAdu, 1001.0);
-  EXPECT_THROW(candidateStamp(image, catalog, result, 2, nullptr, kScale, settings),
+  EXPECT_THROW(candidateStamp(image, catalog, result, 2, nullptr, kInspectionScale, settings),
                std::out_of_range);
 }
 
@@ -147,7 +149,7 @@ std::size_t count(const std::string& text, const std::string& what) {
 }
 
 TEST(Inspection, ContactSheetHasACardAndARowPerCandidate) {
-  SearchResult result = handResult();
+  SearchResult result = inspectedResult();
   result.candidates[0].arcMags = {{21.5, 0.03}, {22.25, 0.04}};
   result.candidates[0].lensMags = {{19.0, 0.01}, {20.5, 0.02}};
   ContactSheetInfo info;
@@ -155,7 +157,7 @@ TEST(Inspection, ContactSheetHasACardAndARowPerCandidate) {
   info.catalogFile = "candidates.fits";
   info.regionFile = "candidates.reg";
   info.summaryLines = {"2 candidate(s)", "a < b"};
-  const std::string html = contactSheetHtml(handCatalog(), result, info);
+  const std::string html = contactSheetHtml(inspectedCatalog(), result, info);
   EXPECT_NE(html.find("<title>field &lt;1&gt; &amp; co</title>"), std::string::npos);
   EXPECT_NE(html.find("a &lt; b<br>"), std::string::npos);
   EXPECT_NE(html.find("<a href=\"candidates.fits\">"), std::string::npos);
@@ -185,7 +187,7 @@ TEST(Inspection, ContactSheetHasACardAndARowPerCandidate) {
   EXPECT_EQ(html.find("colours arc / lens"), std::string::npos);  // no bands, no column
 
   info.colourBands = {"g"};
-  const std::string withColours = contactSheetHtml(handCatalog(), result, info);
+  const std::string withColours = contactSheetHtml(inspectedCatalog(), result, info);
   EXPECT_NE(withColours.find("<th>colours arc / lens</th>"), std::string::npos);
   EXPECT_NE(withColours.find("<td>g 0.75 / 1.50</td>"), std::string::npos);  // 22.25 - 21.5 ...
   EXPECT_NE(withColours.find("<td>g - / -</td>"), std::string::npos);        // none: "-"

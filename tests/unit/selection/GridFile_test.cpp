@@ -18,6 +18,7 @@
 #include "TestCommands.h"
 #include "TestFiles.h"
 #include "TestPaths.h"
+#include "octarc/core/Conventions.h"
 #include "octarc/core/Error.h"
 #include "octarc/io/FitsTable.h"
 
@@ -26,14 +27,13 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::expectError;
-constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
 // The 3 x 2 grid of the scoring tests (probabilities 0.5, 0.25, 0.125, 0.125 in bins 0, 1, 3,
 // 4), on the first and last default axes, with one sample outside and two undefined.
-OccupationGrid handMadeGrid() {
+OccupationGrid savedHandGrid() {
   const GridBinning b({GridAxis{"ARCNESS", 0.0, 0.3, 3}, GridAxis{"log10(SNR_ISO)", 1.0, 3.0, 2}});
-  return OccupationGrid::fill(b, {{0.05, 0.05, 0.05, 0.05, 0.15, 0.15, 0.05, 0.15, 0.4, kNan, 0.1},
-                                  {1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 2.5, 2.5, 1.5, 1.5, kNan}});
+  return OccupationGrid::fill(b, {{0.05, 0.05, 0.05, 0.05, 0.15, 0.15, 0.05, 0.15, 0.4, kNaN, 0.1},
+                                  {1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 2.5, 2.5, 1.5, 1.5, kNaN}});
 }
 
 SurveySetup dlsSetup() {
@@ -52,7 +52,7 @@ SurveySetup dlsSetup() {
 }
 
 SavedGrid savedGrid() {
-  OccupationGrid grid = handMadeGrid();
+  OccupationGrid grid = savedHandGrid();
   const Contour contour = grid.contour(0.8);
   return SavedGrid{
       std::move(grid), contour,

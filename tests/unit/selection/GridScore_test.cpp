@@ -8,12 +8,11 @@
 #include <vector>
 
 #include "SelectionTestSupport.h"
+#include "octarc/core/Conventions.h"
 #include "octarc/core/Error.h"
 
 namespace octarc {
 namespace {
-
-constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
 // Axes X over [0, 3) in 3 bins and log10(S) over [0, 2) in 2 bins: 6 bins, packed x + 3 y.
 // Filled with 4 samples in (0, 0) = packed 0, 2 in (1, 0) = 1, 1 in (0, 1) = 3, 1 in
@@ -31,7 +30,7 @@ TEST(GridScore, RowsScoreTheirBinsProbabilityAndEntryLevel) {
   ASSERT_EQ(contour.selectedBins, 2);
   // S = 10^y: log10 of 1, 10 and 100 is exactly 0, 1 and 2.
   const Table catalog = test::makeTable({
-      {"X", {0.2, 1.9, 0.0, 2.5, 3.0, kNan, 1.0, 0.5}},
+      {"X", {0.2, 1.9, 0.0, 2.5, 3.0, kNaN, 1.0, 0.5}},
       {"S", {1.0, 3.0, 10.0, 3.0, 3.0, 3.0, 99.0, 100.0}},
   });
   const std::vector<RowScore> s = scoreRows(grid, contour, catalog);

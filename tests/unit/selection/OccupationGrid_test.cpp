@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "SelectionTestSupport.h"
+#include "octarc/core/Conventions.h"
 #include "octarc/core/Error.h"
 
 #if defined(__SANITIZE_ADDRESS__)
@@ -27,7 +28,6 @@ namespace octarc {
 namespace {
 
 using test::expectError;
-constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
 GridAxis axis(const char* expression, double lo, double hi, int bins) {
   return GridAxis{expression, lo, hi, bins};
@@ -42,7 +42,7 @@ TEST(GridBinning, BinsAreHalfOpen) {
   EXPECT_EQ(b.binOf(0, std::nextafter(1.0, 0.0)), 3);
   EXPECT_EQ(b.binOf(0, 1.0), -1);  // hi is excluded
   EXPECT_EQ(b.binOf(0, -1e-12), -1);
-  EXPECT_EQ(b.binOf(0, kNan), -1);
+  EXPECT_EQ(b.binOf(0, kNaN), -1);
   const GridBinning shifted({axis("X", -2.0, 2.0, 8)});  // bins of 0.5 from -2
   EXPECT_EQ(shifted.binOf(0, -2.0), 0);
   EXPECT_EQ(shifted.binOf(0, -0.5), 3);
@@ -78,7 +78,7 @@ TEST(GridBinning, BadAxesAreConfigErrors) {
                            {"grid axis 1 (X)", "lo < hi"});
   expectError<ConfigError>(
       [] {
-        GridBinning({axis("X", 0, 1, 2), axis("Y", 0, kNan, 2)});
+        GridBinning({axis("X", 0, 1, 2), axis("Y", 0, kNaN, 2)});
       },
       {"grid axis 2 (Y)", "not a finite range"});
   expectError<ConfigError>([] { GridBinning({axis("X", 0, 1, 0)}); }, {"0 bins"});
@@ -110,13 +110,13 @@ AxisSamples handMadeSamples() {
     }
   };
   add(1.5, 1.5, 1);  // filling order does not matter: the tie is broken by index
-  add(0.5, kNan, 1);
+  add(0.5, kNaN, 1);
   add(1.5, 0.5, 2);
   add(2.0, 0.5, 1);
   add(0.5, 1.5, 1);
   add(0.5, 0.5, 4);
   add(-0.1, 1.0, 1);
-  add(kNan, 0.5, 1);
+  add(kNaN, 0.5, 1);
   return s;
 }
 
@@ -236,9 +236,9 @@ TEST(OccupationGrid, ContourErrors) {
   const OccupationGrid g = OccupationGrid::fill(twoByTwo(), handMadeSamples());
   expectError<ConfigError>([&] { g.contour(0.0); }, {"P = 0 outside (0, 1]"});
   expectError<ConfigError>([&] { g.contour(1.5); }, {"P = 1.5 outside (0, 1]"});
-  expectError<ConfigError>([&] { g.contour(kNan); }, {"outside (0, 1]"});
+  expectError<ConfigError>([&] { g.contour(kNaN); }, {"outside (0, 1]"});
   // Every sample outside or undefined: the contour selects nothing.
-  const OccupationGrid empty = OccupationGrid::fill(twoByTwo(), {{5.0, kNan}, {0.5, 0.5}});
+  const OccupationGrid empty = OccupationGrid::fill(twoByTwo(), {{5.0, kNaN}, {0.5, 0.5}});
   EXPECT_EQ(empty.occupiedBins(), 0);
   expectError<ConfigError>(
       [&] { empty.contour(0.99); },
@@ -299,7 +299,7 @@ TEST(OccupationGrid, AxesFromExpressionsOnTheRowsOfASearchSpace) {
 TEST(QuantileRange, LinearInterpolationBetweenOrderStatistics) {
   // Sorted 0, 1, ..., 10 (with a NaN ignored): the 10% quantile is at position 0.1 * 10 = 1,
   // the value 1; the 90% one at 9; hi is moved just above 9 so that 9 is in [lo, hi).
-  std::vector<double> v = {10, 3, kNan, 0, 7, 1, 9, 2, 8, 4, 6, 5};
+  std::vector<double> v = {10, 3, kNaN, 0, 7, 1, 9, 2, 8, 4, 6, 5};
   const auto [lo, hi] = quantileRange(v, 0.1, "axis");
   EXPECT_EQ(lo, 1.0);
   EXPECT_EQ(hi, std::nextafter(9.0, 10.0));

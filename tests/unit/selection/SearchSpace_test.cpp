@@ -11,18 +11,17 @@
 #include <vector>
 
 #include "SelectionTestSupport.h"
+#include "octarc/core/Conventions.h"
 #include "octarc/core/Error.h"
 #include "octarc/selection/ColumnExpression.h"
 
 namespace octarc {
 namespace {
 
-constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
-
 // Four objects: the first passes the paper's strong-arc cut; the second fails on arcness, the
 // third on ellipticity, the fourth has no arcness (NaN).
 Table objects() {
-  return test::makeTable({{"ARCNESS", {0.2, 0.12, 0.3, kNan}},
+  return test::makeTable({{"ARCNESS", {0.2, 0.12, 0.3, kNaN}},
                           {"E_IMAGE", {0.7, 0.8, 0.5, 0.9}},
                           {"SNR_ISO", {50, 100, 45, 60}}});
 }
@@ -80,7 +79,7 @@ TEST(ColumnExpression, EveryComparisonOperatorMeansWhatItSays) {
   const auto values = [&](const std::string& text) {
     return ColumnExpression(text, "test").evaluate(t);
   };
-  const double nan = kNan;
+  const double nan = kNaN;
   const auto same = [](const std::vector<double>& a, const std::vector<double>& b) {
     return a.size() == b.size() && std::equal(a.begin(), a.end() - 1, b.begin()) &&
            std::isnan(a.back()) && std::isnan(b.back());
@@ -128,7 +127,7 @@ TEST(ColumnExpression, AnExpressionUndefinedForEveryRowIsWarnedOfOnce) {
   for (const std::string text : {"log10(ARCNESS - 0.2) < 0", "ARCNESS > 0.1", "ARCNESS / 2"}) {
     ColumnExpression(text, "test").evaluate(t);
   }
-  ColumnExpression("ARCNESS > 0.1", "test").evaluate(test::makeTable({{"ARCNESS", {kNan}}}));
+  ColumnExpression("ARCNESS > 0.1", "test").evaluate(test::makeTable({{"ARCNESS", {kNaN}}}));
   EXPECT_TRUE(warned.empty()) << warned.front();
   setExpressionWarnings([](const std::string& text) { std::cerr << "WARNING: " << text << "\n"; });
 }
