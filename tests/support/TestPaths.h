@@ -27,7 +27,7 @@ inline bool onCi() {
 }
 
 // Ends the current test (or SetUp) because a program or data set it needs is absent: a skip,
-// which ctest reports as "Skipped", with the streamed reason; on the CI machine a failure,
+// which GoogleTest lists as SKIPPED, with the streamed reason; on the CI machine a failure,
 // since a missing dependency there means a broken installation, not a test to leave out.
 // Usage: if (!haveProgram("fitsverify")) OCTARC_SKIP_MISSING() << "fitsverify not installed";
 // (TestCommands.h has the program checks.)
