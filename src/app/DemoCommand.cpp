@@ -75,8 +75,8 @@ void printDemoUsage(const po::options_description& options) {
 }
 
 // The options; nullopt after -h.
-std::optional<po::variables_map> parseOptions(const std::vector<std::string>& args,
-                                              const po::options_description& options) {
+std::optional<po::variables_map> parseDemoOptions(const std::vector<std::string>& args,
+                                                  const po::options_description& options) {
   po::variables_map vm;
   try {
     po::store(po::command_line_parser(glueValues(args, options)).options(options).run(), vm);
@@ -275,7 +275,7 @@ int runDemo(const std::vector<std::string>& args) {
   add("max-einstein-radius", po::value<double>()->default_value(0.0),
       "and at most this one (0: no limit)");
   add("quiet", "no progress bar");
-  const std::optional<po::variables_map> vm = parseOptions(args, options);
+  const std::optional<po::variables_map> vm = parseDemoOptions(args, options);
   if (!vm) return 0;
   const bool quiet = vm->count("quiet") > 0;
   FieldSimulationSettings s;

@@ -52,7 +52,7 @@ const char* const kUsage =
     "\n";
 
 // Parses the arguments; nullopt after --help.
-std::optional<DatabaseOptions> parseOptions(const std::vector<std::string>& args) {
+std::optional<DatabaseOptions> parseDatabaseOptions(const std::vector<std::string>& args) {
   DatabaseOptions o;
   double threshold = o.thresholdSigma;
   int minArea = 0, minSize = o.minSizePixels, margin = o.marginPixels;
@@ -154,7 +154,7 @@ std::optional<DatabaseOptions> parseOptions(const std::vector<std::string>& args
 int runBuildDatabase(const std::vector<std::string>& args) {
   using namespace simulation;
   const auto start = std::chrono::steady_clock::now();
-  std::optional<DatabaseOptions> parsed = parseOptions(args);
+  std::optional<DatabaseOptions> parsed = parseDatabaseOptions(args);
   if (!parsed) return 0;
   DatabaseOptions& o = *parsed;
   if (!o.configPath.empty()) {

@@ -27,7 +27,7 @@ struct Slot {
 };
 
 // constinit: all zeros, so the 4 MB lie in .bss and no page is touched at start-up (a dynamic
-// initialiser writing each slot's state cost every process about 10 ms in page faults).
+// initialiser writing each slot's state cost every process about 15 ms, most of it in page faults).
 constinit Slot gSlots[kSlots];
 std::atomic<int> gDeferDepth{0};
 std::atomic<int> gPendingSignal{0};

@@ -43,7 +43,7 @@ bool isCommentary(std::string_view keyword) {
 
 // Parses the value field (column 11 on) of a card: a quoted string with '' escapes, or the
 // text before the comment slash.
-std::string parseValue(std::string_view field) {
+std::string parseCardValue(std::string_view field) {
   std::size_t pos = 0;
   while (pos < field.size() && field[pos] == ' ') ++pos;
   if (pos < field.size() && field[pos] == '\'') {
@@ -104,7 +104,7 @@ std::optional<std::string> FitsHeader::value(std::string_view keyword) const {
   if (isCommentary(key)) return std::nullopt;
   for (const std::string& card : cards) {
     if (cardKeyword(card) == key && hasValueIndicator(card)) {
-      return parseValue(std::string_view(card).substr(10));
+      return parseCardValue(std::string_view(card).substr(10));
     }
   }
   return std::nullopt;

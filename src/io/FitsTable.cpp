@@ -562,7 +562,7 @@ int readStringKeyword(fitsfile* f, int k, int count, FitsKeyword& keyword, const
 
 // A non-string value as cfitsio's value field gives it: logical, integer, real (Fortran 'D'
 // exponents are legal FITS), or, for complex values, the text as written.
-FitsKeywordValue parseValue(const std::string& text, char type) {
+FitsKeywordValue parseKeywordValue(const std::string& text, char type) {
   if (type == 'L') return text.find('T') != std::string::npos;
   if (type == 'I') {
     const char* begin = text.data() + (text[0] == '+' ? 1 : 0);
@@ -604,7 +604,7 @@ std::vector<FitsKeyword> readKeywords(fitsfile* f, const std::string& at) {
       if (type == 'C') {
         k = readStringKeyword(f, k, count, keyword, at);
       } else {
-        keyword.value = parseValue(value, type);
+        keyword.value = parseKeywordValue(value, type);
       }
     }
     keywords.push_back(std::move(keyword));

@@ -9,7 +9,6 @@
 #include <array>
 #include <cstdint>
 #include <functional>
-#include <limits>
 #include <span>
 
 #include "octarc/core/Conventions.h"

@@ -30,7 +30,7 @@
 
 namespace octarc {
 
-using namespace octarc::simulation;
+namespace sim = octarc::simulation;
 
 namespace {
 
@@ -46,7 +46,7 @@ enum Stream : std::uint64_t {
 };
 
 std::mt19937_64 streamRng(std::uint64_t seed, Stream stream, std::uint64_t index) {
-  return systemRng(systemSeed(seed, stream), index);
+  return sim::systemRng(sim::systemSeed(seed, stream), index);
 }
 
 // Synthetic source galaxies drawn from for the lensed sources (as `octarc simulate lenses`).
@@ -60,8 +60,8 @@ constexpr std::int64_t kNoiseBandRows = 64;
 
 // Lens centres: uniform, at least `margin` pixels inside the edges, `separation` apart and off
 // the chip gap.
-std::vector<Vec2> drawLensPositions(const FieldSimulationSettings& s, std::int64_t width,
-                                    std::int64_t height, int gapX0, int gapX1) {
+std::vector<sim::Vec2> drawLensPositions(const FieldSimulationSettings& s, std::int64_t width,
+                                         std::int64_t height, int gapX0, int gapX1) {
   const double margin = std::max(48.0, 0.06 * double(std::min(width, height)));
   const double separation = 30.0 / s.pixelScaleArcsec;
   if (s.lensCount > 0 && !(double(std::min(width, height)) - 1 - margin > margin)) {
@@ -72,12 +72,12 @@ std::vector<Vec2> drawLensPositions(const FieldSimulationSettings& s, std::int64
   std::mt19937_64 rng = streamRng(s.seed, kStreamLensPositions, 0);
   std::uniform_real_distribution<double> ux(margin, double(width) - 1 - margin);
   std::uniform_real_distribution<double> uy(margin, double(height) - 1 - margin);
-  std::vector<Vec2> positions;
+  std::vector<sim::Vec2> positions;
   for (int attempt = 0; attempt < 200000 && int(positions.size()) < s.lensCount; ++attempt) {
-    const Vec2 p{ux(rng), uy(rng)};
+    const sim::Vec2 p{ux(rng), uy(rng)};
     if (p[0] > gapX0 - 0.5 * separation && p[0] < gapX1 + 0.5 * separation) continue;
     bool clear = true;
-    for (const Vec2& q : positions) {
+    for (const sim::Vec2& q : positions) {
       if (std::hypot(p[0] - q[0], p[1] - q[1]) < separation) clear = false;
     }
     if (clear) positions.push_back(p);
@@ -95,24 +95,24 @@ std::vector<Vec2> drawLensPositions(const FieldSimulationSettings& s, std::int64
 // The injected lens systems: drawn by the lens-simulation engine's population draw (one stream
 // per system; systems below the minimum Einstein radius are redrawn from the same stream),
 // rendered noise-free and before the PSF.
-std::vector<FieldLens> renderLenses(const FieldSimulationSettings& s,
-                                    const std::vector<Vec2>& lensPositions, int threads) {
-  std::vector<FieldLens> lenses(lensPositions.size());
+std::vector<sim::FieldLens> renderLenses(const FieldSimulationSettings& s,
+                                         const std::vector<sim::Vec2>& lensPositions, int threads) {
+  std::vector<sim::FieldLens> lenses(lensPositions.size());
   if (lenses.empty()) return lenses;
   SimulationSetup setup;
   // A survey field: the lenses of the Deep Lens Survey preset unless told otherwise.
-  setup.population = readPopulationModel(s.populationPath.empty() ? populationPresetPath("dls")
-                                                                  : s.populationPath);
-  SyntheticGalaxyOptions sourceOptions;
+  setup.population = sim::readPopulationModel(
+      s.populationPath.empty() ? sim::populationPresetPath("dls") : s.populationPath);
+  sim::SyntheticGalaxyOptions sourceOptions;
   const SourceDatabase sources =
       s.databasePath.empty()
-          ? SourceDatabase::synthetic(kSyntheticSources, systemSeed(s.seed, kStreamSources),
+          ? SourceDatabase::synthetic(kSyntheticSources, sim::systemSeed(s.seed, kStreamSources),
                                       sourceOptions)
           : SourceDatabase::fromRealGalaxyCatalog(s.databasePath);
-  const std::uint64_t lensSeed = systemSeed(s.seed, kStreamLenses);
+  const std::uint64_t lensSeed = sim::systemSeed(s.seed, kStreamLenses);
   parallelForDynamic(std::int64_t(lenses.size()), threads, [&](std::size_t i) {
     // Systems below the minimum Einstein radius are redrawn from the same stream.
-    std::mt19937_64 rng = systemRng(lensSeed, i);
+    std::mt19937_64 rng = sim::systemRng(lensSeed, i);
     LensSystemDraw draw = drawLensSystem(setup, sources, std::int64_t(i), rng);
     auto outside = [&](double thetaE) {
       return thetaE < s.minEinsteinRadiusArcsec ||
@@ -150,14 +150,14 @@ void addNoise(const FieldSimulationSettings& s, const ImageD& sky, int threads,
     ImageD part(n, rows);
     std::copy_n(&sky(0, y0), n * rows, part.data());
     std::mt19937_64 rng = streamRng(s.seed, kStreamNoise, band);
-    addPoissonSkyNoise(part, sigma, s.gainElectronsPerAdu, rng);
+    sim::addPoissonSkyNoise(part, sigma, s.gainElectronsPerAdu, rng);
     std::mt19937_64 gapRng = streamRng(s.seed, kStreamGapNoise, band);
     std::normal_distribution<double> gapNoise(0.0, sigma);
     for (std::int64_t y = 0; y < rows; ++y)
       for (std::int64_t x = field.gapX0; x < field.gapX1; ++x) part(x, y) += gapNoise(gapRng);
     for (std::int64_t k = 0; k < part.size(); ++k) field.image[y0 * n + k] = float(part[k]);
   });
-  field.saturatedPixels = clipSaturation(field.image, float(s.saturationAdu));
+  field.saturatedPixels = sim::clipSaturation(field.image, float(s.saturationAdu));
   field.weight = ImageF(n, n, float(1.0 / (sigma * sigma)));
   for (std::int64_t y = 0; y < n; ++y)
     for (std::int64_t x = field.gapX0; x < field.gapX1; ++x)
@@ -165,12 +165,13 @@ void addNoise(const FieldSimulationSettings& s, const ImageD& sky, int threads,
 }
 
 // The truth list: each lens system (lens galaxy, then its images), galaxies, stars.
-void addTruthRows(const std::vector<FieldLens>& lenses, const std::vector<FieldObject>& objects,
+void addTruthRows(const std::vector<sim::FieldLens>& lenses,
+                  const std::vector<sim::FieldObject>& objects,
                   const std::vector<std::size_t>& galaxies, const std::vector<std::size_t>& stars,
                   const std::vector<double>& usedX, const std::vector<double>& usedY,
                   const Wcs* wcs, SimulatedField& field) {
   std::int64_t id = 0;
-  auto addRow = [&](double x0, double y0, FieldObjectKind kind, double mag, double thetaE,
+  auto addRow = [&](double x0, double y0, sim::FieldObjectKind kind, double mag, double thetaE,
                     int system) {
     TruthRow r;
     r.id = ++id;
@@ -188,18 +189,18 @@ void addTruthRows(const std::vector<FieldLens>& lenses, const std::vector<FieldO
     field.truth.push_back(r);
   };
   for (std::size_t i = 0; i < lenses.size(); ++i) {
-    const FieldLens& l = lenses[i];
+    const sim::FieldLens& l = lenses[i];
     const double thetaE = l.system.mass.einsteinRadiusArcsec;
-    addRow(l.xPix, l.yPix, FieldObjectKind::LensGalaxy, l.system.lensMag, thetaE, int(i) + 1);
-    for (const FieldLens::LensedImage& im : l.images) {
-      addRow(im.xPix, im.yPix, FieldObjectKind::LensedSource, im.mag, thetaE, int(i) + 1);
+    addRow(l.xPix, l.yPix, sim::FieldObjectKind::LensGalaxy, l.system.lensMag, thetaE, int(i) + 1);
+    for (const sim::FieldLens::LensedImage& im : l.images) {
+      addRow(im.xPix, im.yPix, sim::FieldObjectKind::LensedSource, im.mag, thetaE, int(i) + 1);
     }
   }
   for (std::size_t i : galaxies) {
-    addRow(usedX[i], usedY[i], FieldObjectKind::Galaxy, objects[i].mag, 0.0, 0);
+    addRow(usedX[i], usedY[i], sim::FieldObjectKind::Galaxy, objects[i].mag, 0.0, 0);
   }
   for (std::size_t i : stars)
-    addRow(usedX[i], usedY[i], FieldObjectKind::Star, objects[i].mag, 0.0, 0);
+    addRow(usedX[i], usedY[i], sim::FieldObjectKind::Star, objects[i].mag, 0.0, 0);
 }
 
 void setHeaderCards(const FieldSimulationSettings& s, FitsHeader& h) {
@@ -220,8 +221,8 @@ void setHeaderCards(const FieldSimulationSettings& s, FitsHeader& h) {
 
 double FieldSimulationSettings::skySigmaAdu() const {
   if (noiseSigmaAdu) return *noiseSigmaAdu;
-  return skySigmaFromLimitingMagnitude(limitingMag, magZeroPoint, 2.0 * seeingFwhmArcsec,
-                                       pixelScaleArcsec);
+  return sim::skySigmaFromLimitingMagnitude(limitingMag, magZeroPoint, 2.0 * seeingFwhmArcsec,
+                                            pixelScaleArcsec);
 }
 
 void FieldSimulationSettings::validate() const {
@@ -277,21 +278,21 @@ SimulatedField simulateField(const FieldSimulationSettings& s, const ProgressFn&
   const int gapWidth = std::max(4, n / 128);
   field.gapX0 = n / 2 - gapWidth / 2;
   field.gapX1 = field.gapX0 + gapWidth;
-  field.header = tanWcsHeader(n, n, s.pixelScaleArcsec, s.raDeg, s.decDeg);
+  field.header = sim::tanWcsHeader(n, n, s.pixelScaleArcsec, s.raDeg, s.decDeg);
   const std::optional<Wcs> wcs = Wcs::fromHeader(field.header, "simulated field");
 
   // Lens systems: drawn by the lens-simulation engine's population draw (one stream per
   // system), rendered here noise-free and before the PSF.
-  const std::vector<Vec2> lensPositions = drawLensPositions(s, n, n, field.gapX0, field.gapX1);
-  std::vector<FieldLens> lenses = renderLenses(s, lensPositions, threads);
+  const std::vector<sim::Vec2> lensPositions = drawLensPositions(s, n, n, field.gapX0, field.gapX1);
+  std::vector<sim::FieldLens> lenses = renderLenses(s, lensPositions, threads);
   // Field objects, kept away from the lenses when bright.
   std::mt19937_64 populationRng = streamRng(s.seed, kStreamPopulation, 0);
-  const std::vector<FieldObject> objects =
+  const std::vector<sim::FieldObject> objects =
       drawFieldObjects(s.population, n, n, s.pixelScaleArcsec, populationRng, lensPositions,
                        15.0 / s.pixelScaleArcsec, 21.0);
   std::vector<std::size_t> galaxies, stars;
   for (std::size_t i = 0; i < objects.size(); ++i) {
-    (objects[i].kind == FieldObjectKind::Star ? stars : galaxies).push_back(i);
+    (objects[i].kind == sim::FieldObjectKind::Star ? stars : galaxies).push_back(i);
   }
   field.galaxyCount = std::int64_t(galaxies.size());
   field.starCount = std::int64_t(stars.size());
@@ -303,9 +304,9 @@ SimulatedField simulateField(const FieldSimulationSettings& s, const ProgressFn&
   };
 
   ImageD sky(n, n);
-  for (FieldLens& l : lenses) {
-    addStamp(sky, l.stamp);
-    l.stamp = Stamp{};
+  for (sim::FieldLens& l : lenses) {
+    sim::addStamp(sky, l.stamp);
+    l.stamp = sim::Stamp{};
   }
   report(std::int64_t(lenses.size()));
 
@@ -313,22 +314,23 @@ SimulatedField simulateField(const FieldSimulationSettings& s, const ProgressFn&
   std::vector<double> usedX(objects.size()), usedY(objects.size());
   for (std::size_t b = 0; b < galaxies.size(); b += kRenderBatch) {
     const std::size_t count = std::min(kRenderBatch, galaxies.size() - b);
-    std::vector<Stamp> stamps(count);
+    std::vector<sim::Stamp> stamps(count);
     parallelForDynamic(std::int64_t(count), threads, [&](std::size_t k) {
       const std::size_t i = galaxies[b + k];
       std::mt19937_64 rng = streamRng(s.seed, kStreamGalaxies, i);
       stamps[k] = renderGalaxyStamp(objects[i], s.population, s.pixelScaleArcsec, s.magZeroPoint,
                                     rng, &usedX[i], &usedY[i]);
     });
-    for (const Stamp& st : stamps) addStamp(sky, st);
+    for (const sim::Stamp& st : stamps) sim::addStamp(sky, st);
     report(std::int64_t(count));
   }
 
   // Every stamp summed so far already holds the flux per pixel (integrated or sub-sampled).
-  sky = applyGaussianSeeing(sky, s.seeingFwhmArcsec, s.pixelScaleArcsec);
+  sky = sim::applyGaussianSeeing(sky, s.seeingFwhmArcsec, s.pixelScaleArcsec);
   for (std::size_t i : stars) {
-    const FieldObject& o = objects[i];
-    addStamp(sky, renderStarStamp(o.xPix, o.yPix, fluxFromMagnitude(o.mag, s.magZeroPoint),
+    const sim::FieldObject& o = objects[i];
+    sim::addStamp(
+        sky, sim::renderStarStamp(o.xPix, o.yPix, sim::fluxFromMagnitude(o.mag, s.magZeroPoint),
                                   s.seeingFwhmArcsec, s.pixelScaleArcsec, 0.01 * sigma));
     usedX[i] = o.xPix;
     usedY[i] = o.yPix;
@@ -343,7 +345,7 @@ SimulatedField simulateField(const FieldSimulationSettings& s, const ProgressFn&
   field.lenses = std::move(lenses);
 
   setHeaderCards(s, field.header);
-  field.weightHeader = tanWcsHeader(n, n, s.pixelScaleArcsec, s.raDeg, s.decDeg);
+  field.weightHeader = sim::tanWcsHeader(n, n, s.pixelScaleArcsec, s.raDeg, s.decDeg);
   field.weightHeader.set("BUNIT", quoteFitsString("ADU**-2"), "Inverse variance");
   field.weightHeader.set("WGHTTYPE", quoteFitsString("MAP_WEIGHT"), "SExtractor WEIGHT_TYPE");
   return field;
@@ -366,14 +368,14 @@ SimulatedField injectLenses(const ImageHdu& image, const ImageHdu* weight,
   field.header = image.header;
   field.gapX0 = field.gapX1 = -1000000;  // no chip gap
   const std::optional<Wcs> wcs = Wcs::fromHeader(image.header, "the image");
-  const std::vector<Vec2> lensPositions = drawLensPositions(s, w, h, field.gapX0, field.gapX1);
-  std::vector<FieldLens> lenses = renderLenses(s, lensPositions, threads);
+  const std::vector<sim::Vec2> lensPositions = drawLensPositions(s, w, h, field.gapX0, field.gapX1);
+  std::vector<sim::FieldLens> lenses = renderLenses(s, lensPositions, threads);
   ImageD added(w, h);
-  for (FieldLens& l : lenses) {
-    addStamp(added, l.stamp);
-    l.stamp = Stamp{};
+  for (sim::FieldLens& l : lenses) {
+    sim::addStamp(added, l.stamp);
+    l.stamp = sim::Stamp{};
   }
-  added = applyGaussianSeeing(added, s.seeingFwhmArcsec, s.pixelScaleArcsec);
+  added = sim::applyGaussianSeeing(added, s.seeingFwhmArcsec, s.pixelScaleArcsec);
   // The injected light with its own photon noise (the image already holds the sky's).
   field.image = image.pixels;
   std::mt19937_64 rng = streamRng(s.seed, kStreamNoise, 0);

@@ -18,7 +18,7 @@
 
 namespace octarc {
 
-using namespace simulation;
+namespace sim = simulation;
 
 namespace {
 
@@ -136,17 +136,17 @@ SourceDatabaseBuild buildSourceDatabase(const SourceDatabaseSettings& o,
   std::vector<Segment> objects = detectSegments(pixels, detect);
   out.objectCount = std::int64_t(objects.size());
 
-  CutoutSettings cut;
+  sim::CutoutSettings cut;
   cut.minAreaPixels = o.minSizePixels;
   cut.marginPixels = o.marginPixels;
-  std::map<CutoutVerdict, std::int64_t>& verdicts = out.verdicts;
-  std::vector<RealGalaxyRecord>& records = out.records;
+  std::map<sim::CutoutVerdict, std::int64_t>& verdicts = out.verdicts;
+  std::vector<sim::RealGalaxyRecord>& records = out.records;
   {
     for (std::size_t i = 0; i < objects.size(); ++i) {
-      GalaxyCutout c = cutGalaxy(pixels, objects[i], saturated, cut);
+      sim::GalaxyCutout c = cutGalaxy(pixels, objects[i], saturated, cut);
       ++verdicts[c.verdict];
-      if (c.verdict == CutoutVerdict::Kept) {
-        RealGalaxyRecord r;
+      if (c.verdict == sim::CutoutVerdict::Kept) {
+        sim::RealGalaxyRecord r;
         r.ident = objects[i].number;
         r.xImage = c.xCentroidPix + 1.0;  // FITS pixel coordinates
         r.yImage = c.yCentroidPix + 1.0;
@@ -169,7 +169,7 @@ SourceDatabaseBuild buildSourceDatabase(const SourceDatabaseSettings& o,
   if (records.empty()) {
     std::ostringstream why;
     for (const auto& [verdict, count] : verdicts) {
-      why << ", " << count << " " << cutoutVerdictName(verdict);
+      why << ", " << count << " " << sim::cutoutVerdictName(verdict);
     }
     throw ConfigError(o.imagePath + ": no galaxy to keep (" + std::to_string(objects.size()) +
                       " objects above " + formatNumber(o.thresholdSigma) + " sigma" + why.str() +
@@ -177,28 +177,31 @@ SourceDatabaseBuild buildSourceDatabase(const SourceDatabaseSettings& o,
   }
   if (o.maxGalaxies > 0 && std::int64_t(records.size()) > o.maxGalaxies) {
     // The brightest (smallest MAG; IDENT breaks ties), then back in IDENT order.
-    std::stable_sort(
-        records.begin(), records.end(),
-        [](const RealGalaxyRecord& a, const RealGalaxyRecord& b) { return a.mag < b.mag; });
+    std::stable_sort(records.begin(), records.end(),
+                     [](const sim::RealGalaxyRecord& a, const sim::RealGalaxyRecord& b) {
+                       return a.mag < b.mag;
+                     });
     records.resize(std::size_t(o.maxGalaxies));
-    std::sort(
-        records.begin(), records.end(),
-        [](const RealGalaxyRecord& a, const RealGalaxyRecord& b) { return a.ident < b.ident; });
+    std::sort(records.begin(), records.end(),
+              [](const sim::RealGalaxyRecord& a, const sim::RealGalaxyRecord& b) {
+                return a.ident < b.ident;
+              });
   }
 
   return out;
 }
 
-RealGalaxyCatalogPaths writeSourceDatabase(const std::string& outputPath,
-                                           const SourceDatabaseBuild& build,
-                                           const SourceDatabaseSettings& o, const char* version) {
-  RealGalaxyCatalogInfo info;
+sim::RealGalaxyCatalogPaths writeSourceDatabase(const std::string& outputPath,
+                                                const SourceDatabaseBuild& build,
+                                                const SourceDatabaseSettings& o,
+                                                const char* version) {
+  sim::RealGalaxyCatalogInfo info;
   info.band = build.band;
   info.pixelScaleArcsec = build.pixelScale.value;
   // The PSF of an observed image, as a PSF image of the data would hold it: pixel-integrated.
   if (o.psfFwhmArcsec) {
-    info.psf =
-        gaussianPsfImage(*o.psfFwhmArcsec, build.pixelScale.value, PsfSampling::PixelIntegrated);
+    info.psf = sim::gaussianPsfImage(*o.psfFwhmArcsec, build.pixelScale.value,
+                                     sim::PsfSampling::PixelIntegrated);
   }
   char card[81];
   std::snprintf(card, sizeof card,

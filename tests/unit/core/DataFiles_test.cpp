@@ -87,7 +87,11 @@ TEST(DataFiles, UserFilesComeFirstThenShippedOnes) {
   std::ofstream(data / "octarc.param") << "NUMBER\n";
   std::ofstream(work / "octarc.param") << "NUMBER\nX_IMAGE\n";
   const DataDirOverride env(data.string());
-  const fs::path cwd = fs::current_path();
+  // Back to the first working directory however the test ends.
+  struct RestoreWorkingDirectory {
+    fs::path path = fs::current_path();
+    ~RestoreWorkingDirectory() { fs::current_path(path); }
+  } restoreWorkingDirectory;
   fs::current_path(work);
   // In the working directory: the user's own file.
   EXPECT_EQ(userOrDataFile("octarc.param"), "octarc.param");
@@ -97,7 +101,6 @@ TEST(DataFiles, UserFilesComeFirstThenShippedOnes) {
   EXPECT_EQ(userOrDataFile("./default.conv"), "./default.conv");
   EXPECT_EQ(userOrDataFile("sub/default.conv"), "sub/default.conv");
   EXPECT_EQ(userOrDataFile("missing.param"), "missing.param");
-  fs::current_path(cwd);
 }
 
 }  // namespace

@@ -106,8 +106,8 @@ TEST(Filter, RejectsInconsistentMask) {
 
 // source-extractor's FILTERED check-image of a random float image, with the mask given as a
 // .conv file, against applyFilter with the same mask built by hand.
-void compareWithSourceExtractor(const std::string& convText, const ConvKernel& kernel,
-                                std::uint32_t seed) {
+void compareFilterWithSourceExtractor(const std::string& convText, const ConvKernel& kernel,
+                                      std::uint32_t seed) {
   const auto dir = test::scratchDir();
   std::mt19937 rng(seed);
   std::normal_distribution<float> noise(0.0f, 10.0f);
@@ -139,7 +139,7 @@ void compareWithSourceExtractor(const std::string& convText, const ConvKernel& k
 
 TEST(Filter, MatchesSourceExtractorAsymmetricMask) {
   OCTARC_REQUIRE_SOURCE_EXTRACTOR();
-  compareWithSourceExtractor("CONV NONORM\n1 2 3\n4 5 6\n7 8 9\n", asymmetric3x3(), 11);
+  compareFilterWithSourceExtractor("CONV NONORM\n1 2 3\n4 5 6\n7 8 9\n", asymmetric3x3(), 11);
 }
 
 TEST(Filter, MatchesSourceExtractorDefaultConv) {
@@ -150,14 +150,14 @@ TEST(Filter, MatchesSourceExtractorDefaultConv) {
   std::ifstream in("/usr/share/source-extractor/default.conv");
   ASSERT_TRUE(in) << "default.conv not installed";
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  compareWithSourceExtractor(text, k, 12);
+  compareFilterWithSourceExtractor(text, k, 12);
 }
 
 TEST(Filter, MatchesSourceExtractorWideAsymmetricMask) {
   OCTARC_REQUIRE_SOURCE_EXTRACTOR();
   // 5 columns x 3 rows with negative values, raw (NONORM).
   const ConvKernel k{5, 3, {1, -2, 3, 0.5f, 7, -1, 4, 9, 2, -3, 6, 0, 1, 8, -5}};
-  compareWithSourceExtractor("CONV NONORM\n1 -2 3 0.5 7\n-1 4 9 2 -3\n6 0 1 8 -5\n", k, 13);
+  compareFilterWithSourceExtractor("CONV NONORM\n1 -2 3 0.5 7\n-1 4 9 2 -3\n6 0 1 8 -5\n", k, 13);
 }
 
 }  // namespace

@@ -492,7 +492,7 @@ TEST(SegmentationRuns, UnsortedPixelListsAndBadLevels) {
   return ::testing::AssertionSuccess() << ab.size() << " objects";
 }
 
-void compareWithSourceExtractor(bool filter) {
+void comparePartitionWithSourceExtractor(bool filter) {
   const auto dir = test::scratchDir();
   std::mt19937 rng(31);
   std::normal_distribution<float> noise(0.0f, 1.0f);
@@ -606,12 +606,12 @@ TEST(MultiThresholdDetector, SamePartitionAsSourceExtractorOnRealImage) {
 
 TEST(MultiThresholdDetector, SamePartitionAsSourceExtractorFilterN) {
   OCTARC_REQUIRE_SOURCE_EXTRACTOR();
-  compareWithSourceExtractor(false);
+  comparePartitionWithSourceExtractor(false);
 }
 
 TEST(MultiThresholdDetector, SamePartitionAsSourceExtractorFilterY) {
   OCTARC_REQUIRE_SOURCE_EXTRACTOR();
-  compareWithSourceExtractor(true);
+  comparePartitionWithSourceExtractor(true);
 }
 
 }  // namespace

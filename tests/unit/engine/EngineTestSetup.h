@@ -1,5 +1,5 @@
-// The simulation setup and source database the engine's tests share: the dls population, a sky
-// of 1 ADU and 15 thresholds from 2.5 to 20 ADU, and six synthetic galaxies from seed 42.
+// The simulation setup and source database the engine's tests share: the dls population, sky
+// noise of 1 ADU and 15 thresholds from 2.5 to 20 ADU, and six synthetic galaxies from seed 42.
 #pragma once
 
 #include <cmath>

@@ -230,8 +230,8 @@ TEST(DrawLensSystem, PairsFollowTheCrossSectionOverVolume) {
 
 TEST(DrawLensSystem, PairsWithoutASourceRedshiftAreRedrawnReproducibly) {
   SimulationSetup setup = test::engineTestSetup();
-  const SourceDatabase sources =
-      test::engineTestSources();  // types in turn elliptical, spiral, irregular
+  // The sources' types are in turn elliptical, spiral, irregular.
+  const SourceDatabase sources = test::engineTestSources();
   // Elliptical sources at z = 5 +- 0.01: never inside 0.2 < z < 3, so pairs with an elliptical
   // stamp are drawn again; the other types at z = 0.6 +- 0.05, so lenses at z > 0.7 have no
   // cross-section (source.min_dz_behind_lens 0.1) and are turned down.

@@ -23,7 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string cardNumber(double v) {
+std::string numberText(double v) {
   char text[32];
   std::snprintf(text, sizeof text, "%.15G", v);
   return text;
@@ -47,14 +47,14 @@ constexpr double kDec0Deg = 2.2;
 std::vector<std::pair<std::string, std::string>> linearCards(const std::string& projection) {
   return {{"CTYPE1", quoteFitsString("RA---" + projection)},
           {"CTYPE2", quoteFitsString("DEC--" + projection)},
-          {"CRPIX1", cardNumber(kCrpix1)},
-          {"CRPIX2", cardNumber(kCrpix2)},
-          {"CRVAL1", cardNumber(kRa0Deg)},
-          {"CRVAL2", cardNumber(kDec0Deg)},
-          {"CD1_1", cardNumber(kCd11)},
-          {"CD1_2", cardNumber(kCd12)},
-          {"CD2_1", cardNumber(kCd21)},
-          {"CD2_2", cardNumber(kCd22)}};
+          {"CRPIX1", numberText(kCrpix1)},
+          {"CRPIX2", numberText(kCrpix2)},
+          {"CRVAL1", numberText(kRa0Deg)},
+          {"CRVAL2", numberText(kDec0Deg)},
+          {"CD1_1", numberText(kCd11)},
+          {"CD1_2", numberText(kCd12)},
+          {"CD2_1", numberText(kCd21)},
+          {"CD2_2", numberText(kCd22)}};
 }
 
 // Intermediate world coordinates (degrees) of a 1-based pixel offset from CRPIX.
@@ -144,14 +144,14 @@ FitsHeader sipHeader() {
   auto cards = linearCards("TAN-SIP");
   const std::vector<std::pair<std::string, std::string>> sip = {{"A_ORDER", "3"},
                                                                 {"B_ORDER", "3"},
-                                                                {"A_2_0", cardNumber(kA20)},
-                                                                {"A_1_1", cardNumber(kA11)},
-                                                                {"A_0_2", cardNumber(kA02)},
-                                                                {"A_3_0", cardNumber(kA30)},
-                                                                {"B_2_0", cardNumber(kB20)},
-                                                                {"B_1_1", cardNumber(kB11)},
-                                                                {"B_0_2", cardNumber(kB02)},
-                                                                {"B_0_3", cardNumber(kB03)}};
+                                                                {"A_2_0", numberText(kA20)},
+                                                                {"A_1_1", numberText(kA11)},
+                                                                {"A_0_2", numberText(kA02)},
+                                                                {"A_3_0", numberText(kA30)},
+                                                                {"B_2_0", numberText(kB20)},
+                                                                {"B_1_1", numberText(kB11)},
+                                                                {"B_0_2", numberText(kB02)},
+                                                                {"B_0_3", numberText(kB03)}};
   cards.insert(cards.end(), sip.begin(), sip.end());
   return wcsHeader(cards);
 }
@@ -180,9 +180,9 @@ constexpr double kPv2_5 = -0.6, kPv2_3 = 0.01;                  // eta: y x and 
 FitsHeader tpvHeader() {
   auto cards = linearCards("TPV");
   const std::vector<std::pair<std::string, std::string>> pv = {
-      {"PV1_0", cardNumber(kPv1_0)}, {"PV1_1", "1.0"}, {"PV1_4", cardNumber(kPv1_4)},
-      {"PV1_7", cardNumber(kPv1_7)}, {"PV2_1", "1.0"}, {"PV2_3", cardNumber(kPv2_3)},
-      {"PV2_5", cardNumber(kPv2_5)}};
+      {"PV1_0", numberText(kPv1_0)}, {"PV1_1", "1.0"}, {"PV1_4", numberText(kPv1_4)},
+      {"PV1_7", numberText(kPv1_7)}, {"PV2_1", "1.0"}, {"PV2_3", numberText(kPv2_3)},
+      {"PV2_5", numberText(kPv2_5)}};
   cards.insert(cards.end(), pv.begin(), pv.end());
   return wcsHeader(cards);
 }
@@ -375,7 +375,7 @@ TEST(Wcs, PixelToJ2000RotatesGalacticLikeAstropy) {
       "import astropy.units as u\n";
   const double lb[4][2] = {{0.0, 0.0}, {150.1, 2.2}, {280.5, -63.0}, {33.0, 85.0}};
   for (const auto& p : lb) {
-    script += "c = SkyCoord(l=" + cardNumber(p[0]) + "*u.deg, b=" + cardNumber(p[1]) +
+    script += "c = SkyCoord(l=" + numberText(p[0]) + "*u.deg, b=" + numberText(p[1]) +
               "*u.deg, frame='galactic').transform_to(FK5(equinox='J2000'))\n"
               "print(repr(c.ra.deg), repr(c.dec.deg))\n";
   }
@@ -390,8 +390,8 @@ TEST(Wcs, PixelToJ2000RotatesGalacticLikeAstropy) {
                                                 {"CTYPE2", "'GLAT-TAN'"},
                                                 {"CRPIX1", "1.0"},
                                                 {"CRPIX2", "1.0"},
-                                                {"CRVAL1", cardNumber(p[0])},
-                                                {"CRVAL2", cardNumber(p[1])},
+                                                {"CRVAL1", numberText(p[0])},
+                                                {"CRVAL2", numberText(p[1])},
                                                 {"CDELT1", "-1E-4"},
                                                 {"CDELT2", "1E-4"}}),
                                      "gal.fits");
@@ -418,12 +418,12 @@ TEST(Wcs, PixelToJ2000PrecessesFk5WithIau1976) {
                                               {"CTYPE2", "'DEC--TAN'"},
                                               {"CRPIX1", "1.0"},
                                               {"CRPIX2", "1.0"},
-                                              {"CRVAL1", cardNumber(raDateDeg)},
-                                              {"CRVAL2", cardNumber(decDateDeg)},
+                                              {"CRVAL1", numberText(raDateDeg)},
+                                              {"CRVAL2", numberText(decDateDeg)},
                                               {"CDELT1", "-1E-4"},
                                               {"CDELT2", "1E-4"},
                                               {"RADESYS", "'FK5'"},
-                                              {"EQUINOX", cardNumber(equinoxYears)}}),
+                                              {"EQUINOX", numberText(equinoxYears)}}),
                                    "meeus.fits");
   ASSERT_TRUE(wcs.has_value());
   const auto j2000 = wcs->pixelToJ2000(1.0, 1.0);
@@ -448,7 +448,7 @@ TEST(Wcs, PixelToJ2000AgreesWithAstropyFk5) {
       "import astropy.units as u\n";
   for (const auto& p : pix) {
     const auto w = wcs->pixelToWorld(p[0], p[1]);
-    script += "c = SkyCoord(" + cardNumber(w[0]) + "*u.deg, " + cardNumber(w[1]) +
+    script += "c = SkyCoord(" + numberText(w[0]) + "*u.deg, " + numberText(w[1]) +
               "*u.deg, frame=FK5(equinox='J1950')).transform_to(FK5(equinox='J2000'))\n"
               "print(repr(c.ra.deg), repr(c.dec.deg))\n";
   }
@@ -484,7 +484,7 @@ TEST(Wcs, PixelToJ2000Fk4IsPrecessedWithinOneArcsecond) {
       "from astropy.coordinates import SkyCoord, FK4, FK5\n"
       "import astropy.units as u\n"
       "c = SkyCoord(" +
-      cardNumber(w[0]) + "*u.deg, " + cardNumber(w[1]) +
+      numberText(w[0]) + "*u.deg, " + numberText(w[1]) +
       "*u.deg, frame=FK4(equinox='B1950', obstime='B1950')).transform_to(FK5(equinox='J2000'))\n"
       "print(repr(c.ra.deg), repr(c.dec.deg))\n";
   { std::ofstream(dir / "fk4.py") << script; }

@@ -12,8 +12,8 @@
 namespace octarc {
 namespace {
 
-constexpr double kInspectionScale =
-    0.25;  // arcsec per pixel: the lens circle of 1" has radius 4 px
+// The lens circle of 1" then has a radius of 4 pixels.
+constexpr double kArcsecPerPixel = 0.25;
 
 // Rows: 0 the first candidate's arc, 1 its lens, 2 the second candidate's arc (no lens).
 Table inspectedCatalog() {
@@ -59,7 +59,7 @@ SearchResult inspectedResult() {
 
 TEST(Inspection, RegionMarksAreArcEllipsesAndLensCircles) {
   const std::vector<RegionMark> marks =
-      candidateRegionMarks(inspectedCatalog(), inspectedResult(), kInspectionScale);
+      candidateRegionMarks(inspectedCatalog(), inspectedResult(), kArcsecPerPixel);
   ASSERT_EQ(marks.size(), 3u);  // arc 1, its lens, arc 2 (no lens)
   EXPECT_EQ(marks[0].kind, RegionShapeKind::Ellipse);
   EXPECT_EQ(marks[0].xCentre, 10.5);
@@ -96,7 +96,7 @@ TEST(Inspection, StampCutsAroundTheLensWithTheDisplayRangeOfItsPixels) {
   settings.sizePix = 123;
   const Table catalog = inspectedCatalog();
   const SearchResult result = inspectedResult();
-  const Stamp s = candidateStamp(image, catalog, result, 0, nullptr, kInspectionScale, settings);
+  const Stamp s = candidateStamp(image, catalog, result, 0, nullptr, kArcsecPerPixel, settings);
   ASSERT_EQ(s.pixels.width(), 16);
   ASSERT_EQ(s.pixels.height(), 16);
   EXPECT_EQ(s.xFirstFits, 8.0);
@@ -109,7 +109,7 @@ TEST(Inspection, StampCutsAroundTheLensWithTheDisplayRangeOfItsPixels) {
   EXPECT_NEAR(s.displayLowAdu, 127.5 - (127.5 - 40.4685), 1e-9);
   EXPECT_NEAR(s.displayHighAdu, 254.235, 1e-9);
   EXPECT_FALSE(s.hasSkyDirections);  // no WCS
-  EXPECT_EQ(s.pixelScaleArcsec, kInspectionScale);
+  EXPECT_EQ(s.pixelScaleArcsec, kArcsecPerPixel);
   EXPECT_EQ(s.sizePix, 123);
   ASSERT_EQ(s.marks.size(), 2u);
   EXPECT_TRUE(s.marks[0].ellipse);
@@ -126,7 +126,7 @@ TEST(Inspection, StampCutsAroundTheLensWithTheDisplayRangeOfItsPixels) {
 
   // Candidate 2, without a lens, is centred on its arc: 1-based (100, 50), cut-out from
   // 0-based (91, 41); columns 104 ... 106 lie outside the image and stay NaN.
-  const Stamp t = candidateStamp(image, catalog, result, 1, nullptr, kInspectionScale, settings);
+  const Stamp t = candidateStamp(image, catalog, result, 1, nullptr, kArcsecPerPixel, settings);
   EXPECT_EQ(t.xFirstFits, 92.0);
   EXPECT_EQ(t.yFirstFits, 42.0);
   EXPECT_EQ(t.pixels(12, 0), 1000.0f);
@@ -138,7 +138,7 @@ TEST(Inspection, StampCutsAroundTheLensWithTheDisplayRangeOfItsPixels) {
   // Every finite pixel 1000: a flat range, widened to one ADU.
   EXPECT_EQ(t.displayLowAdu, 1000.0);
   EXPECT_EQ(t.displayHighAdu, 1001.0);
-  EXPECT_THROW(candidateStamp(image, catalog, result, 2, nullptr, kInspectionScale, settings),
+  EXPECT_THROW(candidateStamp(image, catalog, result, 2, nullptr, kArcsecPerPixel, settings),
                std::out_of_range);
 }
 

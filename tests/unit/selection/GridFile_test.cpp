@@ -9,7 +9,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -30,7 +29,7 @@ using test::expectError;
 
 // The 3 x 2 grid of the scoring tests (probabilities 0.5, 0.25, 0.125, 0.125 in bins 0, 1, 3,
 // 4), on the first and last default axes, with one sample outside and two undefined.
-OccupationGrid savedHandGrid() {
+OccupationGrid gridToWrite() {
   const GridBinning b({GridAxis{"ARCNESS", 0.0, 0.3, 3}, GridAxis{"log10(SNR_ISO)", 1.0, 3.0, 2}});
   return OccupationGrid::fill(b, {{0.05, 0.05, 0.05, 0.05, 0.15, 0.15, 0.05, 0.15, 0.4, kNaN, 0.1},
                                   {1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 2.5, 2.5, 1.5, 1.5, kNaN}});
@@ -52,7 +51,7 @@ SurveySetup dlsSetup() {
 }
 
 SavedGrid savedGrid() {
-  OccupationGrid grid = savedHandGrid();
+  OccupationGrid grid = gridToWrite();
   const Contour contour = grid.contour(0.8);
   return SavedGrid{
       std::move(grid), contour,

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
-#include <limits>
 #include <string>
 #include <vector>
 
@@ -108,6 +107,13 @@ TEST(ColumnExpression, AssignmentsAreRefused) {
 TEST(ColumnExpression, AnExpressionUndefinedForEveryRowIsWarnedOfOnce) {
   std::vector<std::string> warned;
   setExpressionWarnings([&](const std::string& text) { warned.push_back(text); });
+  // The default sink back however the test ends: the next tests of this process warn too.
+  struct RestoreDefaultSink {
+    ~RestoreDefaultSink() {
+      setExpressionWarnings(
+          [](const std::string& text) { std::cerr << "WARNING: " << text << "\n"; });
+    }
+  } restoreDefaultSink;
   const Table t = objects();
   // Constant, or undefined whatever the row: a division by zero, a function outside its
   // domain, even when a comparison makes the value finite.
@@ -129,7 +135,6 @@ TEST(ColumnExpression, AnExpressionUndefinedForEveryRowIsWarnedOfOnce) {
   }
   ColumnExpression("ARCNESS > 0.1", "test").evaluate(test::makeTable({{"ARCNESS", {kNaN}}}));
   EXPECT_TRUE(warned.empty()) << warned.front();
-  setExpressionWarnings([](const std::string& text) { std::cerr << "WARNING: " << text << "\n"; });
 }
 
 TEST(SearchSpace, ErrorsNameTheSpaceAndTheProblem) {
