@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages octarc needs to build and test, those of the lists below that
-# are missing (with sudo when not root); `scripts/install-deps.sh build` only those the build
-# needs. Recommended packages are not installed: whatever a test needs is listed here. Every Python module a test or a script imports must come from a package
+# Installs the Debian 12 packages octarc needs to build and test, those of `packages` below that
+# are missing (with sudo when not root). Recommended packages are not installed: whatever a test
+# needs is listed here. Every Python module a test or a script imports must come from a package
 # listed here (tests/check_test_imports.py reads this list and checks it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# One package per line, grouped by what needs it: what the build needs, then what only the tests
-# run.
-build_packages=(
+# One package per line, grouped by what needs it.
+packages=(
+  # Build
   build-essential
   cmake
   ninja-build
@@ -45,9 +45,7 @@ build_packages=(
   file
   # The fuzz targets read gzip inputs (fuzz/FuzzInput.h); the tests replay their seeds
   zlib1g-dev
-)
 
-test_packages=(
   # Real peers and clients the tests run
   source-extractor
   fitsverify
@@ -87,17 +85,12 @@ fuzz_packages=(
   libfuzzer-14-dev
   libclang-rt-14-dev
 )
-# `build`: only what the build needs (scripts/test.sh installs the rest while it compiles).
-packages=("${build_packages[@]}")
-case "$#:${1:-}" in
-  0:) packages+=("${test_packages[@]}") ;;
-  1:build) ;;
-  1:fuzz) packages+=("${test_packages[@]}" "${fuzz_packages[@]}") ;;
-  *)
-    echo "usage: scripts/install-deps.sh [build | fuzz]" >&2
-    exit 2
-    ;;
-esac
+if [ "${1:-}" = fuzz ]; then
+  packages+=("${fuzz_packages[@]}")
+elif [ $# -ne 0 ]; then
+  echo "usage: scripts/install-deps.sh [fuzz]" >&2
+  exit 2
+fi
 
 missing=()
 for p in "${packages[@]}"; do

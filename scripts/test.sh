@@ -15,34 +15,13 @@ cd "$(dirname "$0")/.."
 started=$(date +%s)
 stage() { echo "== test.sh: $1 (at $(($(date +%s) - started)) s)"; }
 
-stage "installing what the build needs"
-scripts/install-deps.sh build
-
-# The programs only the tests run (source-extractor, Chromium, DS9, astropy...) are installed
-# while the release tree compiles, so that the two overlap. The installation's output is shown
-# once it is done; the script waits for it even when the build fails.
-install_log=$(mktemp)
-scripts/install-deps.sh >"$install_log" 2>&1 &
-installing=$!
-finish_install() {
-  local status=0
-  wait "$installing" || status=$?
-  cat "$install_log"
-  rm -f "$install_log"
-  return "$status"
-}
-trap 'finish_install >/dev/null 2>&1 || true' EXIT
+stage "installing what is missing"
+scripts/install-deps.sh
 
 jobs=$(nproc)
-stage "release build, installing the test programs beside it"
+stage "release build"
 cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DOCTARC_WERROR=ON
 cmake --build build/release -j "$jobs"
-stage "waiting for the test programs"
-if ! finish_install; then
-  echo "test.sh: installing the programs the tests run failed (scripts/install-deps.sh)" >&2
-  exit 1
-fi
-trap - EXIT
 stage "release tests"
 ctest --test-dir build/release --output-on-failure -j "$jobs"
 

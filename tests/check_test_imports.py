@@ -24,19 +24,17 @@ PACKAGE_LIST = os.path.join(SOURCE_DIR, "scripts", "install-deps.sh")
 
 
 def listed_packages():
-    """The packages of the `build_packages=( ... )` and `test_packages=( ... )` arrays of
-    scripts/install-deps.sh."""
+    """The packages of the `packages=( ... )` array of scripts/install-deps.sh."""
     packages = set()
     inside = False
     with open(PACKAGE_LIST) as f:
         for line in f:
             text = line.split("#", 1)[0].strip()
             if not inside:
-                inside = text in ("build_packages=(", "test_packages=(")
+                inside = text == "packages=("
                 continue
             if text == ")":
-                inside = False
-                continue
+                break
             packages.update(text.split())
     return packages
 
