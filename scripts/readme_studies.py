@@ -32,18 +32,24 @@ STUDIES = [
 COMMANDS = [line for _, lines, _ in STUDIES for line in lines]
 
 
-def blocks_after(text, marker):
-    """The first ```sh block after `marker` (command lines, continuations joined, comments
-    dropped) and the first plain ``` block after that one (its lines)."""
-    rest = text[text.index(marker):]
-    sh = re.search(r"```sh\n(.*?)```", rest, re.S)
+def octarc_lines(sh_block):
+    """The `octarc ...` command lines of the text of a ```sh block: continuations joined,
+    comments dropped, blanks collapsed."""
     commands = []
-    for line in sh.group(1).replace("\\\n", " ").splitlines():
+    for line in sh_block.replace("\\\n", " ").splitlines():
         line = line.split(" # ")[0].strip()
         if line.startswith("octarc "):
             commands.append(" ".join(line.split()))
+    return commands
+
+
+def blocks_after(text, marker):
+    """The command lines of the first ```sh block after `marker` and the lines of the first
+    plain ``` block after that one."""
+    rest = text[text.index(marker):]
+    sh = re.search(r"```sh\n(.*?)```", rest, re.S)
     printed = re.search(r"```\n(.*?)```", rest[sh.end():], re.S)
-    return commands, printed.group(1).splitlines()
+    return octarc_lines(sh.group(1)), printed.group(1).splitlines()
 
 
 def main():

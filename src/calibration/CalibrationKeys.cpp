@@ -79,7 +79,7 @@ std::vector<KeySpec> calibrationKeys() {
       Row("GRID_NBINS", Kind::Int, {"2", "30"},
           "fewest and most bins per axis tried by the binning\nsearch")
           .list(2, 2)
-          .range(2, 1000),
+          .range(2, kMaxBinsPerAxis),
       Row("GRID_TAIL", Kind::Float, {"0.001"}, "fraction left out at each end of an axis range")
           .range(0, 0.499),
       Row("HISTOGRAM_NBINS", Kind::Int, {"40"}, "bins of the distributions").range(1, 10000),

@@ -1,9 +1,14 @@
 #include "octarc/calibration/SimulationOutput.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
+#include <optional>
+#include <string>
+#include <system_error>
 #include <utility>
 
 #include "octarc/calibration/Weights.h"
@@ -19,6 +24,51 @@ namespace {
 
 double card(const FitsHeader& h, const char* key) {
   return h.number(key).value_or(std::nan(""));
+}
+
+// OCTSEED as simulate lenses writes it: the 64-bit seed as a signed integer card (seeds from
+// 2^63 on come out negative), read exactly: as a double it would round seeds above 2^53.
+std::optional<std::uint64_t> seedCard(const FitsHeader& h) {
+  const std::optional<std::string> text = h.value("OCTSEED");
+  if (!text || text->empty()) return std::nullopt;
+  const char* begin = text->data() + ((*text)[0] == '+' ? 1 : 0);
+  const char* end = text->data() + text->size();
+  std::int64_t value = 0;
+  const auto parsed = std::from_chars(begin, end, value);
+  if (parsed.ec != std::errc() || parsed.ptr != end) return std::nullopt;
+  return std::uint64_t(value);
+}
+
+bool wholeIn(double v, double min, double max) {
+  return v >= min && v <= max && std::floor(v) == v;
+}
+
+// The setup cards hold what simulate lenses itself accepts (simulation/engine/LensSetup.cpp);
+// a value outside that was written by hand, and would go on into the grid's setup.
+void checkSetupCards(const std::string& path, const FitsHeader& h) {
+  const auto require = [&](const char* key, bool accepted, const char* expected) {
+    if (!accepted) {
+      throw IoError(path + ": LDAC_IMHEAD card " + key + " = " +
+                    formatNumber(card(h, key), "%.17g") + " is not " + expected);
+    }
+  };
+  require("OCTNSYS", wholeIn(card(h, "OCTNSYS"), 0, 0x1p53), "a whole number >= 0");
+  require("OCTSEED", seedCard(h).has_value(), "a 64-bit integer");
+  for (const char* key : {"OCTPIXSC", "OCTSEEIN", "OCTGAIN", "OCTSKYSG", "OCTTHLO", "OCTTHHI"}) {
+    require(key, std::isfinite(card(h, key)) && card(h, key) > 0.0, "a finite number > 0");
+  }
+  require("OCTTHHI", card(h, "OCTTHHI") >= card(h, "OCTTHLO"), "at least OCTTHLO");
+  require("OCTMAGZP", std::isfinite(card(h, "OCTMAGZP")), "a finite number");
+  require("OCTNLEV", wholeIn(card(h, "OCTNLEV"), 1, 255), "a whole number from 1 to 255");
+  require("OCTMINAR", wholeIn(card(h, "OCTMINAR"), 1, std::numeric_limits<int>::max()),
+          "a whole number >= 1");
+  // The levels in sigma (outputs since they were recorded): both or neither, in order.
+  if (h.value("OCTSGLO") || h.value("OCTSGHI")) {
+    for (const char* key : {"OCTSGLO", "OCTSGHI"}) {
+      require(key, std::isfinite(card(h, key)) && card(h, key) > 0.0, "a finite number > 0");
+    }
+    require("OCTSGHI", card(h, "OCTSGHI") >= card(h, "OCTSGLO"), "at least OCTSGLO");
+  }
 }
 
 }  // namespace
@@ -47,6 +97,7 @@ SimulationOutput readSimulationOutput(const std::string& path) {
                     " card in its LDAC_IMHEAD)");
     }
   }
+  checkSetupCards(path, h);
   SimulationOutput out;
   out.path = path;
   out.systems = tableFromFits(systems);
@@ -60,7 +111,7 @@ SimulationOutput readSimulationOutput(const std::string& path) {
   s.gainElectronsPerAdu = card(h, "OCTGAIN");
   s.skySigmaAdu = card(h, "OCTSKYSG");
   s.minAreaPix = int(card(h, "OCTMINAR"));
-  s.seed = std::uint64_t(card(h, "OCTSEED"));
+  s.seed = *seedCard(h);
   s.systems = std::int64_t(card(h, "OCTNSYS"));
   // The population file is not recorded (the grid's POPFILE stays empty); the sources are.
   out.sourceDatabase = h.value("OCTSRCDB").value_or("");

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <optional>
 #include <string>
 #include <system_error>
 #include <type_traits>
@@ -560,24 +561,42 @@ int readStringKeyword(fitsfile* f, int k, int count, FitsKeyword& keyword, const
   return k;
 }
 
+// A real number that is the whole of `text` (C syntax: FITS's, and a few more such as "nan").
+std::optional<double> wholeReal(const std::string& text) {
+  if (text.empty()) return std::nullopt;
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() + text.size()) return std::nullopt;
+  return value;
+}
+
 // A non-string value as cfitsio's value field gives it: logical, integer, real (Fortran 'D'
-// exponents are legal FITS), or, for complex values, the text as written.
-FitsKeywordValue parseKeywordValue(const std::string& text, char type) {
+// exponents are legal FITS), or, for complex values and for a value that only starts like a
+// number (cfitsio types it by its first characters: "0.2abc"), the text as written, which the
+// typed readers then refuse.
+FitsKeywordValue parseKeywordValue(std::string text, char type) {
+  while (!text.empty() && text.back() == ' ') text.pop_back();
   if (type == 'L') return text.find('T') != std::string::npos;
   if (type == 'I') {
-    const char* begin = text.data() + (text[0] == '+' ? 1 : 0);
+    const char* begin = text.data() + (!text.empty() && text[0] == '+' ? 1 : 0);
     const char* end = text.data() + text.size();
     std::int64_t i = 0;
-    if (std::from_chars(begin, end, i).ec == std::errc()) return i;
+    if (const auto r = std::from_chars(begin, end, i); r.ec == std::errc() && r.ptr == end) {
+      return i;
+    }
     std::uint64_t u = 0;
-    if (std::from_chars(begin, end, u).ec == std::errc()) return u;
-    return std::strtod(text.c_str(), nullptr);
+    if (const auto r = std::from_chars(begin, end, u); r.ec == std::errc() && r.ptr == end) {
+      return u;
+    }
+    if (const std::optional<double> d = wholeReal(text)) return *d;
+    return text;
   }
   if (type == 'F') {
     std::string s = text;
     std::replace(s.begin(), s.end(), 'D', 'E');
     std::replace(s.begin(), s.end(), 'd', 'e');
-    return std::strtod(s.c_str(), nullptr);
+    if (const std::optional<double> d = wholeReal(s)) return *d;
+    return text;
   }
   return text;
 }
@@ -921,6 +940,26 @@ std::string FitsTable::text(std::string_view keyword) const {
   const FitsKeyword& k = requiredKeyword(*this, keyword);
   if (const std::string* s = std::get_if<std::string>(&k.value)) return *s;
   wrongKeywordType(*this, k, "a string");
+}
+
+double FitsTable::number(std::string_view keyword, bool (*accepted)(double),
+                         std::string_view expected) const {
+  const double value = number(keyword);
+  if (!accepted(value)) {
+    throw IoError(where() + ": " + std::string(keyword) + " = " + formatNumber(value, "%.17g") +
+                  " is not " + std::string(expected));
+  }
+  return value;
+}
+
+std::int64_t FitsTable::integer(std::string_view keyword, std::int64_t min,
+                                std::int64_t max) const {
+  const std::int64_t value = integer(keyword);
+  if (value < min || value > max) {
+    throw IoError(where() + ": " + std::string(keyword) + " = " + std::to_string(value) +
+                  " is not an integer from " + std::to_string(min) + " to " + std::to_string(max));
+  }
+  return value;
 }
 
 void writeFitsTables(const std::string& path, const std::vector<FitsTable>& tables) {

@@ -97,7 +97,7 @@ GridBinning readBinning(const FitsTable& t) {
     axis.expression = t.text(numbered("AXEXPR", std::size_t(a)));
     axis.lo = t.number(numbered("AXLO", std::size_t(a)));
     axis.hi = t.number(numbered("AXHI", std::size_t(a)));
-    axis.bins = int(t.integer(numbered("AXBINS", std::size_t(a))));
+    axis.bins = int(t.integer(numbered("AXBINS", std::size_t(a)), 1, kMaxBinsPerAxis));
     axes.push_back(std::move(axis));
   }
   try {

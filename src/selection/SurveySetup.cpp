@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -74,20 +75,40 @@ void addSetupKeywords(const SurveySetup& s, std::vector<FitsKeyword>& k) {
   k.push_back(FitsKeyword::integer("NSYSTEMS", s.systems, "Simulated systems"));
 }
 
+namespace {
+
+// The values a setup card may hold. Undefined (NaN) is an unknown value; a gain of 0 is an
+// infinite one, as in SExtractor.
+bool unknownOrPositive(double v) {
+  return std::isnan(v) || (std::isfinite(v) && v > 0.0);
+}
+bool unknownOrNonNegative(double v) {
+  return std::isnan(v) || (std::isfinite(v) && v >= 0.0);
+}
+bool finitePositive(double v) {
+  return std::isfinite(v) && v > 0.0;
+}
+constexpr const char* kUnknownOrPositive = "undefined (unknown) or a finite number > 0";
+constexpr std::int64_t kMaxLevels = 255;  // DETECT_NLEVELS's range
+
+}  // namespace
+
 SurveySetup readSetup(const FitsTable& t) {
   SurveySetup s;
-  s.pixelScaleArcsec = t.number("PIXSCALE");
-  s.seeingFwhmArcsec = t.number("SEEING");
-  s.gainElectronsPerAdu = t.number("GAIN");
-  s.skySigmaAdu = t.number("SKYSIGMA");
-  const std::int64_t levels = t.integer("NTHRESH");
+  s.pixelScaleArcsec = t.number("PIXSCALE", unknownOrPositive, kUnknownOrPositive);
+  s.seeingFwhmArcsec = t.number("SEEING", unknownOrPositive, kUnknownOrPositive);
+  s.gainElectronsPerAdu = t.number("GAIN", unknownOrNonNegative,
+                                   "undefined (unknown) or a finite number >= 0 (0: infinite)");
+  s.skySigmaAdu = t.number("SKYSIGMA", unknownOrPositive, kUnknownOrPositive);
+  const std::int64_t levels = t.integer("NTHRESH", 0, kMaxLevels);  // 0: unknown
   for (std::int64_t i = 1; i <= levels; ++i) {
-    s.thresholdsSigma.push_back(t.number("THRESH" + std::to_string(i)));
+    s.thresholdsSigma.push_back(
+        t.number("THRESH" + std::to_string(i), finitePositive, "a finite number > 0"));
   }
-  s.minAreaPix = int(t.integer("MINAREA"));
+  s.minAreaPix = int(t.integer("MINAREA", 0, std::numeric_limits<int>::max()));  // 0: unknown
   s.populationFile = t.text("POPFILE");
   s.seed = t.unsignedInteger("SEED");
-  s.systems = t.integer("NSYSTEMS");
+  s.systems = t.integer("NSYSTEMS", 0, std::numeric_limits<std::int64_t>::max());
   return s;
 }
 

@@ -11,6 +11,7 @@ from astropy.io import fits
 from scipy.stats import beta
 
 from octarc_testlib import SOURCE_DIR, WorkDirTest, run_octarc
+from test_hostile_input import with_card
 
 # A few thousand systems of the `dls` preset give some tens of arcs (importance sampled: a few
 # hundred rendered): enough for a 2-D grid.
@@ -231,6 +232,19 @@ class Calibrate(WorkDirTest):
             fwhm = 2 * np.sqrt(2 * np.log(2)) * abs(s)
             self.assertAlmostEqual(hdu.header["GAUSFWHM"], fwhm, delta=1e-3 * fwhm)
 
+    def test_a_seed_above_2_to_the_63_reaches_the_grid_exactly(self):
+        # simulate lenses writes OCTSEED as a signed integer card (-59 for 2^64 - 59); read as a
+        # double it would come back rounded, or negative.
+        seed = 2 ** 64 - 59
+        run_octarc("simulate", "lenses", "-n", "100", "--seed", str(seed), "--preset", "dls",
+                   "--source-mag-min", "20", "--source-mag-max", "21", "--sigma-min", "360",
+                   "--sigma-max", "450", "--lens-mag-min", "19", "--lens-mag-max", "23",
+                   "-o", "big-seed.fits", "--quiet", cwd=self.work)
+        run_octarc("calibrate", "big-seed.fits", "-GRID_AXES", "ARCNESS", "-NOISE_STUDY", "N",
+                   "-CHECKPLOT_TYPE", "NONE", "-GRID_NAME", "g.fits", "-CALIBRATION_NAME",
+                   "c.fits", cwd=self.work)
+        self.assertEqual(fits.getheader(self.path("g.fits"), "OCC_GRID")["SEED"], seed)
+
     def test_check_plots(self):
         self.calibrate("-CHECKPLOT_TYPE", "ARCNESS,LENSING_FRACTION,NOISE_THRESHOLD",
                        "-CHECKPLOT_NAME", "a,lf,noise", "-CHECKPLOT_RES", "640,480")
@@ -363,6 +377,15 @@ class Calibrate(WorkDirTest):
         # The same simulation twice would count its systems twice.
         self.assert_fails(run_octarc("calibrate", self.sim, self.sim, check=False, cwd=self.work),
                           "seed", "twice")
+        # Setup cards that simulate lenses never writes would go on into the grid's setup.
+        for key, value, expected in (("OCTSKYSG", "-1.0", "OCTSKYSG = -1 is not a finite "
+                                      "number > 0"),
+                                     ("OCTMINAR", "0", "OCTMINAR = 0 is not a whole number >= 1"),
+                                     ("OCTNLEV", "256", "OCTNLEV = 256 is not a whole number from "
+                                      "1 to 255")):
+            bad = with_card(self.sim, os.path.join(self.sim_dir, key + ".fits"), key, value)
+            self.assert_fails(run_octarc("calibrate", bad, check=False, cwd=self.work),
+                              bad + ": LDAC_IMHEAD card " + expected)
 
 
 if __name__ == "__main__":

@@ -31,13 +31,11 @@ def sections():
 
 
 def readme_commands():
-    """The `octarc ...` lines of the sh blocks, continuations joined, comments dropped."""
+    """The `octarc ...` lines of the sections' sh blocks, read as scripts/readme_studies.py
+    reads its own."""
     commands = []
     for block in re.findall(r"```sh\n(.*?)```", sections(), re.S):
-        for line in block.replace("\\\n", " ").splitlines():
-            line = line.split(" # ")[0].strip()
-            if line.startswith("octarc "):
-                commands.append(" ".join(line.split()))
+        commands += readme_studies.octarc_lines(block)
     return commands
 
 

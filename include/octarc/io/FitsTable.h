@@ -104,6 +104,12 @@ struct FitsTable {
   std::uint64_t unsignedInteger(std::string_view keyword) const;
   bool logical(std::string_view keyword) const;
   std::string text(std::string_view keyword) const;
+  // The same with the value range-checked: IoError "<where>: KEY = value is not <expected>"
+  // when `accepted` refuses the number (expected e.g. "a finite number > 0"), or when the
+  // integer lies outside [min, max].
+  double number(std::string_view keyword, bool (*accepted)(double),
+                std::string_view expected) const;
+  std::int64_t integer(std::string_view keyword, std::int64_t min, std::int64_t max) const;
 
   // "<source>[<name>]", or "[<name>]" for a table made in memory.
   std::string where() const;

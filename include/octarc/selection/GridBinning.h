@@ -33,6 +33,10 @@ struct GridAxis {
   int bins = 1;
 };
 
+// The most bins per axis that calibrate's binning search tries (GRID_NBINS) and a grid file may
+// hold.
+inline constexpr int kMaxBinsPerAxis = 1000;
+
 // METHOD.md section 4's axes: ARCNESS, ANTIARCNESS, SKEW_MAJOR, SKEW_MINOR, E_IMAGE,
 // log10(SNR_ISO).
 std::vector<std::string> defaultAxisExpressions();

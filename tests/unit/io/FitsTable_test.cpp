@@ -7,9 +7,11 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ExpectError.h"
@@ -289,6 +291,39 @@ TEST(FitsTable, ReadErrorsNameFileTableColumnAndKeyword) {
   std::fclose(f);
   expectIoError([&] { readFitsTable(text, "FIRST"); }, {text});
   expectIoError([&] { readFitsTable((dir / "none.fits").string(), "FIRST"); }, {"none.fits"});
+}
+
+// cfitsio types an unquoted value by its first characters: "0.2abc" is typed a number. It is not
+// read as 0.2 (nor "12abc" as 12): number() refuses it, naming the file and the keyword. The
+// range-checked readers name the keyword, its value and the range.
+TEST(FitsTable, KeywordValuesAreWholeNumbersInTheirRange) {
+  const fs::path dir = test::scratchDir();
+  const std::string path = (dir / "tables.fits").string();
+  writeFitsTables(path, sampleTables());
+  std::string bytes = test::readFile(path);
+  for (const auto& [key, value] : {std::pair{"PIXSCALE", "0.2abc"}, std::pair{"NEG", "12abc"}}) {
+    const std::size_t at = bytes.find(std::string(key).append(8 - std::strlen(key), ' ') + "= ");
+    ASSERT_NE(at, std::string::npos) << key;
+    bytes.replace(at + 10, 20, std::string(20 - std::strlen(value), ' ') + value);
+  }
+  const std::string patched = (dir / "patched.fits").string();
+  test::writeTextFile(patched, bytes);
+  const FitsTable bad = readFitsTable(patched, "FIRST");
+  expectIoError([&] { bad.number("PIXSCALE"); },
+                {patched + "[FIRST]", "keyword PIXSCALE is not a number"});
+  expectIoError([&] { bad.integer("NEG"); }, {patched + "[FIRST]", "keyword NEG is not"});
+  EXPECT_EQ(bad.number("GAIN"), 54.0);  // the cards around them read as before
+
+  const FitsTable t = readFitsTable(path, "FIRST");
+  const auto aboveOne = [](double v) { return v > 1.0; };
+  EXPECT_EQ(t.number("GAIN", aboveOne, "a number > 1"), 54.0);
+  expectIoError([&] { t.number("PIXSCALE", aboveOne, "a number > 1"); },
+                {path + "[FIRST]", "PIXSCALE = 0.25700000000000001 is not a number > 1"});
+  expectIoError([&] { t.number("UNKNOWN", aboveOne, "a number > 1"); },
+                {"UNKNOWN = nan is not a number > 1"});
+  EXPECT_EQ(t.integer("NEG", -123456789012LL, 0), -123456789012LL);
+  expectIoError([&] { t.integer("NEG", 0, 255); },
+                {path + "[FIRST]", "NEG = -123456789012 is not an integer from 0 to 255"});
 }
 
 TEST(FitsTable, WriteErrorsLeaveNoFile) {

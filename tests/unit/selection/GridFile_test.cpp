@@ -218,6 +218,38 @@ TEST(GridFile, FilesThatAreNotAGridNameWhatIsMissing) {
   expectError<IoError>([&] { loadGrid(noCounts); }, {noCounts, "no column COUNT"});
 }
 
+// Setup and axis cards that octarc never writes are refused, naming the file, the card, its
+// value and the range; an undefined setup value is an unknown one, as the writer puts it.
+TEST(GridFile, CardsOutOfTheirRangeAreRefused) {
+  const fs::path dir = test::scratchDir();
+  const auto withCard = [&](const std::string& key, const FitsKeywordValue& value) {
+    return editedGrid(dir, key + ".fits", [&](FitsTable& t) {
+      for (FitsKeyword& k : t.keywords) {
+        if (k.name == key) k.value = value;
+      }
+    });
+  };
+  struct Case {
+    std::string key;
+    FitsKeywordValue value;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {"THRESH1", kNaN, "THRESH1 = nan is not a finite number > 0"},
+      {"PIXSCALE", -0.25, "PIXSCALE = -0.25 is not undefined (unknown) or a finite number > 0"},
+      {"SKYSIGMA", 0.0, "SKYSIGMA = 0 is not undefined (unknown) or a finite number > 0"},
+      {"GAIN", -1.0, "GAIN = -1 is not undefined (unknown) or a finite number >= 0"},
+      {"MINAREA", std::int64_t(-1), "MINAREA = -1 is not an integer from 0 to 2147483647"},
+      {"NTHRESH", std::int64_t(256), "NTHRESH = 256 is not an integer from 0 to 255"},
+      {"AXBINS1", std::int64_t(999999999), "AXBINS1 = 999999999 is not an integer from 1 to 1000"},
+  };
+  for (const Case& c : cases) {
+    const std::string path = withCard(c.key, c.value);
+    expectError<IoError>([&] { loadGrid(path); }, {path + "[OCC_GRID]: " + c.message});
+  }
+  EXPECT_TRUE(std::isnan(loadGrid(withCard("SEEING", kNaN)).provenance.setup.seeingFwhmArcsec));
+}
+
 TEST(GridFile, InconsistentGridFilesAreRefused) {
   const fs::path dir = test::scratchDir();
   // A count and its weight (unit weights: the same).
