@@ -27,16 +27,24 @@ double card(const FitsHeader& h, const char* key) {
 }
 
 // OCTSEED as simulate lenses writes it: the 64-bit seed as a signed integer card (seeds from
-// 2^63 on come out negative), read exactly: as a double it would round seeds above 2^53.
+// 2^63 on come out negative), or written unsigned; read exactly: as a double it would round
+// seeds above 2^53.
 std::optional<std::uint64_t> seedCard(const FitsHeader& h) {
   const std::optional<std::string> text = h.value("OCTSEED");
   if (!text || text->empty()) return std::nullopt;
   const char* begin = text->data() + ((*text)[0] == '+' ? 1 : 0);
   const char* end = text->data() + text->size();
-  std::int64_t value = 0;
-  const auto parsed = std::from_chars(begin, end, value);
-  if (parsed.ec != std::errc() || parsed.ptr != end) return std::nullopt;
-  return std::uint64_t(value);
+  std::int64_t signedValue = 0;
+  if (const auto r = std::from_chars(begin, end, signedValue);
+      r.ec == std::errc() && r.ptr == end) {
+    return std::uint64_t(signedValue);
+  }
+  std::uint64_t unsignedValue = 0;
+  if (const auto r = std::from_chars(begin, end, unsignedValue);
+      r.ec == std::errc() && r.ptr == end) {
+    return unsignedValue;
+  }
+  return std::nullopt;
 }
 
 bool wholeIn(double v, double min, double max) {

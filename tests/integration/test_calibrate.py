@@ -233,9 +233,9 @@ class Calibrate(WorkDirTest):
             self.assertAlmostEqual(hdu.header["GAUSFWHM"], fwhm, delta=1e-3 * fwhm)
 
     def test_a_seed_above_2_to_the_63_reaches_the_grid_exactly(self):
-        # simulate lenses writes OCTSEED as a signed integer card (-59 for 2^64 - 59); read as a
-        # double it would come back rounded, or negative.
-        seed = 2 ** 64 - 59
+        # simulate lenses writes OCTSEED as a signed integer card (-9223372036854775807 for
+        # 2^63 + 1); read as a double it came back rounded to 2^63.
+        seed = 2 ** 63 + 1
         run_octarc("simulate", "lenses", "-n", "100", "--seed", str(seed), "--preset", "dls",
                    "--source-mag-min", "20", "--source-mag-max", "21", "--sigma-min", "360",
                    "--sigma-max", "450", "--lens-mag-min", "19", "--lens-mag-max", "23",
