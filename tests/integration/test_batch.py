@@ -127,22 +127,39 @@ def write_tiles(directory, image, weight):
         f.write("\n".join(lines) + "\n")
 
 
+def make_fixture(d):
+    """The data the batch cases share, in directory d: the field, its tiles and manifest, and
+    the uninterrupted one-process run of them (with its standard output). ctest makes it once
+    for BatchRanks and BatchResume (the fixture of tests/integration/CMakeLists.txt, in
+    OCTARC_FIXTURE_DIR); run alone, a case makes its own."""
+    make_tiles(d)
+    proc = run_octarc("batch", os.path.join(d, "survey.csv"),
+                      *BatchFixture.config(os.path.join(d, "reference")))
+    with open(os.path.join(d, "reference.stdout.txt"), "w") as f:
+        f.write(proc.stdout)
+
+
 class BatchFixture(WorkDirTest):
-    """The tiles, made once, and the uninterrupted one-process run of them."""
+    """The tiles and the uninterrupted one-process run of them, made once (make_fixture)."""
 
     @classmethod
     def setUpClass(cls):
         require_program("mpirun")
-        cls.data = tempfile.mkdtemp(prefix="octarc-batch-")
-        cls.field = make_tiles(cls.data)
+        cls.own_data = not os.environ.get("OCTARC_FIXTURE_DIR")
+        if cls.own_data:
+            cls.data = tempfile.mkdtemp(prefix="octarc-batch-")
+            make_fixture(cls.data)
+        else:
+            cls.data = os.environ["OCTARC_FIXTURE_DIR"]
+        cls.field = os.path.join(cls.data, "field.fits")
         cls.manifest = os.path.join(cls.data, "survey.csv")
         cls.reference = os.path.join(cls.data, "reference")
-        proc = run_octarc("batch", cls.manifest, *cls.config(cls.reference))
-        cls.reference_stdout = proc.stdout
+        cls.reference_stdout = read_text(os.path.join(cls.data, "reference.stdout.txt"))
 
     @classmethod
     def tearDownClass(cls):
-        shutil.rmtree(cls.data, ignore_errors=True)
+        if cls.own_data:
+            shutil.rmtree(cls.data, ignore_errors=True)
 
     @staticmethod
     def config(out, *more):
