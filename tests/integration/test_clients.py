@@ -5,6 +5,7 @@ they need, and they say so."""
 import os
 import shutil
 import subprocess
+import tempfile
 import unittest
 
 import numpy as np
@@ -47,23 +48,32 @@ def scamp(catalog, reference, cwd):
 @unittest.skipUnless(have_program("psfex") and have_program("scamp"),
                      "psfex and scamp not installed")
 class PsfexAndScamp(WorkDirTest):
-    """A simulated 1024^2 field with a TAN WCS; its truth list is SCAMP's reference catalog."""
+    """A simulated 1024^2 field with a TAN WCS; its truth list is SCAMP's reference catalog.
+    The field and its two catalogs are made once for the class; each test works in its own
+    directory."""
 
-    def setUp(self):
-        super().setUp()
-        self.image = self.path("field.fits")
-        run_octarc("simulate", "field", "-o", self.image, "--size", 1024, "--seed", 5, "--quiet")
-        param = write_param(self.path("sex.param"), SEX_COLUMNS)
-        self.catalog, checks = run_sextractor(
-            self.image, self.work, "field", param, 3.0,
+    @classmethod
+    def setUpClass(cls):
+        cls.data = tempfile.mkdtemp(prefix="octarc-clients-")
+        cls.image = os.path.join(cls.data, "field.fits")
+        run_octarc("simulate", "field", "-o", cls.image, "--size", 1024, "--seed", 5, "--quiet")
+        param = write_param(os.path.join(cls.data, "sex.param"), SEX_COLUMNS)
+        cls.catalog, checks = run_sextractor(
+            cls.image, cls.data, "field", param, 3.0,
             ["-FILTER", "N", "-DETECT_MINAREA", "5", "-PHOT_APERTURES", "10"], ["SEGMENTATION"])
-        self.segmentation = checks["SEGMENTATION"]
-        self.appended = self.path("field+octarc.ldac")
+        cls.segmentation = checks["SEGMENTATION"]
+        cls.appended = os.path.join(cls.data, "field+octarc.ldac")
         # The shipped column list, as a user would append it.
-        run_octarc("measure", self.image, "-c", os.path.join(SEX_SHARE, "default.sex"),
+        run_octarc("measure", cls.image, "-c", os.path.join(SEX_SHARE, "default.sex"),
                    "-PARAMETERS_NAME", os.path.join(SHIPPED, "octarc.param"),
-                   "-SEGMENTATION_NAME", self.segmentation, "-INPUT_CATALOG", self.catalog,
-                   "-CATALOG_NAME", self.appended, "-FILTER", "N", "-VERBOSE_TYPE", "QUIET")
+                   "-SEGMENTATION_NAME", cls.segmentation, "-INPUT_CATALOG", cls.catalog,
+                   "-CATALOG_NAME", cls.appended, "-FILTER", "N", "-VERBOSE_TYPE", "QUIET")
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.data, ignore_errors=True)
+
+    def test_measure_appends_the_shipped_columns(self):
         with fits.open(self.catalog) as a, fits.open(self.appended) as b:
             self.assertGreater(len(b[2].columns), len(a[2].columns))
 
