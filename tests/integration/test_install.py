@@ -24,12 +24,36 @@ DATA = {"octarc.sex": "params/octarc.sex", "octarc.param": "params/octarc.param"
         "dls.grid.fits": "params/dls.grid.fits", "demo.model.fits": "params/demo.model.fits",
         "simulation/population.txt": "params/simulation/population.txt",
         "simulation/population-dls.txt": "params/simulation/population-dls.txt"}
-INSTALLED = sorted(["bin/octarc", "share/doc/octarc/README.md", "share/doc/octarc/LICENSE"] +
-                   ["share/octarc/" + name for name in DATA])
+LIBRARIES = ["core", "cluster", "io", "plot", "background", "detection", "measure", "catalog",
+             "selection", "sexcompat", "run", "simulation", "simulation_engine", "lenslight",
+             "calibration", "search", "batch", "app"]
+
+
+def tree_files(folder):
+    """The files under a folder of the source tree, relative to it."""
+    root = os.path.join(SOURCE_DIR, folder)
+    return [os.path.relpath(os.path.join(d, f), root) for d, _, names in os.walk(root)
+            for f in names]
+
+
+# Every installed file: the program and its data, the documentation (README, LICENSE, docs/),
+# and the libraries with their headers and CMake package.
+INSTALLED = sorted(
+    ["bin/octarc", "share/doc/octarc/README.md", "share/doc/octarc/LICENSE"] +
+    ["share/doc/octarc/" + name for name in tree_files("docs")] +
+    ["share/octarc/" + name for name in DATA] +
+    ["lib/liboctarc_%s.a" % name for name in LIBRARIES] +
+    ["include/" + name for name in tree_files("include")] +
+    ["include/" + name for name in tree_files("sextractor_compat/include")] +
+    ["lib/cmake/octarc/" + name for name in ("octarcConfig.cmake", "octarcConfigVersion.cmake",
+                                             "octarcTargets.cmake", "octarcTargets-BUILDTYPE.cmake")])
 
 
 def files_under(root):
-    return sorted(os.path.relpath(os.path.join(d, f), root)
+    """The files under root, relative to it; the CMake targets file of the build type
+    (octarcTargets-release.cmake...) named octarcTargets-BUILDTYPE.cmake."""
+    return sorted(re.sub(r"octarcTargets-[a-z]+\.cmake$", "octarcTargets-BUILDTYPE.cmake",
+                         os.path.relpath(os.path.join(d, f), root))
                   for d, _, names in os.walk(root) for f in names)
 
 
@@ -130,6 +154,48 @@ class InstalledTree(WorkDirTest):
                 self.assertFalse(path.startswith(tree) or real.startswith(tree), path)
 
 
+    def test_a_program_of_ones_own_builds_against_the_installed_libraries(self):
+        # find_package(octarc) in a project of its own: the installed headers and libraries,
+        # and their dependencies found again by the package's config file.
+        prefix = self.path("prefix")
+        subprocess.run([CMAKE, "--install", BUILD_DIR, "--prefix", prefix], check=True,
+                       capture_output=True)
+        project = self.path("project")
+        os.mkdir(project)
+        with open(os.path.join(project, "CMakeLists.txt"), "w") as f:
+            f.write("cmake_minimum_required(VERSION 3.18)\n"
+                    "project(pixelsum LANGUAGES CXX)\n"
+                    "set(CMAKE_CXX_STANDARD 20)\n"
+                    "find_package(octarc 0.1 REQUIRED)\n"
+                    "add_executable(pixelsum main.cpp)\n"
+                    "target_link_libraries(pixelsum PRIVATE octarc::io)\n")
+        with open(os.path.join(project, "main.cpp"), "w") as f:
+            f.write("#include <cstdio>\n"
+                    "#include \"octarc/io/FitsImage.h\"\n"
+                    "int main(int argc, char** argv) {\n"
+                    "  if (argc != 2) return 2;\n"
+                    "  const octarc::ImageHdu hdu = octarc::readImage(argv[1]);\n"
+                    "  double sum = 0.0;\n"
+                    "  for (std::int64_t y = 0; y < hdu.pixels.height(); ++y)\n"
+                    "    for (std::int64_t x = 0; x < hdu.pixels.width(); ++x)\n"
+                    "      sum += hdu.pixels(x, y);\n"
+                    "  std::printf(\"%lld %lld %.17g\\n\", (long long)hdu.pixels.width(),\n"
+                    "              (long long)hdu.pixels.height(), sum);\n"
+                    "  return 0;\n"
+                    "}\n")
+        build = self.path("project-build")
+        for cmd in ([CMAKE, "-S", project, "-B", build, "-G", "Ninja",
+                     "-DCMAKE_PREFIX_PATH=" + prefix],
+                    [CMAKE, "--build", build]):
+            proc = subprocess.run(cmd, capture_output=True, text=True)
+            self.assertEqual(proc.returncode, 0, proc.stdout + proc.stderr)
+        image = os.path.join(SOURCE_DIR, "testdata", "example.fits.gz")
+        out = subprocess.run([os.path.join(build, "pixelsum"), image], check=True,
+                             capture_output=True, text=True).stdout.split()
+        data = fits.getdata(image).astype(np.float64)
+        self.assertEqual((int(out[0]), int(out[1])), (data.shape[1], data.shape[0]))
+        self.assertAlmostEqual(float(out[2]), data.sum(), delta=1e-12 * np.abs(data).sum())
+
     def test_an_executable_without_its_data_says_where_it_looked(self):
         bindir = self.path("bin")
         os.mkdir(bindir)
@@ -182,9 +248,17 @@ class DebianPackage(WorkDirTest):
         self.assertEqual(len(debs), 1, debs)
         listing = subprocess.run(["dpkg-deb", "-c", debs[0]], check=True, capture_output=True,
                                  text=True).stdout
-        files = sorted(line.split()[-1][len("./usr/"):] for line in listing.splitlines()
-                       if not line.startswith("d"))
+        files = sorted(re.sub(r"octarcTargets-[a-z]+\.cmake$", "octarcTargets-BUILDTYPE.cmake",
+                              line.split()[-1][len("./usr/"):])
+                       for line in listing.splitlines() if not line.startswith("d"))
         self.assertEqual(files, INSTALLED)
+        # The program is stripped: no symbol table, no debug information.
+        unpacked = self.path("unpacked")
+        subprocess.run(["dpkg-deb", "-x", debs[0], unpacked], check=True)
+        sections = subprocess.run(["readelf", "-S", os.path.join(unpacked, "usr", "bin", "octarc")],
+                                  capture_output=True, text=True, check=True).stdout
+        self.assertNotIn(".symtab", sections)
+        self.assertNotIn(".debug_info", sections)
 
         def field(name):
             return subprocess.run(["dpkg-deb", "-f", debs[0], name], check=True,
