@@ -15,6 +15,7 @@
 #include "octarc/catalog/InputCatalog.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
+#include "octarc/core/Segment.h"
 #include "octarc/io/FitsHeader.h"
 #include "octarc/io/FitsTable.h"
 
@@ -54,7 +55,7 @@ bool wholeIn(double v, double min, double max) {
 // The setup cards hold what simulate lenses itself accepts (simulation/engine/LensSetup.cpp);
 // a value outside that was written by hand, and would go on into the grid's setup.
 void checkSetupCards(const std::string& path, const FitsHeader& h) {
-  const auto require = [&](const char* key, bool accepted, const char* expected) {
+  const auto require = [&](const char* key, bool accepted, const std::string& expected) {
     if (!accepted) {
       throw IoError(path + ": LDAC_IMHEAD card " + key + " = " +
                     formatNumber(card(h, key), "%.17g") + " is not " + expected);
@@ -65,9 +66,16 @@ void checkSetupCards(const std::string& path, const FitsHeader& h) {
   for (const char* key : {"OCTPIXSC", "OCTSEEIN", "OCTGAIN", "OCTSKYSG", "OCTTHLO", "OCTTHHI"}) {
     require(key, std::isfinite(card(h, key)) && card(h, key) > 0.0, "a finite number > 0");
   }
-  require("OCTTHHI", card(h, "OCTTHHI") >= card(h, "OCTTHLO"), "at least OCTTHLO");
+  require("OCTNLEV", wholeIn(card(h, "OCTNLEV"), 1, kMaxThresholdLevels),
+          "a whole number from 1 to " + std::to_string(kMaxThresholdLevels));
+  // Several levels are spaced from OCTTHLO to OCTTHHI, and the detector takes them strictly
+  // increasing.
+  const bool oneLevel = card(h, "OCTNLEV") == 1.0;
+  require(
+      "OCTTHHI",
+      oneLevel ? card(h, "OCTTHHI") >= card(h, "OCTTHLO") : card(h, "OCTTHHI") > card(h, "OCTTHLO"),
+      oneLevel ? "at least OCTTHLO" : "above OCTTHLO (OCTNLEV > 1)");
   require("OCTMAGZP", std::isfinite(card(h, "OCTMAGZP")), "a finite number");
-  require("OCTNLEV", wholeIn(card(h, "OCTNLEV"), 1, 255), "a whole number from 1 to 255");
   require("OCTMINAR", wholeIn(card(h, "OCTMINAR"), 1, std::numeric_limits<int>::max()),
           "a whole number >= 1");
   // The levels in sigma (outputs since they were recorded): both or neither, in order.
@@ -75,7 +83,10 @@ void checkSetupCards(const std::string& path, const FitsHeader& h) {
     for (const char* key : {"OCTSGLO", "OCTSGHI"}) {
       require(key, std::isfinite(card(h, key)) && card(h, key) > 0.0, "a finite number > 0");
     }
-    require("OCTSGHI", card(h, "OCTSGHI") >= card(h, "OCTSGLO"), "at least OCTSGLO");
+    require("OCTSGHI",
+            oneLevel ? card(h, "OCTSGHI") >= card(h, "OCTSGLO")
+                     : card(h, "OCTSGHI") > card(h, "OCTSGLO"),
+            oneLevel ? "at least OCTSGLO" : "above OCTSGLO (OCTNLEV > 1)");
   }
 }
 

@@ -15,7 +15,6 @@
 namespace octarc {
 namespace {
 
-constexpr int kMaxLevels = 255;  // the per-pixel level count is a byte
 constexpr std::int64_t kMaxOffset = std::numeric_limits<std::int32_t>::max();
 
 // A horizontal run of pixels x0..x1 (inclusive) on row y. `offset` is the index of its first
@@ -291,9 +290,10 @@ struct Detector {
 void validate(const ImageF& image, const DetectionSettings& settings) {
   const auto& t = settings.thresholdsAdu;
   if (t.empty()) throw ConfigError("DETECT_THRESH: no detection threshold given");
-  if (t.size() > static_cast<std::size_t>(kMaxLevels)) {
+  if (t.size() > static_cast<std::size_t>(kMaxThresholdLevels)) {
     throw ConfigError("DETECT_NLEVELS: " + std::to_string(t.size()) +
-                      " detection levels, at most " + std::to_string(kMaxLevels) + " supported");
+                      " detection levels, at most " + std::to_string(kMaxThresholdLevels) +
+                      " supported");
   }
   for (std::size_t k = 0; k < t.size(); ++k) {
     if (!std::isfinite(t[k])) {

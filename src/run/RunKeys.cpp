@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <string>
 
+#include "octarc/core/Segment.h"
 #include "octarc/sexcompat/KeyRow.h"
 #include "octarc/sexcompat/Keys.h"
 
@@ -79,9 +80,10 @@ std::vector<KeySpec> octarcKeys() {
     Row("DETECT_NLEVELS", Kind::Int, {"1"},
         "number of thresholds from DETECT_THRESH to\nDETECT_THRESH_MAX (logarithmic spacing;"
         " 1 = one\nlevel, as SExtractor; the arc search uses 15)")
-        .range(1, 255),
+        .range(1, kMaxThresholdLevels),
     Row("DETECT_LEVELS", Kind::Float, {},
-        "explicit list of thresholds, lowest first\n(empty = use DETECT_NLEVELS)").list(0, 255),
+        "explicit list of thresholds, lowest first\n(empty = use DETECT_NLEVELS)")
+        .list(0, kMaxThresholdLevels),
   };
   // clang-format on
   keys.insert(keys.end(), own.begin(), own.end());

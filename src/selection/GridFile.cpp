@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,8 @@ namespace {
 constexpr const char* kGridTableName = "OCC_GRID";
 constexpr std::int64_t kFormatVersion = 2;
 constexpr std::int64_t kOldestVersion = 1;  // no WEIGHT column: the counts are the weights
+// Axes a file may describe: AXEXPRnn and DROPAXnn hold two digits in their 8 characters.
+constexpr std::int64_t kMaxGridAxes = 99;
 
 std::string numbered(const char* root, std::size_t n) {
   return root + std::to_string(n);
@@ -87,10 +90,7 @@ FitsTable binsTable(const SavedGrid& saved) {
 // Reading -------------------------------------------------------------------------------------
 
 GridBinning readBinning(const FitsTable& t) {
-  const std::int64_t dims = t.integer("GRIDDIM");
-  if (dims < 1 || dims > 99) {
-    throw IoError(t.where() + ": GRIDDIM = " + std::to_string(dims) + " (1 to 99 axes)");
-  }
+  const std::int64_t dims = t.integer("GRIDDIM", 1, kMaxGridAxes);
   std::vector<GridAxis> axes;
   for (std::int64_t a = 1; a <= dims; ++a) {
     GridAxis axis;
@@ -133,8 +133,10 @@ OccupationGrid readGrid(const FitsTable& t, GridBinning binning) {
     bins.push_back({binning.pack(k), count[r], weight[r], 0.0, 0.0});
   }
   try {
-    OccupationGrid grid = OccupationGrid::fromWeights(std::move(binning), bins,
-                                                      t.integer("NOUTSIDE"), t.integer("NUNDEF"));
+    constexpr std::int64_t kMaxCount = std::numeric_limits<std::int64_t>::max();
+    OccupationGrid grid =
+        OccupationGrid::fromWeights(std::move(binning), bins, t.integer("NOUTSIDE", 0, kMaxCount),
+                                    t.integer("NUNDEF", 0, kMaxCount));
     // The rows must be the grid's own order: the file's ranks are what searches report.
     for (std::size_t r = 0; r < bins.size(); ++r) {
       if (grid.bins()[r].index != bins[r].index) {
@@ -213,7 +215,7 @@ SavedGrid loadGrid(const std::string& path) {
   }
   GridProvenance provenance{t.text("SPACE"), t.text("SPACEEXP"), readSetup(t), {}};
   if (t.hasKeyword("NDROPAX")) {
-    for (std::int64_t a = 1; a <= t.integer("NDROPAX"); ++a) {
+    for (std::int64_t a = 1; a <= t.integer("NDROPAX", 0, kMaxGridAxes); ++a) {
       provenance.droppedAxes.push_back(t.text(numbered("DROPAX", std::size_t(a))));
     }
   }

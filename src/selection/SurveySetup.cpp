@@ -6,7 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
+#include "octarc/core/Segment.h"
 #include "octarc/io/FitsTable.h"
 
 namespace octarc {
@@ -89,7 +91,9 @@ bool finitePositive(double v) {
   return std::isfinite(v) && v > 0.0;
 }
 constexpr const char* kUnknownOrPositive = "undefined (unknown) or a finite number > 0";
-constexpr std::int64_t kMaxLevels = 255;  // DETECT_NLEVELS's range
+// The levels a file can list: THRESHnn holds two digits in its 8 characters.
+constexpr std::int64_t kMaxSetupLevels = 99;
+static_assert(kMaxSetupLevels <= kMaxThresholdLevels);
 
 }  // namespace
 
@@ -100,10 +104,18 @@ SurveySetup readSetup(const FitsTable& t) {
   s.gainElectronsPerAdu = t.number("GAIN", unknownOrNonNegative,
                                    "undefined (unknown) or a finite number >= 0 (0: infinite)");
   s.skySigmaAdu = t.number("SKYSIGMA", unknownOrPositive, kUnknownOrPositive);
-  const std::int64_t levels = t.integer("NTHRESH", 0, kMaxLevels);  // 0: unknown
+  const std::int64_t levels = t.integer("NTHRESH", 0, kMaxSetupLevels);  // 0: unknown
   for (std::int64_t i = 1; i <= levels; ++i) {
-    s.thresholdsSigma.push_back(
-        t.number("THRESH" + std::to_string(i), finitePositive, "a finite number > 0"));
+    const std::string key = "THRESH" + std::to_string(i);
+    const double level = t.number(key, finitePositive, "a finite number > 0");
+    // The detector takes the levels strictly increasing, lowest first.
+    if (i > 1 && !(level > s.thresholdsSigma.back())) {
+      throw IoError(t.where() + ": " + key + " = " + formatNumber(level, "%.17g") +
+                    " is not above THRESH" + std::to_string(i - 1) + " = " +
+                    formatNumber(s.thresholdsSigma.back(), "%.17g") +
+                    " (the levels increase strictly)");
+    }
+    s.thresholdsSigma.push_back(level);
   }
   s.minAreaPix = int(t.integer("MINAREA", 0, std::numeric_limits<int>::max()));  // 0: unknown
   s.populationFile = t.text("POPFILE");

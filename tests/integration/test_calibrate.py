@@ -11,7 +11,7 @@ import numpy as np
 from astropy.io import fits
 from scipy.stats import beta
 
-from octarc_testlib import SOURCE_DIR, WorkDirTest, run_octarc
+from octarc_testlib import SOURCE_DIR, WorkDirTest, card_text, ldac_imhead, run_octarc
 from test_hostile_input import with_card
 
 # A few thousand systems of the `dls` preset give some tens of arcs (importance sampled: a few
@@ -388,6 +388,14 @@ class Calibrate(WorkDirTest):
             bad = with_card(self.sim, os.path.join(self.sim_dir, key + ".fits"), key, value)
             self.assert_fails(run_octarc("calibrate", bad, check=False, cwd=self.work),
                               bad + ": LDAC_IMHEAD card " + expected)
+        # The levels are spaced from OCTTHLO to OCTTHHI and must increase.
+        head = ldac_imhead(self.sim)
+        self.assertGreater(head["OCTNLEV"], 1)
+        bad = with_card(self.sim, os.path.join(self.sim_dir, "OCTTHHI.fits"), "OCTTHHI",
+                        card_text(head, "OCTTHLO"))
+        self.assert_fails(run_octarc("calibrate", bad, check=False, cwd=self.work),
+                          bad + ": LDAC_IMHEAD card OCTTHHI = ",
+                          "is not above OCTTHLO (OCTNLEV > 1)")
 
 
 if __name__ == "__main__":

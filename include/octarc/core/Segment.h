@@ -7,6 +7,10 @@
 
 namespace octarc {
 
+// The most detection thresholds a run may have (DETECT_NLEVELS, a grid's NTHRESH, a simulation's
+// OCTNLEV): the detector counts the levels a pixel is above in a byte.
+inline constexpr int kMaxThresholdLevels = 255;
+
 // One detection threshold of a (possibly single-level) run.
 struct ThresholdLevel {
   int level = 1;                      // THRESH_LEVEL, 1 = lowest

@@ -23,8 +23,8 @@
 namespace octarc {
 
 struct DetectionSettings {
-  // Detection thresholds in ADU (of the detection image), strictly increasing, at most 255;
-  // level k + 1 = thresholdsAdu[k].
+  // Detection thresholds in ADU (of the detection image), strictly increasing, at most
+  // kMaxThresholdLevels; level k + 1 = thresholdsAdu[k].
   std::vector<double> thresholdsAdu;
   // DETECT_MINAREA: objects with fewer pixels are dropped (their pixels stay in the parent).
   int minArea = 5;
@@ -50,9 +50,9 @@ struct DetectionSettings {
 // single precision: f > (float)threshold, or f > (float)threshold * scale (float product).
 //
 // Returns the number of objects per level. Throws ConfigError (one line, naming the option) for
-// no thresholds, thresholds not strictly increasing or not finite, more than 255 levels,
-// DETECT_MINAREA < 1, or a threshold scale map whose size differs from the image's. An image
-// without any pixel above the lowest level (all NaN, constant below it) gives no objects.
+// no thresholds, thresholds not strictly increasing or not finite, more than kMaxThresholdLevels
+// levels, DETECT_MINAREA < 1, or a threshold scale map whose size differs from the image's. An
+// image without any pixel above the lowest level (all NaN, constant below it) gives no objects.
 std::vector<std::int64_t> detectMultiThreshold(
     const ImageF& detection, const DetectionSettings& settings,
     const std::function<void(std::vector<Segment>& objects)>& sink);

@@ -45,7 +45,8 @@ std::vector<std::string> compareSetups(const SurveySetup& grid, const SurveySetu
 
 // The setup as header keywords of a grid or model file (PIXSCALE, SEEING, GAIN, SKYSIGMA,
 // NTHRESH, THRESHn, MINAREA, POPFILE, SEED, NSYSTEMS; NaN as an undefined value), and back
-// (IoError naming the table for a missing keyword).
+// (IoError naming the table and the keyword when one is missing or out of its range: at most 99
+// levels, THRESHn increasing strictly).
 void addSetupKeywords(const SurveySetup& setup, std::vector<FitsKeyword>& keywords);
 SurveySetup readSetup(const FitsTable& table);
 

@@ -240,14 +240,65 @@ TEST(GridFile, CardsOutOfTheirRangeAreRefused) {
       {"SKYSIGMA", 0.0, "SKYSIGMA = 0 is not undefined (unknown) or a finite number > 0"},
       {"GAIN", -1.0, "GAIN = -1 is not undefined (unknown) or a finite number >= 0"},
       {"MINAREA", std::int64_t(-1), "MINAREA = -1 is not an integer from 0 to 2147483647"},
-      {"NTHRESH", std::int64_t(256), "NTHRESH = 256 is not an integer from 0 to 255"},
+      {"NTHRESH", std::int64_t(100), "NTHRESH = 100 is not an integer from 0 to 99"},
       {"AXBINS1", std::int64_t(999999999), "AXBINS1 = 999999999 is not an integer from 1 to 1000"},
+      {"NTHRESH", std::int64_t(-1), "NTHRESH = -1 is not an integer from 0 to 99"},
+      {"GRIDDIM", std::int64_t(0), "GRIDDIM = 0 is not an integer from 1 to 99"},
+      {"NOUTSIDE", std::int64_t(-1),
+       "NOUTSIDE = -1 is not an integer from 0 to 9223372036854775807"},
+      {"NUNDEF", std::int64_t(-2), "NUNDEF = -2 is not an integer from 0 to"},
+      {"NDROPAX", std::int64_t(100), "NDROPAX = 100 is not an integer from 0 to 99"},
+      // dlsSetup's levels are 2.5 * 8^(i / 14): THRESH2 equal to THRESH1 does not increase.
+      {"THRESH2", 2.5, "THRESH2 = 2.5 is not above THRESH1 = 2.5 (the levels increase strictly)"},
+      {"THRESH3", 2.0, "THRESH3 = 2 is not above THRESH2 = 2.9"},
   };
   for (const Case& c : cases) {
     const std::string path = withCard(c.key, c.value);
     expectError<IoError>([&] { loadGrid(path); }, {path + "[OCC_GRID]: " + c.message});
+    fs::remove(path);  // a card may be tried twice
   }
   EXPECT_TRUE(std::isnan(loadGrid(withCard("SEEING", kNaN)).provenance.setup.seeingFwhmArcsec));
+}
+
+// The ends of the ranges are accepted: a gain of 0 (infinite), no levels and no minimum area
+// (unknown), 1000 bins on an axis, 99 levels (THRESH99: the most two digits name).
+TEST(GridFile, CardsAtTheEndsOfTheirRangeAreRead) {
+  const fs::path dir = test::scratchDir();
+  const auto withCard = [&](const std::string& key, const FitsKeywordValue& value) {
+    return editedGrid(dir, key + ".fits", [&](FitsTable& t) {
+      for (FitsKeyword& k : t.keywords) {
+        if (k.name == key) k.value = value;
+      }
+    });
+  };
+  EXPECT_EQ(loadGrid(withCard("GAIN", 0.0)).provenance.setup.gainElectronsPerAdu, 0.0);
+  EXPECT_TRUE(
+      loadGrid(withCard("NTHRESH", std::int64_t(0))).provenance.setup.thresholdsSigma.empty());
+  EXPECT_EQ(loadGrid(withCard("MINAREA", std::int64_t(0))).provenance.setup.minAreaPix, 0);
+
+  // One axis of 1000 bins and 99 levels, as written; AXBINS1 = 1001 is refused.
+  const GridBinning b({GridAxis{"ARCNESS", 0.0, 1.0, 1000}});
+  OccupationGrid grid = OccupationGrid::fill(b, {{0.0005, 0.0015, 0.9995}});
+  const Contour contour = grid.contour(0.8);
+  SurveySetup setup = dlsSetup();
+  setup.thresholdsSigma.clear();
+  for (int i = 1; i <= 99; ++i) setup.thresholdsSigma.push_back(double(i));
+  const std::string path = (dir / "wide.fits").string();
+  saveGrid(path, SavedGrid{std::move(grid), contour, GridProvenance{"", "", setup, {}}});
+  const SavedGrid wide = loadGrid(path);
+  EXPECT_EQ(wide.grid.binning().axes()[0].bins, 1000);
+  EXPECT_EQ(wide.grid.bins().size(), 3u);
+  ASSERT_EQ(wide.provenance.setup.thresholdsSigma.size(), 99u);
+  EXPECT_EQ(wide.provenance.setup.thresholdsSigma.back(), 99.0);
+
+  FitsTable t = readFitsTable(path, "OCC_GRID");
+  for (FitsKeyword& k : t.keywords) {
+    if (k.name == "AXBINS1") k.value = std::int64_t(1001);
+  }
+  const std::string tooWide = (dir / "too-wide.fits").string();
+  writeFitsTables(tooWide, {t});
+  expectError<IoError>([&] { loadGrid(tooWide); },
+                       {tooWide + "[OCC_GRID]: AXBINS1 = 1001 is not an integer from 1 to 1000"});
 }
 
 TEST(GridFile, InconsistentGridFilesAreRefused) {
