@@ -9,6 +9,7 @@
 #include "octarc/run/PreparedImage.h"
 #include "octarc/selection/ColumnExpression.h"
 #include "octarc/selection/GridBinning.h"
+#include "octarc/selection/TreeModel.h"
 #include "octarc/sexcompat/ConvFile.h"
 #include "octarc/sexcompat/KeyRow.h"
 
@@ -62,7 +63,7 @@ std::vector<KeySpec> calibrationKeys() {
           .range(0, 1e6),
       Row("MODEL_TREES", Kind::Int, {"300", "5"}, "boosting rounds and depth of the trees")
           .list(2, 2)
-          .range(1, 100000),
+          .range(1, kMaxTreeRoundsOrDepth),
       Row("MODEL_SEED", Kind::Int, {"1"}, "seed of the training (row subsampling)")
           .range(0, 2147483647),
       Row("SEARCH_NAME", Kind::String, {}, "name of the search space of the grid").list(0, 1),

@@ -31,6 +31,22 @@ constexpr ColumnFeature kColumnFeatures[] = {
     {"THRESH_LEVEL", "THRESH_LEVEL", Transform::Value},
 };
 
+// The values the training cards may hold: what calibrate trains with (MODEL_SNR_MIN,
+// MODEL_RESOLVED_MIN, MODEL_TREES; XGBoost's eta and subsample lie in (0, 1]).
+bool positiveTrainingCard(double v) {
+  return std::isfinite(v) && v > 0.0;
+}
+bool nonNegativeTrainingCard(double v) {
+  return std::isfinite(v) && v >= 0.0;
+}
+bool fractionTrainingCard(double v) {
+  return v > 0.0 && v <= 1.0;
+}
+constexpr const char* kPositiveTrainingCard = "a finite number > 0";
+constexpr const char* kNonNegativeTrainingCard = "a finite number >= 0";
+constexpr const char* kFractionTrainingCard = "a number > 0 and <= 1";
+constexpr std::int64_t kMaxTrainingRows = std::numeric_limits<std::int64_t>::max();
+
 }  // namespace
 
 const std::vector<std::string>& lensFeatureNames() {
@@ -152,27 +168,25 @@ SavedLensModel loadLensModel(const std::string& path) {
   if (m.features != lensFeatureNames()) {
     throw IoError(t.where() + ": the model's features are not the ones this octarc computes");
   }
-  m.contextRadiusArcsec = t.number("CTXRAD");
+  m.contextRadiusArcsec = t.number("CTXRAD", positiveTrainingCard, kPositiveTrainingCard);
   LensModelTraining& tr = m.training;
-  tr.arcRows = t.integer("NARC");
-  tr.arcWeight = t.number("ARCWEIGH");
-  tr.effectiveArcs = t.number("NEFFARC");
-  tr.otherRows = t.integer("NOTHER");
-  tr.otherWeight = t.number("OTHWEIGH");
-  tr.snrMin = t.number("SNRMIN");
-  tr.resolvedMinArcsec = t.number("RESMIN");
-  tr.arcRowsPerSystem = t.number("ARCROWS");
-  tr.trees.rounds = int(t.integer("ROUNDS"));
-  tr.trees.maxDepth = int(t.integer("DEPTH"));
-  tr.trees.learningRate = t.number("ETA");
-  tr.trees.subsample = t.number("SUBSAMPL");
+  // Training needs rows of both classes.
+  tr.arcRows = t.integer("NARC", 1, kMaxTrainingRows);
+  tr.arcWeight = t.number("ARCWEIGH", positiveTrainingCard, kPositiveTrainingCard);
+  tr.effectiveArcs = t.number("NEFFARC", positiveTrainingCard, kPositiveTrainingCard);
+  tr.otherRows = t.integer("NOTHER", 1, kMaxTrainingRows);
+  tr.otherWeight = t.number("OTHWEIGH", positiveTrainingCard, kPositiveTrainingCard);
+  tr.snrMin = t.number("SNRMIN", nonNegativeTrainingCard, kNonNegativeTrainingCard);
+  tr.resolvedMinArcsec = t.number("RESMIN", nonNegativeTrainingCard, kNonNegativeTrainingCard);
+  tr.arcRowsPerSystem = t.number("ARCROWS", positiveTrainingCard, kPositiveTrainingCard);
+  tr.trees.rounds = int(t.integer("ROUNDS", 1, kMaxTreeRoundsOrDepth));
+  tr.trees.maxDepth = int(t.integer("DEPTH", 1, kMaxTreeRoundsOrDepth));
+  tr.trees.learningRate = t.number("ETA", fractionTrainingCard, kFractionTrainingCard);
+  tr.trees.subsample = t.number("SUBSAMPL", fractionTrainingCard, kFractionTrainingCard);
   tr.trees.seed = t.unsignedInteger("TRSEED");
-  if (!(tr.arcWeight > 0.0) || !(tr.otherWeight > 0.0) || !(tr.arcRowsPerSystem > 0.0)) {
-    throw IoError(t.where() + ": ARCWEIGH, OTHWEIGH and ARCROWS must be positive");
-  }
   m.setup = readSetup(t);
-  const std::int64_t modelLength = t.integer("MODELLEN");
-  if (modelLength <= 0) throw IoError(t.where() + ": MODELLEN must be positive");
+  // At most what the MODEL strings hold: the length is reserved before they are read.
+  const std::int64_t modelLength = t.integer("MODELLEN", 1, t.rows() * std::int64_t(kChunk));
   const auto length = std::size_t(modelLength);
   std::string json;
   json.reserve(length);

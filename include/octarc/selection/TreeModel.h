@@ -13,6 +13,10 @@
 
 namespace octarc {
 
+// The most boosting rounds, and the deepest trees, that calibrate trains (MODEL_TREES) and a
+// model file may record.
+inline constexpr int kMaxTreeRoundsOrDepth = 100000;
+
 struct TreeTraining {
   int rounds = 300;  // boosting rounds (trees)
   int maxDepth = 5;  // of each tree

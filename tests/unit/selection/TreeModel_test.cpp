@@ -8,11 +8,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "ExpectError.h"
 #include "SelectionTestSupport.h"
+#include "octarc/core/Conventions.h"
 #include "octarc/core/Error.h"
+#include "octarc/io/FitsTable.h"
 #include "octarc/selection/LensModel.h"
 
 namespace octarc {
@@ -113,12 +116,12 @@ TEST(TreeModel, BadInputIsAConfigError) {
   test::expectError<ConfigError>([&] { model.logOdds(three); }, {"3 features"});
 }
 
-TEST(LensModel, FileRoundTripAndPrior) {
-  // A model of the lens features' width, trained on random rows.
+// A model of the lens features' width, trained on random rows (300 of them, in `rows`).
+SavedLensModel randomLensModel(FeatureRows& rows) {
   const int width = int(lensFeatureNames().size());
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  FeatureRows rows;
+  rows = FeatureRows();
   rows.features = width;
   std::vector<int> labels;
   std::vector<double> weights;
@@ -136,7 +139,14 @@ TEST(LensModel, FileRoundTripAndPrior) {
   saved.training.otherWeight = 100.0;
   saved.training.arcRowsPerSystem = 2.5;
   saved.setup.pixelScaleArcsec = 0.257;
+  saved.training.effectiveArcs = 120.0;
   saved.setup.thresholdsSigma = {2.5, 3.0};
+  return saved;
+}
+
+TEST(LensModel, FileRoundTripAndPrior) {
+  FeatureRows rows;
+  const SavedLensModel saved = randomLensModel(rows);
   const std::string path = std::string(::testing::TempDir()) + "/octarc_lens_model_test.fits";
   std::remove(path.c_str());
   saveLensModel(path, saved);
@@ -144,6 +154,7 @@ TEST(LensModel, FileRoundTripAndPrior) {
   EXPECT_EQ(back.trees.logOdds(rows), saved.trees.logOdds(rows));
   EXPECT_EQ(back.training.arcRows, 150);
   EXPECT_EQ(back.training.otherWeight, 100.0);
+  EXPECT_EQ(back.training.effectiveArcs, 120.0);
   EXPECT_EQ(back.setup.thresholdsSigma, saved.setup.thresholdsSigma);
   // Training mix 3:1; a survey prior of 1/4 (odds 1/3): the shift is ln(1/3) - ln(3).
   EXPECT_NEAR(priorLogOddsShift(back.training, 0.25), -2.0 * std::log(3.0), 1e-12);
@@ -153,6 +164,65 @@ TEST(LensModel, FileRoundTripAndPrior) {
   // A file that is no model, say a grid: a clear error naming it.
   const std::string grid = std::string(OCTARC_SOURCE_DIR) + "/params/demo.grid.fits";
   test::expectIoError([&] { loadLensModel(grid); }, {grid, "not an octarc lens model"});
+}
+
+// Training cards that calibrate never writes are refused, naming the file, the card, its value
+// and the range; the ends of the ranges are read.
+TEST(LensModel, TrainingCardsOutOfTheirRangeAreRefused) {
+  FeatureRows rows;
+  const std::string dir = std::string(::testing::TempDir());
+  const std::string good = dir + "/octarc_lens_model_cards.fits";
+  std::remove(good.c_str());
+  saveLensModel(good, randomLensModel(rows));
+  const auto withCard = [&](const std::string& key, const FitsKeywordValue& value) {
+    FitsTable t = readFitsTable(good, "LENS_MODEL");
+    bool found = false;
+    for (FitsKeyword& k : t.keywords) {
+      if (k.name == key) {
+        k.value = value;
+        found = true;
+      }
+    }
+    EXPECT_TRUE(found) << key;
+    const std::string path = dir + "/octarc_lens_model_" + key + ".fits";
+    std::remove(path.c_str());
+    writeFitsTables(path, {t});
+    return path;
+  };
+  struct Case {
+    std::string key;
+    FitsKeywordValue value;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {"CTXRAD", 0.0, "CTXRAD = 0 is not a finite number > 0"},
+      {"NARC", std::int64_t(0), "NARC = 0 is not an integer from 1 to 9223372036854775807"},
+      {"NOTHER", std::int64_t(-5), "NOTHER = -5 is not an integer from 1 to"},
+      {"ARCWEIGH", -2.0, "ARCWEIGH = -2 is not a finite number > 0"},
+      {"NEFFARC", 0.0, "NEFFARC = 0 is not a finite number > 0"},
+      {"OTHWEIGH", kNaN, "OTHWEIGH = nan is not a finite number > 0"},
+      {"SNRMIN", -1.0, "SNRMIN = -1 is not a finite number >= 0"},
+      {"RESMIN", kNaN, "RESMIN = nan is not a finite number >= 0"},
+      {"ARCROWS", 0.0, "ARCROWS = 0 is not a finite number > 0"},
+      {"ROUNDS", std::int64_t(0), "ROUNDS = 0 is not an integer from 1 to 100000"},
+      {"DEPTH", std::int64_t(4294967297), "DEPTH = 4294967297 is not an integer from 1 to 100000"},
+      {"ETA", 1.5, "ETA = 1.5 is not a number > 0 and <= 1"},
+      {"SUBSAMPL", 0.0, "SUBSAMPL = 0 is not a number > 0 and <= 1"},
+      {"MODELLEN", std::int64_t(1000000000000),
+       "MODELLEN = 1000000000000 is not an integer from 1"},
+      {"THRESH2", 2.0, "THRESH2 = 2 is not above THRESH1 = 2.5"},
+  };
+  for (const Case& c : cases) {
+    const std::string path = withCard(c.key, c.value);
+    test::expectIoError([&] { loadLensModel(path); }, {path + "[LENS_MODEL]: " + c.message});
+    std::remove(path.c_str());
+  }
+  EXPECT_EQ(loadLensModel(withCard("ETA", 1.0)).training.trees.learningRate, 1.0);
+  EXPECT_EQ(loadLensModel(withCard("SUBSAMPL", 1.0)).training.trees.subsample, 1.0);
+  EXPECT_EQ(loadLensModel(withCard("SNRMIN", 0.0)).training.snrMin, 0.0);
+  EXPECT_EQ(loadLensModel(withCard("ROUNDS", std::int64_t(100000))).training.trees.rounds, 100000);
+  EXPECT_EQ(loadLensModel(withCard("NARC", std::int64_t(1))).training.arcRows, 1);
+  std::remove(good.c_str());
 }
 
 }  // namespace
