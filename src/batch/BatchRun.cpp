@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <new>
 #include <sstream>
 
 #include "octarc/batch/Journal.h"
@@ -140,21 +141,31 @@ TileCandidates loadTile(const BatchSettings& s, const Tile& t) {
   c.name = t.name;
   c.candidates = readFitsTable(folder + "/candidates.fits", "LDAC_OBJECTS");
   const FitsTable area = readFitsTable(folder + "/" + kAreaFile, "SEARCHED_AREA");
-  c.blockPix = area.integer("BLOCKPIX");
-  c.widthPix = area.integer("IMWIDTH");
-  c.heightPix = area.integer("IMHEIGHT");
-  c.pixelScaleArcsec = area.number("PIXSCALE");
-  if (c.blockPix < 1 || c.widthPix < 1 || c.heightPix < 1) {
-    throw IoError(folder + "/" + kAreaFile + ": bad block or image size");
+  // Searched areas are counted in SearchMask's blocks, the only side written.
+  c.blockPix = area.integer("BLOCKPIX", SearchMask::kAreaBlockPix, SearchMask::kAreaBlockPix);
+  c.widthPix = area.integer("IMWIDTH", 1, kMaxImageSidePix);
+  c.heightPix = area.integer("IMHEIGHT", 1, kMaxImageSidePix);
+  c.pixelScaleArcsec = area.number(
+      "PIXSCALE", [](double v) { return std::isfinite(v) && v > 0.0; }, "a finite number > 0");
+  try {
+    c.searchedBlocks = Image<std::int32_t>((c.widthPix + c.blockPix - 1) / c.blockPix,
+                                           (c.heightPix + c.blockPix - 1) / c.blockPix);
+  } catch (const std::bad_alloc&) {
+    throw IoError(area.where() + ": the blocks of an image of " + std::to_string(c.widthPix) +
+                  " x " + std::to_string(c.heightPix) + " pixels do not fit in memory");
   }
-  c.searchedBlocks = Image<std::int32_t>((c.widthPix + c.blockPix - 1) / c.blockPix,
-                                         (c.heightPix + c.blockPix - 1) / c.blockPix);
   const std::vector<std::int64_t> bx = area.integers("BLOCK_X"), by = area.integers("BLOCK_Y"),
                                   n = area.integers("NPIX");
   for (std::size_t i = 0; i < n.size(); ++i) {
     if (bx[i] < 0 || by[i] < 0 || bx[i] >= c.searchedBlocks.width() ||
         by[i] >= c.searchedBlocks.height()) {
       throw IoError(folder + "/" + kAreaFile + ": a block outside the image");
+    }
+    // Only blocks with searched pixels are listed, at most the block's.
+    if (n[i] < 1 || n[i] > c.blockPix * c.blockPix) {
+      throw IoError(area.where() + ": NPIX = " + std::to_string(n[i]) + " in row " +
+                    std::to_string(i + 1) + " is not an integer from 1 to " +
+                    std::to_string(c.blockPix * c.blockPix));
     }
     c.searchedBlocks(bx[i], by[i]) = std::int32_t(n[i]);
   }

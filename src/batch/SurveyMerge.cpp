@@ -10,6 +10,7 @@
 
 #include "octarc/core/Conventions.h"
 #include "octarc/core/Error.h"
+#include "octarc/search/Search.h"
 #include "octarc/selection/SearchMask.h"
 
 namespace octarc {
@@ -324,7 +325,7 @@ SurveyCandidates mergeTiles(const std::vector<TileCandidates>& tiles, double mat
 
   // The report spaces, as the tiles name them (SPNAMEn, SPEXPRn), counted over the survey.
   if (schema && schema->hasKeyword("NSPACES")) {
-    const std::int64_t n = schema->integer("NSPACES");
+    const std::int64_t n = schema->integer("NSPACES", 0, kMaxReportSpaces);
     const std::vector<double> bits =
         table.findColumn("SPACES") ? table.doubles("SPACES") : std::vector<double>();
     for (std::int64_t s = 1; s <= n; ++s) {

@@ -316,8 +316,7 @@ void validate(const ImageF& image, const DetectionSettings& settings) {
         std::to_string(settings.thresholdScale->height()) + " but the detection image is " +
         std::to_string(image.width()) + "x" + std::to_string(image.height()));
   }
-  constexpr std::int64_t kMaxSide = std::numeric_limits<std::int32_t>::max();
-  if (image.width() > kMaxSide || image.height() > kMaxSide) {
+  if (image.width() > kMaxImageSidePix || image.height() > kMaxImageSidePix) {
     throw ConfigError("detection: image side exceeds 2^31-1 pixels");
   }
 }

@@ -382,7 +382,9 @@ SearchRunSettings searchSettingsFromConfig(const sexcompat::Config& c, RunSettin
   s.search.lensDensityPerDeg2 = c.getDouble("LENS_DENSITY");
   s.search.scoreMin = c.getDouble("SCORE_MIN");
   s.search.reportSpaces = parseSearchSpaces(c.getStrings("SEARCH_SPACE"));
-  if (s.search.reportSpaces.size() > 30) throw ConfigError("SEARCH_SPACE: at most 30 spaces");
+  if (s.search.reportSpaces.size() > std::size_t(kMaxReportSpaces)) {
+    throw ConfigError("SEARCH_SPACE: at most " + std::to_string(kMaxReportSpaces) + " spaces");
+  }
   if (c.count("MASK_NAME") > 0) s.maskPath = c.getString("MASK_NAME");
   s.borderPix = c.getInt("MASK_BORDER");
   s.maskPointRadiusArcsec = c.getDouble("MASK_POINT_RADIUS");

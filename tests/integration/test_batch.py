@@ -318,6 +318,29 @@ class BatchResume(BatchFixture):
         assert_same_tables(self, os.path.join(self.reference, "candidates.fits"),
                            os.path.join(out, "candidates.fits"))
 
+    def test_searched_area_cards_out_of_their_range_are_refused(self):
+        # A finished batch run again merges its tiles' searched areas from their area.fits:
+        # a card no search writes stops the merge, naming the file and the card.
+        cases = (("IMWIDTH", 0, "IMWIDTH = 0 is not an integer from 1 to 2147483647"),
+                 ("IMHEIGHT", 2 ** 31, "IMHEIGHT = 2147483648 is not an integer from 1 to "
+                  "2147483647"),
+                 ("BLOCKPIX", 32, "BLOCKPIX = 32 is not an integer from 64 to 64"),
+                 ("PIXSCALE", -0.25, "PIXSCALE = -0.25 is not a finite number > 0"),
+                 ("NPIX", 64 * 64 + 1, "NPIX = 4097 in row 1 is not an integer from 1 to 4096"))
+        for key, value, expected in cases:
+            out = self.path("area-" + key)
+            shutil.copytree(self.reference, out)
+            area = os.path.join(out, "tiles", "tile2", "area.fits")
+            with fits.open(area, mode="update") as f:
+                if key == "NPIX":
+                    f["SEARCHED_AREA"].data["NPIX"][0] = value
+                else:
+                    f["SEARCHED_AREA"].header[key] = value
+            proc = run_octarc("batch", self.manifest, *self.config(out), check=False)
+            self.assertNotEqual(proc.returncode, 0, proc.stdout)
+            self.assertIn(area + "[SEARCHED_AREA]: " + expected, proc.stderr)
+            shutil.rmtree(out)
+
     def test_corrupt_tile_is_reported_and_the_others_complete(self):
         d = self.path("bad")
         os.mkdir(d)

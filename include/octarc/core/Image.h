@@ -28,6 +28,10 @@ inline std::int64_t checkedPixelCount(std::int64_t width, std::int64_t height,
   return count;
 }
 
+// The longest image side octarc handles: the detector and pixel runs (core/Segment.h) hold
+// coordinates as 32-bit integers.
+inline constexpr std::int64_t kMaxImageSidePix = 2147483647;
+
 // Tag for the Image constructor that leaves the pixels unset.
 struct UninitializedPixels {};
 

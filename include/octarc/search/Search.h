@@ -79,6 +79,9 @@ inline constexpr std::int64_t kLensOnlyRow = -2;      // a fitted galaxy kept as
 
 enum class SelectionMethod { Grid, Trees };
 
+// The most report spaces a search has: a candidate's SPACES column holds one bit per space.
+inline constexpr int kMaxReportSpaces = 30;
+
 struct SearchSettings {
   SelectionMethod method = SelectionMethod::Grid;  // SELECTION_METHOD
   double lensDensityPerDeg2 = 1.0;                 // LENS_DENSITY: the prior of LENS_SCORE
@@ -91,7 +94,7 @@ struct SearchSettings {
   // Below this |ARCNESS| the arc's curvature, hence its concave side, is not measurable (noise
   // gives ordinary galaxies a median of about 0.01): the lens is the nearest galaxy on any side.
   double sideMinArcness = 0.05;
-  std::vector<SearchSpace> reportSpaces;  // at most 30
+  std::vector<SearchSpace> reportSpaces;  // at most kMaxReportSpaces
   std::string namePrefix = "OCTARC";      // of the IAU-style designations
   // The colour bands' names, in the order of SearchInput::bands (none: no colours).
   std::vector<std::string> colourBands;

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <string>
 
 #include "ExpectError.h"
 #include "FitsHeaders.h"
@@ -136,6 +139,31 @@ TEST(SurveyMerge, TablesOfOtherColumnsAreRefused) {
         mergeTiles({a, b}, 1.0);
       },
       {"tile B", "other columns", "tile A"});
+}
+
+// NSPACES counts the bits of SPACES: 0 to 30 spaces are read, more are refused naming the
+// tile's file and the card.
+TEST(SurveyMerge, ReportSpaceCountsOutOfTheirRangeAreRefused) {
+  const auto withSpaces = [](std::int64_t count) {
+    TileCandidates t = tile("A", 100.5, {{20.0, 50.0, 0.5, 1}});
+    t.candidates.source = "tiles/A/candidates.fits";
+    t.candidates.keywords = {FitsKeyword::integer("NSPACES", count)};
+    for (std::int64_t s = 1; s <= std::max<std::int64_t>(count, 31); ++s) {
+      t.candidates.keywords.push_back(FitsKeyword::text("SPNAME" + std::to_string(s), "S"));
+      t.candidates.keywords.push_back(FitsKeyword::text("SPEXPR" + std::to_string(s), "X > 0"));
+    }
+    return t;
+  };
+  EXPECT_TRUE(mergeTiles({withSpaces(0)}, 1.0).spaces.empty());
+  const SurveyCandidates thirty = mergeTiles({withSpaces(30)}, 1.0);
+  ASSERT_EQ(thirty.spaces.size(), 30u);
+  EXPECT_EQ(thirty.spaces[0].candidates, 1);  // bit 0 of the one candidate's SPACES
+  EXPECT_EQ(thirty.spaces[29].candidates, 0);
+  for (const std::int64_t count : {std::int64_t(31), std::int64_t(-1)}) {
+    test::expectIoError([&] { mergeTiles({withSpaces(count)}, 1.0); },
+                        {"tiles/A/candidates.fits[LDAC_OBJECTS]: NSPACES = " +
+                         std::to_string(count) + " is not an integer from 0 to 30"});
+  }
 }
 
 }  // namespace
