@@ -15,6 +15,7 @@
 #include "octarc/catalog/InputCatalog.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
+#include "octarc/core/Image.h"
 #include "octarc/core/Segment.h"
 #include "octarc/io/FitsHeader.h"
 #include "octarc/io/FitsTable.h"
@@ -177,6 +178,35 @@ double remakeNumber(const SimulationOutput& sim, const char* key) {
   return *v;
 }
 
+// The same, in the range simulate lenses accepts for the option it records
+// (simulation/engine/LensSetup.cpp): a value outside it was written by hand.
+double remakeNumber(const SimulationOutput& sim, const char* key, bool accepted(double),
+                    const std::string& expected) {
+  const double v = remakeNumber(sim, key);
+  if (!accepted(v)) {
+    throw IoError(sim.path + ": LDAC_IMHEAD card " + key + " = " + formatNumber(v, "%.17g") +
+                  " is not " + expected);
+  }
+  return v;
+}
+
+bool finiteCard(double v) {
+  return std::isfinite(v);
+}
+bool nonNegativeCard(double v) {
+  return std::isfinite(v) && v >= 0.0;
+}
+bool positiveCard(double v) {
+  return std::isfinite(v) && v > 0.0;
+}
+// --stamp-size's least value and the longest image side.
+bool stampSideCard(double v) {
+  return wholeIn(v, 9, double(kMaxImageSidePix));
+}
+bool positiveIntCard(double v) {
+  return wholeIn(v, 1, std::numeric_limits<int>::max());
+}
+
 }  // namespace
 
 LensSetupOptions resimulationOptions(const SimulationOutput& sim) {
@@ -214,9 +244,15 @@ LensSetupOptions resimulationOptions(const SimulationOutput& sim) {
   o.lensEllipticityMax = remakeNumber(sim, "OCTLEMAX");
   o.lensHalfLightMinArcsec = remakeNumber(sim, "OCTLRHLO");
   o.lensHalfLightMaxArcsec = remakeNumber(sim, "OCTLRHHI");
-  o.stampSizePix = int(remakeNumber(sim, "OCTSTAMP"));
-  o.fineScaleArcsec = remakeNumber(sim, "OCTFINE");
-  o.subSamples = int(remakeNumber(sim, "OCTSUBS"));
+  o.stampSizePix =
+      int(remakeNumber(sim, "OCTSTAMP", stampSideCard,
+                       "a whole number from 9 to " + std::to_string(kMaxImageSidePix)));
+  o.fineScaleArcsec = remakeNumber(sim, "OCTFINE", positiveCard, "a finite number > 0");
+  o.subSamples = int(
+      remakeNumber(sim, "OCTSUBS", positiveIntCard,
+                   "a whole number from 1 to " + std::to_string(std::numeric_limits<int>::max())));
+  // The population's skip limit is the preset's; the card must still be one it may hold.
+  (void)remakeNumber(sim, "OCTSKIPT", nonNegativeCard, "a finite number >= 0");
   // Sampled as the run sampled: older outputs rendered every system above the skip limit, with
   // every ray (no adaptive step).
   const std::string sampling = sim.header.value("OCTSAMPL").value_or("PLAIN");
@@ -231,7 +267,7 @@ LensSetupOptions resimulationOptions(const SimulationOutput& sim) {
         {"OCTISC4", is.coefficients[4]}};
     for (const auto& [key, value] : parameters) {
       const double recorded = remakeNumber(sim, key);
-      if (std::abs(recorded - value) > 1e-9 * std::max(1.0, std::abs(value))) {
+      if (!(std::abs(recorded - value) <= 1e-9 * std::max(1.0, std::abs(value)))) {
         throw ConfigError(sim.path + ": its render probabilities (" + key + " = " +
                           formatNumber(recorded, "%.6g") + ") are not this octarc's (" +
                           formatNumber(value, "%.6g") +
@@ -243,11 +279,19 @@ LensSetupOptions resimulationOptions(const SimulationOutput& sim) {
   } else {
     throw ConfigError(sim.path + ": its OCTSAMPL card is '" + sampling + "' (IMPORTANCE or PLAIN)");
   }
-  o.maxSourceStepPixels = sim.header.number("OCTSSTEP").value_or(0.0);
+  o.maxSourceStepPixels =
+      sim.header.has("OCTSSTEP")
+          ? remakeNumber(sim, "OCTSSTEP", nonNegativeCard, "a finite number >= 0 (0: every ray)")
+          : 0.0;
   if (!sim.band.empty()) {
     o.bandName = sim.band;
-    o.sourceColour = ColourDraw{remakeNumber(sim, "OCTSCOLM"), remakeNumber(sim, "OCTSCOLS")};
-    o.lensColour = ColourDraw{remakeNumber(sim, "OCTLCOLM"), remakeNumber(sim, "OCTLCOLS")};
+    // Colours in mag: a mean and a scatter >= 0.
+    const auto colour = [&](const char* mean, const char* scatter) {
+      return ColourDraw{remakeNumber(sim, mean, finiteCard, "a finite number"),
+                        remakeNumber(sim, scatter, nonNegativeCard, "a finite number >= 0")};
+    };
+    o.sourceColour = colour("OCTSCOLM", "OCTSCOLS");
+    o.lensColour = colour("OCTLCOLM", "OCTLCOLS");
   }
   return o;
 }
@@ -264,8 +308,13 @@ SourceChoice resimulationSources(const SimulationOutput& sim) {
   const std::string& db = sim.sourceDatabase;
   int count = 0;
   if (std::sscanf(db.c_str(), "synthetic (%d galaxies)", &count) == 1) {
+    if (count < 1) {
+      throw IoError(sim.path + ": LDAC_IMHEAD card OCTSRCDB = '" + db +
+                    "' does not name a number of synthetic galaxies >= 1");
+    }
     c.syntheticCount = count;
-    c.syntheticExtentHalfLightRadii = remakeNumber(sim, "OCTSRCEX");
+    c.syntheticExtentHalfLightRadii =
+        remakeNumber(sim, "OCTSRCEX", positiveCard, "a finite number > 0");
   } else if (!db.empty()) {
     // The card holds at most 60 characters of the path.
     if (!std::filesystem::exists(db)) {

@@ -396,6 +396,21 @@ class Calibrate(WorkDirTest):
         self.assert_fails(run_octarc("calibrate", bad, check=False, cwd=self.work),
                           bad + ": LDAC_IMHEAD card OCTTHHI = ",
                           "is not above OCTTHLO (OCTNLEV > 1)")
+        # The cards the studies that simulate again remake the stamps from: in the range
+        # simulate lenses accepts for their options.
+        for key, value, expected in (("OCTSTAMP", "8", "OCTSTAMP = 8 is not a whole number from "
+                                      "9 to 2147483647"),
+                                     ("OCTSUBS", "4.5", "OCTSUBS = 4.5 is not a whole number "
+                                      "from 1 to 2147483647"),
+                                     ("OCTFINE", "0.0", "OCTFINE = 0 is not a finite number > 0"),
+                                     ("OCTSSTEP", "-1.0", "OCTSSTEP = -1 is not a finite number "
+                                      ">= 0"),
+                                     ("OCTSKIPT", "-0.5", "OCTSKIPT = -0.5 is not a finite "
+                                      "number >= 0")):
+            bad = with_card(self.sim, os.path.join(self.sim_dir, key + ".fits"), key, value)
+            self.assert_fails(run_octarc("calibrate", bad, "-THRESHOLD_STUDY", "Y",
+                                         "-NOISE_STUDY", "N", *GRID, check=False, cwd=self.work),
+                              bad + ": LDAC_IMHEAD card " + expected)
 
 
 if __name__ == "__main__":

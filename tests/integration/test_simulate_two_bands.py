@@ -11,6 +11,7 @@ import numpy as np
 from astropy.io import fits
 
 from octarc_testlib import SOURCE_DIR, WorkDirTest, ldac_imhead, run_octarc
+from test_hostile_input import with_card
 
 DLS = os.path.join(SOURCE_DIR, "params", "simulation", "population-dls.txt")
 # Large Einstein radii and bright sources, so that a few hundred systems hold tens of arcs.
@@ -206,6 +207,27 @@ class TwoBandsBadInput(WorkDirTest):
         self.assertEqual(len(proc.stderr.strip().splitlines()), 1, proc.stderr)
         self.assertIn("COLOUR_CUT_MAX", proc.stderr)
         self.assertFalse(os.path.exists(self.path("cal.fits")))
+
+    def test_remade_colour_cards_out_of_their_range(self):
+        # A preset (remade by the threshold study), its colours drawn in g; calibrate runs in
+        # a folder of its own, which it must leave empty.
+        run = self.path("run")
+        os.mkdir(run)
+        sim = self.path("preset.fits")
+        run_octarc("simulate", "lenses", "-n", "20", "--seed", "3", "--preset", "dls", "-o",
+                   sim, "--quiet", "--band", "g")
+        for key, value, expected in (("OCTSCOLS", "-0.5", "OCTSCOLS = -0.5 is not a finite "
+                                      "number >= 0"),
+                                     ("OCTLCOLS", "-2.0", "OCTLCOLS = -2 is not a finite "
+                                      "number >= 0")):
+            bad = with_card(sim, self.path(key + ".fits"), key, value)
+            proc = run_octarc("calibrate", bad, "-THRESHOLD_STUDY", "Y", "-NOISE_STUDY", "N",
+                              "-GRID_NAME", "NONE", check=False, cwd=run)
+            self.assertEqual(proc.returncode, 1, proc.stderr)
+            lines = [l for l in proc.stderr.splitlines() if l.strip() and not l.startswith("> ")]
+            self.assertEqual(len(lines), 1, proc.stderr)
+            self.assertIn(bad + ": LDAC_IMHEAD card " + expected, lines[0])
+            self.assertEqual(os.listdir(run), [])
 
 
 if __name__ == "__main__":
