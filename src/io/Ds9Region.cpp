@@ -555,14 +555,29 @@ std::vector<RegionShape> parseDs9Regions(const std::string& text,
   } else {
     context.wcs = &*wcs;
   }
-  const double ltm1 = imageHeader.number("LTM1_1").value_or(1.0);
-  const double ltm2 = imageHeader.number("LTM2_2").value_or(1.0);
-  const double cross1 = imageHeader.number("LTM1_2").value_or(0.0);
-  const double cross2 = imageHeader.number("LTM2_1").value_or(0.0);
-  const bool physicalUsable = ltm1 == ltm2 && ltm1 > 0.0 && cross1 == 0.0 && cross2 == 0.0;
+  // Like the WCS, the LTV / LTM cards matter only to shapes in physical coordinates: a card
+  // that is no number (a string, "NaN") is reported when one is read.
+  std::string physicalProblem;
+  const auto physicalCard = [&](const char* key, double absent) {
+    const std::optional<std::string> text = imageHeader.value(key);
+    if (!text) return absent;
+    const std::optional<double> v = imageHeader.number(key);
+    if (!v && physicalProblem.empty()) {
+      physicalProblem = "the " + std::string(key) + " card of " + imageNameForErrors + " (" +
+                        quoteForMessage(*text) + ") is not a finite number";
+    }
+    return v.value_or(absent);
+  };
+  const double ltm1 = physicalCard("LTM1_1", 1.0);
+  const double ltm2 = physicalCard("LTM2_2", 1.0);
+  const double cross1 = physicalCard("LTM1_2", 0.0);
+  const double cross2 = physicalCard("LTM2_1", 0.0);
   context.ltm = ltm1;
-  context.ltv1 = imageHeader.number("LTV1").value_or(0.0);
-  context.ltv2 = imageHeader.number("LTV2").value_or(0.0);
+  context.ltv1 = physicalCard("LTV1", 0.0);
+  context.ltv2 = physicalCard("LTV2", 0.0);
+  if (physicalProblem.empty() && !(ltm1 == ltm2 && ltm1 > 0.0 && cross1 == 0.0 && cross2 == 0.0)) {
+    physicalProblem = "the LTM cards of " + imageNameForErrors + " are not a uniform scale";
+  }
 
   std::vector<RegionShape> shapes;
   std::istringstream lines(text);
@@ -576,9 +591,8 @@ std::vector<RegionShape> parseDs9Regions(const std::string& text,
     for (const auto part : lineParts(line)) {
       const std::size_t before = shapes.size();
       parsePart(context, part, system, systemSet, lineNumber, shapes);
-      if (shapes.size() > before && system == RegionSystem::Physical && !physicalUsable) {
-        fail(context, "physical coordinates, but the LTM cards of " + imageNameForErrors +
-                          " are not a uniform scale");
+      if (shapes.size() > before && system == RegionSystem::Physical && !physicalProblem.empty()) {
+        fail(context, "physical coordinates, but " + physicalProblem);
       }
     }
   }

@@ -97,23 +97,34 @@ std::string padCard(std::string card) {
   return card;
 }
 
-}  // namespace
-
-std::optional<std::string> FitsHeader::value(std::string_view keyword) const {
+// The value field (column 11 on) of the first card of `keyword` that has a value, or nullopt.
+std::optional<std::string_view> valueField(const std::vector<std::string>& cards,
+                                           std::string_view keyword) {
   const std::string key = uppercase(trim(keyword));
   if (isCommentary(key)) return std::nullopt;
   for (const std::string& card : cards) {
     if (cardKeyword(card) == key && hasValueIndicator(card)) {
-      return parseCardValue(std::string_view(card).substr(10));
+      return std::string_view(card).substr(10);
     }
   }
   return std::nullopt;
 }
 
+}  // namespace
+
+std::optional<std::string> FitsHeader::value(std::string_view keyword) const {
+  const std::optional<std::string_view> field = valueField(cards, keyword);
+  if (!field) return std::nullopt;
+  return parseCardValue(*field);
+}
+
 std::optional<double> FitsHeader::number(std::string_view keyword) const {
-  std::optional<std::string> text = value(keyword);
-  if (!text || !isFitsNumber(*text)) return std::nullopt;
-  std::string s = *text;
+  const std::optional<std::string_view> field = valueField(cards, keyword);
+  // A string is no number, whatever it reads ('12'): FITS types a value by its form.
+  if (!field || trim(*field).substr(0, 1) == "'") return std::nullopt;
+  const std::string text = parseCardValue(*field);
+  if (!isFitsNumber(text)) return std::nullopt;
+  std::string s = text;
   // Fortran-style exponents ("1.5D+03") are legal FITS.
   std::replace(s.begin(), s.end(), 'D', 'E');
   std::replace(s.begin(), s.end(), 'd', 'e');

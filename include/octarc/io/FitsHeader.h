@@ -14,7 +14,8 @@ struct FitsHeader {
   // Value of a keyword as written (strings unquoted and right-trimmed), or nullopt.
   std::optional<std::string> value(std::string_view keyword) const;
   // The value as a number when it is written as a FITS integer or real ("12", "-1.5E3",
-  // "2.0D-1") and within the range of a double; nullopt otherwise ("NaN", "'x'", absent).
+  // "2.0D-1") and within the range of a double; nullopt otherwise ("NaN", "'x'", absent, and
+  // a string that reads as a number, "'12'": FITS types a value by how it is written).
   std::optional<double> number(std::string_view keyword) const;
   bool has(std::string_view keyword) const { return value(keyword).has_value(); }
   // Adds or replaces a card; value is written as given (quote strings yourself, e.g. with

@@ -144,6 +144,14 @@ TEST(Ds9Region, PhysicalCoordinatesThroughLtvAndLtm) {
         parse("physical; circle(1,1,1)\n", {{"LTM1_1", "0.5"}, {"LTM2_2", "0.25"}});
       },
       {"mask.reg:1", "LTM", "image.fits"});
+  // A card that is no number is not taken for its default; image coordinates do not need it.
+  test::expectError<ConfigError>(
+      [] {
+        parse("physical; circle(1,1,1)\n", {{"LTV1", "'-100'"}});
+      },
+      {"mask.reg:1: physical coordinates, but the LTV1 card of image.fits ('-100') is not a "
+       "finite number"});
+  EXPECT_EQ(parse("image; circle(4,5,1)\n", {{"LTV1", "'-100'"}})[0].xCentre, 4.0);
 }
 
 // fk5 shapes on a rotated TAN WCS: the centre through the WCS, sizes through the pixel scale,

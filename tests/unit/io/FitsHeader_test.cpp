@@ -61,11 +61,12 @@ TEST(FitsHeader, NumberParsesFixedAndFortranFormats) {
 TEST(FitsHeader, NumberFollowsTheFitsSyntaxOnly) {
   FitsHeader h;
   const std::vector<std::pair<std::string, std::optional<double>>> cases = {
-      {"12", 12.0},       {"-3", -3.0},      {"+4.", 4.0},     {".5", 0.5}, {"1.5E-3", 1.5e-3},
-      {"2.0D+01", 20.0},  {"3d2", 300.0},    {"'7.25'", 7.25}, {"NaN", {}}, {"nan", {}},
-      {"Inf", {}},        {"-infinity", {}}, {"0x10", {}},     {"'x'", {}}, {"1E999", {}},
-      {"1.5.2", {}},      {"E5", {}},        {"1E", {}},       {".", {}},   {"T", {}},
-      {"(1.0, 2.0)", {}}, {"''", {}},
+      {"12", 12.0},       {"-3", -3.0},      {"+4.", 4.0},   {".5", 0.5},
+      {"1.5E-3", 1.5e-3}, {"2.0D+01", 20.0}, {"3d2", 300.0}, {"'7.25'", {}},
+      {"NaN", {}},        {"nan", {}},       {"Inf", {}},    {"-infinity", {}},
+      {"0x10", {}},       {"'x'", {}},       {"1E999", {}},  {"1.5.2", {}},
+      {"E5", {}},         {"1E", {}},        {".", {}},      {"T", {}},
+      {"(1.0, 2.0)", {}}, {"''", {}},        {"'12'", {}},   {"  '-3' / a string", {}},
   };
   for (const auto& [text, expected] : cases) {
     h.cards = {pad("VALUE   = " + text)};
