@@ -227,6 +227,8 @@ ImageHdu readHduInfo(fitsfile* f, const std::string& path) {
   requireTwoDimensional(shape, hduText(f, path));
   requireCompleteData(f, path);
   hdu.bitpix = shape.bitpix;
+  hdu.widthPix = shape.naxes[0];
+  hdu.heightPix = shape.naxes[1];
   hdu.header = readHeaderCards(f, path);
   requireUsableScaling(hdu.header, shape.bitpix, hduText(f, path));
   hdu.extname = hdu.header.value("EXTNAME").value_or("");

@@ -96,16 +96,13 @@ double wcsPixelScaleArcsec(const Wcs& wcs, std::int64_t width, std::int64_t heig
 
 // Points of a mask as circles of MASK_POINT_RADIUS: the radius in pixels, through PIXEL_SCALE
 // or the WCS of the image's header (0 when points are refused).
-double maskPointRadiusPix(const SearchRunSettings& s, const FitsHeader& header,
+double maskPointRadiusPix(const SearchRunSettings& s, const ImageHdu& image,
                           const std::string& imagePath) {
   if (!(s.maskPointRadiusArcsec > 0)) return 0.0;
   double scale = s.run.pixelScaleArcsec;
   if (!(scale > 0)) {
-    const std::optional<Wcs> wcs = Wcs::fromHeader(header, imagePath);
-    const auto size = [&](const char* key) {
-      return static_cast<std::int64_t>(header.number(key).value_or(0.0));
-    };
-    scale = wcs ? wcsPixelScaleArcsec(*wcs, size("NAXIS1"), size("NAXIS2")) : 0.0;
+    const std::optional<Wcs> wcs = Wcs::fromHeader(image.header, imagePath);
+    scale = wcs ? wcsPixelScaleArcsec(*wcs, image.widthPix, image.heightPix) : 0.0;
   }
   if (!(scale > 0)) {
     throw ConfigError("MASK_POINT_RADIUS: " + imagePath +
@@ -228,9 +225,7 @@ void checkColourImageGrids(const SearchRunSettings& s) {
   const std::string& measured = s.run.measurementImagePath();
   auto grid = [](const std::string& path) {
     const ImageHdu hdu = readImageHeader(path);
-    return std::make_tuple(std::int64_t(hdu.header.number("NAXIS1").value_or(0)),
-                           std::int64_t(hdu.header.number("NAXIS2").value_or(0)),
-                           Wcs::fromHeader(hdu.header, path));
+    return std::make_tuple(hdu.widthPix, hdu.heightPix, Wcs::fromHeader(hdu.header, path));
   };
   const auto [width, height, wcs] = grid(measured);
   for (const std::string& path : s.colourImagePaths) {
@@ -285,9 +280,9 @@ void checkOutputDirectory(const SearchRunSettings& s) {
 
 std::vector<RegionShape> readSearchMask(const SearchRunSettings& settings,
                                         const std::string& maskPath, const std::string& imagePath) {
-  const FitsHeader header = readImageHeader(imagePath).header;
-  return readDs9Regions(maskPath, header, imagePath,
-                        maskPointRadiusPix(settings, header, imagePath));
+  const ImageHdu image = readImageHeader(imagePath);
+  return readDs9Regions(maskPath, image.header, imagePath,
+                        maskPointRadiusPix(settings, image, imagePath));
 }
 
 std::vector<KeySpec> searchKeys() {

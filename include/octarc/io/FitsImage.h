@@ -21,6 +21,10 @@ struct ImageHdu {
   FitsHeader header;    // the image's own header (for .fz: the uncompressed image header)
   ImageF pixels;        // NaN where the file has blank/NaN pixels
   int bitpix = 0;       // BITPIX of the stored data (8, 16, 32, 64, -32, -64)
+  // NAXIS1 and NAXIS2 as checked (of the uncompressed image for .fz), also when only the
+  // header was read.
+  std::int64_t widthPix = 0;
+  std::int64_t heightPix = 0;
 };
 
 // The image HDUs of a file, in order, for SExtractor-like multi-extension processing: a plain

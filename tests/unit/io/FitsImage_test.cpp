@@ -124,6 +124,8 @@ TEST(FitsImage, ExtendedSyntaxSelectsHduByNumberAndName) {
   const ImageHdu header = readImageHeader(path + "[WHT]");
   EXPECT_EQ(header.extname, "WHT");
   EXPECT_EQ(header.header.number("NAXIS2"), 2.0);
+  EXPECT_EQ(header.widthPix, 2);
+  EXPECT_EQ(header.heightPix, 2);
   EXPECT_TRUE(header.pixels.empty());
   // Every listed path reads back.
   for (const std::string& p : listImageHdus(path)) EXPECT_NO_THROW(readImage(p));
@@ -153,6 +155,10 @@ TEST(FitsImage, TileCompressedFileReadsLikeTheOriginal) {
   // The header is the uncompressed image header, not the binary table's.
   EXPECT_EQ(b.header.value("CTYPE1"), "RA---TAN");
   EXPECT_EQ(b.header.number("NAXIS1"), 40.0);
+  // The size of the image, not of the table that holds it, also from the header alone.
+  const ImageHdu packedHeader = readImageHeader(packed);
+  EXPECT_EQ(packedHeader.widthPix, 40);
+  EXPECT_EQ(packedHeader.heightPix, 30);
   EXPECT_EQ(b.header.number("BITPIX"), 16.0);
   EXPECT_FALSE(b.header.has("ZIMAGE"));
   EXPECT_FALSE(b.header.has("TFIELDS"));
