@@ -239,11 +239,24 @@ class DebianPackage(WorkDirTest):
                 return proc.stdout.split(":")[0].strip()
         self.fail("no Debian package holds " + library)
 
+    def configured_maintainer(self):
+        """OCTARC_PACKAGE_MAINTAINER of the build tree ("" when not given)."""
+        with open(os.path.join(BUILD_DIR, "CMakeCache.txt")) as f:
+            found = re.search(r"^OCTARC_PACKAGE_MAINTAINER:STRING=(.*)$", f.read(), re.M)
+        return found.group(1) if found else ""
+
+    def cpack(self, out, **env):
+        return subprocess.run([CPACK, "-G", "DEB", "--config",
+                               os.path.join(BUILD_DIR, "CPackConfig.cmake"), "-B", out],
+                              capture_output=True, text=True,
+                              env={**os.environ, "DEBFULLNAME": "", "DEBEMAIL": "", **env})
+
     def test_package_holds_octarc_its_data_and_dependencies(self):
+        # The maintainer, as Debian's tools take it, from DEBFULLNAME and DEBEMAIL (the build
+        # tree of the tests is configured without OCTARC_PACKAGE_MAINTAINER).
         out = self.path("package")
-        subprocess.run([CPACK, "-G", "DEB", "--config",
-                        os.path.join(BUILD_DIR, "CPackConfig.cmake"), "-B", out],
-                       check=True, capture_output=True)
+        proc = self.cpack(out, DEBFULLNAME="Ada Lovelace", DEBEMAIL="ada@example.org")
+        self.assertEqual(proc.returncode, 0, proc.stdout + proc.stderr)
         debs = glob.glob(os.path.join(out, "*.deb"))
         self.assertEqual(len(debs), 1, debs)
         listing = subprocess.run(["dpkg-deb", "-c", debs[0]], check=True, capture_output=True,
@@ -265,6 +278,8 @@ class DebianPackage(WorkDirTest):
                                   capture_output=True, text=True).stdout.strip()
 
         self.assertEqual(field("Package"), "octarc")
+        self.assertEqual(field("Maintainer"),
+                         self.configured_maintainer() or "Ada Lovelace <ada@example.org>")
         version = subprocess.run([OCTARC, "detect", "-v"], capture_output=True,
                                  text=True).stdout.split()[-1]
         self.assertEqual(field("Version"), version)
@@ -283,6 +298,18 @@ class DebianPackage(WorkDirTest):
         self.assertTrue(expected <= depends, (expected, depends))
         for name in ("cfitsio", "wcs", "boost-program-options"):
             self.assertTrue(any(name in d for d in depends), (name, depends))
+
+
+    def test_a_package_without_a_maintainer_address_is_refused(self):
+        if self.configured_maintainer():
+            self.skipTest("this build tree is configured with OCTARC_PACKAGE_MAINTAINER")
+        out = self.path("package")
+        for env in ({}, {"DEBFULLNAME": "Ada Lovelace", "DEBEMAIL": "not an address"}):
+            proc = self.cpack(out, **env)
+            self.assertNotEqual(proc.returncode, 0, env)
+            self.assertIn("the Debian package needs a maintainer: set DEBFULLNAME and DEBEMAIL",
+                          proc.stdout + proc.stderr)
+            self.assertEqual(glob.glob(os.path.join(out, "*.deb")), [])
 
 
 if __name__ == "__main__":
