@@ -4,25 +4,22 @@
 //   population draw --> ray trace + lens light + PSF + noise --> multi-threshold detection
 //   --> measurements --> arc rules --> one row per system + every arc row --> FITS-LDAC file
 //
-// The work is simulation/engine/LensSetup.h (options -> setup) and LensCatalog.h (the run).
+// The work is simulation/engine/LensSetup.h (options -> setup), batch/ClusterLenses.h (the run
+// on one process or the ranks of an MPI job, the files) and LensCatalog.h (the summary).
 
 #include <boost/program_options.hpp>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
-#include <optional>
 
 #include "octarc/app/Commands.h"
 #include "octarc/app/Options.h"
 #include "octarc/batch/ClusterLenses.h"
 #include "octarc/cluster/Cluster.h"
-#include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
-#include "octarc/core/Parallel.h"
 #include "octarc/core/Progress.h"
 #include "octarc/simulation/engine/LensCatalog.h"
 #include "octarc/simulation/engine/LensSetup.h"
-#include "octarc/simulation/engine/LensSimulation.h"
 #include "octarc/simulation/engine/SurveySettings.h"
 
 namespace octarc {
@@ -30,7 +27,6 @@ namespace octarc {
 namespace {
 
 namespace po = boost::program_options;
-namespace sim = octarc::simulation;
 
 void printSimulateLensesUsage(const po::options_description& options) {
   std::cout
@@ -49,12 +45,6 @@ void printSimulateLensesUsage(const po::options_description& options) {
          "shared between the ranks, and the first rank writes OUT.fits).\n"
          "\n"
       << options << "\n";
-}
-
-template <typename T>
-std::optional<T> optionValue(const po::variables_map& vm, const char* name) {
-  if (vm.count(name)) return vm[name].as<T>();
-  return std::nullopt;
 }
 
 // The options; those of the setup are stored straight into `o`.
@@ -124,18 +114,6 @@ po::options_description lensOptions(LensSetupOptions& o) {
   return options;
 }
 
-// The source galaxies: a RealGalaxyCatalog, or the synthetic generator.
-SourceDatabase sourceDatabase(const po::variables_map& vm) {
-  if (vm.count("database")) {
-    return SourceDatabase::fromRealGalaxyCatalog(vm["database"].as<std::string>());
-  }
-  sim::SyntheticGalaxyOptions galaxy;
-  galaxy.stampHalfLightRadii = vm["source-extent"].as<double>();
-  if (!(galaxy.stampHalfLightRadii > 0)) throw ConfigError("--source-extent must be positive");
-  // A database of its own seed stream, so that the same sources serve every master seed.
-  return SourceDatabase::synthetic(vm["sources"].as<int>(), kSyntheticSourceSeed, galaxy);
-}
-
 }  // namespace
 
 int runSimulateLenses(const std::vector<std::string>& args) {
@@ -155,11 +133,14 @@ int runSimulateLenses(const std::vector<std::string>& args) {
   }
   if (!vm.count("count")) throw ConfigError("simulate lenses: -n N is required (see -h)");
   if (!vm.count("output")) throw ConfigError("simulate lenses: -o OUT.fits is required (see -h)");
-  const std::int64_t count = vm["count"].as<std::int64_t>();
-  if (count < 1)
-    throw ConfigError("-n: the number of systems must be positive, got " + std::to_string(count));
-  const std::uint64_t seed = vm["seed"].as<std::uint64_t>();
-  const std::string outPath = vm["output"].as<std::string>();
+  LensJob job;
+  job.count = vm["count"].as<std::int64_t>();
+  if (job.count < 1) {
+    throw ConfigError("-n: the number of systems must be positive, got " +
+                      std::to_string(job.count));
+  }
+  job.seed = vm["seed"].as<std::uint64_t>();
+  job.catalogPath = vm["output"].as<std::string>();
   const bool quiet = vm.count("quiet") > 0;
 
   // Survey: DLS defaults, then the .sex file, then explicit options.
@@ -170,11 +151,7 @@ int runSimulateLenses(const std::vector<std::string>& args) {
     }
   }
   const std::string sampling = vm["sampling"].as<std::string>();
-  if (sampling == "importance") {
-    o.sampling = Sampling::Importance;
-  } else if (sampling != "plain") {
-    throw ConfigError("--sampling: '" + sampling + "' is neither importance nor plain");
-  }
+  o.sampling = parseSampling(sampling);
   if (vm.count("band")) o.bandName = vm["band"].as<std::string>();
   if (vm.count("source-colour")) {
     o.sourceColour = parseColourDraw(vm["source-colour"].as<std::string>(), "--source-colour");
@@ -184,85 +161,34 @@ int runSimulateLenses(const std::vector<std::string>& args) {
   }
   const SimulationSetup setup = makeSimulationSetup(o);
 
-  const std::optional<std::string> stampsPath = optionValue<std::string>(vm, "stamps");
-  const int stampCount =
-      stampsPath ? int(std::min<std::int64_t>(vm["stamp-count"].as<int>(), count)) : 0;
-  if (stampsPath && vm["stamp-count"].as<int>() < 1) {
-    throw ConfigError("--stamp-count must be at least 1");
+  if (vm.count("stamps")) {
+    if (vm["stamp-count"].as<int>() < 1) throw ConfigError("--stamp-count must be at least 1");
+    job.stampsPath = vm["stamps"].as<std::string>();
+    job.stampCount = int(std::min<std::int64_t>(vm["stamp-count"].as<int>(), job.count));
   }
   // Under mpirun or srun the systems are shared between the ranks; the root writes.
   const Cluster cluster;
-  std::optional<SourceDatabase> sources;
-  OutputFiles outputs;
-  std::exception_ptr error;
-  try {
-    sources = sourceDatabase(vm);
-    // The output names are checked before any system is simulated.
-    if (cluster.isRoot()) {
-      outputs.add(outPath);
-      if (stampsPath) outputs.add(*stampsPath);
-      for (const char* input : {"config", "database", "population"}) {
-        if (!vm.count(input)) continue;
-        for (std::size_t i = 0; i < outputs.size(); ++i) {
-          refuseOutputOverInput(outputs[i].finalPath(), i == 0 ? "-o" : "--stamps",
-                                vm[input].as<std::string>(), std::string("--") + input + " file");
-        }
-      }
-    }
-    // System 0 on this thread first: bad settings (e.g. a sigma range giving no lenses) fail
-    // here with one message, before any thread starts.
-    (void)drawLensSystem(setup, *sources, seed, 0);
-  } catch (const Error&) {
-    error = std::current_exception();
+  job.threadsPerRank = cluster.threadsPerRank(vm["threads"].as<int>());
+  for (const char* input : {"config", "database", "population"}) {
+    if (vm.count(input))
+      job.inputs.emplace_back(std::string("--") + input, vm[input].as<std::string>());
   }
-  cluster.raiseIfAnyFailed(error);
-
-  const int threads = cluster.threadsPerRank(vm["threads"].as<int>());
-  LensRun lensRun;
-  try {
-    lensRun = runLensSimulationOnCluster(
-        cluster, setup, *sources, seed, count, threads, stampCount,
-        terminalProgress("simulating", "systems", quiet || !cluster.isRoot()));
-    if (!cluster.isRoot()) return 0;
-    // Both files are complete before either appears.
-    outputs.write(0, [&](const std::string& path) {
-      writeLensCatalog(path, lensRun, lensRunCards(lensRun, setup, *sources, seed));
-    });
-    if (stampsPath) {
-      outputs.write(1, [&](const std::string& path) {
-        writeLensStamps(path, lensRun, setup.observing.grid.pixelScaleArcsec);
-      });
-    }
-    outputs.commit();
-  } catch (const std::exception& e) {
-    cluster.abortIfFailedAlone(e.what());  // the other ranks would wait for this one
-    throw;
-  }
-
-  const StageTimings& total = lensRun.timings;
-  const double wallSec =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const LensRun lensRun = runLensJob(
+      cluster, setup,
+      [&] {
+        return makeSourceDatabase(vm.count("database") ? vm["database"].as<std::string>() : "",
+                                  vm["sources"].as<int>(), vm["source-extent"].as<double>());
+      },
+      job, terminalProgress("simulating", "systems", quiet || !cluster.isRoot()));
+  if (!cluster.isRoot()) return 0;
   if (!quiet || vm.count("timing")) {
-    const double n = double(std::max<std::int64_t>(lensRun.rendered, 1));
-    const double cpuSec = total.totalSec();
-    std::fprintf(
-        stderr,
-        "> %lld systems drawn (%s sampling), %lld skipped (theta_E < %g\"), %lld rendered, "
-        "sum of weights %.1f -> %s\n"
-        "> %lld rendered with an arc, %.1f effective arcs (Kish), %lld arc rows\n"
-        "> %lld lens-source pairs redrawn (the relations gave no source redshift)\n"
-        "> wall %.1f s on %d rank(s) of %d thread(s); CPU %.1f s, %.2f effective arcs per "
-        "CPU second; per rendered system: draw %.3f, ray trace %.3f, lens light %.3f, PSF %.3f, "
-        "noise %.3f, detection and measurement %.3f, arc rules %.3f ms\n",
-        static_cast<long long>(lensRun.drawn), sampling.c_str(),
-        static_cast<long long>(lensRun.skipped), setup.population.skipEinsteinRadiusBelowArcsec,
-        static_cast<long long>(lensRun.rendered), lensRun.weightSum, outPath.c_str(),
-        static_cast<long long>(lensRun.systemsWithArc), lensRun.effectiveArcs(),
-        static_cast<long long>(lensRun.arcs.rows()), static_cast<long long>(lensRun.redraws),
-        wallSec, cluster.size(), threads, cpuSec,
-        cpuSec > 0 ? lensRun.effectiveArcs() / cpuSec : 0.0, 1e3 * total.drawSec / n,
-        1e3 * total.rayTraceSec / n, 1e3 * total.lensLightSec / n, 1e3 * total.psfSec / n,
-        1e3 * total.noiseSec / n, 1e3 * total.detectionSec / n, 1e3 * total.arcRulesSec / n);
+    const double wallSec =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::fputs(
+        lensRunSummary(lensRun, setup,
+                       {sampling, job.catalogPath, wallSec, cluster.size(), job.threadsPerRank})
+            .c_str(),
+        stderr);
   }
   return 0;
 }

@@ -1,7 +1,9 @@
 #include "octarc/batch/ClusterLenses.h"
 
 #include <cstring>
+#include <optional>
 
+#include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
 
 namespace octarc {
@@ -102,6 +104,52 @@ LensRun runLensSimulationOnCluster(const Cluster& cluster, const SimulationSetup
     all.stamps.push_back(simulateSystem(setup, sources, seed, i, true).image);
   }
   return all;
+}
+
+LensRun runLensJob(const Cluster& cluster, const SimulationSetup& setup,
+                   const std::function<SourceDatabase()>& makeSources, const LensJob& job,
+                   const ProgressFn& progress) {
+  std::optional<SourceDatabase> sources;
+  OutputFiles outputs;
+  std::exception_ptr error;
+  try {
+    sources = makeSources();
+    // The output names are checked before any system is simulated.
+    if (cluster.isRoot()) {
+      outputs.add(job.catalogPath);
+      if (!job.stampsPath.empty()) outputs.add(job.stampsPath);
+      for (const auto& [option, path] : job.inputs) {
+        for (std::size_t i = 0; i < outputs.size(); ++i) {
+          refuseOutputOverInput(outputs[i].finalPath(), i == 0 ? "-o" : "--stamps", path,
+                                option + " file");
+        }
+      }
+    }
+    (void)drawLensSystem(setup, *sources, job.seed, 0);
+  } catch (const Error&) {
+    error = std::current_exception();
+  }
+  cluster.raiseIfAnyFailed(error);
+
+  LensRun run;
+  try {
+    run = runLensSimulationOnCluster(cluster, setup, *sources, job.seed, job.count,
+                                     job.threadsPerRank, job.stampCount, progress);
+    if (!cluster.isRoot()) return run;
+    outputs.write(0, [&](const std::string& path) {
+      writeLensCatalog(path, run, lensRunCards(run, setup, *sources, job.seed));
+    });
+    if (!job.stampsPath.empty()) {
+      outputs.write(1, [&](const std::string& path) {
+        writeLensStamps(path, run, setup.observing.grid.pixelScaleArcsec);
+      });
+    }
+    outputs.commit();
+  } catch (const std::exception& e) {
+    cluster.abortIfFailedAlone(e.what());  // the other ranks would wait for this one
+    throw;
+  }
+  return run;
 }
 
 }  // namespace octarc

@@ -8,6 +8,7 @@
 #include "octarc/measure/Colour.h"
 #include "octarc/run/Levels.h"
 #include "octarc/simulation/Noise.h"
+#include "octarc/simulation/SyntheticGalaxy.h"
 
 namespace octarc {
 
@@ -190,6 +191,23 @@ ColourDraw parseColourDraw(const std::string& text, const std::string& option) {
     throw ConfigError(option + ": the scatter must be >= 0 (got '" + text + "')");
   }
   return c;
+}
+
+Sampling parseSampling(const std::string& text) {
+  if (text == "importance") return Sampling::Importance;
+  if (text == "plain") return Sampling::Plain;
+  throw ConfigError("--sampling: '" + text + "' is neither importance nor plain");
+}
+
+SourceDatabase makeSourceDatabase(const std::string& realGalaxyCatalogPath, int syntheticCount,
+                                  double extentHalfLightRadii) {
+  if (!realGalaxyCatalogPath.empty()) {
+    return SourceDatabase::fromRealGalaxyCatalog(realGalaxyCatalogPath);
+  }
+  sim::SyntheticGalaxyOptions galaxy;
+  galaxy.stampHalfLightRadii = extentHalfLightRadii;
+  if (!(galaxy.stampHalfLightRadii > 0)) throw ConfigError("--source-extent must be positive");
+  return SourceDatabase::synthetic(syntheticCount, kSyntheticSourceSeed, galaxy);
 }
 
 }  // namespace octarc

@@ -71,6 +71,18 @@ std::vector<std::string> lensRunCards(const LensRun& run, const SimulationSetup&
 // Writes the two tables into one FITS-LDAC file at `path` (LDAC_OBJECTS, ARCS).
 void writeLensCatalog(const std::string& path, const LensRun& run,
                       const std::vector<std::string>& cards);
+// What a run did and what it cost, for the terminal: systems drawn, skipped, rendered and with
+// an arc, the sum of weights and the effective arcs, the CPU time per stage and per rendered
+// system; `samplingName` and `outputPath` as the user gave them, `wallSec` on `ranks` ranks of
+// `threads` threads each.
+struct LensRunContext {
+  std::string samplingName, outputPath;
+  double wallSec = 0;
+  int ranks = 1, threads = 1;
+};
+std::string lensRunSummary(const LensRun& run, const SimulationSetup& setup,
+                           const LensRunContext& context);
+
 // Writes the stamps as one float cube (plane k, 1-based, is system k - 1).
 void writeLensStamps(const std::string& path, const LensRun& run, double pixelScaleArcsec);
 

@@ -53,4 +53,14 @@ SimulationSetup makeSimulationSetup(const LensSetupOptions& options);
 // numbers and SCATTER >= 0.
 ColourDraw parseColourDraw(const std::string& text, const std::string& option);
 
+// --sampling: "importance" or "plain"; ConfigError otherwise.
+Sampling parseSampling(const std::string& text);
+
+// The source galaxies: the RealGalaxyCatalog at `realGalaxyCatalogPath`, or (when it is empty)
+// `syntheticCount` synthetic galaxies whose stamps reach `extentHalfLightRadii` half-light
+// radii, drawn from their own seed stream so that the same sources serve every master seed.
+// ConfigError for an extent that is not positive.
+SourceDatabase makeSourceDatabase(const std::string& realGalaxyCatalogPath, int syntheticCount,
+                                  double extentHalfLightRadii);
+
 }  // namespace octarc
