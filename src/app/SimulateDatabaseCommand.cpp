@@ -9,10 +9,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <iostream>
 #include <optional>
-#include <sstream>
 
 #include "octarc/app/CommandLine.h"
 #include "octarc/app/Commands.h"
@@ -166,18 +164,7 @@ int runBuildDatabase(const std::vector<std::string>& args) {
     }
   }
 
-  // The output files must not overwrite the image they are cut from.
-  const RealGalaxyCatalogPaths outPaths =
-      realGalaxyCatalogPaths(o.outputPath, o.psfFwhmArcsec.has_value());
-  std::error_code ec;
-  for (const std::string& out : {outPaths.catalog, outPaths.galaxyImages, outPaths.psfImage}) {
-    if (!out.empty() && std::filesystem::equivalent(out, o.imagePath, ec))
-      throw ConfigError("-o/--output: " + out + " would overwrite the input image");
-  }
-  const std::filesystem::path outDir = std::filesystem::path(o.outputPath).parent_path();
-  if (!outDir.empty() && !std::filesystem::is_directory(outDir))
-    throw ConfigError("-o/--output: directory " + outDir.string() + " does not exist");
-
+  checkSourceDatabaseOutputs(o.outputPath, o);
   const SourceDatabaseBuild build =
       buildSourceDatabase(o, terminalProgress("cutting stamps", "objects", o.quiet));
   if (!o.quiet) {
@@ -190,22 +177,7 @@ int runBuildDatabase(const std::vector<std::string>& args) {
   if (!o.quiet) {
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::ostringstream skipped;
-    for (const auto& [verdict, count] : build.verdicts) {
-      if (verdict != CutoutVerdict::Kept)
-        skipped << "; " << count << " " << cutoutVerdictName(verdict);
-    }
-    std::printf(
-        "%zu galaxies from %lld objects above %.3g sigma (%.6g ADU; background sigma %.6g "
-        "ADU) in %lldx%lld pixels of %.4g\" (%s)%s\n",
-        build.records.size(), (long long)build.objectCount, o.thresholdSigma,
-        o.thresholdSigma * build.sigmaAdu, build.sigmaAdu, (long long)build.widthPix,
-        (long long)build.heightPix, build.pixelScale.value, build.pixelScale.origin.c_str(),
-        skipped.str().c_str());
-    std::printf("MAG zero point %.4f (%s); wrote %s, %s%s%s in %.1f s\n", build.zeroPoint.value,
-                build.zeroPoint.origin.c_str(), written.catalog.c_str(),
-                written.galaxyImages.c_str(), written.psfImage.empty() ? "" : ", ",
-                written.psfImage.c_str(), seconds);
+    std::fputs(sourceDatabaseSummary(build, o, written, seconds).c_str(), stdout);
   }
   return 0;
 }

@@ -214,4 +214,43 @@ sim::RealGalaxyCatalogPaths writeSourceDatabase(const std::string& outputPath,
   return writeRealGalaxyCatalog(outputPath, build.records, info);
 }
 
+void checkSourceDatabaseOutputs(const std::string& outputPath,
+                                const SourceDatabaseSettings& settings) {
+  const simulation::RealGalaxyCatalogPaths outPaths =
+      simulation::realGalaxyCatalogPaths(outputPath, settings.psfFwhmArcsec.has_value());
+  std::error_code ec;
+  for (const std::string& out : {outPaths.catalog, outPaths.galaxyImages, outPaths.psfImage}) {
+    if (!out.empty() && std::filesystem::equivalent(out, settings.imagePath, ec))
+      throw ConfigError("-o/--output: " + out + " would overwrite the input image");
+  }
+  const std::filesystem::path outDir = std::filesystem::path(outputPath).parent_path();
+  if (!outDir.empty() && !std::filesystem::is_directory(outDir))
+    throw ConfigError("-o/--output: directory " + outDir.string() + " does not exist");
+}
+
+std::string sourceDatabaseSummary(const SourceDatabaseBuild& build,
+                                  const SourceDatabaseSettings& settings,
+                                  const simulation::RealGalaxyCatalogPaths& written,
+                                  double seconds) {
+  std::ostringstream skipped;
+  for (const auto& [verdict, count] : build.verdicts) {
+    if (verdict != simulation::CutoutVerdict::Kept)
+      skipped << "; " << count << " " << simulation::cutoutVerdictName(verdict);
+  }
+  const double threshold = settings.thresholdSigma;
+  char objects[1024], files[2048];
+  std::snprintf(objects, sizeof objects,
+                "%zu galaxies from %lld objects above %.3g sigma (%.6g ADU; background sigma "
+                "%.6g ADU) in %lldx%lld pixels of %.4g\" (%s)%s\n",
+                build.records.size(), (long long)build.objectCount, threshold,
+                threshold * build.sigmaAdu, build.sigmaAdu, (long long)build.widthPix,
+                (long long)build.heightPix, build.pixelScale.value, build.pixelScale.origin.c_str(),
+                skipped.str().c_str());
+  std::snprintf(files, sizeof files, "MAG zero point %.4f (%s); wrote %s, %s%s%s in %.1f s\n",
+                build.zeroPoint.value, build.zeroPoint.origin.c_str(), written.catalog.c_str(),
+                written.galaxyImages.c_str(), written.psfImage.empty() ? "" : ", ",
+                written.psfImage.c_str(), seconds);
+  return std::string(objects) + files;
+}
+
 }  // namespace octarc

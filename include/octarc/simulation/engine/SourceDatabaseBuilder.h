@@ -62,4 +62,17 @@ simulation::RealGalaxyCatalogPaths writeSourceDatabase(const std::string& output
                                                        const SourceDatabaseSettings& settings,
                                                        const char* version);
 
+// ConfigError when a file of the database at `outputPath` would overwrite the image it is cut
+// from, or when its directory does not exist.
+void checkSourceDatabaseOutputs(const std::string& outputPath,
+                                const SourceDatabaseSettings& settings);
+
+// The run's summary: galaxies kept of the objects above the threshold, why the others were
+// skipped, the pixel scale and zero point and where they came from, the files `written`, the
+// time taken.
+std::string sourceDatabaseSummary(const SourceDatabaseBuild& build,
+                                  const SourceDatabaseSettings& settings,
+                                  const simulation::RealGalaxyCatalogPaths& written,
+                                  double seconds);
+
 }  // namespace octarc
