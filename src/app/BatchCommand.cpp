@@ -11,6 +11,7 @@
 #include "octarc/batch/BatchRun.h"
 #include "octarc/cluster/Cluster.h"
 #include "octarc/core/Error.h"
+#include "octarc/search/CandidateTable.h"
 
 namespace octarc {
 
@@ -56,9 +57,26 @@ void printBatchUsage() {
       "               ARRAY_TASK)\n"
       "  -KEY value   override a configuration key (e.g. -ARRAY_TASK 3/16)\n"
       "  -d, -dd      print the default configuration (-dd: every key)\n"
+      "  -dp          list the columns of the survey's candidate catalog\n"
       "  -h           this help;  -v  version\n";
 }
 // clang-format on
+
+// -dp: the survey's candidates (batch/SurveyMerge.h): NUMBER over the survey, TILE,
+// TILE_NUMBER, then the tiles' candidate columns but their NUMBER.
+void printSurveyCandidateColumns() {
+  std::vector<ColumnSpec> columns(3);
+  columns[0].name = "NUMBER";
+  columns[0].description = "Candidate number over the survey, by LENS_SCORE";
+  columns[1].name = "TILE";
+  columns[1].description = "Tile the candidate was kept from (its folder tiles/TILE)";
+  columns[2].name = "TILE_NUMBER";
+  columns[2].description = "NUMBER of the candidate in its tile's catalog";
+  for (const CandidateColumnSpec& c : candidateColumns({"B"})) {
+    if (c.spec.name != "NUMBER") columns.push_back(c.spec);
+  }
+  printColumnList(columns);
+}
 
 }  // namespace
 
@@ -69,7 +87,8 @@ int runBatch(const std::vector<std::string>& args) {
   std::optional<BatchSettings> settings;
   std::exception_ptr error;
   try {
-    loaded = loadRun(args, "batch", batchKeys(), printBatchUsage, {}, "manifest", true);
+    loaded = loadRun(args, {"batch", printBatchUsage, printSurveyCandidateColumns}, batchKeys(),
+                     "manifest", true);
     if (loaded) settings = batchSettingsFromConfig(loaded->config, loaded->settings);
   } catch (const Error&) {
     error = std::current_exception();

@@ -56,15 +56,15 @@ void printCalibrateUsage() {
          "  -c FILE      configuration file (SExtractor syntax; -dd lists every key)\n"
          "  -KEY value   override a configuration key (e.g. -CHECKPLOT_DEV PDF)\n"
          "  -d, -dd      print the default configuration\n"
+         "  -dp          (an error: calibrate writes tables, not a catalog of chosen columns)\n"
          "  -h           this help;  -v  version\n";
 }
 
 }  // namespace
 
 int runCalibrate(const std::vector<std::string>& args) {
-  std::optional<LoadedConfig> loaded =
-      loadConfig(args, "calibrate", calibrationKeys(), printCalibrateUsage, nullptr, false,
-                 "simulation file name");
+  std::optional<LoadedConfig> loaded = loadConfig(args, {"calibrate", printCalibrateUsage, {}},
+                                                  calibrationKeys(), false, "simulation file name");
   if (!loaded) return 0;
   if (loaded->positional.empty()) {
     throw ConfigError("give the octarc simulate lenses output(s) to calibrate (see -h)");

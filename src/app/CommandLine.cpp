@@ -10,26 +10,13 @@
 #include "octarc/core/Version.h"
 #include "octarc/measure/Registry.h"
 #include "octarc/run/RunKeys.h"
+#include "octarc/search/CandidateTable.h"
 #include "octarc/selection/ColumnExpression.h"
 #include "octarc/sexcompat/Assoc.h"
 
 namespace octarc {
 
 namespace {
-
-// `-dp`: every column, as a commented .param template (SExtractor's format).
-void printColumns() {
-  std::vector<ColumnSpec> columns = allBuiltinColumns();
-  columns.push_back(sexcompat::vectorAssocColumn(1));
-  columns.push_back(sexcompat::numberAssocColumn());
-  for (const ColumnSpec& c : columns) {
-    char line[256];
-    std::snprintf(line, sizeof line, "#%-24s %-57s", c.name.c_str(), c.description.c_str());
-    std::cout << line;
-    if (!c.unit.empty()) std::cout << " [" << c.unit << "]";
-    std::cout << "\n";
-  }
-}
 
 // PARAMETERS_NAME as a path to read. Not given (or SExtractor's default.param, as a -d template
 // writes it), and no default.param here or shipped: the shipped column list, with a warning. Given:
@@ -82,36 +69,73 @@ const char* octarcVersion() {
   return kVersion;
 }
 
-std::optional<LoadedConfig> loadConfig(const std::vector<std::string>& args,
-                                       const std::string& command,
-                                       const std::vector<sexcompat::KeySpec>& schema,
-                                       const std::function<void()>& printUsage,
-                                       const std::function<void()>& printColumnList,
-                                       bool readDefaultSex, const std::string& argumentName) {
-  const sexcompat::CommandLine cl = sexcompat::parseCommandLine(args, schema);
+void printColumnList(const std::vector<ColumnSpec>& columns) {
+  for (const ColumnSpec& c : columns) {
+    char line[256];
+    std::snprintf(line, sizeof line, "#%-24s %-57s", c.name.c_str(), c.description.c_str());
+    std::cout << line;
+    if (!c.unit.empty()) std::cout << " [" << c.unit << "]";
+    std::cout << "\n";
+  }
+}
+
+void printMeasuredColumns() {
+  std::vector<ColumnSpec> columns = allBuiltinColumns();
+  columns.push_back(sexcompat::vectorAssocColumn(1));
+  columns.push_back(sexcompat::numberAssocColumn());
+  printColumnList(columns);
+}
+
+void printCandidateColumns() {
+  std::vector<ColumnSpec> columns;
+  // The colour columns as they are named for a band B (one set per COLOUR_BAND).
+  for (const CandidateColumnSpec& c : candidateColumns({"B"})) columns.push_back(c.spec);
+  printColumnList(columns);
+}
+
+std::optional<sexcompat::CommandLine> parseArguments(const std::vector<std::string>& args,
+                                                     const CommandSpec& command,
+                                                     const std::vector<sexcompat::KeySpec>& keys) {
+  sexcompat::CommandLine cl = sexcompat::parseCommandLine(args, keys);
   if (cl.help) {
-    printUsage();
+    command.printUsage();
     return std::nullopt;
   }
   if (cl.version) {
-    std::cout << "octarc " << command << " version " << octarcVersion() << "\n";
+    std::cout << "octarc " << command.name << " version " << octarcVersion() << "\n";
     return std::nullopt;
   }
-  if (cl.dumpParams && printColumnList) {
-    printColumnList();
+  if (cl.dumpParams) {
+    if (!command.printColumns) {
+      throw ConfigError("-dp: octarc " + command.name +
+                        " writes no catalog whose columns a .param file chooses (-d lists its "
+                        "keys; see octarc " +
+                        command.name + " -h)");
+    }
+    command.printColumns();
     return std::nullopt;
   }
+  if (cl.dumpConfig || cl.dumpConfigFull) {
+    std::vector<std::string> warnings;
+    const sexcompat::Config defaults = sexcompat::Config::load(keys, "", {}, &warnings);
+    std::cout << defaults.dump(keys, cl.dumpConfigFull);
+    return std::nullopt;
+  }
+  return cl;
+}
+
+std::optional<LoadedConfig> loadConfig(const std::vector<std::string>& args,
+                                       const CommandSpec& command,
+                                       const std::vector<sexcompat::KeySpec>& schema,
+                                       bool readDefaultSex, const std::string& argumentName) {
+  const std::optional<sexcompat::CommandLine> cl = parseArguments(args, command, schema);
+  if (!cl) return std::nullopt;
   LoadedConfig out;
-  if (cl.dumpConfig || cl.dumpConfigFull || cl.dumpParams) {
-    const sexcompat::Config defaults = sexcompat::Config::load(schema, "", {}, &out.warnings);
-    std::cout << defaults.dump(schema, cl.dumpConfigFull);
-    return std::nullopt;
-  }
   // As SExtractor: without -c, ./default.sex is read when it exists, with its warning when not.
   // A -c name without a directory may also be a shipped file (-c octarc.sex).
-  out.configFile = cl.configFile.empty()
+  out.configFile = cl->configFile.empty()
                        ? std::string()
-                       : existingUserOrDataFile(cl.configFile, "configuration file (-c)");
+                       : existingUserOrDataFile(cl->configFile, "configuration file (-c)");
   if (out.configFile.empty() && readDefaultSex) {
     if (std::filesystem::exists("default.sex")) {
       out.configFile = "default.sex";
@@ -119,30 +143,22 @@ std::optional<LoadedConfig> loadConfig(const std::vector<std::string>& args,
       out.warnings.push_back("default.sex not found, using internal defaults");
     }
   }
-  out.config = sexcompat::Config::load(schema, out.configFile, cl.overrides, &out.warnings);
-  for (const std::string& name : cl.positional) {
+  out.config = sexcompat::Config::load(schema, out.configFile, cl->overrides, &out.warnings);
+  for (const std::string& name : cl->positional) {
     // As for every configuration value: a control character is never part of a real name.
     if (hasControlCharacter(name)) {
       throw ConfigError("command line: " + argumentName + " " + quoteForMessage(name) +
                         " holds a control character");
     }
   }
-  out.positional = cl.positional;
+  out.positional = cl->positional;
   return out;
 }
 
-std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std::string& command,
-                                 const std::function<void()>& printUsage) {
-  return loadRun(args, command, octarcKeys(), printUsage, printColumns);
-}
-
-std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const std::string& command,
+std::optional<LoadedRun> loadRun(const std::vector<std::string>& args, const CommandSpec& command,
                                  const std::vector<sexcompat::KeySpec>& schema,
-                                 const std::function<void()>& printUsage,
-                                 const std::function<void()>& printColumnList,
                                  const std::string& argumentName, bool weightMapsElsewhere) {
-  std::optional<LoadedConfig> loaded =
-      loadConfig(args, command, schema, printUsage, printColumnList, true, argumentName);
+  std::optional<LoadedConfig> loaded = loadConfig(args, command, schema, true, argumentName);
   if (!loaded) return std::nullopt;
   RunSettings settings = settingsFromConfig(loaded->config, weightMapsElsewhere);
   settings.imagePaths = loaded->positional;

@@ -35,25 +35,8 @@ void printDemoUsage(const po::options_description& options) {
                "and objects; give its --pixel-scale, and --seeing, --mag-zero, --gain for the\n"
                "injected light), searched with --grid or --model (made for that setup).\n"
                "\n"
-               "Options:\n"
+            << kOptionsAsKeys << "\nOptions:\n"
             << options;
-}
-
-// The options; nullopt after -h.
-std::optional<po::variables_map> parseDemoOptions(const std::vector<std::string>& args,
-                                                  const po::options_description& options) {
-  po::variables_map vm;
-  try {
-    po::store(po::command_line_parser(glueValues(args, options)).options(options).run(), vm);
-    po::notify(vm);
-  } catch (const po::error& e) {
-    throw ConfigError(std::string(e.what()) + " (see octarc demo -h)");
-  }
-  if (vm.count("help")) {
-    printDemoUsage(options);
-    return std::nullopt;
-  }
-  return vm;
 }
 
 po::options_description demoOptions() {
@@ -97,8 +80,10 @@ po::options_description demoOptions() {
 
 int runDemo(const std::vector<std::string>& args) {
   const po::options_description options = demoOptions();
-  const std::optional<po::variables_map> vm = parseDemoOptions(args, options);
-  if (!vm) return 0;
+  const std::optional<ParsedOptions> parsed = parseOptions(
+      args, {"demo", [&] { printDemoUsage(options); }, printCandidateColumns}, options);
+  if (!parsed) return 0;
+  const po::variables_map* vm = &parsed->values;
   const bool quiet = vm->count("quiet") > 0;
   InjectionDemoSettings demo;
   FieldSimulationSettings& s = demo.field;

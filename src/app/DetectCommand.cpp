@@ -65,7 +65,8 @@ void printDetectUsage() {
 
 int runDetect(const std::vector<std::string>& args) {
   const auto start = std::chrono::steady_clock::now();
-  std::optional<LoadedRun> run = loadRun(args, "detect", printDetectUsage);
+  std::optional<LoadedRun> run =
+      loadRun(args, {"detect", printDetectUsage, printMeasuredColumns}, octarcKeys());
   if (!run) return 0;
   requireImages(run->settings, "detect", true);
   const RunSettings& s = run->settings;

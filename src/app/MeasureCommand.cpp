@@ -54,7 +54,8 @@ void printMeasureUsage() {
 
 int runMeasure(const std::vector<std::string>& args) {
   const auto start = std::chrono::steady_clock::now();
-  std::optional<LoadedRun> run = loadRun(args, "measure", printMeasureUsage);
+  std::optional<LoadedRun> run =
+      loadRun(args, {"measure", printMeasureUsage, printMeasuredColumns}, octarcKeys());
   if (!run) return 0;
   requireImages(run->settings, "measure", false);
   const RunSettings& s = run->settings;

@@ -3,14 +3,12 @@
 //   image --> detection in memory (or INPUT_CATALOG) --> searched area --> selection with the
 //   occupation grid --> one candidate per object, its lens --> OUTPUT_DIR (search/SearchRun.h)
 
-#include <cstdio>
 #include <iostream>
 
 #include "octarc/app/CommandLine.h"
 #include "octarc/app/Commands.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Progress.h"
-#include "octarc/search/CandidateTable.h"
 #include "octarc/search/SearchRun.h"
 
 namespace octarc {
@@ -70,23 +68,11 @@ void printSearchUsage() {
 }
 // clang-format on
 
-void printCandidateColumns() {
-  // The colour columns as they are named for a band B (one set per COLOUR_BAND).
-  for (const CandidateColumnSpec& c : candidateColumns({"B"})) {
-    char line[256];
-    std::snprintf(line, sizeof line, "#%-24s %-57s", c.spec.name.c_str(),
-                  c.spec.description.c_str());
-    std::cout << line;
-    if (!c.spec.unit.empty()) std::cout << " [" << c.spec.unit << "]";
-    std::cout << "\n";
-  }
-}
-
 }  // namespace
 
 int runSearch(const std::vector<std::string>& args) {
   std::optional<LoadedRun> loaded =
-      loadRun(args, "search", searchKeys(), printSearchUsage, printCandidateColumns);
+      loadRun(args, {"search", printSearchUsage, printCandidateColumns}, searchKeys());
   if (!loaded) return 0;
   requireImages(loaded->settings, "search", true);
   SearchRunSettings settings = searchSettingsFromConfig(loaded->config, loaded->settings);

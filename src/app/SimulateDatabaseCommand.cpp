@@ -14,6 +14,7 @@
 
 #include "octarc/app/CommandLine.h"
 #include "octarc/app/Commands.h"
+#include "octarc/app/Options.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
 #include "octarc/core/Progress.h"
@@ -65,14 +66,14 @@ std::optional<DatabaseOptions> parseDatabaseOptions(const std::vector<std::strin
       ("config,c", po::value(&o.configPath)->value_name("FILE.sex"),
        "octarc/SExtractor configuration: BACK_SIZE, BACK_FILTERSIZE, BACK_FILTTHRESH, "
        "DETECT_MINAREA, SATUR_LEVEL, MAG_ZEROPOINT and PIXEL_SCALE are taken from it when set")  //
-      ("threshold", po::value(&threshold)->value_name("SIGMA"),
-       "detection threshold in units of the background sigma (default 4)")  //
+      ("threshold", po::value(&threshold)->default_value(threshold, "4")->value_name("SIGMA"),
+       "detection threshold in units of the background sigma")  //
       ("min-area", po::value(&minArea)->value_name("N"),
        "smallest object detected, pixels (DETECT_MINAREA; default 5)")  //
-      ("min-size", po::value(&minSize)->value_name("N"),
-       "smallest footprint kept as a galaxy, pixels (default 25)")  //
-      ("margin", po::value(&margin)->value_name("N"),
-       "zero pixels around the footprint in each stamp (default 4)")  //
+      ("min-size", po::value(&minSize)->default_value(minSize)->value_name("N"),
+       "smallest footprint kept as a galaxy, pixels")  //
+      ("margin", po::value(&margin)->default_value(margin)->value_name("N"),
+       "zero pixels around the footprint in each stamp")  //
       ("pixel-scale", po::value(&pixelScale)->value_name("ARCSEC"),
        "pixel size; default: PIXEL_SCALE of --config, the WCS, or the PIXSCALE/PIXSCAL1/SECPIX "
        "header keyword")  //
@@ -84,28 +85,19 @@ std::optional<DatabaseOptions> parseDatabaseOptions(const std::vector<std::strin
       ("saturation", po::value(&saturation)->value_name("ADU"),
        "objects with a raw pixel at or above this are skipped (default: SATUR_LEVEL of "
        "--config, the SATURATE header keyword, else none)")  //
-      ("max-galaxies", po::value(&maxGalaxies)->value_name("N"),
-       "keep only the N brightest galaxies (default: all)")  //
+      ("max-galaxies", po::value(&maxGalaxies)->default_value(0)->value_name("N"),
+       "keep only the N brightest galaxies (0: all)")  //
       ("psf-fwhm", po::value(&psfFwhm)->value_name("ARCSEC"),
        "also write a Gaussian PSF of this FWHM and name it in PSF_FILENAME")  //
       ("quiet,q", po::bool_switch(&o.quiet), "no progress bar and no summary");
-  po::options_description hidden;
-  hidden.add_options()("image", po::value(&o.imagePath));
-  po::options_description all;
-  all.add(visible).add(hidden);
-  po::positional_options_description positional;
-  positional.add("image", 1);
-  po::variables_map vm;
-  try {
-    po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
-    po::notify(vm);
-  } catch (const po::error& e) {
-    throw ConfigError(std::string(e.what()) + " (see octarc simulate database -h)");
-  }
-  if (vm.count("help")) {
-    std::cout << kUsage << visible;
-    return std::nullopt;
-  }
+  const std::optional<ParsedOptions> parsed = parseOptions(
+      args,
+      {"simulate database", [&] { std::cout << kUsage << kOptionsAsKeys << "\n"
+                                            << visible; }, {}},
+      visible, 1);
+  if (!parsed) return std::nullopt;
+  const po::variables_map& vm = parsed->values;
+  if (!parsed->positional.empty()) o.imagePath = parsed->positional[0];
   if (o.imagePath.empty()) throw ConfigError("IMAGE: give the deep image to cut galaxies from");
   if (o.outputPath.empty()) throw ConfigError("-o/--output: give the catalog file to write");
   if (!(threshold > 0) || !std::isfinite(threshold))

@@ -20,7 +20,7 @@ namespace po = boost::program_options;
 
 namespace {
 
-void printSimulateFieldUsage() {
+void printSimulateFieldUsage(const po::options_description& options) {
   std::cout
       << "Usage: octarc simulate field -o FIELD.fits [options]\n"
          "\n"
@@ -32,7 +32,8 @@ void printSimulateFieldUsage() {
          "FIELD.truth.txt, an ASSOC list: id x y ra dec kind mag theta_E system\n"
          "(kind 1 = lens galaxy, 2 = lensed image, 3 = galaxy, 4 = star; x, y 1-based pixels).\n"
          "\n"
-         "Options:\n";
+      << kOptionsAsKeys << "\nOptions:\n"
+      << options;
 }
 
 po::options_description fieldOptions() {
@@ -72,18 +73,10 @@ po::options_description fieldOptions() {
 
 int runSimulateField(const std::vector<std::string>& args) {
   const po::options_description options = fieldOptions();
-  po::variables_map vm;
-  try {
-    po::store(po::command_line_parser(glueValues(args, options)).options(options).run(), vm);
-    po::notify(vm);
-  } catch (const po::error& e) {
-    throw ConfigError(std::string(e.what()) + " (see octarc simulate field -h)");
-  }
-  if (vm.count("help")) {
-    printSimulateFieldUsage();
-    std::cout << options;
-    return 0;
-  }
+  const std::optional<ParsedOptions> parsed = parseOptions(
+      args, {"simulate field", [&] { printSimulateFieldUsage(options); }, {}}, options);
+  if (!parsed) return 0;
+  const po::variables_map& vm = parsed->values;
   if (!vm.count("output")) throw ConfigError("-o/--output: the output image name is required");
   FieldSimulationSettings s;
   // Survey settings from an octarc .sex file, then the explicit command-line options.

@@ -44,7 +44,16 @@ void printSimulateLensesUsage(const po::options_description& options) {
          "nor on the number of ranks when launched by mpirun or srun (the systems are then\n"
          "shared between the ranks, and the first rank writes OUT.fits).\n"
          "\n"
+      << kOptionsAsKeys << "\n"
       << options << "\n";
+}
+
+// -dp: the systems table's columns, then the arc table's.
+void printLensColumns() {
+  std::cout << "# LDAC_OBJECTS: one row per system\n";
+  printColumnList(lensSystemColumns());
+  std::cout << "# ARCS: every arc row at every level\n";
+  printColumnList(lensArcColumns());
 }
 
 // The options; those of the setup are stored straight into `o`.
@@ -120,17 +129,11 @@ int runSimulateLenses(const std::vector<std::string>& args) {
   const auto start = std::chrono::steady_clock::now();
   LensSetupOptions o;
   const po::options_description options = lensOptions(o);
-  po::variables_map vm;
-  try {
-    po::store(po::command_line_parser(args).options(options).run(), vm);
-    po::notify(vm);
-  } catch (const po::error& e) {
-    throw ConfigError(std::string("simulate lenses: ") + e.what() + " (see -h)");
-  }
-  if (vm.count("help")) {
-    printSimulateLensesUsage(options);
-    return 0;
-  }
+  const std::optional<ParsedOptions> parsed = parseOptions(
+      args, {"simulate lenses", [&] { printSimulateLensesUsage(options); }, printLensColumns},
+      options);
+  if (!parsed) return 0;
+  const po::variables_map& vm = parsed->values;
   if (!vm.count("count")) throw ConfigError("simulate lenses: -n N is required (see -h)");
   if (!vm.count("output")) throw ConfigError("simulate lenses: -o OUT.fits is required (see -h)");
   LensJob job;

@@ -43,6 +43,20 @@ void printUsage() {
                "`-dp` its catalog columns.\n";
 }
 
+void printSimulateUsage() {
+  std::cout
+      << "Usage: octarc simulate lenses|field|database [options]\n"
+         "\n"
+         "  simulate lenses -n N --seed S -o OUT.fits [options]\n"
+         "      simulated galaxy-galaxy lenses through the detector and measurements\n"
+         "  simulate field -o FIELD.fits [options]\n"
+         "      a survey-like field with injected lenses, weight map and truth list\n"
+         "  simulate database IMAGE -o CATALOG.fits [options]\n"
+         "      cut a source-galaxy database (RealGalaxyCatalog format) out of a deep image\n"
+         "\n"
+         "`octarc simulate lenses -h` describes one of them; -d, -dd, -dp and -v are theirs.\n";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -74,6 +88,14 @@ int main(int argc, char** argv) {
       if (what == "lenses") return octarc::runSimulateLenses(args);
       if (what == "field") return octarc::runSimulateField(args);
       if (what == "database") return octarc::runBuildDatabase(args);
+      if (what == "-h" || what == "--help") {
+        printSimulateUsage();
+        return 0;
+      }
+      if (what == "-v" || what == "--version") {
+        std::cout << "octarc simulate version " << octarc::octarcVersion() << "\n";
+        return 0;
+      }
       std::cerr << "octarc simulate: say what to simulate: lenses, field or database "
                    "(try octarc -h)\n";
       return 2;

@@ -157,6 +157,105 @@ class CommandHelp(WorkDirTest):
             self.assertRegex(proc.stdout, r"^octarc %s version \S+\n$" % command[0])
 
 
+class EveryCommandTakesTheFlags(WorkDirTest):
+    """-h, -v, -d, -dd and -dp on every command, as the README says: the usage, the version, the
+    keys with their defaults as a .sex file (the simulations' options among them), the catalog
+    columns where the command writes a catalog and one error line where it does not; and a
+    simulation's options given as -KEY value make what the long options make."""
+
+    COMMANDS = [("measure",), ("detect",), ("simulate", "lenses"), ("simulate", "field"),
+                ("simulate", "database"), ("calibrate",), ("search",), ("batch",), ("demo",)]
+    # A column each catalog has, named in the README; None: no catalog of chosen columns.
+    COLUMN = {("measure",): "ARCNESS", ("detect",): "ARCNESS",
+              ("simulate", "lenses"): "SIM_WEIGHT", ("simulate", "field"): None,
+              ("simulate", "database"): None, ("calibrate",): None, ("search",): "LENS_SCORE",
+              ("batch",): "TILE", ("demo",): "LENS_SCORE"}
+    # Defaults the README and the -h texts state.
+    DEFAULTS = {("simulate", "field"): [("SIZE", "4096"), ("PIXEL_SCALE", "0.257")],
+                ("simulate", "lenses"): [("SEED", "1"), ("SAMPLING", "importance"),
+                                         ("QUIET", "N")],
+                ("simulate", "database"): [("QUIET", "N")],
+                ("demo",): [("SIZE", "2048"), ("LENSES", "12"), ("SEED", "1"),
+                            ("METHOD", "TREES")]}
+
+    def test_h_and_v(self):
+        for command in self.COMMANDS:
+            name = " ".join(command)
+            proc = run_octarc(*command, "-h")
+            self.assertEqual(proc.stderr, "", name)
+            self.assertTrue(proc.stdout.startswith("Usage: octarc " + name), name)
+            proc = run_octarc(*command, "-v")
+            self.assertRegex(proc.stdout, r"^octarc %s version \S+\n$" % name)
+
+    def test_d_and_dd_print_the_keys_with_their_defaults(self):
+        for command in self.COMMANDS:
+            name = " ".join(command)
+            short = run_octarc(*command, "-d")
+            full = run_octarc(*command, "-dd")
+            self.assertTrue(short.stdout.startswith("# Configuration file written by octarc"),
+                            name)
+            full_keys = dict(dump_keys(full.stdout))
+            short_keys = dump_keys(short.stdout)
+            self.assertGreater(len(short_keys), 3, name)
+            for key, value in short_keys:
+                self.assertEqual(full_keys.get(key), value, "%s: %s" % (name, key))
+            for key, value in self.DEFAULTS.get(command, []):
+                self.assertEqual(full_keys.get(key), value, "%s: %s" % (name, key))
+            # The -h flag is no key.
+            self.assertNotIn("HELP", full_keys, name)
+
+    def test_dp_lists_columns_or_says_there_are_none(self):
+        for command, column in self.COLUMN.items():
+            name = " ".join(command)
+            proc = run_octarc(*command, "-dp", check=False)
+            if column is None:
+                self.assertEqual(proc.returncode, 1, name)
+                self.assertEqual(proc.stdout, "", name)
+                lines = proc.stderr.strip().splitlines()
+                self.assertEqual(len(lines), 1, proc.stderr)
+                self.assertIn("-dp", lines[0])
+                self.assertIn("writes no catalog", lines[0])
+            else:
+                self.assertEqual(proc.returncode, 0, proc.stderr)
+                self.assertIn(column, column_listing(proc.stdout), name)
+                # A .param listing, never the configuration.
+                self.assertNotIn("Configuration file", proc.stdout, name)
+                self.assertTrue(all(line.startswith("#") for line in
+                                    proc.stdout.splitlines()), name)
+
+    def test_keys_and_long_options_make_the_same_simulation(self):
+        def systems(*args):
+            out = self.path("s%d.fits" % len(os.listdir(self.work)))
+            run_octarc("simulate", "lenses", *args, out, "--threads", 1)
+            with fits.open(out) as f:
+                return f["LDAC_OBJECTS"].data.tobytes(), f["ARCS"].data.tobytes()
+
+        options = systems("-n", 3, "--seed", 5, "--sampling", "plain", "--quiet", "-o")
+        keys = systems("-COUNT", 3, "-SEED", 5, "-SAMPLING", "plain", "-QUIET", "Y",
+                       "-OUTPUT")
+        self.assertEqual(keys, options)
+        # A key's value that starts with '-' is still its value, and the range check names it.
+        proc = run_octarc("simulate", "field", "-OUTPUT", self.path("f.fits"), "-LENSES", -1,
+                          check=False)
+        self.assertEqual(proc.returncode, 1)
+        self.assertIn("--lenses", proc.stderr)
+        # The last value of a key wins, as in SExtractor.
+        proc = run_octarc("demo", "-SIZE", 0, "--size", 16, "-SIZE", -3, "-QUIET", "Y",
+                          "--out", self.path("d"), check=False)
+        self.assertEqual(proc.returncode, 1)
+        self.assertIn("-3", proc.stderr)
+
+    def test_unknown_keys_and_c_files_of_the_simulations_are_refused(self):
+        for command in (("simulate", "lenses"), ("simulate", "field"), ("demo",)):
+            proc = run_octarc(*command, "-SIZ", 3, check=False)
+            self.assertEqual(proc.returncode, 1)
+            self.assertEqual(len(proc.stderr.strip().splitlines()), 1, proc.stderr)
+            self.assertIn("-SIZ", proc.stderr)
+            proc = run_octarc(*command, "-c", self.path("x.sex"), check=False)
+            self.assertEqual(proc.returncode, 1)
+            self.assertIn("-c", proc.stderr)
+
+
 class ConfigurationDumps(WorkDirTest):
     """-d and -dd: every key of the schema (SExtractor's keys, in SExtractor's order, and the
     README's octarc keys), and a dump loads back as a .sex file giving the same run."""

@@ -1,10 +1,13 @@
-// Boost.Program_options helpers of the commands that take GNU-style options (simulate, demo).
+// The commands that take GNU-style long options (simulate, demo) on the one parse of every
+// command (CommandLine.h): each option is also the configuration key of its name in capitals.
 #pragma once
 
 #include <boost/program_options.hpp>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "octarc/app/CommandLine.h"
 
 namespace octarc {
 
@@ -15,30 +18,34 @@ boost::program_options::typed_value<T>* optionalValue(std::optional<T>& target) 
   return boost::program_options::value<T>()->notifier([&target](const T& v) { target = v; });
 }
 
-// Boost would read a negative number after an option as an option of its own: glue the values
-// of value-taking options to their names ("--lenses=-1"), so they reach the range checks.
-inline std::vector<std::string> glueValues(
-    const std::vector<std::string>& args,
-    const boost::program_options::options_description& options) {
-  std::vector<std::string> out;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    std::string name;
-    if (a.rfind("--", 0) == 0 && a.find('=') == std::string::npos) {
-      name = a.substr(2);
-    } else if (a.size() == 2 && a[0] == '-' && a[1] != '-') {
-      name = a.substr(1);
-    }
-    const boost::program_options::option_description* d =
-        name.empty() ? nullptr : options.find_nothrow(name, false, false, false);
-    if (d && d->semantic()->max_tokens() > 0 && i + 1 < args.size()) {
-      out.push_back("--" + d->long_name() + "=" + args[i + 1]);
-      ++i;
-    } else {
-      out.push_back(a);
-    }
-  }
-  return out;
-}
+// The -h text's paragraph on the two spellings of these commands' options.
+inline constexpr const char* kOptionsAsKeys =
+    "Every option is also a configuration key, in SExtractor's style: --pixel-scale 0.3 is\n"
+    "-PIXEL_SCALE 0.3, a switch such as --quiet is -QUIET Y (or N), and the last value of a\n"
+    "key wins. -d and -dd list the keys with their defaults as a .sex file, -dp the columns\n"
+    "of the catalog written (an error when none is), -v the version.\n";
+
+// The configuration key of a long option: "pixel-scale" -> "PIXEL_SCALE".
+std::string optionKey(const std::string& longName);
+
+// The keys of `options` (but help) for parseArguments and the -d dump: a switch is a Y/N key
+// (default N), an option with a value a text key with Boost's default as its default.
+std::vector<sexcompat::KeySpec> optionKeys(
+    const boost::program_options::options_description& options);
+
+struct ParsedOptions {
+  boost::program_options::variables_map values;  // stored and notified
+  std::vector<std::string> positional;
+};
+
+// Parses the arguments of a command with long options: `-KEY value` (KEY = optionKey of the
+// long name; a switch takes Y or N), `--name value`, `--name=value`, the short names and a bare
+// switch are the same; the last value of a key wins, as in SExtractor. The flags (-h, -v, -d,
+// -dd, -dp) are acted on as for every command (nullopt). At most `maxPositional` positional
+// arguments. ConfigError naming the option for an unknown option, a bad value, a -c file (these
+// commands have no configuration file of their own keys).
+std::optional<ParsedOptions> parseOptions(
+    const std::vector<std::string>& args, const CommandSpec& command,
+    const boost::program_options::options_description& options, std::size_t maxPositional = 0);
 
 }  // namespace octarc
