@@ -77,6 +77,74 @@ std::vector<BandColumn> bandColumns(const std::string& b) {
   };
 }
 
+// A systems-table column before the chosen arc's and how a rendered system fills it: declared
+// and filled in one place.
+struct SystemColumn {
+  ColumnSpec spec;
+  double (*value)(const SystemResult&, const SourceDatabase&);
+};
+
+const std::vector<SystemColumn>& systemColumns() {
+  using T = ColumnType;
+  using R = const SystemResult&;
+  using S = const SourceDatabase&;
+  static const std::vector<SystemColumn> columns = {
+      {column("SYSTEM", T::Int32, "%9d", "", "Index of the simulated system (seed stream)"),
+       [](R r, S) { return double(r.draw.index); }},
+      {column("Z_LENS", T::Float32, "%8.4f", "", "Lens redshift"),
+       [](R r, S) { return r.draw.lens.redshift; }},
+      {column("Z_SOURCE", T::Float32, "%8.4f", "", "Source redshift"),
+       [](R r, S) { return r.draw.source.redshift; }},
+      {column("SIGMA_V", T::Float32, "%8.2f", "km/s", "Lens velocity dispersion"),
+       [](R r, S) { return r.draw.lens.sigmaKmPerS; }},
+      {column("LENS_MAG", T::Float32, "%8.4f", "mag", "Lens apparent magnitude"),
+       [](R r, S) { return r.draw.lens.mag; }},
+      {column("LENS_ABSMAG", T::Float32, "%8.4f", "mag", "Lens absolute magnitude"),
+       [](R r, S) { return r.draw.lens.absoluteMag; }},
+      {column("LENS_ELLIPTICITY", T::Float32, "%8.4f", "", "Lens light ellipticity 1 - b/a"),
+       [](R r, S) { return r.draw.lensEllipticity; }},
+      {column("LENS_EPSILON", T::Float32, "%8.5f", "", "Potential ellipticity 0.2 e/(0.6 + e)"),
+       [](R r, S) { return r.draw.system.mass.ellipticity; }},
+      {column("LENS_THETA", T::Float32, "%8.3f", "deg", "Lens position angle (CCW from x)"),
+       [](R r, S) { return r.draw.system.mass.positionAngleRad * kDegPerRad; }},
+      {column("LENS_RHALF", T::Float32, "%8.4f", "arcsec", "Lens light half-light radius"),
+       [](R r, S) { return r.draw.system.light.halfLightRadiusArcsec; }},
+      {column("EINSTEIN_RADIUS", T::Float32, "%8.4f", "arcsec", "SIS Einstein radius"),
+       [](R r, S) { return r.draw.einsteinRadiusArcsec; }},
+      {column("SOURCE_MAG", T::Float32, "%8.4f", "mag", "Unlensed source magnitude"),
+       [](R r, S) { return r.draw.source.mag; }},
+      {column("SOURCE_RHALF", T::Float32, "%8.4f", "arcsec", "Source half-light radius"),
+       [](R r, S) { return r.draw.source.halfLightArcsec; }},
+      {column("SOURCE_X", T::Float32, "%9.5f", "arcsec", "Source position beta_x from the lens"),
+       [](R r, S) { return r.draw.system.source.betaArcsec[0]; }},
+      {column("SOURCE_Y", T::Float32, "%9.5f", "arcsec", "Source position beta_y from the lens"),
+       [](R r, S) { return r.draw.system.source.betaArcsec[1]; }},
+      {column("SOURCE_ROTATION", T::Float32, "%8.3f", "deg", "Source stamp rotation (CCW)"),
+       [](R r, S) { return r.draw.system.source.rotationRad * kDegPerRad; }},
+      {column("SOURCE_INDEX", T::Int32, "%6d", "", "Row of the source database"),
+       [](R r, S) { return double(r.draw.sourceIndex); }},
+      {column("SOURCE_TYPE", T::Int16, "%2d", "", "0 elliptical, 1 spiral, 2 irregular"),
+       [](R r, S sources) { return double(int(sources.stamp(r.draw.sourceIndex).type)); }},
+      {column("MAGNIFICATION", T::Float32, "%10.4f", "", "Traced source flux / unlensed flux"),
+       [](R r, S) { return r.magnification; }},
+      {column("N_OBJECTS", T::Int32, "%6d", "", "Objects detected over all levels"),
+       [](R r, S) { return double(r.objectCount); }},
+      {column("N_ARC_ROWS", T::Int32, "%4d", "", "Arc rows over all qualifying levels"),
+       [](R r, S) { return double(r.arcDistanceArcsec.size()); }},
+      {column("SIM_WEIGHT", T::Float64, "%12.6f", "",
+              "Population systems this one stands for: 1 / render probability"),
+       [](R r, S) { return r.draw.weight(); }},
+      {column("ARC_FOUND", T::Int16, "%2d", "", "1 if an arc passed the arc rules"),
+       [](R r, S) { return r.chosenArc >= 0 ? 1.0 : 0.0; }},
+      {column("LENS_DISTANCE", T::Float32, "%8.4f", "arcsec",
+              "Distance of the chosen arc to the lens centre"),
+       [](R r, S) {
+         return r.chosenArc >= 0 ? r.arcDistanceArcsec[std::size_t(r.chosenArc)] : std::nan("");
+       }},
+  };
+  return columns;
+}
+
 // The injected colours of the systems table.
 std::vector<ColumnSpec> bandTruthColumns(const std::string& band) {
   using T = ColumnType;
@@ -101,35 +169,8 @@ std::vector<ColumnSpec> secondBandColumns(const std::string& band) {
 }
 
 std::vector<ColumnSpec> lensSystemColumns(const std::string& band) {
-  using T = ColumnType;
-  std::vector<ColumnSpec> c = {
-      column("SYSTEM", T::Int32, "%9d", "", "Index of the simulated system (seed stream)"),
-      column("Z_LENS", T::Float32, "%8.4f", "", "Lens redshift"),
-      column("Z_SOURCE", T::Float32, "%8.4f", "", "Source redshift"),
-      column("SIGMA_V", T::Float32, "%8.2f", "km/s", "Lens velocity dispersion"),
-      column("LENS_MAG", T::Float32, "%8.4f", "mag", "Lens apparent magnitude"),
-      column("LENS_ABSMAG", T::Float32, "%8.4f", "mag", "Lens absolute magnitude"),
-      column("LENS_ELLIPTICITY", T::Float32, "%8.4f", "", "Lens light ellipticity 1 - b/a"),
-      column("LENS_EPSILON", T::Float32, "%8.5f", "", "Potential ellipticity 0.2 e/(0.6 + e)"),
-      column("LENS_THETA", T::Float32, "%8.3f", "deg", "Lens position angle (CCW from x)"),
-      column("LENS_RHALF", T::Float32, "%8.4f", "arcsec", "Lens light half-light radius"),
-      column("EINSTEIN_RADIUS", T::Float32, "%8.4f", "arcsec", "SIS Einstein radius"),
-      column("SOURCE_MAG", T::Float32, "%8.4f", "mag", "Unlensed source magnitude"),
-      column("SOURCE_RHALF", T::Float32, "%8.4f", "arcsec", "Source half-light radius"),
-      column("SOURCE_X", T::Float32, "%9.5f", "arcsec", "Source position beta_x from the lens"),
-      column("SOURCE_Y", T::Float32, "%9.5f", "arcsec", "Source position beta_y from the lens"),
-      column("SOURCE_ROTATION", T::Float32, "%8.3f", "deg", "Source stamp rotation (CCW)"),
-      column("SOURCE_INDEX", T::Int32, "%6d", "", "Row of the source database"),
-      column("SOURCE_TYPE", T::Int16, "%2d", "", "0 elliptical, 1 spiral, 2 irregular"),
-      column("MAGNIFICATION", T::Float32, "%10.4f", "", "Traced source flux / unlensed flux"),
-      column("N_OBJECTS", T::Int32, "%6d", "", "Objects detected over all levels"),
-      column("N_ARC_ROWS", T::Int32, "%4d", "", "Arc rows over all qualifying levels"),
-      column("SIM_WEIGHT", T::Float64, "%12.6f", "",
-             "Population systems this one stands for: 1 / render probability"),
-      column("ARC_FOUND", T::Int16, "%2d", "", "1 if an arc passed the arc rules"),
-      column("LENS_DISTANCE", T::Float32, "%8.4f", "arcsec",
-             "Distance of the chosen arc to the lens centre"),
-  };
+  std::vector<ColumnSpec> c;
+  for (const SystemColumn& t : systemColumns()) c.push_back(t.spec);
   for (const ColumnSpec& m : measuredColumns()) c.push_back(m);
   for (const ColumnSpec& m : arcContextColumns()) c.push_back(m);
   if (!band.empty()) {
@@ -206,36 +247,12 @@ LensRun runLensSimulation(const SimulationSetup& setup, const SourceDatabase& so
     out.timings.add(r.timings);
     const LensSystemDraw& d = r.draw;
     if (!d.rendered) continue;  // counted, and stood for by the weights of the others
-    const double weight = d.weight();
     ++out.rendered;
     double* row = out.systems.appendRow();
     const double nan = std::nan("");
-    const double truth[] = {double(d.index),
-                            d.lens.redshift,
-                            d.source.redshift,
-                            d.lens.sigmaKmPerS,
-                            d.lens.mag,
-                            d.lens.absoluteMag,
-                            d.lensEllipticity,
-                            d.system.mass.ellipticity,
-                            d.system.mass.positionAngleRad * kDegPerRad,
-                            d.system.light.halfLightRadiusArcsec,
-                            d.einsteinRadiusArcsec,
-                            d.source.mag,
-                            d.source.halfLightArcsec,
-                            d.system.source.betaArcsec[0],
-                            d.system.source.betaArcsec[1],
-                            d.system.source.rotationRad * kDegPerRad,
-                            double(d.sourceIndex),
-                            double(int(sources.stamp(d.sourceIndex).type)),
-                            r.magnification,
-                            double(r.objectCount),
-                            double(r.arcDistanceArcsec.size()),
-                            weight,
-                            r.chosenArc >= 0 ? 1.0 : 0.0,
-                            r.chosenArc >= 0 ? r.arcDistanceArcsec[std::size_t(r.chosenArc)] : nan};
-    const int truthCount = int(sizeof truth / sizeof truth[0]);
-    std::copy(truth, truth + truthCount, row);
+    const std::vector<SystemColumn>& truth = systemColumns();
+    const int truthCount = int(truth.size());
+    for (int k = 0; k < truthCount; ++k) row[k] = truth[std::size_t(k)].value(r, sources);
     if (r.chosenArc >= 0) {
       ++out.systemsWithArc;
       std::copy_n(r.arcValues.data() + std::size_t(r.chosenArc) * std::size_t(measuredWidth),
