@@ -21,16 +21,12 @@
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/FitsTable.h"
 #include "octarc/selection/SearchMask.h"
-#include "octarc/sexcompat/KeyRow.h"
 
 namespace octarc {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-using sexcompat::KeySpec;
-using Kind = KeySpec::Kind;
 
 constexpr const char* kAreaFile = "area.fits";
 
@@ -332,127 +328,53 @@ TileReport parseReport(const std::string& text) {
 
 }  // namespace
 
-std::vector<KeySpec> batchKeys() {
-  std::vector<KeySpec> keys = searchKeys();
-  for (KeySpec& k : keys) {
-    if (k.name == "OUTPUT_DIR") {
-      k.defaults = {"survey"};
-      k.comment = "directory of the survey: journal, tiles/, candidates";
-    } else if (k.name == "LENS_CHECKIMAGES") {
-      k.defaults = {"N"};  // two image-sized files per tile: only when asked for
-    } else if (k.name == "WEIGHT_IMAGE") {
-      // Each tile's comes from the manifest: none here, so that a -dd template loads back.
-      k.defaults = {};
-      k.comment = "none: each tile's weight map is in the manifest";
-    }
-  }
-  // clang-format off
-  const std::vector<KeySpec> own = {
-    sexcompat::KeyRow("MATCH_RADIUS", Kind::Float, {"1.0"}, "candidates of two tiles closer than "
-        "this are one\n(arcsec)").range(0, 60),
-    sexcompat::KeyRow("ARRAY_TASK", Kind::String, {"AUTO"}, "this job-array task's share: I/N "
-        "(tiles k with\nk % N == I), AUTO (Slurm's SLURM_ARRAY_TASK_ID)"),
-  };
-  // clang-format on
-  keys.insert(keys.end(), own.begin(), own.end());
-  return keys;
-}
-
-BatchSettings batchSettingsFromConfig(const sexcompat::Config& c, RunSettings run) {
-  BatchSettings s;
-  if (run.imagePaths.size() != 1) {
-    throw ConfigError("batch: give one manifest (or one quoted glob of images); see -h");
-  }
-  s.manifest = run.imagePaths.front();
-  s.requestedThreads = run.threads;
-  for (const char* key : {"MASK_NAME", "INPUT_CATALOG", "WEIGHT_IMAGE"}) {
-    if (c.isExplicit(key)) {
-      throw ConfigError(std::string(key) + ": a batch takes each tile's files from the manifest " +
-                        "(IMAGE WEIGHT MASK CATALOG per line)");
-    }
-  }
-  if (c.count("COLOUR_IMAGE") > 0) {
-    throw ConfigError(
-        "COLOUR_IMAGE: a batch's manifest holds one image per tile; search the "
-        "tiles one by one (octarc search) to measure colours");
-  }
-  if (c.isExplicit("CHECKIMAGE_TYPE") && uppercase(c.getString("CHECKIMAGE_TYPE")) != "NONE") {
-    throw ConfigError("CHECKIMAGE_TYPE: a batch writes no check-images");
-  }
-  s.tile = searchSettingsFromConfig(c, std::move(run));
-  s.outputDir = s.tile.outputDir;
-  s.matchRadiusArcsec = c.getDouble("MATCH_RADIUS");
-  std::string share = uppercase(c.getString("ARRAY_TASK"));
-  if (share == "AUTO") {
-    const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
-    const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
-    const char* first = std::getenv("SLURM_ARRAY_TASK_MIN");
-    if (id && count) {
-      try {
-        share = std::to_string(std::stoll(id) - (first ? std::stoll(first) : 0)) + "/" + count;
-      } catch (const std::exception&) {
-        throw ConfigError(std::string("ARRAY_TASK AUTO: SLURM_ARRAY_TASK_ID ") + id +
-                          " / SLURM_ARRAY_TASK_COUNT " + count + " are not numbers");
-      }
-    } else {
-      share = "0/1";
-    }
-  }
-  const std::size_t slash = share.find('/');
-  try {
-    std::size_t used = 0;
-    if (slash == std::string::npos) throw std::invalid_argument(share);
-    s.arrayTask = std::stoi(share.substr(0, slash), &used);
-    if (used != slash) throw std::invalid_argument(share);
-    s.arrayTasks = std::stoi(share.substr(slash + 1), &used);
-    if (used != share.size() - slash - 1) throw std::invalid_argument(share);
-  } catch (const std::exception&) {
-    throw ConfigError("ARRAY_TASK " + quoteForMessage(share) + ": give I/N (0 <= I < N) or AUTO");
-  }
-  if (s.arrayTasks < 1 || s.arrayTask < 0 || s.arrayTask >= s.arrayTasks) {
-    throw ConfigError("ARRAY_TASK " + share + ": give I/N with 0 <= I < N");
-  }
-  return s;
-}
-
 std::int64_t BatchReport::failed() const {
   return std::count_if(reports.begin(), reports.end(),
                        [](const TileReport& r) { return r.state == TileState::Failed; });
 }
 
-BatchReport runBatch(const BatchSettings& s, const Cluster& cluster, const RunLog& log) {
-  BatchReport report;
-  const Journal journal((fs::path(s.outputDir) / "journal.txt").string());
-  // The root alone reads the manifest, checks the tiles' files and OUTPUT_DIR, and picks the
-  // tiles to do: this task's share, less those complete (a `done` line and the folder in
-  // place), largest images first (the ranks then end together). The other ranks get the tiles
-  // and the plan from it.
+namespace {
+
+// The root alone reads the manifest, checks the tiles' files and OUTPUT_DIR, and picks the tiles
+// to do: this task's share, less those complete (a `done` line and the folder in place), largest
+// images first (the ranks then end together). Returns the plan: the run number, then the tiles'
+// indices.
+std::string planRun(const BatchSettings& s, const Cluster& cluster, const Journal& journal,
+                    BatchReport& report) {
+  report.tiles = readManifest(s.manifest);
+  checkTiles(s, report.tiles);
+  prepareOutputDirectory(s);
+  const std::set<std::string> done = completedTiles(journal.read());
+  report.run = journal.startRun(std::to_string(report.tiles.size()) + " tiles, " +
+                                std::to_string(cluster.size()) + " rank(s), " + shareText(s));
+  report.reports.assign(report.tiles.size(), TileReport());
+  std::vector<std::pair<std::uintmax_t, std::size_t>> bySize;
+  for (std::size_t i = 0; i < report.tiles.size(); ++i) {
+    if (int(i % std::size_t(s.arrayTasks)) != s.arrayTask) continue;
+    if (done.count(report.tiles[i].name) && tileFolderComplete(s, report.tiles[i])) {
+      report.reports[i].state = TileState::DoneEarlier;
+      continue;
+    }
+    std::error_code ec;
+    const std::uintmax_t bytes = fs::file_size(report.tiles[i].imagePath, ec);
+    bySize.push_back({ec ? 0 : bytes, i});
+  }
+  std::stable_sort(bySize.begin(), bySize.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::string plan = std::to_string(report.run);
+  for (const auto& [bytes, i] : bySize) plan += " " + std::to_string(i);
+  return plan;
+}
+
+// The plan on every rank: made by the root (a failure there stops every rank), then sent with
+// the tiles to the others. Returns the indices of the tiles to search.
+std::vector<std::size_t> shareRunPlan(const BatchSettings& s, const Cluster& cluster,
+                                      const Journal& journal, BatchReport& report) {
   std::exception_ptr error;
   std::string plan;
   if (cluster.isRoot()) {
     try {
-      report.tiles = readManifest(s.manifest);
-      checkTiles(s, report.tiles);
-      prepareOutputDirectory(s);
-      const std::set<std::string> done = completedTiles(journal.read());
-      report.run = journal.startRun(std::to_string(report.tiles.size()) + " tiles, " +
-                                    std::to_string(cluster.size()) + " rank(s), " + shareText(s));
-      report.reports.assign(report.tiles.size(), TileReport());
-      std::vector<std::pair<std::uintmax_t, std::size_t>> bySize;
-      for (std::size_t i = 0; i < report.tiles.size(); ++i) {
-        if (int(i % std::size_t(s.arrayTasks)) != s.arrayTask) continue;
-        if (done.count(report.tiles[i].name) && tileFolderComplete(s, report.tiles[i])) {
-          report.reports[i].state = TileState::DoneEarlier;
-          continue;
-        }
-        std::error_code ec;
-        const std::uintmax_t bytes = fs::file_size(report.tiles[i].imagePath, ec);
-        bySize.push_back({ec ? 0 : bytes, i});
-      }
-      std::stable_sort(bySize.begin(), bySize.end(),
-                       [](const auto& a, const auto& b) { return a.first > b.first; });
-      plan = std::to_string(report.run);
-      for (const auto& [bytes, i] : bySize) plan += " " + std::to_string(i);
+      plan = planRun(s, cluster, journal, report);
     } catch (const Error&) {
       error = std::current_exception();
     }
@@ -463,122 +385,141 @@ BatchReport runBatch(const BatchSettings& s, const Cluster& cluster, const RunLo
     if (!cluster.isRoot()) report.tiles = parseTiles(tiles);
     plan = cluster.broadcast(plan);
   }
-  const std::vector<Tile>& tiles = report.tiles;
   std::vector<std::size_t> todo;
-  {
-    std::istringstream in(plan);
-    in >> report.run;
-    for (std::size_t i; in >> i;) todo.push_back(i);
+  std::istringstream in(plan);
+  in >> report.run;
+  for (std::size_t i; in >> i;) todo.push_back(i);
+  return todo;
+}
+
+// Searches one tile into its folder; its report as it crosses between ranks (parseReport).
+std::string searchTile(const BatchSettings& s, const Tile& tile, int threads, int rank,
+                       const RunLog& log) {
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    const SearchRunSettings settings = tileSettings(s, tile, threads);
+    const RunLog tileLog = [&](const std::string& line) {
+      if (log && line.rfind("WARNING", 0) == 0) log("tile " + tile.name + ": " + line);
+    };
+    const SearchRun run = searchImage(settings, tileLog);
+    writeSearchOutputs(run, settings, {}, {},
+                       [&](const std::string& dir) { writeAreaFile(dir + "/" + kAreaFile, run); });
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return "done\t" + std::to_string(run.result.candidates.size()) + "\t" +
+           formatNumber(seconds, "%.2f") + "\t" + std::to_string(rank);
+  } catch (const std::exception& e) {
+    // A tile's trouble is its own: reported and journaled, the others go on.
+    return "failed\t" + printableMessage(e.what());
   }
+}
+
+// A searched tile's report, on the root: journaled, logged as the `finished`-th of `total`.
+void recordTile(const Journal& journal, BatchReport& report, std::size_t i, TileReport r,
+                std::int64_t finished, std::size_t total, const RunLog& log) {
+  const Tile& tile = report.tiles[i];
+  const std::string count = "[" + std::to_string(finished) + "/" + std::to_string(total) + "] ";
+  if (r.state == TileState::Done) {
+    journal.append(report.run, "done", tile.name,
+                   std::to_string(r.candidates) + " candidates, " +
+                       formatNumber(r.seconds, "%.2f") + " s, rank " + std::to_string(r.rank));
+    if (log) {
+      log(count + tile.name + ": " + std::to_string(r.candidates) + " candidate(s), " +
+          formatNumber(r.seconds, "%.1f") + " s (rank " + std::to_string(r.rank) + ")");
+    }
+  } else {
+    journal.append(report.run, "failed", tile.name, r.message);
+    if (log) log(count + tile.name + " FAILED: " + r.message);
+  }
+  report.reports[i] = std::move(r);
+}
+
+// With the journal's lines of every run and task: each tile's latest state, and, when every
+// tile is done or failed and every done folder is in place, the survey's candidates, summary
+// and index.
+void mergeSurvey(const BatchSettings& s, BatchReport& report,
+                 const std::vector<JournalEntry>& entries, int ranks, const RunLog& log) {
+  const std::vector<Tile>& tiles = report.tiles;
+  std::map<std::string, std::string> latest;
+  for (const JournalEntry& e : entries) {
+    if (e.event == "done" || e.event == "failed") latest[e.tile] = e.event;
+  }
+  report.merged = true;
+  std::vector<TileCandidates> merged;
+  std::vector<std::size_t> mergedIndex;
+  for (std::size_t i = 0; i < tiles.size(); ++i) {
+    const auto it = latest.find(tiles[i].name);
+    TileReport& r = report.reports[i];
+    if (it == latest.end()) {
+      report.merged = false;
+      continue;
+    }
+    if (r.state == TileState::OtherTask) {
+      r.state = it->second == "done" ? TileState::DoneEarlier : TileState::Failed;
+      if (r.state == TileState::Failed) r.message = "(failed in another task; see journal.txt)";
+    }
+    if (it->second == "done" && r.state != TileState::Failed) {
+      // A folder that another task is redoing is not there yet: the survey waits for it.
+      if (!tileFolderComplete(s, tiles[i])) report.merged = false;
+      mergedIndex.push_back(i);
+    }
+  }
+  if (report.merged) {
+    const auto start = std::chrono::steady_clock::now();
+    for (const std::size_t i : mergedIndex) merged.push_back(loadTile(s, tiles[i]));
+    report.survey = mergeTiles(merged, s.matchRadiusArcsec);
+    if (log) {
+      log("> Merged " + std::to_string(mergedIndex.size()) + " tiles in " +
+          formatNumber(
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+              "%.2f") +
+          " s");
+    }
+    std::vector<std::int64_t> kept(tiles.size(), 0);
+    for (std::size_t k = 0; k < mergedIndex.size(); ++k) {
+      kept[mergedIndex[k]] = report.survey.keptPerTile[k];
+    }
+    report.survey.keptPerTile = kept;
+  }
+  report.summaryLines = summaryLines(s, report, ranks);
+  if (report.merged) {
+    writeSurveyOutputs(s, report);
+    if (log) log("> Wrote " + s.outputDir);
+  }
+}
+
+}  // namespace
+
+BatchReport runBatch(const BatchSettings& s, const Cluster& cluster, const RunLog& log) {
+  BatchReport report;
+  const Journal journal((fs::path(s.outputDir) / "journal.txt").string());
+  const std::vector<std::size_t> todo = shareRunPlan(s, cluster, journal, report);
   const int threads = cluster.threadsPerRank(s.requestedThreads);
   if (log && cluster.isRoot()) {
-    log("> Batch run " + std::to_string(report.run) + ": " + std::to_string(tiles.size()) +
+    log("> Batch run " + std::to_string(report.run) + ": " + std::to_string(report.tiles.size()) +
         " tiles, " + std::to_string(todo.size()) + " to search (" + shareText(s) + ") on " +
         std::to_string(cluster.size()) + " rank(s) of " + std::to_string(threads) + " thread(s)");
   }
-
+  // The ranks take the tiles as they become free; the root records each.
   std::int64_t finished = 0;
   cluster.distribute(
       std::int64_t(todo.size()),
-      [&](std::int64_t k) -> std::string {
-        const Tile& tile = tiles[todo[std::size_t(k)]];
-        const auto start = std::chrono::steady_clock::now();
-        try {
-          const SearchRunSettings settings = tileSettings(s, tile, threads);
-          const RunLog tileLog = [&](const std::string& line) {
-            if (log && line.rfind("WARNING", 0) == 0) log("tile " + tile.name + ": " + line);
-          };
-          const SearchRun run = searchImage(settings, tileLog);
-          writeSearchOutputs(run, settings, {}, {}, [&](const std::string& dir) {
-            writeAreaFile(dir + "/" + kAreaFile, run);
-          });
-          const double seconds =
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-          return "done\t" + std::to_string(run.result.candidates.size()) + "\t" +
-                 formatNumber(seconds, "%.2f") + "\t" + std::to_string(cluster.rank());
-        } catch (const std::exception& e) {
-          // A tile's trouble is its own: reported and journaled, the others go on.
-          return "failed\t" + printableMessage(e.what());
-        }
+      [&](std::int64_t k) {
+        return searchTile(s, report.tiles[todo[std::size_t(k)]], threads, cluster.rank(), log);
       },
       [&](std::int64_t k, const std::string& text) {
-        const std::size_t i = todo[std::size_t(k)];
-        TileReport r = parseReport(text);
-        ++finished;
-        if (r.state == TileState::Done) {
-          journal.append(report.run, "done", tiles[i].name,
-                         std::to_string(r.candidates) + " candidates, " +
-                             formatNumber(r.seconds, "%.2f") + " s, rank " +
-                             std::to_string(r.rank));
-          if (log) {
-            log("[" + std::to_string(finished) + "/" + std::to_string(todo.size()) + "] " +
-                tiles[i].name + ": " + std::to_string(r.candidates) + " candidate(s), " +
-                formatNumber(r.seconds, "%.1f") + " s (rank " + std::to_string(r.rank) + ")");
-          }
-        } else {
-          journal.append(report.run, "failed", tiles[i].name, r.message);
-          if (log) {
-            log("[" + std::to_string(finished) + "/" + std::to_string(todo.size()) + "] " +
-                tiles[i].name + " FAILED: " + r.message);
-          }
-        }
-        report.reports[i] = std::move(r);
+        recordTile(journal, report, todo[std::size_t(k)], parseReport(text), ++finished,
+                   todo.size(), log);
       });
   if (!cluster.isRoot()) return report;
 
   // The survey outputs, once every tile is done or failed. The journal stays locked from this
   // run's last line to the survey's last file: of a job array's tasks, the one that appends
   // last sees every other task's lines, and two tasks never write the survey at once.
-  journal.appendWhileLocked(
-      report.run, "finished", "-", shareText(s), [&](const std::vector<JournalEntry>& entries) {
-        std::map<std::string, std::string> latest;
-        for (const JournalEntry& e : entries) {
-          if (e.event == "done" || e.event == "failed") latest[e.tile] = e.event;
-        }
-        report.merged = true;
-        std::vector<TileCandidates> merged;
-        std::vector<std::size_t> mergedIndex;
-        for (std::size_t i = 0; i < tiles.size(); ++i) {
-          const auto it = latest.find(tiles[i].name);
-          TileReport& r = report.reports[i];
-          if (it == latest.end()) {
-            report.merged = false;
-            continue;
-          }
-          if (r.state == TileState::OtherTask) {
-            r.state = it->second == "done" ? TileState::DoneEarlier : TileState::Failed;
-            if (r.state == TileState::Failed)
-              r.message = "(failed in another task; see journal.txt)";
-          }
-          if (it->second == "done" && r.state != TileState::Failed) {
-            // A folder that another task is redoing is not there yet: the survey waits for it.
-            if (!tileFolderComplete(s, tiles[i])) report.merged = false;
-            mergedIndex.push_back(i);
-          }
-        }
-        if (report.merged) {
-          const auto start = std::chrono::steady_clock::now();
-          for (const std::size_t i : mergedIndex) merged.push_back(loadTile(s, tiles[i]));
-          report.survey = mergeTiles(merged, s.matchRadiusArcsec);
-          if (log) {
-            log("> Merged " + std::to_string(mergedIndex.size()) + " tiles in " +
-                formatNumber(
-                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
-                    "%.2f") +
-                " s");
-          }
-          std::vector<std::int64_t> kept(tiles.size(), 0);
-          for (std::size_t k = 0; k < mergedIndex.size(); ++k) {
-            kept[mergedIndex[k]] = report.survey.keptPerTile[k];
-          }
-          report.survey.keptPerTile = kept;
-        }
-        report.summaryLines = summaryLines(s, report, cluster.size());
-        if (report.merged) {
-          writeSurveyOutputs(s, report);
-          if (log) log("> Wrote " + s.outputDir);
-        }
-      });
+  journal.appendWhileLocked(report.run, "finished", "-", shareText(s),
+                            [&](const std::vector<JournalEntry>& entries) {
+                              mergeSurvey(s, report, entries, cluster.size(), log);
+                            });
   return report;
 }
 

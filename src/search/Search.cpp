@@ -358,7 +358,10 @@ double SearchSummary::rejectedFraction() const {
   return rowsSearched > 0 ? 1.0 - double(rowsSelected) / double(rowsSearched) : kNaN;
 }
 
-SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
+namespace {
+
+// ConfigError for inputs and settings a search cannot run with.
+void checkSearchInput(const SearchInput& in, const SearchSettings& s) {
   const bool trees = s.method == SelectionMethod::Trees;
   if (in.catalog == nullptr || in.mask == nullptr ||
       (trees ? in.model == nullptr : in.grid == nullptr)) {
@@ -377,40 +380,25 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
                          s.colourBands.end()) {
     throw ConfigError("COLOUR_CUT: band " + s.colourCut->band + " is not one of COLOUR_BAND");
   }
-  const Table& catalog = *in.catalog;
-  const SearchColumns c(catalog);
-  const std::int64_t n = catalog.rows();
-  if (in.lensLightOf != nullptr && std::int64_t(in.lensLightOf->size()) != n) {
-    throw ConfigError("search: the lens-light marks do not match the catalog's rows");
-  }
+}
 
-  // The grid's scores and search space (GRID).
-  std::vector<RowScore> scores;
-  std::vector<bool> gridSpace(static_cast<std::size_t>(n), true);
-  if (!trees) {
-    scores = scoreRows(in.grid->grid, in.grid->contour, catalog);
-    if (!in.grid->provenance.searchSpaceExpression.empty()) {
-      gridSpace =
-          SearchSpace(in.grid->provenance.searchSpace.empty() ? std::string("grid")
-                                                              : in.grid->provenance.searchSpace,
-                      in.grid->provenance.searchSpaceExpression)
-              .mask(catalog);
-    }
-  }
-  std::vector<std::vector<bool>> spaceMasks;
-  for (const SearchSpace& space : s.reportSpaces) spaceMasks.push_back(space.mask(catalog));
-
-  SearchResult result;
-  SearchSummary& summary = result.summary;
-  summary.searchedPixels = in.mask->searchedPixelCount();
-  // Without a WCS, from the pixel scale (a flat, square-pixel sky).
-  summary.searchedAreaDeg2 =
-      in.wcs != nullptr ? in.mask->searchedAreaDeg2(*in.wcs)
-                        : double(summary.searchedPixels) * std::pow(s.pixelScaleArcsec / 3600.0, 2);
-  std::vector<TreeRow> tree(static_cast<std::size_t>(n));
-  // Rows inside the searched area, above the S/N floor and resolved: the rows scored.
-  std::vector<std::int64_t> scored;
+// The catalog's component tree and the rows scored: inside the searched area, above the S/N
+// floor and resolved. Counts the rows and objects searched.
+struct ScoredRows {
+  std::vector<TreeRow> tree;
   std::unordered_map<std::int64_t, std::size_t> rowOf;
+  std::vector<std::int64_t> scored;
+};
+
+ScoredRows selectScoredRows(const SearchInput& in, const SearchSettings& s, const SearchColumns& c,
+                            SearchSummary& summary) {
+  const Table& catalog = *in.catalog;
+  const std::int64_t n = catalog.rows();
+  ScoredRows out;
+  std::vector<TreeRow>& tree = out.tree;
+  std::unordered_map<std::int64_t, std::size_t>& rowOf = out.rowOf;
+  std::vector<std::int64_t>& scored = out.scored;
+  tree.resize(static_cast<std::size_t>(n));
   rowOf.reserve(std::size_t(n));
   const double resolvedMinPix = s.resolvedMinArcsec / s.pixelScaleArcsec;
   for (std::int64_t r = 0; r < n; ++r) {
@@ -433,14 +421,18 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
     const double size = catalog.value(r, c.size);
     if (snr > s.snrMin && std::sqrt(2.0) * size > resolvedMinPix) scored.push_back(r);
   }
-  summary.rowsScored = std::int64_t(scored.size());
-  summary.priorFraction =
-      searchPriorFraction(s.lensDensityPerDeg2, summary.searchedAreaDeg2, summary.rowsScored,
-                          trees ? in.model->training.arcRowsPerSystem : 1.0);
-  const double priorLogOdds = std::log(summary.priorFraction / (1.0 - summary.priorFraction));
+  return out;
+}
 
-  // LENS_SCORE of the rows scored.
-  std::vector<double> lensScore(std::size_t(n), kNaN);
+// LENS_SCORE of the rows scored (NaN for the others): the trees' odds, or the grid's
+// probability of the row's bin against the searched rows' share of it, with the prior.
+std::vector<double> lensScores(const SearchInput& in, const SearchSettings& s,
+                               const std::vector<std::int64_t>& scored,
+                               const std::vector<RowScore>& scores, const SearchSummary& summary) {
+  const Table& catalog = *in.catalog;
+  const bool trees = s.method == SelectionMethod::Trees;
+  const double priorLogOdds = std::log(summary.priorFraction / (1.0 - summary.priorFraction));
+  std::vector<double> lensScore(std::size_t(catalog.rows()), kNaN);
   if (trees) {
     const std::vector<ArcContext> contexts =
         arcContexts(catalog, {s.pixelScaleArcsec, in.model->contextRadiusArcsec});
@@ -465,10 +457,39 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
       lensScore[std::size_t(r)] = logistic(std::log(score.probability / rowShare) + priorLogOdds);
     }
   }
-  std::vector<bool> passed(std::size_t(n), false);
+  return lensScore;
+}
+
+// The grid's scores of every row and its own search space (GRID).
+struct GridScores {
+  std::vector<RowScore> scores;
+  std::vector<bool> inSpace;
+};
+
+GridScores gridScores(const SavedGrid& grid, const Table& catalog) {
+  GridScores out{scoreRows(grid.grid, grid.contour, catalog),
+                 std::vector<bool>(std::size_t(catalog.rows()), true)};
+  if (!grid.provenance.searchSpaceExpression.empty()) {
+    out.inSpace = SearchSpace(grid.provenance.searchSpace.empty() ? std::string("grid")
+                                                                  : grid.provenance.searchSpace,
+                              grid.provenance.searchSpaceExpression)
+                      .mask(catalog);
+  }
+  return out;
+}
+
+// The scored rows that pass: LENS_SCORE at least SCORE_MIN and, with the grid, in its contour
+// and search space. Counts them, overall and per report space.
+std::vector<bool> passedRows(const SearchSettings& s, const std::vector<std::int64_t>& scored,
+                             const std::vector<double>& lensScore, const GridScores& grid,
+                             const std::vector<std::vector<bool>>& spaceMasks, std::size_t rows,
+                             SearchSummary& summary) {
+  const bool trees = s.method == SelectionMethod::Trees;
+  std::vector<bool> passed(rows, false);
   for (const std::int64_t r : scored) {
     const std::size_t i = std::size_t(r);
-    passed[i] = lensScore[i] >= s.scoreMin && (trees || (gridSpace[i] && scores[i].selected));
+    passed[i] =
+        lensScore[i] >= s.scoreMin && (trees || (grid.inSpace[i] && grid.scores[i].selected));
     if (passed[i]) ++summary.rowsSelected;
   }
   for (std::size_t k = 0; k < s.reportSpaces.size(); ++k) {
@@ -477,195 +498,311 @@ SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
       count.rowsPassed += passed[i] && spaceMasks[k][i];
     summary.spaces.push_back(count);
   }
+  return passed;
+}
+
+// A column's values, or none when the catalog lacks it.
+std::vector<double> columnValues(const Table& catalog, const char* name) {
+  const int column = catalog.findColumn(name);
+  std::vector<double> values;
+  if (column < 0) return values;
+  for (std::int64_t r = 0; r < catalog.rows(); ++r) values.push_back(catalog.value(r, column));
+  return values;
+}
+
+// The candidates, overall and per report space.
+void countCandidates(const SearchSettings& s, SearchResult& result) {
+  for (const Candidate& cand : result.candidates) {
+    for (std::size_t k = 0; k < s.reportSpaces.size(); ++k) {
+      if (cand.spaces & (1u << k)) ++result.summary.spaces[k].candidates;
+    }
+  }
+  result.summary.candidates = std::int64_t(result.candidates.size());
+}
+
+// What every candidate is made from: the catalog, its component tree, the rows near each
+// position, each row's brightest peak, the scores.
+struct CandidateContext {
+  const SearchInput& in;
+  const SearchSettings& s;
+  const Table& catalog;
+  const SearchColumns& c;
+  const std::vector<TreeRow>& tree;
+  const std::unordered_map<std::int64_t, std::size_t>& rowOf;
+  const RowCells& nearby;
+  const RowIndex& index;
+  const std::vector<std::size_t>& peaks;
+  const std::vector<double>& fluxMax;
+  const std::vector<double>& lensScore;
+  const std::vector<RowScore>& scores;
+  const std::vector<std::vector<bool>>& spaceMasks;
+  int arcnessColumn = -1;
+  int maxLevel = 1;
+  double lensRadiusPix = 0.0;
+  double inArcPeakMinPix = 0.0;  // a blend's peak nearer its centroid is the arc's own core
+  double x(std::size_t r) const { return catalog.value(std::int64_t(r), c.x); }
+  double y(std::size_t r) const { return catalog.value(std::int64_t(r), c.y); }
+};
+
+// The galaxies that may be the lens of `object` (best row at x, y): another galaxy at the arc's
+// level or at the lowest one; the arc's own ancestors contain it (their centroids are pulled
+// towards it) and are left out. Each is placed at, and compared by, its brightest peak.
+std::vector<LensCandidateGalaxy> lensGalaxies(const CandidateContext& k, const MergedObject& object,
+                                              double x, double y) {
+  const SearchInput& in = k.in;
+  const TreeRow& id = k.tree[object.bestRow];
+  std::vector<std::size_t> ancestors;
+  for (TreeRow walk = id; walk.level > 1;) {
+    const auto up = k.rowOf.find(treeKey(walk.level - 1, walk.parentNumber));
+    if (up == k.rowOf.end()) break;
+    ancestors.push_back(up->second);
+    walk = k.tree[up->second];
+  }
+  const bool imageArc = lensLightOf(in, object.bestRow) < 0;
+  auto galaxyAt = [&](std::size_t row, bool inArc) {
+    const std::size_t p = k.peaks[row];
+    return LensCandidateGalaxy{
+        k.x(p), k.y(p), row, k.tree[p].level, k.fluxMax.empty() ? kNaN : k.fluxMax[p], inArc};
+  };
+  std::vector<LensCandidateGalaxy> galaxies;
+  for (const int level : {1, id.level}) {
+    k.nearby.forEachNear(level, x, y, [&](std::size_t i) {
+      if (i == object.bestRow ||
+          std::find(ancestors.begin(), ancestors.end(), i) != ancestors.end() ||
+          (imageArc && addedResidualRow(in, i))) {
+        return;
+      }
+      if (std::hypot(k.x(i) - x, k.y(i) - y) <= k.lensRadiusPix) {
+        galaxies.push_back(galaxyAt(i, false));
+      }
+    });
+    if (id.level == 1) break;
+  }
+  // An arc blended with its lens: the blend's brightest peak, off its centroid, is the lens's
+  // core (a peak at the centroid is the arc's own).
+  const std::size_t ownPeak = k.peaks[object.bestRow];
+  if (imageArc && std::hypot(k.x(ownPeak) - x, k.y(ownPeak) - y) >= k.inArcPeakMinPix) {
+    galaxies.push_back(galaxyAt(object.bestRow, true));
+    galaxies.back().row = ownPeak;
+  }
+  return galaxies;
+}
+
+// The lens `match` names, its distance to the arc and the Einstein radius they give.
+CandidateLens describeLens(const CandidateContext& k, const MergedObject& object,
+                           const Candidate& cand, const LensMatch& match,
+                           std::pair<double, double> lensXY, const ArcGeometry& arc) {
+  const SearchInput& in = k.in;
+  const double x = arc.xCentroid, y = arc.yCentroid;
+  const std::int64_t fittedLens = lensLightOf(in, object.bestRow);
+  const bool imageArc = fittedLens < 0;
+  CandidateLens lens;
+  lens.row = match.row;
+  std::tie(lens.xPix, lens.yPix) = lensXY;
+  if (in.wcs != nullptr) {
+    const auto sky = in.wcs->pixelToJ2000(lens.xPix, lens.yPix);
+    lens.raDeg = sky[0];
+    lens.decDeg = sky[1];
+  }
+  // The arc's position: its centroid, or for a blend the passing row farthest from the lens
+  // (the blend's centroid is pulled onto the lens).
+  double xArc = x, yArc = y;
+  std::vector<LensCandidateGalaxy> counterImages;
+  if (cand.flags & kCandidateLensInArc) {
+    for (const std::size_t r : object.rows) {
+      if (std::hypot(k.x(r) - lens.xPix, k.y(r) - lens.yPix) >
+          std::hypot(xArc - lens.xPix, yArc - lens.yPix)) {
+        xArc = k.x(r);
+        yArc = k.y(r);
+      }
+    }
+  } else {
+    // Possible counter-images: objects at any level near the lens, neither the arc's nor
+    // the lens's core (a counter-image blended with the lens separates at a higher level).
+    const std::size_t lensPeak = fittedLens >= 0 ? match.row : k.peaks[match.row];
+    for (int level = 1; level <= k.maxLevel; ++level) {
+      k.nearby.forEachNear(level, lens.xPix, lens.yPix, [&](std::size_t i) {
+        if (k.index.related(i, object.bestRow) || k.index.related(i, lensPeak) ||
+            std::size_t(fittedLens) == i || (imageArc && addedResidualRow(in, i)) ||
+            lensLightOf(in, i) == kLensOnlyRow) {
+          return;
+        }
+        counterImages.push_back({k.x(i), k.y(i), i});
+      });
+    }
+  }
+  const EinsteinRadiusEstimate estimate = estimateEinsteinRadius(
+      lens.xPix, lens.yPix, xArc, yArc,
+      (cand.flags & kCandidateLensInArc) ? std::nullopt : arc.curvature, counterImages);
+  lens.distanceArcsec = std::hypot(xArc - lens.xPix, yArc - lens.yPix) * k.s.pixelScaleArcsec;
+  lens.einsteinRadiusArcsec = estimate.thetaEPix * k.s.pixelScaleArcsec;
+  lens.thetaEMethod = estimate.method;
+  return lens;
+}
+
+// One object's candidate: its best row, scores, report spaces and position, its arc geometry,
+// and its lens (or none: a possible dark lens).
+Candidate makeCandidate(const CandidateContext& k, const MergedObject& object,
+                        const std::optional<CircleFit>& curvature) {
+  const SearchInput& in = k.in;
+  const SearchSettings& s = k.s;
+  const Table& catalog = k.catalog;
+  const SearchColumns& c = k.c;
+  const bool trees = s.method == SelectionMethod::Trees;
+  Candidate cand;
+  cand.row = object.bestRow;
+  cand.rows = object.rows;
+  cand.passedLevels = object.passedLevels;
+  cand.lensScore = k.lensScore[object.bestRow];
+  cand.probability = trees ? kNaN : k.scores[object.bestRow].probability;
+  cand.contourLevel = trees ? kNaN : k.scores[object.bestRow].entryLevel;
+  for (std::size_t space = 0; space < s.reportSpaces.size(); ++space) {
+    for (const std::size_t r : object.rows) {
+      if (k.spaceMasks[space][r]) cand.spaces |= 1u << space;
+    }
+  }
+  const std::int64_t best = std::int64_t(object.bestRow);
+  const double x = catalog.value(best, c.x);
+  const double y = catalog.value(best, c.y);
+  if (in.wcs != nullptr) {
+    const auto sky = in.wcs->pixelToJ2000(x, y);
+    cand.raDeg = sky[0];
+    cand.decDeg = sky[1];
+    cand.name = iauDesignation(s.namePrefix, sky[0], sky[1]);
+  } else {
+    cand.flags |= kCandidateNoWcs;
+  }
+  const std::vector<LensCandidateGalaxy> galaxies = lensGalaxies(k, object, x, y);
+  ArcGeometry arc;
+  arc.xCentroid = x;
+  arc.yCentroid = y;
+  arc.thetaRad = 0.5 * std::atan2(catalog.value(best, c.e2), catalog.value(best, c.e1));
+  const double side = catalog.value(best, c.arcSide);
+  arc.arcSide = side > 0 ? 1 : side < 0 ? -1 : 0;
+  arc.curvature = curvature;
+  cand.curvature = arc.curvature;
+  if (!arc.curvature) cand.flags |= kCandidateNoCurvature;
+  // Below LENS_SIDE_ARCNESS the octopole does not tell the concave side: any side.
+  const double arcness = k.arcnessColumn >= 0 ? catalog.value(best, k.arcnessColumn) : kNaN;
+  std::optional<LensMatch> match;
+  std::pair<double, double> lensXY;
+  const std::int64_t fittedLens = lensLightOf(in, object.bestRow);
+  if (fittedLens >= 0) {
+    // Found in the residual of a fitted galaxy: that galaxy is the lens, at its fitted centre
+    // (not pulled towards the arc, part of the galaxy's object, as its centroid is).
+    cand.flags |= kCandidateLensLight;
+    lensXY = {k.x(std::size_t(fittedLens)), k.y(std::size_t(fittedLens))};
+    if (in.fittedCentres != nullptr) {
+      const auto found = in.fittedCentres->find(std::size_t(fittedLens));
+      if (found != in.fittedCentres->end()) lensXY = found->second;
+    }
+    match = LensMatch{std::size_t(fittedLens), std::hypot(lensXY.first - x, lensXY.second - y)};
+  } else {
+    if (std::abs(arcness) < s.sideMinArcness) {
+      cand.flags |= kCandidateSideUnknown;
+      arc.arcSide = 0;
+    }
+    match = findBrightestLens(arc, galaxies, k.lensRadiusPix);
+    if (match) {
+      for (const LensCandidateGalaxy& g : galaxies) {
+        if (g.row != match->row) continue;
+        lensXY = {g.x, g.y};
+        if (g.inArc) cand.flags |= kCandidateLensInArc;
+      }
+    }
+  }
+  if (match) {
+    cand.lens = describeLens(k, object, cand, *match, lensXY, arc);
+  } else {
+    cand.flags |= kCandidateDarkLens;
+  }
+  return cand;
+}
+
+// COLOUR_CUT: removes the candidates whose arc minus lens colour exceeds the cut's MAX.
+void applyColourCut(const SearchSettings& s, SearchResult& result) {
+  if (!s.colourCut) return;
+  const auto band = std::find(s.colourBands.begin(), s.colourBands.end(), s.colourCut->band);
+  const std::size_t magIndex = std::size_t(band - s.colourBands.begin()) + 1;
+  const auto removed = std::remove_if(
+      result.candidates.begin(), result.candidates.end(), [&](const Candidate& cand) {
+        return failsColourCut(cand, magIndex, s.colourCut->maxArcMinusLensMag);
+      });
+  result.summary.removedByColourCut = std::int64_t(result.candidates.end() - removed);
+  result.candidates.erase(removed, result.candidates.end());
+}
+
+}  // namespace
+
+SearchResult searchCandidates(const SearchInput& in, const SearchSettings& s) {
+  checkSearchInput(in, s);
+  const bool trees = s.method == SelectionMethod::Trees;
+  const Table& catalog = *in.catalog;
+  const SearchColumns c(catalog);
+  const std::int64_t n = catalog.rows();
+  if (in.lensLightOf != nullptr && std::int64_t(in.lensLightOf->size()) != n) {
+    throw ConfigError("search: the lens-light marks do not match the catalog's rows");
+  }
+
+  const GridScores grid = trees ? GridScores{{}, std::vector<bool>(std::size_t(n), true)}
+                                : gridScores(*in.grid, catalog);
+  const std::vector<RowScore>& scores = grid.scores;
+  std::vector<std::vector<bool>> spaceMasks;
+  for (const SearchSpace& space : s.reportSpaces) spaceMasks.push_back(space.mask(catalog));
+
+  SearchResult result;
+  SearchSummary& summary = result.summary;
+  summary.searchedPixels = in.mask->searchedPixelCount();
+  // Without a WCS, from the pixel scale (a flat, square-pixel sky).
+  summary.searchedAreaDeg2 =
+      in.wcs != nullptr ? in.mask->searchedAreaDeg2(*in.wcs)
+                        : double(summary.searchedPixels) * std::pow(s.pixelScaleArcsec / 3600.0, 2);
+  const ScoredRows rows = selectScoredRows(in, s, c, summary);
+  const std::vector<TreeRow>& tree = rows.tree;
+  const std::vector<std::int64_t>& scored = rows.scored;
+  summary.rowsScored = std::int64_t(scored.size());
+  summary.priorFraction =
+      searchPriorFraction(s.lensDensityPerDeg2, summary.searchedAreaDeg2, summary.rowsScored,
+                          trees ? in.model->training.arcRowsPerSystem : 1.0);
+  const std::vector<double> lensScore = lensScores(in, s, scored, scores, summary);
+  const std::vector<bool> passed =
+      passedRows(s, scored, lensScore, grid, spaceMasks, std::size_t(n), summary);
 
   const std::vector<MergedObject> objects = mergeAcrossLevels(tree, passed, lensScore);
   const double lensRadiusPix = s.lensRadiusArcsec / s.pixelScaleArcsec;
   const RowCells nearby(catalog, c, tree, lensRadiusPix);
-  const int arcnessColumn = catalog.findColumn("ARCNESS");
   const std::vector<std::optional<CircleFit>> curvatures = curvaturesOf(in, objects, tree);
-  const int fluxMaxColumn = catalog.findColumn("FLUX_MAX");
-  std::vector<double> fluxMax;
-  if (fluxMaxColumn >= 0) {
-    for (std::int64_t r = 0; r < n; ++r) fluxMax.push_back(catalog.value(r, fluxMaxColumn));
-  }
-  const std::vector<std::size_t> peaks = brightestPeaks(tree, rowOf, fluxMax);
+  const std::vector<double> fluxMax = columnValues(catalog, "FLUX_MAX");
+  const std::vector<std::size_t> peaks = brightestPeaks(tree, rows.rowOf, fluxMax);
   int maxLevel = 1;
   for (const TreeRow& t : tree) maxLevel = std::max(maxLevel, t.level);
-  const RowIndex index{tree, rowOf};
-  auto xOf = [&](std::size_t r) { return catalog.value(std::int64_t(r), c.x); };
-  auto yOf = [&](std::size_t r) { return catalog.value(std::int64_t(r), c.y); };
-  // A blend's peak nearer its centroid than this is the arc's own core, not a lens's.
-  const double inArcPeakMinPix = kInArcPeakMinArcsec / s.pixelScaleArcsec;
+  const RowIndex index{tree, rows.rowOf};
+  const CandidateContext context{in,
+                                 s,
+                                 catalog,
+                                 c,
+                                 tree,
+                                 rows.rowOf,
+                                 nearby,
+                                 index,
+                                 peaks,
+                                 fluxMax,
+                                 lensScore,
+                                 scores,
+                                 spaceMasks,
+                                 catalog.findColumn("ARCNESS"),
+                                 maxLevel,
+                                 lensRadiusPix,
+                                 kInArcPeakMinArcsec / s.pixelScaleArcsec};
   for (std::size_t k = 0; k < objects.size(); ++k) {
-    const MergedObject& object = objects[k];
-    Candidate cand;
-    cand.row = object.bestRow;
-    cand.rows = object.rows;
-    cand.passedLevels = object.passedLevels;
-    cand.lensScore = lensScore[object.bestRow];
-    cand.probability = trees ? kNaN : scores[object.bestRow].probability;
-    cand.contourLevel = trees ? kNaN : scores[object.bestRow].entryLevel;
-    for (std::size_t k = 0; k < s.reportSpaces.size(); ++k) {
-      for (const std::size_t r : object.rows) {
-        if (spaceMasks[k][r]) cand.spaces |= 1u << k;
-      }
-    }
-    const std::int64_t best = std::int64_t(object.bestRow);
-    const TreeRow& id = tree[object.bestRow];
-    const double x = catalog.value(best, c.x);
-    const double y = catalog.value(best, c.y);
-    if (in.wcs != nullptr) {
-      const auto sky = in.wcs->pixelToJ2000(x, y);
-      cand.raDeg = sky[0];
-      cand.decDeg = sky[1];
-      cand.name = iauDesignation(s.namePrefix, sky[0], sky[1]);
-    } else {
-      cand.flags |= kCandidateNoWcs;
-    }
-
-    // The lens: another galaxy at the arc's level or at the lowest one; the arc's own ancestors
-    // contain it (their centroids are pulled towards it) and are left out. Each is placed at, and
-    // compared by, its brightest peak.
-    std::vector<std::size_t> ancestors;
-    for (TreeRow walk = id; walk.level > 1;) {
-      const auto up = rowOf.find(treeKey(walk.level - 1, walk.parentNumber));
-      if (up == rowOf.end()) break;
-      ancestors.push_back(up->second);
-      walk = tree[up->second];
-    }
-    const bool imageArc = lensLightOf(in, object.bestRow) < 0;
-    auto galaxyAt = [&](std::size_t row, bool inArc) {
-      const std::size_t p = peaks[row];
-      return LensCandidateGalaxy{
-          xOf(p), yOf(p), row, tree[p].level, fluxMax.empty() ? kNaN : fluxMax[p], inArc};
-    };
-    std::vector<LensCandidateGalaxy> galaxies;
-    for (const int level : {1, id.level}) {
-      nearby.forEachNear(level, x, y, [&](std::size_t i) {
-        if (i == object.bestRow ||
-            std::find(ancestors.begin(), ancestors.end(), i) != ancestors.end() ||
-            (imageArc && addedResidualRow(in, i))) {
-          return;
-        }
-        if (std::hypot(xOf(i) - x, yOf(i) - y) <= lensRadiusPix) {
-          galaxies.push_back(galaxyAt(i, false));
-        }
-      });
-      if (id.level == 1) break;
-    }
-    // An arc blended with its lens: the blend's brightest peak, off its centroid, is the lens's
-    // core (a peak at the centroid is the arc's own).
-    const std::size_t ownPeak = peaks[object.bestRow];
-    if (imageArc && std::hypot(xOf(ownPeak) - x, yOf(ownPeak) - y) >= inArcPeakMinPix) {
-      galaxies.push_back(galaxyAt(object.bestRow, true));
-      galaxies.back().row = ownPeak;
-    }
-    ArcGeometry arc;
-    arc.xCentroid = x;
-    arc.yCentroid = y;
-    arc.thetaRad = 0.5 * std::atan2(catalog.value(best, c.e2), catalog.value(best, c.e1));
-    const double side = catalog.value(best, c.arcSide);
-    arc.arcSide = side > 0 ? 1 : side < 0 ? -1 : 0;
-    arc.curvature = curvatures[k];
-    cand.curvature = arc.curvature;
-    if (!arc.curvature) cand.flags |= kCandidateNoCurvature;
-    // Below LENS_SIDE_ARCNESS the octopole does not tell the concave side: any side.
-    const double arcness = arcnessColumn >= 0 ? catalog.value(best, arcnessColumn) : kNaN;
-    std::optional<LensMatch> match;
-    std::pair<double, double> lensXY;
-    const std::int64_t fittedLens = lensLightOf(in, object.bestRow);
-    if (fittedLens >= 0) {
-      // Found in the residual of a fitted galaxy: that galaxy is the lens, at its fitted centre
-      // (not pulled towards the arc, part of the galaxy's object, as its centroid is).
-      cand.flags |= kCandidateLensLight;
-      lensXY = {xOf(std::size_t(fittedLens)), yOf(std::size_t(fittedLens))};
-      if (in.fittedCentres != nullptr) {
-        const auto found = in.fittedCentres->find(std::size_t(fittedLens));
-        if (found != in.fittedCentres->end()) lensXY = found->second;
-      }
-      match = LensMatch{std::size_t(fittedLens), std::hypot(lensXY.first - x, lensXY.second - y)};
-    } else {
-      if (std::abs(arcness) < s.sideMinArcness) {
-        cand.flags |= kCandidateSideUnknown;
-        arc.arcSide = 0;
-      }
-      match = findBrightestLens(arc, galaxies, lensRadiusPix);
-      if (match) {
-        for (const LensCandidateGalaxy& g : galaxies) {
-          if (g.row != match->row) continue;
-          lensXY = {g.x, g.y};
-          if (g.inArc) cand.flags |= kCandidateLensInArc;
-        }
-      }
-    }
-    if (match) {
-      CandidateLens lens;
-      lens.row = match->row;
-      std::tie(lens.xPix, lens.yPix) = lensXY;
-      if (in.wcs != nullptr) {
-        const auto sky = in.wcs->pixelToJ2000(lens.xPix, lens.yPix);
-        lens.raDeg = sky[0];
-        lens.decDeg = sky[1];
-      }
-      // The arc's position: its centroid, or for a blend the passing row farthest from the lens
-      // (the blend's centroid is pulled onto the lens).
-      double xArc = x, yArc = y;
-      std::vector<LensCandidateGalaxy> counterImages;
-      if (cand.flags & kCandidateLensInArc) {
-        for (const std::size_t r : object.rows) {
-          if (std::hypot(xOf(r) - lens.xPix, yOf(r) - lens.yPix) >
-              std::hypot(xArc - lens.xPix, yArc - lens.yPix)) {
-            xArc = xOf(r);
-            yArc = yOf(r);
-          }
-        }
-      } else {
-        // Possible counter-images: objects at any level near the lens, neither the arc's nor
-        // the lens's core (a counter-image blended with the lens separates at a higher level).
-        const std::size_t lensPeak = fittedLens >= 0 ? match->row : peaks[match->row];
-        for (int level = 1; level <= maxLevel; ++level) {
-          nearby.forEachNear(level, lens.xPix, lens.yPix, [&](std::size_t i) {
-            if (index.related(i, object.bestRow) || index.related(i, lensPeak) ||
-                std::size_t(fittedLens) == i || (imageArc && addedResidualRow(in, i)) ||
-                lensLightOf(in, i) == kLensOnlyRow) {
-              return;
-            }
-            counterImages.push_back({xOf(i), yOf(i), i});
-          });
-        }
-      }
-      const EinsteinRadiusEstimate estimate = estimateEinsteinRadius(
-          lens.xPix, lens.yPix, xArc, yArc,
-          (cand.flags & kCandidateLensInArc) ? std::nullopt : arc.curvature, counterImages);
-      lens.distanceArcsec = std::hypot(xArc - lens.xPix, yArc - lens.yPix) * s.pixelScaleArcsec;
-      lens.einsteinRadiusArcsec = estimate.thetaEPix * s.pixelScaleArcsec;
-      lens.thetaEMethod = estimate.method;
-      cand.lens = lens;
-    } else {
-      cand.flags |= kCandidateDarkLens;
-    }
-    result.candidates.push_back(std::move(cand));
+    result.candidates.push_back(makeCandidate(context, objects[k], curvatures[k]));
   }
   if (in.residualRowsAreExtra) dropResidualDuplicates(catalog, c, s, result.candidates);
   if (!s.colourBands.empty()) {
     addColours(in, s, c, index, nearby, lensRadiusPix, result.candidates);
   }
-  if (s.colourCut) {
-    const auto band = std::find(s.colourBands.begin(), s.colourBands.end(), s.colourCut->band);
-    const std::size_t magIndex = std::size_t(band - s.colourBands.begin()) + 1;
-    const auto removed = std::remove_if(
-        result.candidates.begin(), result.candidates.end(), [&](const Candidate& cand) {
-          return failsColourCut(cand, magIndex, s.colourCut->maxArcMinusLensMag);
-        });
-    summary.removedByColourCut = std::int64_t(result.candidates.end() - removed);
-    result.candidates.erase(removed, result.candidates.end());
-  }
-  for (const Candidate& cand : result.candidates) {
-    for (std::size_t k = 0; k < s.reportSpaces.size(); ++k) {
-      if (cand.spaces & (1u << k)) ++summary.spaces[k].candidates;
-    }
-  }
-  summary.candidates = std::int64_t(result.candidates.size());
+  applyColourCut(s, result);
+  countCandidates(s, result);
   return result;
 }
 
