@@ -83,48 +83,48 @@ int runDemo(const std::vector<std::string>& args) {
   const std::optional<ParsedOptions> parsed = parseOptions(
       args, {"demo", [&] { printDemoUsage(options); }, printCandidateColumns}, options);
   if (!parsed) return 0;
-  const po::variables_map* vm = &parsed->values;
-  const bool quiet = vm->count("quiet") > 0;
+  const po::variables_map& vm = parsed->values;
+  const bool quiet = vm.count("quiet") > 0;
   InjectionDemoSettings demo;
   FieldSimulationSettings& s = demo.field;
-  s.sizePix = (*vm)["size"].as<int>();
-  s.lensCount = (*vm)["lenses"].as<int>();
-  s.seed = (*vm)["seed"].as<std::uint64_t>();
-  s.threads = (*vm)["threads"].as<int>();
-  s.minEinsteinRadiusArcsec = (*vm)["min-einstein-radius"].as<double>();
-  s.maxEinsteinRadiusArcsec = (*vm)["max-einstein-radius"].as<double>();
-  if (vm->count("population")) s.populationPath = (*vm)["population"].as<std::string>();
-  demo.lensLight = (*vm)["lens-light"].as<std::string>();
+  s.sizePix = vm["size"].as<int>();
+  s.lensCount = vm["lenses"].as<int>();
+  s.seed = vm["seed"].as<std::uint64_t>();
+  s.threads = vm["threads"].as<int>();
+  s.minEinsteinRadiusArcsec = vm["min-einstein-radius"].as<double>();
+  s.maxEinsteinRadiusArcsec = vm["max-einstein-radius"].as<double>();
+  if (vm.count("population")) s.populationPath = vm["population"].as<std::string>();
+  demo.lensLight = vm["lens-light"].as<std::string>();
   (void)lenslight::parseSubtractionMode(demo.lensLight);  // checked before anything is made
-  if (vm->count("pixel-scale")) s.pixelScaleArcsec = (*vm)["pixel-scale"].as<double>();
-  if (vm->count("seeing")) s.seeingFwhmArcsec = (*vm)["seeing"].as<double>();
-  if (vm->count("mag-zero")) s.magZeroPoint = (*vm)["mag-zero"].as<double>();
-  if (vm->count("gain")) s.gainElectronsPerAdu = (*vm)["gain"].as<double>();
-  if (vm->count("into")) {
-    demo.real.imagePath = (*vm)["into"].as<std::string>();
+  if (vm.count("pixel-scale")) s.pixelScaleArcsec = vm["pixel-scale"].as<double>();
+  if (vm.count("seeing")) s.seeingFwhmArcsec = vm["seeing"].as<double>();
+  if (vm.count("mag-zero")) s.magZeroPoint = vm["mag-zero"].as<double>();
+  if (vm.count("gain")) s.gainElectronsPerAdu = vm["gain"].as<double>();
+  if (vm.count("into")) {
+    demo.real.imagePath = vm["into"].as<std::string>();
     // A real image's instrument is not the simulated survey's: nothing is assumed.
     for (const char* option : {"pixel-scale", "seeing", "mag-zero", "gain"}) {
-      if (!vm->count(option)) {
+      if (!vm.count(option)) {
         throw ConfigError(std::string("--into: give the image's --") + option +
                           " (all of --pixel-scale, --seeing, --mag-zero and --gain)");
       }
     }
   }
-  if (vm->count("into-weight")) {
+  if (vm.count("into-weight")) {
     if (demo.real.imagePath.empty()) throw ConfigError("--into-weight: only with --into");
-    demo.real.weightPath = (*vm)["into-weight"].as<std::string>();
+    demo.real.weightPath = vm["into-weight"].as<std::string>();
   }
-  const std::string method = (*vm)["method"].as<std::string>();
+  const std::string method = vm["method"].as<std::string>();
   if (method != "TREES" && method != "GRID") {
     throw ConfigError("--method: TREES or GRID, not '" + method + "'");
   }
   demo.trees = method == "TREES";
-  if (vm->count("grid")) demo.gridPath = (*vm)["grid"].as<std::string>();
-  if (vm->count("model")) demo.modelPath = (*vm)["model"].as<std::string>();
-  demo.outDir = (*vm)["out"].as<std::string>();
-  demo.snrMin = (*vm)["snr-min"].as<double>();
-  if (vm->count("score-min")) demo.scoreMin = (*vm)["score-min"].as<double>();
-  if (vm->count("lens-density")) demo.lensDensityPerDeg2 = (*vm)["lens-density"].as<double>();
+  if (vm.count("grid")) demo.gridPath = vm["grid"].as<std::string>();
+  if (vm.count("model")) demo.modelPath = vm["model"].as<std::string>();
+  demo.outDir = vm["out"].as<std::string>();
+  demo.snrMin = vm["snr-min"].as<double>();
+  if (vm.count("score-min")) demo.scoreMin = vm["score-min"].as<double>();
+  if (vm.count("lens-density")) demo.lensDensityPerDeg2 = vm["lens-density"].as<double>();
   demo.simulateProgress = terminalProgress("simulate", "objects", quiet);
   demo.stampProgress = terminalProgress("stamps", "stamps", quiet);
   if (!quiet) demo.log = [](const std::string& line) { std::cerr << line << "\n"; };
