@@ -371,7 +371,9 @@ void checkSearchInput(const SearchInput& in, const SearchSettings& s) {
   if (!(s.pixelScaleArcsec > 0.0)) throw ConfigError("search: the pixel scale must be positive");
   if (!(s.lensRadiusArcsec >= 0.0)) throw ConfigError("LENS_RADIUS: must not be negative");
   if (!(s.lensDensityPerDeg2 > 0.0)) throw ConfigError("LENS_DENSITY: must be positive");
-  if (s.reportSpaces.size() > 30) throw ConfigError("SEARCH_SPACE: at most 30 spaces");
+  if (s.reportSpaces.size() > std::size_t(kMaxReportSpaces)) {
+    throw ConfigError("SEARCH_SPACE: at most " + std::to_string(kMaxReportSpaces) + " spaces");
+  }
   if (!s.colourBands.empty() && (in.bands == nullptr || in.bands->size() != s.colourBands.size() ||
                                  in.measurementBand == nullptr || in.footprints == nullptr)) {
     throw ConfigError("search: colours need the footprints and one image per colour band");
