@@ -55,6 +55,8 @@ packages=(
   scamp
   # The installation test records every file octarc opens
   strace
+  # and checks the installed man pages with mandoc's linter
+  mandoc
   # The benchmark scripts time whole runs (wall, CPU, peak memory)
   time
 

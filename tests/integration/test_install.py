@@ -12,7 +12,7 @@ import unittest
 import numpy as np
 from astropy.io import fits
 
-from octarc_testlib import OCTARC, SOURCE_DIR, WorkDirTest, param_names
+from octarc_testlib import OCTARC, SOURCE_DIR, WorkDirTest, param_names, require_program
 
 BUILD_DIR = os.environ.get("OCTARC_BUILD_DIR", "")
 CMAKE = os.environ.get("OCTARC_CMAKE", "cmake")
@@ -36,10 +36,16 @@ def tree_files(folder):
             for f in names]
 
 
-# Every installed file: the program and its data, the documentation (README, LICENSE, docs/),
-# and the libraries with their headers and CMake package.
+# The man pages: octarc(1) and one per command.
+COMMANDS = ["measure", "detect", "simulate lenses", "simulate field", "simulate database",
+            "calibrate", "search", "batch", "demo"]
+MAN_PAGES = ["octarc.1"] + ["octarc-%s.1" % c.replace(" ", "-") for c in COMMANDS]
+
+# Every installed file: the program and its data, the documentation (README, LICENSE, docs/,
+# the man pages), and the libraries with their headers and CMake package.
 INSTALLED = sorted(
     ["bin/octarc", "share/doc/octarc/README.md", "share/doc/octarc/LICENSE"] +
+    ["share/man/man1/" + name for name in MAN_PAGES] +
     ["share/doc/octarc/" + name for name in tree_files("docs")] +
     ["share/octarc/" + name for name in DATA] +
     ["lib/liboctarc_%s.a" % name for name in LIBRARIES] +
@@ -153,6 +159,38 @@ class InstalledTree(WorkDirTest):
             for tree in trees:
                 self.assertFalse(path.startswith(tree) or real.startswith(tree), path)
 
+
+    def test_man_pages_say_what_the_commands_print(self):
+        # Each page holds its command's -h text and, for a command, every key of its -dd
+        # listing; mandoc's linter finds no warning or error in any.
+        require_program("mandoc")
+        prefix = self.path("prefix")
+        subprocess.run([CMAKE, "--install", BUILD_DIR, "--prefix", prefix], check=True,
+                       capture_output=True)
+        for command, name in zip([""] + COMMANDS, MAN_PAGES):
+            page = os.path.join(prefix, "share", "man", "man1", name)
+            lint = subprocess.run(["mandoc", "-T", "lint", "-W", "warning", page],
+                                  capture_output=True, text=True)
+            self.assertEqual(lint.returncode, 0, lint.stdout + lint.stderr)
+            # The page as a reader sees it, as plain text.
+            text = subprocess.run(["mandoc", "-T", "ascii", "-O", "width=200", page],
+                                  check=True, capture_output=True, text=True).stdout
+            text = re.sub(r".\x08", "", text)  # overstrike (bold) removed
+            args = command.split()
+            usage = subprocess.run([OCTARC, *args, "-h"], check=True, capture_output=True,
+                                   text=True).stdout
+            for line in usage.splitlines():
+                self.assertIn(line.strip(), text, name)
+            title = "octarc" + "".join("-" + a for a in args)
+            self.assertIn("%s - " % title, text, name)
+            if command:
+                keys = subprocess.run([OCTARC, *args, "-dd"], check=True, capture_output=True,
+                                      text=True).stdout
+                names = [line.split()[0] for line in keys.splitlines()
+                         if line.strip() and not line.startswith("#")]
+                self.assertGreater(len(names), 0, name)
+                for key in names:
+                    self.assertRegex(text, r"(^|\n) *%s( |\n)" % re.escape(key), (name, key))
 
     def test_a_program_of_ones_own_builds_against_the_installed_libraries(self):
         # find_package(octarc) in a project of its own: the installed headers and libraries,
