@@ -10,6 +10,7 @@
 
 #include "FitsColumns.h"
 #include "octarc/catalog/FitsCard.h"
+#include "octarc/catalog/RunXml.h"
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
@@ -351,6 +352,148 @@ void writeAscii(const std::string& path, bool withHeader, const std::vector<Cata
   out.commit();
 }
 
+// --- ASCII_VOTABLE -------------------------------------------------------------------------
+// Written here by hand: Debian packages no C++ VOTable writer, and TABLEDATA is plain XML.
+
+// One cell element as VOTable 1.3 (section 6) reads it back: integers exactly, floats with the
+// digits that give back the stored float or double, NaN as "NaN" and infinities as "+Inf" and
+// "-Inf".
+void appendVotableValue(const ColumnSpec& column, double value, std::string& text) {
+  char buffer[40];
+  if (detail::isIntegerType(column.type)) {
+    std::snprintf(buffer, sizeof buffer, "%lld", detail::integerValue(column.type, value));
+  } else {
+    const double stored = storedFloatValue(column.type, value);
+    if (std::isnan(stored)) {
+      std::snprintf(buffer, sizeof buffer, "NaN");
+    } else if (std::isinf(stored)) {
+      std::snprintf(buffer, sizeof buffer, "%s", stored > 0 ? "+Inf" : "-Inf");
+    } else {
+      std::snprintf(buffer, sizeof buffer, column.type == ColumnType::Float32 ? "%.9g" : "%.17g",
+                    stored);
+    }
+  }
+  text += buffer;
+}
+
+// A header card of the run ("SEXTHLD =  1.2E+01 / comment") as a VOTable PARAM: strings as
+// char, T/F as boolean, integers as long and other numbers as double. Cards without a value
+// (COMMENT, HISTORY) are skipped.
+void appendCardParam(const std::string& card, const char* indent, std::string& text) {
+  if (card.size() < 10 || card.compare(8, 2, "= ") != 0) return;
+  std::string key = card.substr(0, 8);
+  key.erase(key.find_last_not_of(' ') + 1);
+  std::size_t i = card.find_first_not_of(' ', 10);
+  if (key.empty() || i == std::string::npos) return;
+  std::string value;
+  std::string datatype;
+  if (card[i] == '\'') {
+    // A quoted string: '' inside is one quote; trailing blanks are not significant.
+    for (++i; i < card.size(); ++i) {
+      if (card[i] == '\'') {
+        if (i + 1 < card.size() && card[i + 1] == '\'') {
+          value += '\'';
+          ++i;
+          continue;
+        }
+        ++i;
+        break;
+      }
+      value += card[i];
+    }
+    value.erase(value.find_last_not_of(' ') + 1);
+    datatype = "char\" arraysize=\"*";
+  } else {
+    const std::size_t end = card.find('/', i);
+    value = card.substr(i, end == std::string::npos ? std::string::npos : end - i);
+    value.erase(value.find_last_not_of(' ') + 1);
+    i = end == std::string::npos ? card.size() : end;
+    if (value == "T" || value == "F") {
+      datatype = "boolean";
+    } else if (value.find_first_not_of("+-0123456789") == std::string::npos) {
+      datatype = "long";
+    } else {
+      datatype = "double";
+      if (value.empty()) value = "NaN";                    // an undefined value
+      std::replace(value.begin(), value.end(), 'D', 'E');  // Fortran exponent
+    }
+  }
+  std::string comment;
+  const std::size_t slash = card.find('/', i);
+  if (slash != std::string::npos) {
+    comment = card.substr(slash + 1);
+    comment.erase(0, comment.find_first_not_of(' '));
+    comment.erase(comment.find_last_not_of(' ') + 1);
+  }
+  text += std::string(indent) + "<PARAM name=\"" + xmlEscaped(key) + "\" datatype=\"" + datatype +
+          "\" ucd=\"obs.param\" value=\"" + xmlEscaped(value) + "\"";
+  if (comment.empty()) {
+    text += "/>\n";
+  } else {
+    text += ">\n" + std::string(indent) + " <DESCRIPTION>" + xmlEscaped(comment) +
+            "</DESCRIPTION>\n" + indent + "</PARAM>\n";
+  }
+}
+
+void writeVotable(const std::string& path, const std::vector<CatalogPart>& parts) {
+  AtomicFile out(path);
+  std::FILE* file = std::fopen(out.tempPath().c_str(), "w");
+  if (file == nullptr) throw IoError(path + ": cannot create (" + std::strerror(errno) + ")");
+  const Table& first = *partRows(parts.front(), 0).table;
+  std::string text =
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+      "<VOTABLE version=\"1.3\" xmlns=\"http://www.ivoa.net/xml/VOTable/v1.3\" "
+      "xmlns:xsi=\"http://www.w3.org/2001/XMLSchema-instance\">\n"
+      "<RESOURCE name=\"octarc\">\n"
+      " <DESCRIPTION>Catalog of sources extracted with octarc</DESCRIPTION>\n"
+      " <TABLE name=\"LDAC_OBJECTS\">\n"
+      "  <DESCRIPTION>Table of sources detected in image</DESCRIPTION>\n";
+  // The run's cards (what LDAC_IMHEAD adds to the image header: thresholds, background, gain),
+  // one GROUP per image extension when there are several.
+  for (std::size_t p = 0; p < parts.size(); ++p) {
+    const bool grouped = parts.size() > 1;
+    if (grouped) text += "  <GROUP name=\"EXTENSION_" + std::to_string(p + 1) + "\">\n";
+    for (const std::string& card : parts[p].runCards) {
+      appendCardParam(card, grouped ? "   " : "  ", text);
+    }
+    if (grouped) text += "  </GROUP>\n";
+  }
+  for (const ColumnSpec& c : first.columns()) {
+    text +=
+        "  <FIELD name=\"" + xmlEscaped(c.name) + "\" datatype=\"" + votableDatatype(c.type) + "\"";
+    if (c.repeat > 1) text += " arraysize=\"" + std::to_string(c.repeat) + "\"";
+    if (!c.unit.empty()) text += " unit=\"" + xmlEscaped(votableUnit(c.unit)) + "\"";
+    if (!c.ucd.empty()) text += " ucd=\"" + xmlEscaped(c.ucd) + "\"";
+    text += ">\n   <DESCRIPTION>" + xmlEscaped(c.description) + "</DESCRIPTION>\n  </FIELD>\n";
+  }
+  text += "  <DATA><TABLEDATA>\n";
+  bool ok = std::fwrite(text.data(), 1, text.size(), file) == text.size();
+  for (std::size_t p = 0; p < parts.size() && ok; ++p) {
+    const detail::TableRows rows = partRows(parts[p], p);
+    const Table& t = *rows.table;
+    for (std::int64_t k = 0; k < rows.rows() && ok; ++k) {
+      const std::int64_t r = rows.rowAt(k);
+      text = "   <TR>";
+      for (int c = 0; c < t.columnCount(); ++c) {
+        const ColumnSpec& column = t.columns()[std::size_t(c)];
+        text += "<TD>";
+        for (int e = 0; e < column.repeat; ++e) {
+          if (e > 0) text += ' ';
+          appendVotableValue(column, t.value(r, c, e), text);
+        }
+        text += "</TD>";
+      }
+      text += "</TR>\n";
+      ok = std::fwrite(text.data(), 1, text.size(), file) == text.size();
+    }
+  }
+  text = "  </TABLEDATA></DATA>\n </TABLE>\n</RESOURCE>\n</VOTABLE>\n";
+  ok = ok && std::fwrite(text.data(), 1, text.size(), file) == text.size();
+  ok = (std::fclose(file) == 0) && ok;
+  if (!ok) throw IoError(path + ": cannot write (" + std::strerror(errno) + ")");
+  out.commit();
+}
+
 }  // namespace
 
 CatalogType parseCatalogType(const std::string& keyword) {
@@ -359,13 +502,16 @@ CatalogType parseCatalogType(const std::string& keyword) {
   if (k == "FITS_1.0") return CatalogType::Fits10;
   if (k == "ASCII_HEAD") return CatalogType::AsciiHead;
   if (k == "ASCII") return CatalogType::Ascii;
+  if (k == "ASCII_VOTABLE") return CatalogType::AsciiVotable;
   if (k == "NONE") return CatalogType::None;
-  if (k == "ASCII_SKYCAT" || k == "ASCII_VOTABLE" || k == "FITS_TPX") {
-    throw ConfigError("CATALOG_TYPE " + keyword +
-                      ": not supported (use FITS_LDAC, FITS_1.0, ASCII_HEAD, ASCII or NONE)");
+  if (k == "ASCII_SKYCAT" || k == "FITS_TPX") {
+    throw ConfigError(
+        "CATALOG_TYPE " + keyword +
+        ": not supported (use FITS_LDAC, FITS_1.0, ASCII_HEAD, ASCII, ASCII_VOTABLE or NONE)");
   }
-  throw ConfigError("CATALOG_TYPE " + keyword +
-                    ": unknown catalog type (FITS_LDAC, FITS_1.0, ASCII_HEAD, ASCII or NONE)");
+  throw ConfigError(
+      "CATALOG_TYPE " + keyword +
+      ": unknown catalog type (FITS_LDAC, FITS_1.0, ASCII_HEAD, ASCII, ASCII_VOTABLE or NONE)");
 }
 
 std::string catalogTypeName(CatalogType type) {
@@ -378,6 +524,8 @@ std::string catalogTypeName(CatalogType type) {
       return "ASCII_HEAD";
     case CatalogType::Ascii:
       return "ASCII";
+    case CatalogType::AsciiVotable:
+      return "ASCII_VOTABLE";
     case CatalogType::None:
       break;
   }
@@ -431,6 +579,12 @@ std::string tformOf(const ColumnSpec& column) {
   return std::to_string(column.repeat) + code;
 }
 
+std::string formatVotableValue(const ColumnSpec& column, double value) {
+  std::string text;
+  appendVotableValue(column, value, text);
+  return text;
+}
+
 std::string formatAsciiValue(const ColumnSpec& column, double value) {
   std::string text;
   AsciiFormat(column).append(value, text);
@@ -451,6 +605,9 @@ void writeCatalog(const std::string& path, CatalogType type, const std::vector<C
     case CatalogType::AsciiHead:
     case CatalogType::Ascii:
       writeAscii(path, type == CatalogType::AsciiHead, parts);
+      break;
+    case CatalogType::AsciiVotable:
+      writeVotable(path, parts);
       break;
     case CatalogType::None:
       break;

@@ -204,6 +204,18 @@ void configParam(std::ostringstream& out, const XmlConfigValue& v) {
 
 }  // namespace
 
+std::string xmlEscaped(const std::string& text) {
+  return escape(text);
+}
+
+std::string votableUnit(const std::string& catalogUnit) {
+  return voUnit(catalogUnit);
+}
+
+const char* votableDatatype(ColumnType type) {
+  return datatype(type);
+}
+
 std::vector<std::string> xmlDateTimeNow() {
   const std::time_t now = std::time(nullptr);
   std::tm utc{};

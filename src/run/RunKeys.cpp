@@ -45,8 +45,9 @@ std::vector<KeySpec> octarcKeys() {
   // Only the values octarc writes are listed; the others load (an existing .sex file stays
   // valid) and are refused by the command with a message.
   findIn(keys, "CATALOG_TYPE")->comment =
-      "NONE, ASCII, ASCII_HEAD, FITS_1.0 or FITS_LDAC\n(ASCII_SKYCAT, ASCII_VOTABLE, FITS_TPX:"
-      " not\nsupported by octarc)";
+      "NONE, ASCII, ASCII_HEAD, ASCII_VOTABLE, FITS_1.0 or\nFITS_LDAC (ASCII_SKYCAT, FITS_TPX: "
+      "not\n"
+      "supported by octarc)";
   findIn(keys, "CHECKIMAGE_TYPE")->comment =
       "NONE, BACKGROUND, BACKGROUND_RMS, -BACKGROUND,\nFILTERED, OBJECTS or SEGMENTATION (octarc"
       " detect;\nthe other SExtractor types are not supported)";

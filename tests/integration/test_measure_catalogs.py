@@ -1,16 +1,21 @@
 """`octarc measure` outputs: appending to SExtractor catalogs, the declared column metadata as
 astropy and fitsverify see it, the other catalog types, and the README example
 (issue: foundation, acceptance 3)."""
+import csv
+import io
 import os
 import shutil
 import re
+import subprocess
 import unittest
 
 import numpy as np
 from astropy.io import fits
+from astropy.table import Table
 
 from octarc_testlib import (SEX_SHARE, SOURCE_DIR, WorkDirTest, fitsverify_errors, ldac_imhead,
-                            ldac_objects, run_octarc, run_sextractor, write_param)
+                            ldac_objects, require_program, run_octarc, run_sextractor,
+                            write_param)
 
 TESTDATA = os.path.join(SOURCE_DIR, "testdata")
 SEGS = ",".join(os.path.join(TESTDATA, "example.seg%d.fits.gz" % k) for k in (1, 2, 3))
@@ -172,6 +177,82 @@ class ExampleField(WorkDirTest):
         np.testing.assert_allclose(table[:, 3], ldac["X_IMAGE"], atol=1e-4)
         for name in ldac.columns.names:
             np.testing.assert_array_equal(fits10[name], ldac[name])
+
+
+class VotableCatalogs(WorkDirTest):
+    """CATALOG_TYPE ASCII_VOTABLE, as astropy and STILTS read it, against the FITS-LDAC catalog
+    of the same run."""
+
+    # VO units and UCDs as SExtractor's param.h declares its columns (SEXTRACTOR.md), and
+    # octarc's own.
+    EXPECTED = {"NUMBER": ("", "meta.record"),
+                "X_IMAGE": ("pix", "pos.cartesian.x;pos.barycenter;instr.det;meta.main"),
+                "THETA_IMAGE": ("deg", "pos.posAng;instr.det;meta.main"),
+                "ISOAREA_IMAGE": ("pix2", "phys.area"),
+                "FLUX_ISO": ("ct", "phot.flux"),
+                "MAG_ISO": ("mag", "phot.mag"),
+                "THRESH_LEVEL": ("", "meta.id.part"),
+                "ARCNESS": ("", "src.morph")}
+
+    def run_pair(self, command, extra=()):
+        outs = {}
+        for kind, name in (("FITS_LDAC", "a.ldac"), ("ASCII_VOTABLE", "a.xml")):
+            outs[kind] = self.path(name)
+            run_octarc(command, IMAGE, "-c", os.path.join(TESTDATA, "example.sex"),
+                       "-PARAMETERS_NAME", os.path.join(TESTDATA, "example.param"),
+                       "-CATALOG_TYPE", kind, "-CATALOG_NAME", outs[kind],
+                       "-VERBOSE_TYPE", "QUIET", *extra, cwd=SOURCE_DIR)
+        return outs["FITS_LDAC"], outs["ASCII_VOTABLE"]
+
+    def check_same_as_ldac(self, ldac_path, xml_path):
+        ldac, _ = ldac_objects(ldac_path)
+        table = Table.read(xml_path, format="votable")
+        self.assertEqual(table.colnames, ldac.columns.names)
+        self.assertGreater(len(table), 10)
+        self.assertEqual(len(table), len(ldac))
+        for name in ldac.columns.names:
+            # Every value as the FITS column holds it: floats written with round-trip digits.
+            np.testing.assert_array_equal(np.asarray(table[name]), ldac[name], err_msg=name)
+            self.assertEqual(table[name].dtype.newbyteorder("="), ldac[name].dtype.newbyteorder("="),
+                             name)
+            self.assertTrue(table[name].meta.get("ucd"), name)
+        for name, (unit, ucd) in self.EXPECTED.items():
+            self.assertEqual(table[name].meta["ucd"], ucd, name)
+            self.assertEqual(str(table[name].unit or ""), unit, name)
+        return table
+
+    def check_stilts(self, xml_path, names):
+        require_program("stilts")
+        # omode=meta: the column list STILTS reads, "N: NAME(Class)/unit - description".
+        r = subprocess.run(["stilts", "tpipe", "in=" + xml_path, "ifmt=votable", "omode=meta"],
+                           capture_output=True, text=True, timeout=120)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        listed = re.findall(r"^ *\d+: (\w+)\(\w+\)(?:/(\S+))? - ", r.stdout, re.M)
+        self.assertEqual([n for n, _ in listed], list(names))
+        units = dict(listed)
+        # cmd=meta as CSV: every column's UCD in full.
+        r = subprocess.run(["stilts", "tpipe", "in=" + xml_path, "ifmt=votable", "cmd=meta",
+                            "ofmt=csv"], capture_output=True, text=True, timeout=120)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        rows = {row["Name"]: row for row in csv.DictReader(io.StringIO(r.stdout))}
+        for name, (unit, ucd) in self.EXPECTED.items():
+            self.assertEqual(units[name], unit, name)
+            self.assertEqual(rows[name]["UCD"], ucd, name)
+
+    def test_measure_votable_holds_the_ldac_values_names_units_and_ucds(self):
+        ldac_path, xml_path = self.run_pair("measure")
+        table = self.check_same_as_ldac(ldac_path, xml_path)
+        self.check_stilts(xml_path, table.colnames)
+        # The run's cards (LDAC_IMHEAD's SEx/OCT keywords) are the table's PARAMs.
+        from astropy.io.votable import parse_single_table
+        params = {p.name: p.value for p in parse_single_table(xml_path).params}
+        self.assertEqual(params["OCTNLEV"], 3)
+
+    def test_detect_votable_holds_the_ldac_values(self):
+        ldac_path, xml_path = self.run_pair("detect", ["-DETECT_NLEVELS", "2"])
+        table = self.check_same_as_ldac(ldac_path, xml_path)
+        self.assertEqual(sorted(set(table["THRESH_LEVEL"])), [1, 2])
+        self.check_stilts(xml_path, table.colnames)
 
 
 class BadInput(WorkDirTest):

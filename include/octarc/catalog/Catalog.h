@@ -1,4 +1,4 @@
-// Catalog writers: SExtractor's FITS_LDAC, FITS_1.0, ASCII_HEAD and ASCII formats.
+// Catalog writers: SExtractor's FITS_LDAC, FITS_1.0, ASCII_HEAD, ASCII and ASCII_VOTABLE formats.
 #pragma once
 
 #include <cstdint>
@@ -11,10 +11,10 @@
 
 namespace octarc {
 
-enum class CatalogType { FitsLdac, Fits10, AsciiHead, Ascii, None };
+enum class CatalogType { FitsLdac, Fits10, AsciiHead, Ascii, AsciiVotable, None };
 
-// Parses a CATALOG_TYPE value (case-insensitive): FITS_LDAC, FITS_1.0, ASCII_HEAD, ASCII, NONE.
-// Throws ConfigError for ASCII_SKYCAT, ASCII_VOTABLE and FITS_TPX (known to SExtractor, not
+// Parses a CATALOG_TYPE value (case-insensitive): FITS_LDAC, FITS_1.0, ASCII_HEAD, ASCII,
+// ASCII_VOTABLE, NONE. Throws ConfigError for ASCII_SKYCAT and FITS_TPX (known to SExtractor, not
 // supported here) and for anything else.
 CatalogType parseCatalogType(const std::string& keyword);
 
@@ -38,6 +38,9 @@ struct CatalogPart {
 //   BINTABLE 'OBJECTS' holding the rows of every part in order.
 // - AsciiHead/Ascii: one line per object ("# %3d %-22.22s %-58.58s [unit]" header lines first for
 //   AsciiHead), every part in order.
+// - AsciiVotable: a VOTable 1.3 with one TABLEDATA table of every part's rows; a FIELD per
+//   column (datatype, arraysize for vectors, VO unit, UCD, description), NaN as "NaN", and each
+//   part's run cards as PARAMs (in a GROUP "EXTENSION_n" per part when there are several).
 // With several parts, every part must declare the same columns (ConfigError otherwise).
 // Throws IoError naming `path` when it cannot be written.
 void writeCatalog(const std::string& path, CatalogType type, const std::vector<CatalogPart>& parts,
@@ -72,5 +75,10 @@ std::string tformOf(const ColumnSpec& column);
 // NaN in a floating-point column prints as "nan" in the column's width, never signed ("+nan" and
 // "-nan", as printf writes them, are text to STILTS); integer columns store NaN as 0.
 std::string formatAsciiValue(const ColumnSpec& column, double value);
+
+// One value as ASCII_VOTABLE writes it in a TABLEDATA cell (VOTable 1.3, section 6): integers
+// as the column stores them, floats with the digits that give back the stored float or double,
+// NaN as "NaN", infinities as "+Inf" / "-Inf".
+std::string formatVotableValue(const ColumnSpec& column, double value);
 
 }  // namespace octarc

@@ -47,6 +47,17 @@ struct RunXml {
 // The XML text. Every value is escaped; non-finite numbers are written as NaN.
 std::string formatRunXml(const RunXml& run);
 
+// XML text or a double-quoted attribute value: &, <, >, " and ' escaped, and the control
+// characters XML 1.0 cannot hold (all but tab, newline, carriage return) replaced by '?'.
+std::string xmlEscaped(const std::string& text);
+
+// A catalog unit ("pixel**(-2)", "deg**2", "count") in the VO spelling SExtractor's XML uses
+// ("pix-2", "deg2", "ct").
+std::string votableUnit(const std::string& catalogUnit);
+
+// The VOTable datatype of a column's storage type: "short", "int", "long", "float", "double".
+const char* votableDatatype(ColumnType type);
+
 // The current date and time in UTC, as the XML writes them: {"yyyy-mm-dd", "hh:mm:ss"}.
 std::vector<std::string> xmlDateTimeNow();
 

@@ -305,6 +305,57 @@ TEST_F(CatalogWriterVsSExtractor, AsciiMatchesSourceExtractorByteForByte) {
   EXPECT_EQ(test::readFile(ours), test::readFile(theirs));
 }
 
+// ASCII_VOTABLE: FIELDs with the VO units and UCDs, vectors as arraysize, XML escaped, NaN as
+// VOTable's "NaN", and the values astropy reads back.
+TEST_F(CatalogWriter, VotableDeclaresFieldsAndReadsBackInAstropy) {
+  std::vector<ColumnSpec> columns = sextractorColumns();
+  columns[6].description = "A_IMAGE/B_IMAGE & \"a<b\"";
+  columns[1].ucd = "pos.cartesian.x;instr.det";
+  Table table(columns);
+  for (std::int64_t r = 0; r < table_.rows(); ++r) {
+    double* row = table.appendRow();
+    for (int c = 0, k = 0; c < table_.columnCount(); ++c) {
+      for (int e = 0; e < table_.columns()[std::size_t(c)].repeat; ++e) {
+        row[k++] = table_.value(r, c, e);
+      }
+    }
+  }
+  table.setValue(1, table.findColumn("MU_MAX"), std::nan(""));
+  CatalogPart part = part_;
+  part.objects = &table;
+  const auto ours = dir_ / "ours.xml";
+  writeCatalog(ours.string(), CatalogType::AsciiVotable, {part});
+  const std::string text = test::readFile(ours);
+  EXPECT_NE(text.find("<VOTABLE version=\"1.3\""), std::string::npos);
+  EXPECT_NE(text.find("<FIELD name=\"X_IMAGE\" datatype=\"float\" unit=\"pix\" "
+                      "ucd=\"pos.cartesian.x;instr.det\">"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("<FIELD name=\"FLUX_APER\" datatype=\"float\" arraysize=\"3\" unit=\"ct\">"),
+            std::string::npos);
+  EXPECT_NE(text.find("<DESCRIPTION>A_IMAGE/B_IMAGE &amp; &quot;a&lt;b&quot;</DESCRIPTION>"),
+            std::string::npos);
+  // Row 1: X_IMAGE 11.5, FLUX_APER (1, 2, 4), MU_MAX undefined.
+  EXPECT_NE(text.find("<TD>11.5</TD>"), std::string::npos);
+  EXPECT_NE(text.find("<TD>1 2 4</TD><TD>NaN</TD>"), std::string::npos) << text;
+  EXPECT_EQ(text.find(".tmp"), std::string::npos);
+  std::string out;
+  const std::string script =
+      "from astropy.io.votable import parse_single_table\n"
+      "t = parse_single_table('" +
+      ours.string() +
+      "').to_table()\n"
+      "print(t['X_IMAGE'][1], t['FLUX_APER'][1].tolist(), t['MU_MAX'][1], t['MU_MAX'][0],\n"
+      "      t['ISOAREA_IMAGE'].dtype, t['X2_IMAGE'][2], t['ELONGATION'].description)\n"
+      "p = {q.name: q.value for q in parse_single_table('" +
+      ours.string() +
+      "').params}\n"
+      "print(p['SEXNDET'], p['SEXNPARA'])\n";
+  ASSERT_EQ(test::runCommand("/usr/bin/python3 -W ignore -c \"" + script + "\" 2>&1", &out), 0)
+      << out;
+  EXPECT_EQ(out, "11.5 [1.0, 2.0, 4.0] -- 21.5 int32 0.375 A_IMAGE/B_IMAGE & \"a<b\"\n3 16\n");
+}
+
 TEST_F(CatalogWriter, EmptyTableGivesAValidCatalog) {
   Table empty(sextractorColumns());
   CatalogPart part = part_;

@@ -61,8 +61,9 @@ TEST(CatalogType, ParsesSExtractorKeywords) {
   EXPECT_EQ(parseCatalogType("fits_1.0"), CatalogType::Fits10);
   EXPECT_EQ(parseCatalogType("ASCII_HEAD"), CatalogType::AsciiHead);
   EXPECT_EQ(parseCatalogType("ascii"), CatalogType::Ascii);
+  EXPECT_EQ(parseCatalogType("ascii_votable"), CatalogType::AsciiVotable);
   EXPECT_EQ(parseCatalogType("NONE"), CatalogType::None);
-  for (const char* bad : {"ASCII_SKYCAT", "ASCII_VOTABLE", "FITS_TPX"}) {
+  for (const char* bad : {"ASCII_SKYCAT", "FITS_TPX"}) {
     try {
       parseCatalogType(bad);
       ADD_FAILURE() << bad;
@@ -72,6 +73,7 @@ TEST(CatalogType, ParsesSExtractorKeywords) {
   }
   EXPECT_THROW(parseCatalogType("FITS"), ConfigError);
   EXPECT_EQ(catalogTypeName(CatalogType::Fits10), "FITS_1.0");
+  EXPECT_EQ(catalogTypeName(CatalogType::AsciiVotable), "ASCII_VOTABLE");
 }
 
 TEST(ColumnFormat, TdispFromPrintf) {
