@@ -12,6 +12,7 @@
 #include "TestPaths.h"
 #include "octarc/catalog/Catalog.h"
 #include "octarc/catalog/RunSummary.h"
+#include "octarc/catalog/TableCatalog.h"
 #include "octarc/core/Error.h"
 
 namespace octarc {
@@ -354,6 +355,67 @@ TEST_F(CatalogWriter, VotableDeclaresFieldsAndReadsBackInAstropy) {
   ASSERT_EQ(test::runCommand("/usr/bin/python3 -W ignore -c \"" + script + "\" 2>&1", &out), 0)
       << out;
   EXPECT_EQ(out, "11.5 [1.0, 2.0, 4.0] -- 21.5 int32 0.375 A_IMAGE/B_IMAGE & \"a<b\"\n3 16\n");
+}
+
+// A table with text and vector columns (the candidates'), in the text catalog types.
+FitsTable textAndVectorTable() {
+  FitsTable t;
+  t.name = "LDAC_OBJECTS";
+  t.keywords = {FitsKeyword::integer("NCANDID", 2, "candidates"),
+                FitsKeyword::real("SRCHAREA", std::nan(""), "[deg2] searched area"),
+                FitsKeyword::text("SELMETH", "GRID")};
+  t.columns = {
+      {"NAME", "Designation", "", "", 0, std::vector<std::string>{"A <1> & B", ""}, "", ""},
+      {"LEVELS", "Levels passed", "", "", 3, std::vector<std::int16_t>{2, 3, 0, 5, 0, 0}, "", ""},
+      {"X_IMAGE", "x", "pixel", "F8.3", 1, std::vector<float>{10.5f, std::nanf("")}, "", ""},
+  };
+  return t;
+}
+
+TEST_F(CatalogWriter, TableCatalogAsciiHeadNumbersVectorElementsAndJoinsWords) {
+  const auto out = dir_ / "t.cat";
+  writeTableCatalog(out.string(), CatalogType::AsciiHead, textAndVectorTable(), FitsTable());
+  EXPECT_EQ(
+      test::readFile(out),
+      "#   1 NAME                   Designation                                               \n"
+      "#   2 LEVELS                 Levels passed                                             \n"
+      "#   5 X_IMAGE                x                                                          "
+      "[pixel]\n"
+      "A_<1>_&_B 2 3 0   10.500\n"
+      "- 5 0 0      nan\n");
+}
+
+TEST_F(CatalogWriter, TableCatalogVotableEscapesTextAndDeclaresVectors) {
+  const auto out = dir_ / "t.xml";
+  writeTableCatalog(out.string(), CatalogType::AsciiVotable, textAndVectorTable(), FitsTable(),
+                    {{"NAME", "meta.id;meta.main"}, {"LEVELS", "meta.id.part"}});
+  const std::string text = test::readFile(out);
+  EXPECT_NE(text.find("<PARAM name=\"SRCHAREA\" datatype=\"double\" value=\"NaN\">"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("<FIELD name=\"NAME\" datatype=\"char\" arraysize=\"*\" "
+                      "ucd=\"meta.id;meta.main\">"),
+            std::string::npos);
+  EXPECT_NE(text.find("<FIELD name=\"LEVELS\" datatype=\"short\" arraysize=\"3\" "
+                      "ucd=\"meta.id.part\">"),
+            std::string::npos);
+  EXPECT_NE(text.find("<FIELD name=\"X_IMAGE\" datatype=\"float\" unit=\"pix\">"),
+            std::string::npos);
+  EXPECT_NE(text.find("<TR><TD>A &lt;1&gt; &amp; B</TD><TD>2 3 0</TD><TD>10.5</TD></TR>"),
+            std::string::npos);
+  EXPECT_NE(text.find("<TR><TD></TD><TD>5 0 0</TD><TD>NaN</TD></TR>"), std::string::npos);
+}
+
+TEST_F(CatalogWriter, TableCatalogFits10IsOneObjectsTable) {
+  const auto out = dir_ / "t.fits";
+  writeTableCatalog(out.string(), CatalogType::Fits10, textAndVectorTable(), FitsTable());
+  EXPECT_EQ(listFitsTables(out.string()), (std::vector<std::string>{"OBJECTS"}));
+  const FitsTable back = readFitsTable(out.string(), "OBJECTS");
+  EXPECT_EQ(back.integers("LEVELS", 3), (std::vector<std::int64_t>{2, 3, 0, 5, 0, 0}));
+  EXPECT_EQ(back.integer("NCANDID"), 2);
+  EXPECT_THROW(writeTableCatalog((dir_ / "n").string(), CatalogType::None, textAndVectorTable(),
+                                 FitsTable()),
+               ConfigError);
 }
 
 TEST_F(CatalogWriter, EmptyTableGivesAValidCatalog) {
