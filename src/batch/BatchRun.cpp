@@ -14,12 +14,14 @@
 #include "octarc/catalog/Catalog.h"
 #include "octarc/catalog/FitsCard.h"
 #include "octarc/catalog/InputCatalog.h"
+#include "octarc/catalog/TableCatalog.h"
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
 #include "octarc/io/Ds9Region.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/FitsTable.h"
+#include "octarc/search/CandidateTable.h"
 #include "octarc/selection/SearchMask.h"
 
 namespace octarc {
@@ -48,6 +50,9 @@ SearchRunSettings tileSettings(const BatchSettings& s, const Tile& t, int thread
   tile.outputDir = tileFolder(s, t);
   tile.run.threads = threads;
   tile.run.quiet = true;
+  // The tiles' catalogs stay FITS-LDAC, which the merge reads back; CATALOG_TYPE is the survey
+  // catalog's.
+  tile.catalogType = CatalogType::FitsLdac;
   return tile;
 }
 
@@ -298,8 +303,13 @@ void writeSurveyOutputs(const BatchSettings& s, const BatchReport& r) {
       formatCard("OCTBATCH", std::string(fs::path(s.manifest).filename().string()),
                  "manifest of the survey"),
       formatCard("NTILES", std::int64_t(r.tiles.size()), "tiles")};
+  // The UCDs of the tiles' columns (which their FITS files do not hold), and of the survey's.
+  std::map<std::string, std::string> ucds = candidateColumnUcds(s.tile.search.colourBands);
+  ucds["TILE"] = "meta.id;obs.field";
+  ucds["TILE_NUMBER"] = "meta.id.cross";
   outputs.write(0, [&](const std::string& path) {
-    writeFitsTables(path, {ldacImheadTable(FitsHeader(), cards), objects});
+    writeTableCatalog(path, s.tile.catalogType, objects, ldacImheadTable(FitsHeader(), cards),
+                      ucds);
   });
   std::string summary;
   for (const std::string& l : r.summaryLines) summary += l + "\n";

@@ -171,7 +171,9 @@ FitsColumn emptyLike(const FitsColumn& c) {
 std::string columnSignature(const FitsTable& t) {
   std::string s;
   for (const FitsColumn& c : t.columns) {
-    s += c.name + ":" + std::string(fitsColumnTypeName(c.type())) + ";";
+    // Vector lengths too: LEVELS holds as many elements as the tile's run has levels.
+    s += c.name + ":" + std::string(fitsColumnTypeName(c.type())) +
+         (c.type() == FitsColumnType::String ? "" : "[" + std::to_string(c.repeat) + "]") + ";";
   }
   return s;
 }

@@ -218,6 +218,12 @@ SearchRunSettings searchSettingsFromConfig(const sexcompat::Config& c, RunSettin
       throw ConfigError("ASSOCSELEC_TYPE: a search keeps every row (the component tree); use ALL");
     }
   }
+  s.catalogType = parseCatalogType(s.run.catalogType);
+  if (s.catalogType == CatalogType::None) {
+    throw ConfigError(
+        "CATALOG_TYPE NONE: a search always writes its candidates (use FITS_LDAC, "
+        "FITS_1.0, ASCII_HEAD, ASCII or ASCII_VOTABLE)");
+  }
   s.search.method =
       c.getString("SELECTION_METHOD") == "TREES" ? SelectionMethod::Trees : SelectionMethod::Grid;
   s.gridPath = c.getString("GRID_NAME");

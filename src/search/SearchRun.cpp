@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "octarc/catalog/Catalog.h"
+#include "octarc/catalog/TableCatalog.h"
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/DataFiles.h"
 #include "octarc/core/Error.h"
@@ -464,6 +465,7 @@ void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings
   SearchSettings search = settings.search;
   search.pixelScaleArcsec = run.pixelScaleArcsec;
   search.threads = resolveThreads(settings.run.threads);
+  search.levelCount = int(run.levels.size());
   const Table& catalog = run.catalog;
   const Wcs* wcs = run.image.wcs ? &*run.image.wcs : nullptr;
   // An error names the temporary folder; writeSearchOutputs puts OUTPUT_DIR in its place.
@@ -509,9 +511,10 @@ void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings
     info.colourBands = settings.search.colourBands;
     writeText("index.html", contactSheetHtml(catalog, run.result, info));
   }
-  writeFitsTables((root / "candidates.fits").string(),
-                  {ldacImheadTable(run.image.hdu.header, run.runCards),
-                   candidateObjectsTable(catalog, run.result, search)});
+  writeTableCatalog((root / "candidates.fits").string(), settings.catalogType,
+                    candidateObjectsTable(catalog, run.result, search),
+                    ldacImheadTable(run.image.hdu.header, run.runCards),
+                    candidateColumnUcds(search.colourBands));
   if (run.lensLight) {
     writeFitsTables((root / "lensfit.fits").string(), {lensFitTable(run)});
     if (settings.lensCheckImages) {

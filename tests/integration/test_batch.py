@@ -15,6 +15,7 @@ import unittest
 import numpy as np
 from astropy.coordinates import SkyCoord
 from astropy.io import fits
+from astropy.table import Table
 from astropy.wcs import WCS
 import astropy.units as u
 
@@ -238,6 +239,29 @@ class BatchRanks(BatchFixture):
             self.assertIn('href="tiles/tile%d/index.html"' % k, html)
             self.assertTrue(os.path.exists(
                 os.path.join(self.reference, "tiles", "tile%d" % k, "candidates.reg")))
+
+    def test_catalog_type_applies_to_the_survey_catalog_not_the_tiles(self):
+        out = self.path("votable")
+        run_octarc("batch", self.manifest, *self.config(out, "-CATALOG_TYPE", "ASCII_VOTABLE",
+                                                        "-STAMPS", "N"))
+        ref = Table.read(os.path.join(self.reference, "candidates.fits"), hdu="LDAC_OBJECTS")
+        t = Table.read(os.path.join(out, "candidates.fits"), format="votable")
+        self.assertGreater(len(ref), 5)
+        self.assertEqual(t.colnames, ref.colnames)
+        self.assertEqual(len(t), len(ref))
+        for name in ref.colnames:
+            want = np.asarray(ref[name])
+            got = np.asarray(np.ma.filled(t[name], np.nan) if want.dtype.kind == "f" else t[name])
+            if want.dtype.kind == "S":  # FITS text, read as bytes
+                want, got = want.astype(str), got.astype(str)
+            np.testing.assert_array_equal(got, want, err_msg=name)
+        self.assertEqual(t["TILE"].meta["ucd"], "meta.id;obs.field")
+        self.assertEqual(t["LEVELS"].meta["ucd"], "meta.id.part")
+        self.assertEqual(t["LEVELS"].shape, (len(t), 15))
+        # The tiles stay FITS-LDAC: the merge reads them back.
+        for k in range(1, 9):
+            with fits.open(os.path.join(out, "tiles", "tile%d" % k, "candidates.fits")) as f:
+                self.assertEqual([h.name for h in f[1:]], ["LDAC_IMHEAD", "LDAC_OBJECTS"])
 
     def test_job_array_tasks_share_one_journal(self):
         out = self.path("array")

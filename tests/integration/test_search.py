@@ -2,6 +2,8 @@
 out again here with numpy from the catalog `octarc detect` writes for the same image and the
 grid file; the outputs in their real readers (fitsverify, astropy, STILTS, astropy regions,
 SAOImage DS9, Chromium); and bad input."""
+import csv
+import io
 import os
 import re
 import shutil
@@ -11,6 +13,7 @@ import unittest
 
 import numpy as np
 from astropy.io import fits
+from astropy.table import Table
 from astropy.wcs import WCS
 
 from octarc_testlib import (SOURCE_DIR, WorkDirTest, fitsverify_errors, have_program,
@@ -167,8 +170,13 @@ class SearchSelection(SearchFixture):
         # Each candidate is one merged object: its levels are those of the object's rows.
         expected = sorted(sorted({int(rows["THRESH_LEVEL"][i]) for i in members})
                           for members in root.values())
-        got = sorted([int(v) for v in s.split(",")] for s in cand["LEVELS"])
+        # LEVELS: a vector of octarc.sex's 15 levels, the passed ones first, then 0.
+        self.assertEqual(cand["LEVELS"].shape, (len(cand), 15))
+        got = sorted([int(v) for v in row if v != 0] for row in cand["LEVELS"])
         self.assertEqual(got, expected)
+        for row in cand["LEVELS"]:
+            n = np.count_nonzero(row)
+            self.assertTrue(np.all(row[n:] == 0))
         # Ranked by LENS_SCORE, each candidate's the highest of its rows': the arcs' probability
         # of the row's bin over the bin's share of the rows scored (searched, above the floor,
         # resolved; one row added to each of the grid's occupied bins), times the prior odds of
@@ -345,6 +353,97 @@ class SearchOutputs(SearchFixture):
         from PIL import Image
         pixels = np.asarray(Image.open(shot).convert("L"), dtype=float)
         self.assertGreater(pixels.std(), 5.0)
+
+
+class SearchCatalogTypes(SearchFixture):
+    """CATALOG_TYPE applies to candidates.fits (whose name is kept): FITS_1.0, ASCII_HEAD and
+    ASCII_VOTABLE hold the rows of the FITS-LDAC catalog of the same search, as astropy and STILTS
+    read them."""
+
+    TYPES = ("FITS_LDAC", "FITS_1.0", "ASCII_HEAD", "ASCII_VOTABLE")
+
+    @classmethod
+    def setUpClass(cls):
+        super().setUpClass()
+        cls.outs = {}
+        for kind in cls.TYPES:
+            out = os.path.join(cls.data, "out-" + kind)
+            run_octarc("search", cls.image, "-c", SEX, "-GRID_NAME", cls.grid, "-WEIGHT_TYPE",
+                       "MAP_WEIGHT", "-WEIGHT_IMAGE", cls.weight, "-SNR_MIN", SNR_MIN,
+                       "-OUTPUT_DIR", out, "-NTHREADS", "2", "-STAMPS", "N",
+                       "-CATALOG_TYPE", kind, cwd=cls.data)
+            cls.outs[kind] = os.path.join(out, "candidates.fits")
+        cls.ldac = Table.read(cls.outs["FITS_LDAC"], hdu="LDAC_OBJECTS")
+
+    def assert_same_rows(self, table, skip=()):
+        self.assertGreaterEqual(len(self.ldac), 5)
+        self.assertEqual(len(table), len(self.ldac))
+        for name in self.ldac.colnames:
+            if name in skip:
+                continue
+            want = np.asarray(self.ldac[name])
+            got = np.asarray(np.ma.filled(table[name], np.nan) if want.dtype.kind == "f"
+                             else table[name])
+            if want.dtype.kind == "S":  # FITS text, read as bytes
+                want, got = want.astype(str), got.astype(str)
+            np.testing.assert_array_equal(got, want, err_msg=name)
+
+    def test_fits_1_0_reads_without_naming_the_hdu(self):
+        t = Table.read(self.outs["FITS_1.0"])
+        self.assertEqual(t.colnames, self.ldac.colnames)
+        self.assert_same_rows(t)
+        self.assertEqual(t.meta["NCANDID"], len(self.ldac))
+        self.assertEqual(fitsverify_errors(self.outs["FITS_1.0"])[0], 0)
+
+    def test_votable_has_the_values_units_and_ucds(self):
+        t = Table.read(self.outs["ASCII_VOTABLE"], format="votable")
+        self.assertEqual(t.colnames, self.ldac.colnames)
+        self.assert_same_rows(t)
+        self.assertEqual(t["LEVELS"].shape, (len(t), 15))
+        self.assertEqual(str(t["ALPHA_J2000"].unit), "deg")
+        self.assertEqual(t["ALPHA_J2000"].meta["ucd"], "pos.eq.ra;meta.main")
+        self.assertEqual(t["X_IMAGE"].meta["ucd"],
+                         "pos.cartesian.x;pos.barycenter;instr.det;meta.main")
+        self.assertEqual(t["LEVELS"].meta["ucd"], "meta.id.part")
+        self.assertEqual(str(t["THETA_E"].unit), "arcsec")
+        from astropy.io.votable import parse_single_table
+        params = {p.name: p.value for p in parse_single_table(self.outs["ASCII_VOTABLE"]).params}
+        self.assertEqual(params["NCANDID"], len(self.ldac))
+        self.assertEqual(params["SELMETH"], "GRID")
+        require_program("stilts")
+        r = subprocess.run(["stilts", "tpipe", "in=" + self.outs["ASCII_VOTABLE"],
+                            "ifmt=votable", "cmd=meta", "ofmt=csv"],
+                           capture_output=True, text=True, timeout=120)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        rows = {row["Name"]: row for row in csv.DictReader(io.StringIO(r.stdout))}
+        self.assertEqual(sorted(rows), sorted(self.ldac.colnames))
+        self.assertEqual(rows["LEVELS"]["UCD"], "meta.id.part")
+        self.assertEqual(rows["LENS_SCORE"]["UCD"], "stat.probability")
+        self.assertEqual(rows["LEVELS"]["Class"], "short[]")
+        self.assertTrue(all(row["UCD"] for row in rows.values()))
+
+    def test_ascii_head_is_sextractors_layout(self):
+        from astropy.io import ascii
+        t = ascii.read(self.outs["ASCII_HEAD"], format="sextractor")
+        self.assertEqual(len(t), len(self.ldac))
+        self.assertEqual(list(t["NAME"]), [str(n).replace(" ", "_") for n in self.ldac["NAME"]])
+        np.testing.assert_allclose(t["ARCNESS"], self.ldac["ARCNESS"], atol=1e-4)
+        # The 15 elements of LEVELS are 15 numbered columns.
+        with open(self.outs["ASCII_HEAD"]) as f:
+            numbers = {l.split()[2]: int(l.split()[1]) for l in f if l.startswith("#")}
+        self.assertEqual(numbers["NLEVELS"] - numbers["LEVELS"], 15)
+        words = np.loadtxt(self.outs["ASCII_HEAD"], dtype=str, ndmin=2)
+        first = numbers["LEVELS"] - 1
+        np.testing.assert_array_equal(words[:, first:first + 15].astype(int), self.ldac["LEVELS"])
+
+    def test_none_and_unsupported_types_are_one_line_errors(self):
+        for kind in ("NONE", "ASCII_SKYCAT", "FITS_TPX"):
+            p = self.search("-CATALOG_TYPE", kind, out="refused", check=False)
+            self.assertNotEqual(p.returncode, 0)
+            lines = [l for l in p.stderr.splitlines() if l.strip()]
+            self.assertEqual(len(lines), 1, p.stderr)
+            self.assertIn("CATALOG_TYPE " + kind, lines[0])
+            self.assertFalse(os.path.exists(self.path("refused")))
 
 
 class SearchInterrupted(SearchFixture):

@@ -11,8 +11,10 @@
 //   .octarc-batch      marks the directory as a batch's (an other non-empty one is refused)
 //   journal.txt        what each run did (batch/Journal.h)
 //   tiles/NAME/        the tile's search output (candidates, regions, stamps, contact sheet)
-//                      and area.fits, its searched area per block
-//   candidates.fits    the survey's candidates (FITS-LDAC), duplicates of overlaps removed
+//                      and area.fits, its searched area per block; its candidates.fits is
+//                      FITS-LDAC whatever CATALOG_TYPE says, as the merge reads it back
+//   candidates.fits    the survey's candidates (CATALOG_TYPE, FITS-LDAC by default),
+//                      duplicates of overlaps removed
 //   summary.txt        tiles done / failed / done earlier, area, candidates per search space
 //   index.html         the survey index: every tile, its status and its contact sheet
 #pragma once

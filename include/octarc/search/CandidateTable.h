@@ -7,6 +7,7 @@
 // catalog has no such column (0 in the integer columns THRESH_LEVEL, ARC_SIDE, FLAGS).
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,8 @@
 namespace octarc {
 
 // A column of the candidate table; `type` is ignored for the string columns (text = true).
+// Every column has its unit and its IVOA UCD (those of the measurement for the columns copied
+// from the catalog, SExtractor's for SExtractor's columns).
 struct CandidateColumnSpec {
   ColumnSpec spec;
   bool text = false;
@@ -26,7 +29,16 @@ struct CandidateColumnSpec {
 // Every column, in table order (for -dp and the writers): the fixed ones, then per colour band
 // B: MAG_B, MAGERR_B, LENS_MAG_B, LENS_MAGERR_B, ARC_COLOUR_B, ARC_COLOURERR_B, LENS_COLOUR_B,
 // LENS_COLOURERR_B (a colour is B minus the measurement band).
-std::vector<CandidateColumnSpec> candidateColumns(const std::vector<std::string>& colourBands);
+// `levelCount` is the length of the LEVELS vector (the run's number of threshold levels).
+std::vector<CandidateColumnSpec> candidateColumns(const std::vector<std::string>& colourBands,
+                                                  int levelCount = 1);
+
+// Column name -> IVOA UCD, for the writers of the catalog types that hold UCDs.
+std::map<std::string, std::string> candidateColumnUcds(const std::vector<std::string>& colourBands);
+
+// LEVELS lists the levels at which a candidate's object passed, lowest first, in a vector of the
+// run's number of levels; the elements after the last level hold this value (levels count from 1).
+constexpr int kCandidateLevelsFill = 0;
 
 // The LDAC_OBJECTS table of the candidates, with the summary as keywords: NCANDID, NROWSRCH,
 // NOBJSRCH, NROWSEL, SRCHPIX, SRCHAREA (deg2, undefined without WCS), CANDDEG2, REJFRAC,

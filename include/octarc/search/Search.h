@@ -100,6 +100,9 @@ struct SearchSettings {
   std::vector<std::string> colourBands;
   std::optional<ColourCut> colourCut;
   ColourMatch pairColourMatch;  // same colour, for a dark-lens pair
+  // The run's number of threshold levels: the length of the candidates' LEVELS vector (0: the
+  // highest level a candidate passed).
+  int levelCount = 0;
 };
 
 // The lens of a candidate, when one was found.

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "octarc/catalog/Catalog.h"
 #include "octarc/lenslight/LensSubtraction.h"
 #include "octarc/run/RunSettings.h"
 #include "octarc/search/Inspection.h"
@@ -32,6 +33,9 @@ struct SearchRunSettings {
                                        // circle (0: a point is an error)
   std::string inputCatalogPath;        // INPUT_CATALOG: its LDAC_OBJECTS instead of detecting
   std::string outputDir;               // OUTPUT_DIR
+  // CATALOG_TYPE of OUTPUT_DIR/candidates.fits (the name is kept whatever the type; NONE is
+  // refused, the candidates being the search's result).
+  CatalogType catalogType = CatalogType::FitsLdac;
   SearchSettings search;               // pixelScaleArcsec set by the run (PIXEL_SCALE or the WCS)
   StampSettings stamps;
   bool writeStamps = true;  // STAMPS

@@ -5,11 +5,11 @@
 //     --> searched area: MASK_NAME regions, bad weights, MASK_BORDER (selection/SearchMask.h)
 //     --> grid (GRID_NAME) checked against the image's setup (a warning when they differ)
 //     --> candidates (search/Search.h)
-//   --> writeSearchOutputs(): OUTPUT_DIR holding candidates.fits (FITS-LDAC), candidates.cat
-//       (ASCII_HEAD), candidates.reg (DS9), stamps/NNNN.png, index.html (the contact sheet),
-//       summary.txt and, with LENS_LIGHT, lensfit.fits (the fitted galaxies) and the
-//       check-images lensmodel.fits and lensresidual.fits, written whole into a temporary directory
-//       and renamed into place.
+//   --> writeSearchOutputs(): OUTPUT_DIR holding candidates.fits (CATALOG_TYPE, FITS-LDAC by
+//       default), candidates.cat (ASCII_HEAD), candidates.reg (DS9), stamps/NNNN.png, index.html
+//       (the contact sheet), summary.txt and, with LENS_LIGHT, lensfit.fits (the fitted galaxies)
+//       and the check-images lensmodel.fits and lensresidual.fits, written whole into a temporary
+//       directory and renamed into place.
 #pragma once
 
 #include <functional>
@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "octarc/catalog/Catalog.h"
 #include "octarc/core/Progress.h"
 #include "octarc/core/Table.h"
 #include "octarc/io/Ds9Region.h"

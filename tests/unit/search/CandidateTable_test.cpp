@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -76,6 +77,7 @@ TEST(CandidateTable, ObjectsTableValuesComeFromRowCandidateAndSummary) {
   const SearchResult result = handResult();
   SearchSettings settings;
   settings.pixelScaleArcsec = 0.25;
+  settings.levelCount = 4;
   const FitsTable t = candidateObjectsTable(catalog, result, settings);
   EXPECT_EQ(t.name, "LDAC_OBJECTS");
   ASSERT_EQ(t.rows(), 2);
@@ -110,7 +112,9 @@ TEST(CandidateTable, ObjectsTableValuesComeFromRowCandidateAndSummary) {
   }
   EXPECT_EQ(t.integers("ARC_SIDE"), (std::vector<std::int64_t>{0, 0}));
   // From the candidates.
-  EXPECT_EQ(t.strings("LEVELS"), (std::vector<std::string>{"2,3", "3"}));
+  // LEVELS: one element per level of the run, the passed levels first, then 0.
+  EXPECT_EQ(t.column("LEVELS").repeat, 4);
+  EXPECT_EQ(t.integers("LEVELS", 4), (std::vector<std::int64_t>{2, 3, 0, 0, 3, 0, 0, 0}));
   EXPECT_EQ(t.integers("NLEVELS"), (std::vector<std::int64_t>{2, 1}));
   EXPECT_EQ(t.doubles("PROB"), (std::vector<double>{0.5, 0.25}));
   EXPECT_EQ(t.doubles("CONTOUR"), (std::vector<double>{0.75, 0.5}));
@@ -190,22 +194,42 @@ TEST(CandidateTable, ColourBandColumnsFollowInOrder) {
   EXPECT_EQ(t.number("COLCUTMX"), 1.5);
 }
 
+TEST(CandidateTable, EveryColumnHasAUcd) {
+  const std::map<std::string, std::string> ucds = candidateColumnUcds({"g"});
+  for (const CandidateColumnSpec& c : candidateColumns({"g"})) {
+    EXPECT_FALSE(c.spec.ucd.empty()) << c.spec.name;
+    EXPECT_EQ(ucds.at(c.spec.name), c.spec.ucd);
+  }
+  // SExtractor's UCDs for SExtractor's columns.
+  EXPECT_EQ(ucds.at("X_IMAGE"), "pos.cartesian.x;pos.barycenter;instr.det;meta.main");
+  EXPECT_EQ(ucds.at("ALPHA_J2000"), "pos.eq.ra;meta.main");
+  EXPECT_EQ(ucds.at("MAG_g"), "phot.mag");
+}
+
 TEST(CandidateTable, AsciiHeadHasOneHeaderLinePerColumnAndOneWordPerValue) {
   const Table catalog = handCatalog();
   const SearchResult result = handResult();
+  // Without the run's number of levels, LEVELS is as long as the highest level passed: 3.
   const SearchSettings settings;
-  const std::vector<CandidateColumnSpec> specs = candidateColumns({});
+  const std::vector<CandidateColumnSpec> specs = candidateColumns({}, 3);
   std::istringstream in(candidateAsciiText(catalog, result, settings));
   std::vector<std::string> header, data;
   for (std::string line; std::getline(in, line);) (line[0] == '#' ? header : data).push_back(line);
   ASSERT_EQ(header.size(), specs.size());
   ASSERT_EQ(data.size(), 2u);
   EXPECT_EQ(header[0].substr(0, 29), "#   1 NUMBER                 ");
+  // A vector takes one column per element, as in SExtractor's ASCII_HEAD.
+  std::vector<std::size_t> first;
+  std::size_t wordCount = 0;
+  for (const CandidateColumnSpec& c : specs) {
+    first.push_back(wordCount);
+    wordCount += std::size_t(c.spec.repeat);
+  }
   for (std::size_t c = 0; c < specs.size(); ++c) {
     std::istringstream words(header[c]);
     std::string hash, index, name;
     words >> hash >> index >> name;
-    EXPECT_EQ(std::stoul(index), c + 1);
+    EXPECT_EQ(std::stoul(index), first[c] + 1);
     EXPECT_EQ(name, specs[c].spec.name);
     const std::string unit = specs[c].spec.unit;
     if (!unit.empty()) {
@@ -219,11 +243,11 @@ TEST(CandidateTable, AsciiHeadHasOneHeaderLinePerColumnAndOneWordPerValue) {
     std::istringstream words(line);
     rows.emplace_back();
     for (std::string w; words >> w;) rows.back().push_back(w);
-    ASSERT_EQ(rows.back().size(), specs.size()) << line;
+    ASSERT_EQ(rows.back().size(), wordCount) << line;
   }
-  auto at = [&](std::size_t r, const std::string& name) {
+  auto at = [&](std::size_t r, const std::string& name, std::size_t element = 0) {
     for (std::size_t c = 0; c < specs.size(); ++c)
-      if (specs[c].spec.name == name) return rows[r][c];
+      if (specs[c].spec.name == name) return rows[r][first[c] + element];
     return std::string("?");
   };
   EXPECT_EQ(at(0, "NUMBER"), "1");
@@ -231,8 +255,8 @@ TEST(CandidateTable, AsciiHeadHasOneHeaderLinePerColumnAndOneWordPerValue) {
   EXPECT_EQ(at(0, "NAME"), "OCTARC_J095950.40+021000.0");
   EXPECT_EQ(at(1, "NAME"), "-");
   EXPECT_EQ(at(0, "X_IMAGE"), "10.500");
-  EXPECT_EQ(at(1, "LEVELS"), "3");
-  EXPECT_EQ(at(0, "LEVELS"), "2,3");
+  EXPECT_EQ(at(0, "LEVELS", 0) + at(0, "LEVELS", 1) + at(0, "LEVELS", 2), "230");
+  EXPECT_EQ(at(1, "LEVELS", 0) + at(1, "LEVELS", 1) + at(1, "LEVELS", 2), "300");
   EXPECT_EQ(at(0, "LENS_NUMBER"), "7");
   EXPECT_EQ(at(1, "CAND_FLAGS"), "5");
 }
