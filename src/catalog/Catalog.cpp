@@ -383,11 +383,11 @@ void appendCardParam(const std::string& card, const char* indent, std::string& t
   if (card.size() < 10 || card.compare(8, 2, "= ") != 0) return;
   std::string key = card.substr(0, 8);
   key.erase(key.find_last_not_of(' ') + 1);
-  std::size_t i = card.find_first_not_of(' ', 10);
-  if (key.empty() || i == std::string::npos) return;
+  if (key.empty()) return;
+  std::size_t i = std::min(card.find_first_not_of(' ', 10), card.size());
   std::string value;
   std::string datatype;
-  if (card[i] == '\'') {
+  if (i < card.size() && card[i] == '\'') {
     // A quoted string: '' inside is one quote; trailing blanks are not significant.
     for (++i; i < card.size(); ++i) {
       if (card[i] == '\'') {
@@ -410,11 +410,13 @@ void appendCardParam(const std::string& card, const char* indent, std::string& t
     i = end == std::string::npos ? card.size() : end;
     if (value == "T" || value == "F") {
       datatype = "boolean";
+    } else if (value.empty()) {
+      datatype = "double";
+      value = "NaN";  // an undefined value
     } else if (value.find_first_not_of("+-0123456789") == std::string::npos) {
       datatype = "long";
     } else {
       datatype = "double";
-      if (value.empty()) value = "NaN";                    // an undefined value
       std::replace(value.begin(), value.end(), 'D', 'E');  // Fortran exponent
     }
   }

@@ -357,6 +357,26 @@ TEST_F(CatalogWriter, VotableDeclaresFieldsAndReadsBackInAstropy) {
   EXPECT_EQ(out, "11.5 [1.0, 2.0, 4.0] -- 21.5 int32 0.375 A_IMAGE/B_IMAGE & \"a<b\"\n3 16\n");
 }
 
+// Several image extensions: one table of every row, each extension's cards in its GROUP; an
+// undefined card value is a NaN PARAM.
+TEST_F(CatalogWriter, VotableGroupsTheCardsOfEachExtension) {
+  CatalogPart second = part_;
+  second.runCards.push_back(std::string("OCTUNDEF=").append(71, ' '));
+  const auto out = dir_ / "two.xml";
+  writeCatalog(out.string(), CatalogType::AsciiVotable, {part_, second});
+  const std::string text = test::readFile(out);
+  EXPECT_NE(text.find("<GROUP name=\"EXTENSION_1\">"), std::string::npos);
+  EXPECT_NE(text.find("<GROUP name=\"EXTENSION_2\">"), std::string::npos);
+  EXPECT_NE(text.find("<PARAM name=\"OCTUNDEF\" datatype=\"double\" ucd=\"obs.param\" "
+                      "value=\"NaN\"/>"),
+            std::string::npos)
+      << text;
+  std::size_t rows = 0;
+  for (std::size_t at = text.find("<TR>"); at != std::string::npos; at = text.find("<TR>", at + 1))
+    ++rows;
+  EXPECT_EQ(rows, 6u);
+}
+
 // A table with text and vector columns (the candidates'), in the text catalog types.
 FitsTable textAndVectorTable() {
   FitsTable t;
