@@ -146,6 +146,12 @@ std::vector<KeySpec> searchKeys() {
       k.defaults = {"N"};
     } else if (k.name == "PARAMETERS_NAME") {
       k.defaults = {"octarc.param"};  // the shipped column list
+    } else if (k.name == "CATALOG_TYPE") {
+      // candidates.fits is FITS-LDAC unless asked otherwise (SExtractor's default is ASCII_HEAD).
+      k.defaults = {"FITS_LDAC"};
+      k.comment =
+          "format of OUTPUT_DIR/candidates.fits: FITS_LDAC,\nFITS_1.0, ASCII_HEAD, ASCII or "
+          "ASCII_VOTABLE";
     } else if (k.name == "WRITE_XML" || k.name == "XML_NAME" || k.name == "XSL_URL") {
       sexcompat::KeyRow::markIgnored(k);  // a search reports in OUTPUT_DIR/summary.txt
     }

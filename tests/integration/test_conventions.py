@@ -363,6 +363,8 @@ class Templates(WorkDirTest):
                   if line.strip() and not line.startswith("#") and len(line.split()) > 1}
         self.assertEqual(values["DETECT_NLEVELS"], "15")
         self.assertEqual(values["DETECT_THRESH"], "2.5")
+        # candidates.fits is FITS-LDAC without a configuration file, not SExtractor's ASCII_HEAD.
+        self.assertEqual(values["CATALOG_TYPE"], "FITS_LDAC")
         self.assertEqual(values["FILTER"], "N")
         self.assertEqual(values["PARAMETERS_NAME"], "octarc.param")
         for full in (False, True):
