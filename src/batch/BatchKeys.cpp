@@ -28,6 +28,10 @@ std::vector<KeySpec> batchKeys() {
       // Each tile's comes from the manifest: none here, so that a -dd template loads back.
       k.defaults = {};
       k.comment = "none: each tile's weight map is in the manifest";
+    } else if (k.name == "CATALOG_TYPE") {
+      k.comment =
+          "format of the survey's OUTPUT_DIR/candidates.fits:\nFITS_LDAC, FITS_1.0, ASCII_HEAD, "
+          "ASCII or\nASCII_VOTABLE (the tiles' stay FITS_LDAC)";
     }
   }
   // clang-format off
