@@ -101,16 +101,26 @@ std::optional<ParsedOptions> parseOptions(const std::vector<std::string>& args,
       parseArguments(optionsAsKeys(args, options), command, optionKeys(options));
   if (!cl) return std::nullopt;
   const std::string seeHelp = " (see octarc " + command.name + " -h)";
-  if (!cl->configFile.empty()) {
-    throw ConfigError("command line: -c: octarc " + command.name +
-                      " reads no configuration file; give its keys on the command line" + seeHelp);
-  }
   if (cl->positional.size() > maxPositional) {
     throw ConfigError("command line: " + quoteForMessage(cl->positional[maxPositional]) +
                       ": unexpected argument" + seeHelp);
   }
-  // The last value of each key, as Boost long options.
+  // The last value of each key, as Boost long options: those of a -c file (as -d writes it: a
+  // key without a value is not given), then those of the command line.
   std::map<std::string, std::string> last;
+  if (!cl->configFile.empty()) {
+    const std::vector<sexcompat::KeySpec> keys = optionKeys(options);
+    std::vector<std::string> warnings;
+    const sexcompat::Config file = sexcompat::Config::load(keys, cl->configFile, {}, &warnings);
+    for (const sexcompat::KeySpec& k : keys) {
+      if (!file.isExplicit(k.name) || file.givenWithoutValue(k.name)) continue;
+      std::string joined;
+      for (const std::string& v : file.getStrings(k.name)) {
+        joined += (joined.empty() ? "" : ",") + v;
+      }
+      last[k.name] = joined;
+    }
+  }
   for (const auto& [key, value] : cl->overrides) last[key] = value;
   std::vector<std::string> tokens;
   for (const auto& d : options.options()) {

@@ -245,7 +245,7 @@ class EveryCommandTakesTheFlags(WorkDirTest):
         self.assertEqual(proc.returncode, 1)
         self.assertIn("-3", proc.stderr)
 
-    def test_unknown_keys_and_c_files_of_the_simulations_are_refused(self):
+    def test_unknown_keys_and_missing_c_files_of_the_simulations_are_refused(self):
         for command in (("simulate", "lenses"), ("simulate", "field"), ("demo",)):
             proc = run_octarc(*command, "-SIZ", 3, check=False)
             self.assertEqual(proc.returncode, 1)
@@ -253,7 +253,27 @@ class EveryCommandTakesTheFlags(WorkDirTest):
             self.assertIn("-SIZ", proc.stderr)
             proc = run_octarc(*command, "-c", self.path("x.sex"), check=False)
             self.assertEqual(proc.returncode, 1)
-            self.assertIn("-c", proc.stderr)
+            self.assertIn(self.path("x.sex"), proc.stderr)
+
+    def test_a_dd_template_of_a_simulation_loads_back(self):
+        # -dd > file, a key changed in it, -c file: the same tables as the long options give;
+        # a key on the command line wins over the file's.
+        def systems(*args):
+            out = self.path("s%d.fits" % len(os.listdir(self.work)))
+            run_octarc("simulate", "lenses", *args, "-o", out, "--threads", 1)
+            with fits.open(out) as f:
+                return f["LDAC_OBJECTS"].data.tobytes(), f["ARCS"].data.tobytes()
+
+        template = run_octarc("simulate", "lenses", "-dd").stdout
+        template = re.sub(r"(?m)^SAMPLING +importance", "SAMPLING plain", template)
+        template = re.sub(r"(?m)^SEED +1 ", "SEED 7 ", template)
+        path = self.path("lenses.sex")
+        with open(path, "w") as f:
+            f.write(template)
+        self.assertIn("SAMPLING plain", template)
+        expected = systems("-n", 3, "--seed", 5, "--sampling", "plain", "--quiet")
+        self.assertEqual(systems("-c", path, "-n", 3, "--seed", 5, "--quiet"), expected)
+        self.assertNotEqual(systems("-c", path, "-n", 3, "--quiet"), expected)  # SEED 7
 
 
 class ConfigurationDumps(WorkDirTest):

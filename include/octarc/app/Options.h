@@ -22,8 +22,9 @@ boost::program_options::typed_value<T>* optionalValue(std::optional<T>& target) 
 inline constexpr const char* kOptionsAsKeys =
     "Every option is also a configuration key, in SExtractor's style: --pixel-scale 0.3 is\n"
     "-PIXEL_SCALE 0.3, a switch such as --quiet is -QUIET Y (or N), and the last value of a\n"
-    "key wins. -d and -dd list the keys with their defaults as a .sex file, -dp the columns\n"
-    "of the catalog written (an error when none is), -v the version.\n";
+    "key wins. -d and -dd list the keys with their defaults as a .sex file, which -c FILE\n"
+    "reads back (the command line's keys over the file's), -dp the columns of the catalog\n"
+    "written (an error when none is), -v the version.\n";
 
 // The configuration key of a long option: "pixel-scale" -> "PIXEL_SCALE".
 std::string optionKey(const std::string& longName);
