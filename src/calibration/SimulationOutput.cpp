@@ -16,9 +16,9 @@
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
 #include "octarc/core/Image.h"
-#include "octarc/core/Segment.h"
 #include "octarc/io/FitsHeader.h"
 #include "octarc/io/FitsTable.h"
+#include "octarc/selection/SurveySetup.h"
 
 namespace octarc {
 
@@ -67,8 +67,12 @@ void checkSetupCards(const std::string& path, const FitsHeader& h) {
   for (const char* key : {"OCTPIXSC", "OCTSEEIN", "OCTGAIN", "OCTSKYSG", "OCTTHLO", "OCTTHHI"}) {
     require(key, std::isfinite(card(h, key)) && card(h, key) > 0.0, "a finite number > 0");
   }
-  require("OCTNLEV", wholeIn(card(h, "OCTNLEV"), 1, kMaxThresholdLevels),
-          "a whole number from 1 to " + std::to_string(kMaxThresholdLevels));
+  // The grid and the lens model record each level (THRESHn): calibrate takes as many as they
+  // can hold, before any work.
+  require("OCTNLEV", wholeIn(card(h, "OCTNLEV"), 1, kMaxSetupLevels),
+          "a whole number from 1 to " + std::to_string(kMaxSetupLevels) +
+              " (a grid or lens model records at most " + std::to_string(kMaxSetupLevels) +
+              " levels)");
   // Several levels are spaced from OCTTHLO to OCTTHHI, and the detector takes them strictly
   // increasing.
   const bool oneLevel = card(h, "OCTNLEV") == 1.0;

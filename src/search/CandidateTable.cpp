@@ -54,7 +54,8 @@ ColumnDef text(std::string name, std::string description, std::string ucd,
           [f = std::move(f)](const RowView& v) { return Value(f(v)); }};
 }
 
-// A column copied from the catalog's best row, with the UCD the measurement declares for it.
+// A column copied from the catalog's best row, with the UCD its measurement declares (the unit
+// test checks that they agree).
 ColumnDef copied(const char* name, std::string description, std::string unit, std::string ucd,
                  ColumnType type, std::string format) {
   return number(name, std::move(description), std::move(unit), std::move(ucd), type,
@@ -131,10 +132,12 @@ std::vector<ColumnDef> definitions(const std::vector<std::string>& bands, int le
              [](const RowView& v) { return double(v.number); }),
       text("NAME", "IAU-style designation (J2000, truncated)", "meta.id;meta.main",
            [](const RowView& v) { return v.candidate.name; }),
-      number("ALPHA_J2000", "Right ascension of the arc (J2000)", "deg", "pos.eq.ra;meta.main",
-             T::Float64, "%11.7f", [](const RowView& v) { return v.candidate.raDeg; }),
-      number("DELTA_J2000", "Declination of the arc (J2000)", "deg", "pos.eq.dec;meta.main",
-             T::Float64, "%+11.7f", [](const RowView& v) { return v.candidate.decDeg; }),
+      number("ALPHA_J2000", "Right ascension of the arc (J2000)", "deg",
+             "pos.eq.ra;pos.barycenter;meta.main", T::Float64, "%11.7f",
+             [](const RowView& v) { return v.candidate.raDeg; }),
+      number("DELTA_J2000", "Declination of the arc (J2000)", "deg",
+             "pos.eq.dec;pos.barycenter;meta.main", T::Float64, "%+11.7f",
+             [](const RowView& v) { return v.candidate.decDeg; }),
       text("RA_SEX", "Right ascension of the arc (J2000), hh:mm:ss.ss", "pos.eq.ra",
            [](const RowView& v) { return formatRaSexagesimal(v.candidate.raDeg, 2); }),
       text("DEC_SEX", "Declination of the arc (J2000), +dd:mm:ss.s", "pos.eq.dec",

@@ -12,6 +12,7 @@
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
 #include "octarc/core/Interrupt.h"
+#include "octarc/run/Levels.h"
 #include "octarc/run/RunSettings.h"
 #include "octarc/simulation/Population.h"
 
@@ -123,11 +124,11 @@ void simulateSearchWrite(const InjectionDemoSettings& s, const DemoKeys& keys, I
   demo.times.simulateSec = seconds();
   // The search, detection and measurement included, in memory; the catalog and the
   // candidates are written from what it returns.
-  if (s.log) {
-    s.log(std::string("> Searching at 15 levels with the demo ") + (s.trees ? "model" : "grid") +
-          " (octarc search)");
-  }
   demo.search = demoSearchSettings(keys, paths, demo.shippedSexPath);
+  if (s.log) {
+    s.log("> Searching at " + std::to_string(detectionLevels(demo.search.run, 1.0).size()) +
+          " levels with the demo " + (s.trees ? "model" : "grid") + " (octarc search)");
+  }
   demo.run = searchImage(demo.search, RunLog());
   const SearchRun& run = demo.run;
   demo.match = matchInjectedLenses(demo.field.truth, run.catalog, run.result, run.pixelScaleArcsec,

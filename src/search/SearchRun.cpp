@@ -16,6 +16,7 @@
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
 #include "octarc/core/Parallel.h"
+#include "octarc/core/Segment.h"
 #include "octarc/io/Ds9Region.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/FitsTable.h"
@@ -212,8 +213,10 @@ void readEarlierRows(const SearchRunSettings& settings, SearchRun& run, const Ru
   const int level = run.catalog.findColumn("THRESH_LEVEL");
   const int threshold = run.catalog.findColumn("THRESHOLD");
   for (std::int64_t r = 0; r < run.catalog.rows(); ++r) {
-    const int k = int(run.catalog.value(r, level));
-    if (k < 1 || k > 255) continue;
+    // A value from the user's file: checked before it becomes an index.
+    const double levelValue = run.catalog.value(r, level);
+    if (!(levelValue >= 1 && levelValue <= kMaxThresholdLevels)) continue;
+    const int k = int(levelValue);
     if (int(run.levels.size()) < k) run.levels.resize(std::size_t(k));
     ThresholdLevel& t = run.levels[std::size_t(k - 1)];
     t.level = k;
@@ -465,7 +468,10 @@ void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings
   SearchSettings search = settings.search;
   search.pixelScaleArcsec = run.pixelScaleArcsec;
   search.threads = resolveThreads(settings.run.threads);
-  search.levelCount = int(run.levels.size());
+  // LEVELS as long as the run's levels, also when an input catalog has no object at the top
+  // ones: a batch's tiles then have one LEVELS length, which the survey merge requires.
+  search.levelCount =
+      std::max(int(run.levels.size()), int(detectionLevels(settings.run, 1.0).size()));
   const Table& catalog = run.catalog;
   const Wcs* wcs = run.image.wcs ? &*run.image.wcs : nullptr;
   // An error names the temporary folder; writeSearchOutputs puts OUTPUT_DIR in its place.

@@ -91,8 +91,6 @@ bool finitePositive(double v) {
   return std::isfinite(v) && v > 0.0;
 }
 constexpr const char* kUnknownOrPositive = "undefined (unknown) or a finite number > 0";
-// The levels a file can list: THRESHnn holds two digits in its 8 characters.
-constexpr std::int64_t kMaxSetupLevels = 99;
 static_assert(kMaxSetupLevels <= kMaxThresholdLevels);
 
 }  // namespace

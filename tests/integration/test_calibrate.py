@@ -383,8 +383,9 @@ class Calibrate(WorkDirTest):
         for key, value, expected in (("OCTSKYSG", "-1.0", "OCTSKYSG = -1 is not a finite "
                                       "number > 0"),
                                      ("OCTMINAR", "0", "OCTMINAR = 0 is not a whole number >= 1"),
-                                     ("OCTNLEV", "256", "OCTNLEV = 256 is not a whole number from "
-                                      "1 to 255")):
+                                     ("OCTNLEV", "100", "OCTNLEV = 100 is not a whole number from "
+                                      "1 to 99 (a grid or lens model records at most 99 "
+                                      "levels)")):
             bad = with_card(self.sim, os.path.join(self.sim_dir, key + ".fits"), key, value)
             self.assert_fails(run_octarc("calibrate", bad, check=False, cwd=self.work),
                               bad + ": LDAC_IMHEAD card " + expected)

@@ -401,7 +401,7 @@ class SearchCatalogTypes(SearchFixture):
         self.assert_same_rows(t)
         self.assertEqual(t["LEVELS"].shape, (len(t), 15))
         self.assertEqual(str(t["ALPHA_J2000"].unit), "deg")
-        self.assertEqual(t["ALPHA_J2000"].meta["ucd"], "pos.eq.ra;meta.main")
+        self.assertEqual(t["ALPHA_J2000"].meta["ucd"], "pos.eq.ra;pos.barycenter;meta.main")
         self.assertEqual(t["X_IMAGE"].meta["ucd"],
                          "pos.cartesian.x;pos.barycenter;instr.det;meta.main")
         self.assertEqual(t["LEVELS"].meta["ucd"], "meta.id.part")

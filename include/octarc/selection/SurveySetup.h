@@ -48,6 +48,8 @@ std::vector<std::string> compareSetups(const SurveySetup& grid, const SurveySetu
 // (IoError naming the table and the keyword when one is missing or out of its range: at most 99
 // levels, THRESHn increasing strictly).
 void addSetupKeywords(const SurveySetup& setup, std::vector<FitsKeyword>& keywords);
+// The most levels a grid or model file records: THRESHnn holds two digits in its 8 characters.
+inline constexpr int kMaxSetupLevels = 99;
 SurveySetup readSetup(const FitsTable& table);
 
 }  // namespace octarc

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "octarc/measure/Registry.h"
+
 namespace octarc {
 namespace {
 
@@ -196,13 +198,22 @@ TEST(CandidateTable, ColourBandColumnsFollowInOrder) {
 
 TEST(CandidateTable, EveryColumnHasAUcd) {
   const std::map<std::string, std::string> ucds = candidateColumnUcds({"g"});
+  // A column copied from the catalog has the UCD its measurement declares (measure/Registry.h).
+  std::map<std::string, std::string> measured;
+  for (const ColumnSpec& c : allBuiltinColumns()) measured[c.name] = c.ucd;
+  int copiedColumns = 0;
   for (const CandidateColumnSpec& c : candidateColumns({"g"})) {
     EXPECT_FALSE(c.spec.ucd.empty()) << c.spec.name;
-    EXPECT_EQ(ucds.at(c.spec.name), c.spec.ucd);
+    const auto m = measured.find(c.spec.name);
+    if (m != measured.end() && !m->second.empty()) {
+      EXPECT_EQ(c.spec.ucd, m->second) << c.spec.name;
+      ++copiedColumns;
+    }
   }
+  EXPECT_GE(copiedColumns, 10);
   // SExtractor's UCDs for SExtractor's columns.
   EXPECT_EQ(ucds.at("X_IMAGE"), "pos.cartesian.x;pos.barycenter;instr.det;meta.main");
-  EXPECT_EQ(ucds.at("ALPHA_J2000"), "pos.eq.ra;meta.main");
+  EXPECT_EQ(ucds.at("ALPHA_J2000"), "pos.eq.ra;pos.barycenter;meta.main");
   EXPECT_EQ(ucds.at("MAG_g"), "phot.mag");
 }
 

@@ -75,7 +75,8 @@ TEST(InjectionDemo, UnreadableModelStopsTheRunBeforeAnythingIsMade) {
   const fs::path out = test::scratchDir() / "demo";
   InjectionDemoSettings settings = smallDemo(out);
   settings.modelPath = (out.parent_path() / "missing.model.fits").string();
-  EXPECT_ANY_THROW(runInjectionDemo(settings));
+  test::expectIoError([&] { runInjectionDemo(settings); },
+                      {settings.modelPath, "cannot open as FITS"});
   EXPECT_FALSE(fs::exists(out));
 }
 
