@@ -6,7 +6,7 @@
 # OCTARC_COMMAND empty: the page of octarc itself (octarc -h).
 cmake_minimum_required(VERSION 3.18)
 
-# roff text: backslashes doubled, a line starting with . or ' protected with \&.
+# roff text: a backslash written \e, a line starting with . or ' protected with \&.
 function(roff_escape text out)
   string(REPLACE "\\" "\\e" text "${text}")
   string(REGEX REPLACE "(^|\n)([.'])" "\\1\\\\&\\2" text "${text}")

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <stdexcept>
 
 #include "FitsColumns.h"
@@ -19,6 +20,13 @@
 namespace octarc {
 
 namespace {
+
+// A file being written, closed on every way out (an exception between open and close leaks no
+// handle); the normal path closes it itself, to see the error of the last write.
+struct CloseFile {
+  void operator()(std::FILE* file) const { std::fclose(file); }
+};
+using OpenFile = std::unique_ptr<std::FILE, CloseFile>;
 
 // A printf conversion split into its parts, e.g. "%+6.2f" -> flags "+", width 6, precision 2, 'f'.
 struct PrintfSpec {
@@ -312,7 +320,7 @@ void writeLdacTablesAt(const std::string& path, const std::vector<std::string>& 
 
 void writeAscii(const std::string& path, bool withHeader, const std::vector<CatalogPart>& parts) {
   AtomicFile out(path);
-  std::FILE* file = std::fopen(out.tempPath().c_str(), "w");
+  OpenFile file(std::fopen(out.tempPath().c_str(), "w"));
   if (file == nullptr) throw IoError(path + ": cannot create (" + std::strerror(errno) + ")");
   std::string text;
   const Table& first = *partRows(parts.front(), 0).table;
@@ -328,7 +336,7 @@ void writeAscii(const std::string& path, bool withHeader, const std::vector<Cata
       index += c.repeat;
     }
   }
-  bool ok = std::fwrite(text.data(), 1, text.size(), file) == text.size();
+  bool ok = std::fwrite(text.data(), 1, text.size(), file.get()) == text.size();
   std::vector<AsciiFormat> formats;
   for (const ColumnSpec& c : first.columns()) formats.emplace_back(c);
   for (std::size_t p = 0; p < parts.size() && ok; ++p) {
@@ -344,10 +352,10 @@ void writeAscii(const std::string& path, bool withHeader, const std::vector<Cata
         }
       }
       text += '\n';
-      ok = std::fwrite(text.data(), 1, text.size(), file) == text.size();
+      ok = std::fwrite(text.data(), 1, text.size(), file.get()) == text.size();
     }
   }
-  ok = (std::fclose(file) == 0) && ok;
+  ok = (std::fclose(file.release()) == 0) && ok;
   if (!ok) throw IoError(path + ": cannot write (" + std::strerror(errno) + ")");
   out.commit();
 }
@@ -439,7 +447,7 @@ void appendCardParam(const std::string& card, const char* indent, std::string& t
 
 void writeVotable(const std::string& path, const std::vector<CatalogPart>& parts) {
   AtomicFile out(path);
-  std::FILE* file = std::fopen(out.tempPath().c_str(), "w");
+  OpenFile file(std::fopen(out.tempPath().c_str(), "w"));
   if (file == nullptr) throw IoError(path + ": cannot create (" + std::strerror(errno) + ")");
   const Table& first = *partRows(parts.front(), 0).table;
   std::string text =
@@ -469,7 +477,7 @@ void writeVotable(const std::string& path, const std::vector<CatalogPart>& parts
     text += ">\n   <DESCRIPTION>" + xmlEscaped(c.description) + "</DESCRIPTION>\n  </FIELD>\n";
   }
   text += "  <DATA><TABLEDATA>\n";
-  bool ok = std::fwrite(text.data(), 1, text.size(), file) == text.size();
+  bool ok = std::fwrite(text.data(), 1, text.size(), file.get()) == text.size();
   for (std::size_t p = 0; p < parts.size() && ok; ++p) {
     const detail::TableRows rows = partRows(parts[p], p);
     const Table& t = *rows.table;
@@ -486,12 +494,12 @@ void writeVotable(const std::string& path, const std::vector<CatalogPart>& parts
         text += "</TD>";
       }
       text += "</TR>\n";
-      ok = std::fwrite(text.data(), 1, text.size(), file) == text.size();
+      ok = std::fwrite(text.data(), 1, text.size(), file.get()) == text.size();
     }
   }
   text = "  </TABLEDATA></DATA>\n </TABLE>\n</RESOURCE>\n</VOTABLE>\n";
-  ok = ok && std::fwrite(text.data(), 1, text.size(), file) == text.size();
-  ok = (std::fclose(file) == 0) && ok;
+  ok = ok && std::fwrite(text.data(), 1, text.size(), file.get()) == text.size();
+  ok = (std::fclose(file.release()) == 0) && ok;
   if (!ok) throw IoError(path + ": cannot write (" + std::strerror(errno) + ")");
   out.commit();
 }

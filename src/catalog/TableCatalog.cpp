@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <variant>
 
 #include "octarc/catalog/RunXml.h"
@@ -131,12 +132,17 @@ std::string votableKeywordParam(const FitsKeyword& k) {
     datatype = "long";
     value = std::to_string(*i);
   } else if (const std::uint64_t* u = std::get_if<std::uint64_t>(&k.value)) {
-    datatype = "long";
+    // VOTable has no unsigned 64-bit type: above a long's range the digits go as text.
+    datatype = *u <= std::uint64_t(std::numeric_limits<std::int64_t>::max())
+                   ? "long"
+                   : "char\" arraysize=\"*";
     value = std::to_string(*u);
   } else if (const double* d = std::get_if<double>(&k.value)) {
     datatype = "double";
     if (std::isnan(*d)) {
       value = "NaN";
+    } else if (std::isinf(*d)) {
+      value = *d > 0 ? "+Inf" : "-Inf";  // VOTable's spelling, as the cells have it
     } else {
       std::snprintf(buffer, sizeof buffer, "%.17g", *d);
       value = buffer;

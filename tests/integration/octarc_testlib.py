@@ -103,10 +103,10 @@ PURE_THRESHOLDING = ["-DEBLEND_NTHRESH", "1", "-DEBLEND_MINCONT", "1.0", "-CLEAN
                      "-MEMORY_BUFSIZE", "4096", "-VERBOSE_TYPE", "QUIET", "-WRITE_XML", "N"]
 
 
-# source-extractor allocates and clears its whole pixel stack (MEMORY_PIXSTACK) at every run,
-# which took a fifth of a run on a 1024^2 image with a stack the size of the image. It holds the
-# pixels of the objects that are still open in the scan, far fewer; 100 000 is enough for most
-# test images and takes 4 MB.
+# source-extractor allocates and clears its whole pixel stack (MEMORY_PIXSTACK) at every run: on
+# the 1024^2 NTT image a run took 203 ms of CPU with a stack the size of the image and 122 ms
+# with 100 000 pixels. The stack holds the pixels of the objects still open in the scan, far
+# fewer; 100 000 is enough for most test images.
 SEXTRACTOR_SMALL_PIXSTACK = 100000
 
 

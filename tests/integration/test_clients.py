@@ -55,6 +55,7 @@ class PsfexAndScamp(WorkDirTest):
     @classmethod
     def setUpClass(cls):
         cls.data = tempfile.mkdtemp(prefix="octarc-clients-")
+        cls.addClassCleanup(shutil.rmtree, cls.data, ignore_errors=True)  # also when setup fails
         cls.image = os.path.join(cls.data, "field.fits")
         run_octarc("simulate", "field", "-o", cls.image, "--size", 1024, "--seed", 5, "--quiet")
         param = write_param(os.path.join(cls.data, "sex.param"), SEX_COLUMNS)
@@ -68,10 +69,6 @@ class PsfexAndScamp(WorkDirTest):
                    "-PARAMETERS_NAME", os.path.join(SHIPPED, "octarc.param"),
                    "-SEGMENTATION_NAME", cls.segmentation, "-INPUT_CATALOG", cls.catalog,
                    "-CATALOG_NAME", cls.appended, "-FILTER", "N", "-VERBOSE_TYPE", "QUIET")
-
-    @classmethod
-    def tearDownClass(cls):
-        shutil.rmtree(cls.data, ignore_errors=True)
 
     def test_measure_appends_the_shipped_columns(self):
         with fits.open(self.catalog) as a, fits.open(self.appended) as b:

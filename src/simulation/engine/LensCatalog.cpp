@@ -414,26 +414,29 @@ std::string lensRunSummary(const LensRun& run, const SimulationSetup& setup,
   const StageTimings& total = run.timings;
   const double n = double(std::max<std::int64_t>(run.rendered, 1));
   const double cpuSec = total.totalSec();
-  char text[2048];
+  // The output path goes in whole, whatever its length; the numbers fit the buffer.
+  char head[256];
+  std::snprintf(head, sizeof head,
+                "> %lld systems drawn (%s sampling), %lld skipped (theta_E < %g\"), %lld rendered, "
+                "sum of weights %.1f -> ",
+                static_cast<long long>(run.drawn), context.samplingName.c_str(),
+                static_cast<long long>(run.skipped), setup.population.skipEinsteinRadiusBelowArcsec,
+                static_cast<long long>(run.rendered), run.weightSum);
+  char tail[1024];
   std::snprintf(
-      text, sizeof text,
-      "> %lld systems drawn (%s sampling), %lld skipped (theta_E < %g\"), %lld rendered, "
-      "sum of weights %.1f -> %s\n"
-      "> %lld rendered with an arc, %.1f effective arcs (Kish), %lld arc rows\n"
+      tail, sizeof tail,
+      "\n> %lld rendered with an arc, %.1f effective arcs (Kish), %lld arc rows\n"
       "> %lld lens-source pairs redrawn (the relations gave no source redshift)\n"
       "> wall %.1f s on %d rank(s) of %d thread(s); CPU %.1f s, %.2f effective arcs per "
       "CPU second; per rendered system: draw %.3f, ray trace %.3f, lens light %.3f, PSF %.3f, "
       "noise %.3f, detection and measurement %.3f, arc rules %.3f ms\n",
-      static_cast<long long>(run.drawn), context.samplingName.c_str(),
-      static_cast<long long>(run.skipped), setup.population.skipEinsteinRadiusBelowArcsec,
-      static_cast<long long>(run.rendered), run.weightSum, context.outputPath.c_str(),
       static_cast<long long>(run.systemsWithArc), run.effectiveArcs(),
       static_cast<long long>(run.arcs.rows()), static_cast<long long>(run.redraws), context.wallSec,
       context.ranks, context.threads, cpuSec, cpuSec > 0 ? run.effectiveArcs() / cpuSec : 0.0,
       1e3 * total.drawSec / n, 1e3 * total.rayTraceSec / n, 1e3 * total.lensLightSec / n,
       1e3 * total.psfSec / n, 1e3 * total.noiseSec / n, 1e3 * total.detectionSec / n,
       1e3 * total.arcRulesSec / n);
-  return text;
+  return std::string(head) + context.outputPath + tail;
 }
 
 }  // namespace octarc
