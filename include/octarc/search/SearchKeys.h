@@ -36,7 +36,7 @@ struct SearchRunSettings {
   // CATALOG_TYPE of OUTPUT_DIR/candidates.fits (the name is kept whatever the type; NONE is
   // refused, the candidates being the search's result).
   CatalogType catalogType = CatalogType::FitsLdac;
-  SearchSettings search;               // pixelScaleArcsec set by the run (PIXEL_SCALE or the WCS)
+  SearchSettings search;  // pixelScaleArcsec set by the run (PIXEL_SCALE or the WCS)
   StampSettings stamps;
   bool writeStamps = true;  // STAMPS
   // COLOUR_IMAGE: images of other bands on the measurement image's pixel grid, background-
