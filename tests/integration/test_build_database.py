@@ -158,6 +158,25 @@ class BadInput(WorkDirTest):
         self.assertIn("--pixel-scale", msg)
         self.assertIn("image.fits", msg)
 
+    def test_header_cards_out_of_their_range(self):
+        # A pixel scale or zero point card that is there but not a number in its range is an
+        # error naming the image and the card, not a missing one.
+        for key, value, expected in (("PIXSCALE", -0.2, "PIXSCALE = -0.2 is not a finite number "
+                                      "> 0 (arcsec)"),
+                                     ("PIXSCALE", "0.2", "PIXSCALE = 0.2 is not a finite number "
+                                      "> 0 (arcsec)"),
+                                     ("MAGZERO", "abc", "MAGZERO = abc is not a finite number "
+                                      "(mag)")):
+            with self.subTest(key=key, value=value):
+                header = fits.Header()
+                if key != "PIXSCALE":
+                    header["PIXSCALE"] = 0.2
+                header[key] = value  # a string is a quoted card: FITS types a value as written
+                path = self.image(header)
+                msg = self.expect_failure(path)
+                self.assertIn(path + ": " + expected, msg)
+                os.remove(path)
+
     def test_threshold_not_positive(self):
         header = fits.Header()
         header["PIXSCALE"] = 0.05

@@ -42,15 +42,30 @@ std::optional<double> wcsPixelScaleArcsec(const Wcs& wcs, double xFits, double y
   return scale;
 }
 
-std::optional<double> headerNumber(const FitsHeader& header,
-                                   std::initializer_list<const char*> keys, std::string* which) {
+// The first of `keys` the header has, as a number in the range `accepted` says (IoError naming
+// the image and the card otherwise: a card written by hand, not a missing one); nullopt when the
+// header has none of them.
+std::optional<double> headerNumber(const FitsHeader& header, const std::string& imagePath,
+                                   std::initializer_list<const char*> keys, std::string* which,
+                                   bool accepted(double), const char* expected) {
   for (const char* key : keys) {
-    if (auto v = header.number(key)) {
-      if (which) *which = key;
-      return v;
+    if (!header.has(key)) continue;
+    const std::optional<double> v = header.number(key);
+    if (!v || !accepted(*v)) {
+      throw IoError(imagePath + ": " + key + " = " + header.value(key).value_or("") + " is not " +
+                    expected);
     }
+    if (which) *which = key;
+    return v;
   }
   return std::nullopt;
+}
+
+bool finitePositive(double v) {
+  return std::isfinite(v) && v > 0.0;
+}
+bool finiteNumber(double v) {
+  return std::isfinite(v);
 }
 
 Sourced<double> resolvePixelScale(const SourceDatabaseSettings& o, const ImageHdu& image,
@@ -64,8 +79,9 @@ Sourced<double> resolvePixelScale(const SourceDatabaseSettings& o, const ImageHd
     if (auto scale = wcsPixelScaleArcsec(*wcs, xc, yc)) return {*scale, "WCS"};
   }
   std::string key;
-  if (auto v = headerNumber(image.header, {"PIXSCALE", "PIXSCAL1", "SECPIX"}, &key)) {
-    if (*v > 0 && std::isfinite(*v)) return {*v, "header " + key};
+  if (auto v = headerNumber(image.header, o.imagePath, {"PIXSCALE", "PIXSCAL1", "SECPIX"}, &key,
+                            finitePositive, "a finite number > 0 (arcsec)")) {
+    return {*v, "header " + key};
   }
   throw ConfigError("--pixel-scale: " + o.imagePath +
                     " has no WCS and no PIXSCALE/PIXSCAL1/SECPIX keyword; give the pixel size "
@@ -91,7 +107,8 @@ SourceDatabaseBuild buildSourceDatabase(const SourceDatabaseSettings& o,
     zeroPoint = {*o.zeroPointMag, "--zeropoint"};
   } else if (o.survey && o.survey->magZeropoint) {
     zeroPoint = {*o.survey->magZeropoint, "MAG_ZEROPOINT"};
-  } else if (auto v = headerNumber(image.header, {"MAGZERO", "MAGZPT", "ZEROPNT"}, &key)) {
+  } else if (auto v = headerNumber(image.header, o.imagePath, {"MAGZERO", "MAGZPT", "ZEROPNT"},
+                                   &key, finiteNumber, "a finite number (mag)")) {
     zeroPoint = {*v, "header " + key};
   }
   std::optional<double> saturationAdu = o.saturationAdu;
