@@ -14,6 +14,15 @@
 
 namespace {
 
+// The three simulate commands, as both usages list them.
+constexpr const char* kSimulateCommands =
+    "  simulate lenses -n N --seed S -o OUT.fits [options]\n"
+    "      simulated galaxy-galaxy lenses through the detector and measurements\n"
+    "  simulate field -o FIELD.fits [options]\n"
+    "      a survey-like field with injected lenses, weight map and truth list\n"
+    "  simulate database IMAGE -o CATALOG.fits [options]\n"
+    "      cut a source-galaxy database (RealGalaxyCatalog format) out of a deep image\n";
+
 void printUsage() {
   std::cout << "Usage: octarc COMMAND [arguments]\n"
                "\n"
@@ -22,13 +31,8 @@ void printUsage() {
                "      measure the objects of SExtractor segmentation check-images\n"
                "  detect IMAGE [-c file.sex] [-KEY value ...]\n"
                "      detect at every threshold in one pass and measure every object\n"
-               "  simulate lenses -n N --seed S -o OUT.fits [options]\n"
-               "      simulated galaxy-galaxy lenses through the detector and measurements\n"
-               "  simulate field -o FIELD.fits [options]\n"
-               "      a survey-like field with injected lenses, weight map and truth list\n"
-               "  simulate database IMAGE -o CATALOG.fits [options]\n"
-               "      cut a source-galaxy database (RealGalaxyCatalog format) out of a deep image\n"
-               "  calibrate SIM.fits [...] [-c file] [-KEY value ...]\n"
+            << kSimulateCommands
+            << "  calibrate SIM.fits [...] [-c file] [-KEY value ...]\n"
                "      lensing fractions, distributions, noise-only threshold and the occupation\n"
                "      grid of simulated arcs, with check-plots\n"
                "  search IMAGE [-c file] [-KEY value ...]\n"
@@ -47,13 +51,8 @@ void printSimulateUsage() {
   std::cout
       << "Usage: octarc simulate lenses|field|database [options]\n"
          "\n"
-         "  simulate lenses -n N --seed S -o OUT.fits [options]\n"
-         "      simulated galaxy-galaxy lenses through the detector and measurements\n"
-         "  simulate field -o FIELD.fits [options]\n"
-         "      a survey-like field with injected lenses, weight map and truth list\n"
-         "  simulate database IMAGE -o CATALOG.fits [options]\n"
-         "      cut a source-galaxy database (RealGalaxyCatalog format) out of a deep image\n"
-         "\n"
+      << kSimulateCommands
+      << "\n"
          "`octarc simulate lenses -h` describes one of them; -d, -dd, -dp and -v are theirs.\n";
 }
 

@@ -324,18 +324,7 @@ void writeAscii(const std::string& path, bool withHeader, const std::vector<Cata
   if (file == nullptr) throw IoError(path + ": cannot create (" + std::strerror(errno) + ")");
   std::string text;
   const Table& first = *partRows(parts.front(), 0).table;
-  if (withHeader) {
-    int index = 1;
-    char line[256];
-    for (const ColumnSpec& c : first.columns()) {
-      std::snprintf(line, sizeof line, "# %3d %-22.22s %-58.58s", index, c.name.c_str(),
-                    c.description.c_str());
-      text += line;
-      if (!c.unit.empty()) text += " [" + c.unit + "]";
-      text += '\n';
-      index += c.repeat;
-    }
-  }
+  if (withHeader) text = asciiHeadHeader(first.columns());
   bool ok = std::fwrite(text.data(), 1, text.size(), file.get()) == text.size();
   std::vector<AsciiFormat> formats;
   for (const ColumnSpec& c : first.columns()) formats.emplace_back(c);
@@ -593,6 +582,26 @@ std::string formatVotableValue(const ColumnSpec& column, double value) {
   std::string text;
   appendVotableValue(column, value, text);
   return text;
+}
+
+std::string asciiHeadHeader(const std::vector<ColumnSpec>& columns) {
+  std::string text;
+  int index = 1;
+  char line[256];
+  for (const ColumnSpec& c : columns) {
+    std::snprintf(line, sizeof line, "# %3d %-22.22s %-58.58s", index, c.name.c_str(),
+                  c.description.c_str());
+    text += line;
+    if (!c.unit.empty()) text += " [" + c.unit + "]";
+    text += '\n';
+    index += c.repeat;
+  }
+  return text;
+}
+
+std::string asciiWord(std::string text) {
+  std::replace(text.begin(), text.end(), ' ', '_');
+  return text.empty() ? "-" : text;
 }
 
 std::string formatAsciiValue(const ColumnSpec& column, double value) {

@@ -84,19 +84,7 @@ std::string asciiTableText(const FitsTable& objects, bool withHeader) {
                         ? ColumnSpec{c.name, c.comment, c.unit, "", ColumnType::Float32, "%s", 1}
                         : tableColumnSpec(c));
   }
-  std::string out;
-  if (withHeader) {
-    int index = 1;
-    char line[256];
-    for (const ColumnSpec& c : specs) {
-      std::snprintf(line, sizeof line, "# %3d %-22.22s %-58.58s", index, c.name.c_str(),
-                    c.description.c_str());
-      out += line;
-      if (!c.unit.empty()) out += " [" + c.unit + "]";
-      out += '\n';
-      index += c.repeat;
-    }
-  }
+  std::string out = withHeader ? asciiHeadHeader(specs) : "";
   for (std::int64_t r = 0; r < objects.rows(); ++r) {
     bool first = true;
     for (std::size_t k = 0; k < specs.size(); ++k) {
@@ -104,10 +92,7 @@ std::string asciiTableText(const FitsTable& objects, bool withHeader) {
       if (isTextColumn(c)) {
         if (!first) out += ' ';
         first = false;
-        // One blank-free word per value, as SExtractor ASCII readers split lines at blanks.
-        std::string word = tableText(c, r);
-        std::replace(word.begin(), word.end(), ' ', '_');
-        out += word.empty() ? "-" : word;
+        out += asciiWord(tableText(c, r));
         continue;
       }
       for (int e = 0; e < specs[k].repeat; ++e) {

@@ -396,19 +396,10 @@ FitsTable candidateObjectsTable(const Table& catalog, const SearchResult& result
 
 std::string candidateAsciiText(const Table& catalog, const SearchResult& result,
                                const SearchSettings& settings) {
-  std::string out;
-  char line[256];
-  int index = 1;
   const std::vector<ColumnDef> defs = definitions(settings.colourBands, levelsOf(result, settings));
-  for (const ColumnDef& d : defs) {
-    const ColumnSpec& c = d.column.spec;
-    std::snprintf(line, sizeof line, "# %3d %-22.22s %-58.58s", index, c.name.c_str(),
-                  c.description.c_str());
-    index += c.repeat;
-    out += line;
-    if (!c.unit.empty()) out += " [" + c.unit + "]";
-    out += '\n';
-  }
+  std::vector<ColumnSpec> specs;
+  for (const ColumnDef& d : defs) specs.push_back(d.column.spec);
+  std::string out = asciiHeadHeader(specs);
   for (std::size_t i = 0; i < result.candidates.size(); ++i) {
     const RowView view{catalog, result.candidates[i], std::int64_t(i) + 1};
     bool first = true;
@@ -417,10 +408,7 @@ std::string candidateAsciiText(const Table& catalog, const SearchResult& result,
       if (!first) out += ' ';
       first = false;
       if (d.column.text) {
-        // One blank-free word per value, as SExtractor ASCII readers split lines at blanks.
-        std::string word = std::get<std::string>(v);
-        std::replace(word.begin(), word.end(), ' ', '_');
-        out += word.empty() ? "-" : word;
+        out += asciiWord(std::get<std::string>(v));
       } else {
         if (const auto* elements = std::get_if<std::vector<double>>(&v)) {
           for (std::size_t e = 0; e < elements->size(); ++e) {

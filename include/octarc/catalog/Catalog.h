@@ -70,6 +70,13 @@ std::string tdispFromPrintf(const std::string& printfFormat);
 // FITS TFORM value with its repeat count: "1E", "3D", "1J"...
 std::string tformOf(const ColumnSpec& column);
 
+// SExtractor's ASCII_HEAD header: a line "# index NAME description [unit]" per column, the index
+// counting vector elements.
+std::string asciiHeadHeader(const std::vector<ColumnSpec>& columns);
+
+// A text value as one blank-free word (ASCII readers split lines at blanks; "-" for empty).
+std::string asciiWord(std::string text);
+
 // One value as the ASCII catalogs print it: the column's printf format applied to the value
 // converted to the column's storage type (integers as integers, floats rounded to float first).
 // NaN in a floating-point column prints as "nan" in the column's width, never signed ("+nan" and
