@@ -42,6 +42,31 @@ inline simulation::SourceStamp gaussianSource(double sigmaArcsec, double scaleAr
   return s;
 }
 
+// A uniform disc of radius radiusArcsec and total flux 1 on a (2 halfWidth + 1)^2 stamp of
+// scaleArcsec pixels, each edge pixel holding the covered fraction (8 x 8 sub-samples).
+inline simulation::SourceStamp uniformDiscSource(double radiusArcsec, double scaleArcsec,
+                                                 int halfWidth) {
+  simulation::SourceStamp s;
+  s.pixelScaleArcsec = scaleArcsec;
+  s.fluxPerPixel = ImageD(2 * halfWidth + 1, 2 * halfWidth + 1);
+  constexpr int kSub = 8;
+  double total = 0.0;
+  for (int y = 0; y <= 2 * halfWidth; ++y)
+    for (int x = 0; x <= 2 * halfWidth; ++x) {
+      int inside = 0;
+      for (int j = 0; j < kSub; ++j)
+        for (int i = 0; i < kSub; ++i) {
+          const double dx = (x - halfWidth + (i + 0.5) / kSub - 0.5) * scaleArcsec;
+          const double dy = (y - halfWidth + (j + 0.5) / kSub - 0.5) * scaleArcsec;
+          if (dx * dx + dy * dy <= radiusArcsec * radiusArcsec) ++inside;
+        }
+      total += (s.fluxPerPixel(x, y) = double(inside) / (kSub * kSub));
+    }
+  for (double& v : s.fluxPerPixel.pixels()) v /= total;
+  s.name = "uniform disc";
+  return s;
+}
+
 // Newton iteration on beta(theta) = target, from `theta`, with the Jacobian by central
 // differences.
 inline simulation::Vec2 solveLensEquation(const simulation::EllipticalPotentialLens& lens,
