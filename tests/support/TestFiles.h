@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -21,6 +22,15 @@ inline std::string writeTextFile(const std::filesystem::path& path, const std::s
   std::ofstream out(path, std::ios::binary);
   out << text;
   return path.string();
+}
+
+// The names of the entries of a directory (files and folders, hidden ones too).
+inline std::set<std::string> fileNames(const std::filesystem::path& dir) {
+  std::set<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    names.insert(entry.path().filename().string());
+  }
+  return names;
 }
 
 }  // namespace octarc::test
