@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -97,6 +98,25 @@ inline std::vector<double> weightedSampleQuantiles(const std::vector<double>& va
     out.push_back(v[lo].first + t * (v[hi].first - v[lo].first));
   }
   return out;
+}
+
+// The Wilson score interval of a binomial proportion: k successes in n trials, z standard
+// deviations (z = 1: the 68.27 % interval). With p = k / n,
+//   centre = (p + z^2 / 2n) / (1 + z^2 / n),
+//   half   = z sqrt(p (1 - p) / n + z^2 / 4n^2) / (1 + z^2 / n),
+// [centre - half, centre + half], which stays inside [0, 1] and is not empty at k = 0 or n
+// (Wilson 1927). n = 0 says nothing: [0, 1].
+struct ProportionInterval {
+  double low = 0.0, high = 1.0;
+};
+
+inline ProportionInterval wilsonInterval(std::int64_t k, std::int64_t n, double z = 1.0) {
+  if (n <= 0) return {};
+  const double nd = double(n), p = double(k) / nd, z2 = z * z;
+  const double denominator = 1.0 + z2 / nd;
+  const double centre = (p + z2 / (2.0 * nd)) / denominator;
+  const double half = z * std::sqrt(p * (1.0 - p) / nd + z2 / (4.0 * nd * nd)) / denominator;
+  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
 }
 
 }  // namespace octarc

@@ -62,5 +62,27 @@ TEST(Statistics, SelectionAndSortGiveTheSameQuantiles) {
   EXPECT_EQ(few[1], sorted[500]);
 }
 
+// Hand-computed from the formula at z = 1. 3 of 10: p = 0.3, centre = (0.3 + 0.05) / 1.1,
+// half = sqrt(0.021 + 0.0025) / 1.1 = 0.153297 / 1.1, so [0.178821, 0.457543].
+TEST(Statistics, WilsonIntervalOfThreeInTen) {
+  const ProportionInterval i = wilsonInterval(3, 10, 1.0);
+  EXPECT_NEAR(i.low, 0.178821, 1e-6);
+  EXPECT_NEAR(i.high, 0.457543, 1e-6);
+}
+
+// 0 of 5: centre = 0.1 / 1.2 = 1/12 = half, so [0, 1/6]; 5 of 5 mirrors it: [5/6, 1].
+// 2 of 4 at z = 2: centre 0.5, half = 2 sqrt(0.0625 + 0.0625) / 2 = 0.353553.
+TEST(Statistics, WilsonIntervalAtTheEdgesAndOtherZ) {
+  EXPECT_NEAR(wilsonInterval(0, 5).low, 0.0, 1e-15);
+  EXPECT_NEAR(wilsonInterval(0, 5).high, 1.0 / 6.0, 1e-15);
+  EXPECT_NEAR(wilsonInterval(5, 5).low, 5.0 / 6.0, 1e-15);
+  EXPECT_NEAR(wilsonInterval(5, 5).high, 1.0, 1e-15);
+  EXPECT_NEAR(wilsonInterval(2, 4, 2.0).low, 0.5 - 0.353553, 1e-6);
+  EXPECT_NEAR(wilsonInterval(2, 4, 2.0).high, 0.5 + 0.353553, 1e-6);
+  // No trial: nothing is known.
+  EXPECT_EQ(wilsonInterval(0, 0).low, 0.0);
+  EXPECT_EQ(wilsonInterval(0, 0).high, 1.0);
+}
+
 }  // namespace
 }  // namespace octarc
