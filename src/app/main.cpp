@@ -40,6 +40,9 @@ void printUsage() {
                "  batch MANIFEST [-c file] [-KEY value ...]\n"
                "      search every tile of a survey (resumable; under mpirun or srun on many\n"
                "      ranks, or as a job array), and the survey's candidates\n"
+               "  inject IMAGE [-c file] [-KEY value ...]\n"
+               "      completeness against spurious candidates per deg2 on the image, by\n"
+               "      injected lenses\n"
                "  demo [options]\n"
                "      simulate a field with lenses, detect them and report\n"
                "\n"
@@ -78,6 +81,7 @@ int main(int argc, char** argv) {
     if (command == "measure") return octarc::runMeasure(args);
     if (command == "detect") return octarc::runDetect(args);
     if (command == "demo") return octarc::runDemo(args);
+    if (command == "inject") return octarc::runInject(args);
     if (command == "calibrate") return octarc::runCalibrate(args);
     if (command == "search") return octarc::runSearch(args);
     if (command == "batch") return octarc::runBatch(args);

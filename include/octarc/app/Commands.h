@@ -40,4 +40,8 @@ int runBatch(const std::vector<std::string>& args);
 // (src/app/DemoCommand.cpp).
 int runDemo(const std::vector<std::string>& args);
 
+// `octarc inject IMAGE`: completeness against spurious candidates per deg2 of the search on
+// the user's image, by injected lenses (src/app/InjectCommand.cpp).
+int runInject(const std::vector<std::string>& args);
+
 }  // namespace octarc
