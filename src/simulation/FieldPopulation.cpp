@@ -222,6 +222,17 @@ std::int64_t clipSaturation(ImageF& image, float saturationAdu) {
   return clipped;
 }
 
+double lensedLightReachArcsec(const LensSystem& system, const SourceStamp& source) {
+  const SourcePlacement& placement = system.source;
+  const double usedScale =
+      placement.pixelScaleArcsec > 0.0 ? placement.pixelScaleArcsec : source.pixelScaleArcsec;
+  const double sourceRadius =
+      0.5 * std::sqrt(2.0) *
+      double(std::max(source.fluxPerPixel.width(), source.fluxPerPixel.height())) * usedScale;
+  return std::hypot(placement.betaArcsec[0], placement.betaArcsec[1]) + sourceRadius +
+         EllipticalPotentialLens(system.mass).maxDeflectionArcsec();
+}
+
 FieldLens renderFieldLens(const LensSystem& system, const SourceStamp& sourceStamp, double xPix,
                           double yPix, double pixelScaleArcsec, double magZeroPoint) {
   FieldLens f;
@@ -235,16 +246,9 @@ FieldLens renderFieldLens(const LensSystem& system, const SourceStamp& sourceSta
   for (double& v : source.fluxPerPixel.pixels()) v *= sourceFlux / stampFlux;
   const SourcePlacement& placement = system.source;
 
-  // The stamp holds every ray that can reach the source (|theta| <= |beta| + R_source +
-  // max |alpha|) and eight lens half-light radii.
-  const double usedScale =
-      placement.pixelScaleArcsec > 0.0 ? placement.pixelScaleArcsec : source.pixelScaleArcsec;
-  const double sourceRadius =
-      0.5 * std::sqrt(2.0) *
-      double(std::max(source.fluxPerPixel.width(), source.fluxPerPixel.height())) * usedScale;
+  // The stamp holds every ray that can reach the source and eight lens half-light radii.
   const EllipticalPotentialLens lensModel(system.mass);
-  const double reach = std::hypot(placement.betaArcsec[0], placement.betaArcsec[1]) + sourceRadius +
-                       lensModel.maxDeflectionArcsec();
+  const double reach = lensedLightReachArcsec(system, source);
   const std::int64_t half = std::clamp<std::int64_t>(
       std::int64_t(
           std::ceil(std::max(reach, 8.0 * system.light.halfLightRadiusArcsec) / pixelScaleArcsec)) +

@@ -131,6 +131,10 @@ struct FieldLens {
   Stamp stamp;  // lens light + lensed source, before the PSF
 };
 
+// How far from its lens centre (arcsec) a system's lensed light can reach: no ray from farther
+// out lands on the source (|beta| + the source stamp's half-diagonal + the largest deflection).
+double lensedLightReachArcsec(const LensSystem& system, const SourceStamp& source);
+
 // Renders a drawn lens system noise-free and before the PSF, with the lens centre at
 // (xPix, yPix): the source stamp, rescaled to system.sourceMag (its pixel sum taken as its total
 // flux), traced through the elliptical potential (system.source gives its position, rotation and

@@ -58,10 +58,60 @@ constexpr std::size_t kRenderBatch = 4096;
 // Rows per noise band (each band has its own stream, so threads do not change the result).
 constexpr std::int64_t kNoiseBandRows = 64;
 
-// Lens centres: uniform, at least `margin` pixels inside the edges, `separation` apart and off
-// the chip gap.
+// The injected lens systems, drawn by the lens-simulation engine's population draw (one
+// stream per system; systems outside the Einstein-radius range are redrawn from the same
+// stream), and the sources they lens.
+struct LensDraws {
+  SourceDatabase sources;
+  std::vector<LensSystemDraw> draws;
+  std::vector<double> reachArcsec;  // per system, how far its lensed light can reach
+};
+
+LensDraws drawLenses(const FieldSimulationSettings& s, int threads) {
+  if (s.lensCount <= 0) return {};
+  // A survey field: the lenses of the Deep Lens Survey preset unless told otherwise.
+  SimulationSetup setup;
+  setup.population = sim::readPopulationModel(
+      s.populationPath.empty() ? sim::populationPresetPath("dls") : s.populationPath);
+  sim::SyntheticGalaxyOptions sourceOptions;
+  LensDraws out{s.databasePath.empty()
+                    ? SourceDatabase::synthetic(
+                          kSyntheticSources, sim::systemSeed(s.seed, kStreamSources), sourceOptions)
+                    : SourceDatabase::fromRealGalaxyCatalog(s.databasePath),
+                std::vector<LensSystemDraw>(std::size_t(std::max(s.lensCount, 0))),
+                std::vector<double>(std::size_t(std::max(s.lensCount, 0)))};
+  const std::uint64_t lensSeed = sim::systemSeed(s.seed, kStreamLenses);
+  parallelForDynamic(std::int64_t(out.draws.size()), threads, [&](std::size_t i) {
+    std::mt19937_64 rng = sim::systemRng(lensSeed, i);
+    LensSystemDraw draw = drawLensSystem(setup, out.sources, std::int64_t(i), rng);
+    auto outside = [&](double thetaE) {
+      return thetaE < s.minEinsteinRadiusArcsec ||
+             (s.maxEinsteinRadiusArcsec > 0 && thetaE > s.maxEinsteinRadiusArcsec);
+    };
+    for (int tries = 1; outside(draw.einsteinRadiusArcsec); ++tries) {
+      if (tries == kMaxLensRedraws) {
+        throw ConfigError("--min-einstein-radius, --max-einstein-radius: no lens system with " +
+                          formatNumber(s.minEinsteinRadiusArcsec) + "\" <= theta_E" +
+                          (s.maxEinsteinRadiusArcsec > 0
+                               ? " <= " + formatNumber(s.maxEinsteinRadiusArcsec) + "\""
+                               : std::string()) +
+                          " in " + std::to_string(kMaxLensRedraws) + " draws of the population");
+      }
+      draw = drawLensSystem(setup, out.sources, std::int64_t(i), rng);
+    }
+    out.reachArcsec[i] =
+        sim::lensedLightReachArcsec(draw.system, out.sources.stamp(draw.sourceIndex));
+    out.draws[i] = std::move(draw);
+  });
+  return out;
+}
+
+// Lens centres: uniform, at least `margin` pixels inside the edges and off the chip gap, and so
+// far apart that no two systems overlap: 30" or more, and more than the sum of the two systems'
+// reaches (so that the lensed light of one never falls where the other's can).
 std::vector<sim::Vec2> drawLensPositions(const FieldSimulationSettings& s, std::int64_t width,
-                                         std::int64_t height, int gapX0, int gapX1) {
+                                         std::int64_t height, int gapX0, int gapX1,
+                                         const std::vector<double>& reachArcsec) {
   const double margin = std::max(48.0, 0.06 * double(std::min(width, height)));
   const double separation = 30.0 / s.pixelScaleArcsec;
   if (s.lensCount > 0 && !(double(std::min(width, height)) - 1 - margin > margin)) {
@@ -77,8 +127,11 @@ std::vector<sim::Vec2> drawLensPositions(const FieldSimulationSettings& s, std::
     const sim::Vec2 p{ux(rng), uy(rng)};
     if (p[0] > gapX0 - 0.5 * separation && p[0] < gapX1 + 0.5 * separation) continue;
     bool clear = true;
-    for (const sim::Vec2& q : positions) {
-      if (std::hypot(p[0] - q[0], p[1] - q[1]) < separation) clear = false;
+    const std::size_t next = positions.size();
+    for (std::size_t k = 0; k < next; ++k) {
+      const double apart =
+          std::max(separation, (reachArcsec[next] + reachArcsec[k]) / s.pixelScaleArcsec);
+      if (std::hypot(p[0] - positions[k][0], p[1] - positions[k][1]) < apart) clear = false;
     }
     if (clear) positions.push_back(p);
   }
@@ -86,51 +139,21 @@ std::vector<sim::Vec2> drawLensPositions(const FieldSimulationSettings& s, std::
     throw ConfigError("--lenses: " + std::to_string(s.lensCount) +
                       " lens systems do not fit in a " + std::to_string(width) + " x " +
                       std::to_string(height) +
-                      " pixel field (30\" apart, away from the edges); only " +
+                      " pixel field (30\" apart, never overlapping, away from the edges); only " +
                       std::to_string(positions.size()) + " placed");
   }
   return positions;
 }
 
-// The injected lens systems: drawn by the lens-simulation engine's population draw (one stream
-// per system; systems below the minimum Einstein radius are redrawn from the same stream),
-// rendered noise-free and before the PSF.
-std::vector<sim::FieldLens> renderLenses(const FieldSimulationSettings& s,
+// The drawn systems rendered noise-free and before the PSF at their positions.
+std::vector<sim::FieldLens> renderLenses(const FieldSimulationSettings& s, const LensDraws& drawn,
                                          const std::vector<sim::Vec2>& lensPositions, int threads) {
   std::vector<sim::FieldLens> lenses(lensPositions.size());
-  if (lenses.empty()) return lenses;
-  SimulationSetup setup;
-  // A survey field: the lenses of the Deep Lens Survey preset unless told otherwise.
-  setup.population = sim::readPopulationModel(
-      s.populationPath.empty() ? sim::populationPresetPath("dls") : s.populationPath);
-  sim::SyntheticGalaxyOptions sourceOptions;
-  const SourceDatabase sources =
-      s.databasePath.empty()
-          ? SourceDatabase::synthetic(kSyntheticSources, sim::systemSeed(s.seed, kStreamSources),
-                                      sourceOptions)
-          : SourceDatabase::fromRealGalaxyCatalog(s.databasePath);
-  const std::uint64_t lensSeed = sim::systemSeed(s.seed, kStreamLenses);
   parallelForDynamic(std::int64_t(lenses.size()), threads, [&](std::size_t i) {
-    // Systems below the minimum Einstein radius are redrawn from the same stream.
-    std::mt19937_64 rng = sim::systemRng(lensSeed, i);
-    LensSystemDraw draw = drawLensSystem(setup, sources, std::int64_t(i), rng);
-    auto outside = [&](double thetaE) {
-      return thetaE < s.minEinsteinRadiusArcsec ||
-             (s.maxEinsteinRadiusArcsec > 0 && thetaE > s.maxEinsteinRadiusArcsec);
-    };
-    for (int tries = 1; outside(draw.einsteinRadiusArcsec); ++tries) {
-      if (tries == kMaxLensRedraws) {
-        throw ConfigError("--min-einstein-radius, --max-einstein-radius: no lens system with " +
-                          formatNumber(s.minEinsteinRadiusArcsec) + "\" <= theta_E" +
-                          (s.maxEinsteinRadiusArcsec > 0
-                               ? " <= " + formatNumber(s.maxEinsteinRadiusArcsec) + "\""
-                               : std::string()) +
-                          " in " + std::to_string(kMaxLensRedraws) + " draws of the population");
-      }
-      draw = drawLensSystem(setup, sources, std::int64_t(i), rng);
-    }
-    lenses[i] = renderFieldLens(draw.system, sources.stamp(draw.sourceIndex), lensPositions[i][0],
-                                lensPositions[i][1], s.pixelScaleArcsec, s.magZeroPoint);
+    const LensSystemDraw& draw = drawn.draws[i];
+    lenses[i] =
+        renderFieldLens(draw.system, drawn.sources.stamp(draw.sourceIndex), lensPositions[i][0],
+                        lensPositions[i][1], s.pixelScaleArcsec, s.magZeroPoint);
   });
   return lenses;
 }
@@ -283,8 +306,10 @@ SimulatedField simulateField(const FieldSimulationSettings& s, const ProgressFn&
 
   // Lens systems: drawn by the lens-simulation engine's population draw (one stream per
   // system), rendered here noise-free and before the PSF.
-  const std::vector<sim::Vec2> lensPositions = drawLensPositions(s, n, n, field.gapX0, field.gapX1);
-  std::vector<sim::FieldLens> lenses = renderLenses(s, lensPositions, threads);
+  const LensDraws drawn = drawLenses(s, threads);
+  const std::vector<sim::Vec2> lensPositions =
+      drawLensPositions(s, n, n, field.gapX0, field.gapX1, drawn.reachArcsec);
+  std::vector<sim::FieldLens> lenses = renderLenses(s, drawn, lensPositions, threads);
   // Field objects, kept away from the lenses when bright.
   std::mt19937_64 populationRng = streamRng(s.seed, kStreamPopulation, 0);
   const std::vector<sim::FieldObject> objects =
@@ -368,8 +393,10 @@ SimulatedField injectLenses(const ImageHdu& image, const ImageHdu* weight,
   field.header = image.header;
   field.gapX0 = field.gapX1 = -1000000;  // no chip gap
   const std::optional<Wcs> wcs = Wcs::fromHeader(image.header, "the image");
-  const std::vector<sim::Vec2> lensPositions = drawLensPositions(s, w, h, field.gapX0, field.gapX1);
-  std::vector<sim::FieldLens> lenses = renderLenses(s, lensPositions, threads);
+  const LensDraws drawn = drawLenses(s, threads);
+  const std::vector<sim::Vec2> lensPositions =
+      drawLensPositions(s, w, h, field.gapX0, field.gapX1, drawn.reachArcsec);
+  std::vector<sim::FieldLens> lenses = renderLenses(s, drawn, lensPositions, threads);
   ImageD added(w, h);
   for (sim::FieldLens& l : lenses) {
     sim::addStamp(added, l.stamp);
