@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "octarc/core/AtomicFile.h"
+#include "octarc/core/DataFiles.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
 #include "octarc/core/Interrupt.h"
@@ -424,6 +425,14 @@ InjectionStudy runInjectionStudy(const InjectionStudySettings& s) {
     (void)simulation::readPopulationModel(s.injection.populationPath);
   }
   const ImageHdu image = readImage(imagePath);
+  // The grid and the model are read now, so that a bad one costs no search.
+  for (const SelectionMethod m : s.methods) {
+    if (m == SelectionMethod::Trees) {
+      (void)loadLensModel(existingUserOrDataFile(s.search.modelPath, "MODEL_NAME file"));
+    } else {
+      (void)loadGrid(existingUserOrDataFile(s.search.gridPath, "GRID_NAME file"));
+    }
+  }
   checkInjectionSetup(s.search.run, image);
 
   // The image as it is, once per method: every candidate is spurious.

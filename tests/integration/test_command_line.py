@@ -115,6 +115,8 @@ class CommandHelp(WorkDirTest):
                                 "--quiet"],
         ("simulate", "database"): ["-o", "--threshold", "--min-size", "--quiet"],
         ("demo",): ["--size", "--lenses", "--seed", "--out", "--quiet"],
+        ("inject",): SEX_STYLE + ["-INJECT_NUMBER", "-INJECT_SEED", "-INJECT_DIR", "-GRID_NAME",
+                                  "-MODEL_NAME"],
     }
 
     def help_text(self, command):
@@ -164,12 +166,13 @@ class EveryCommandTakesTheFlags(WorkDirTest):
     simulation's options given as -KEY value make what the long options make."""
 
     COMMANDS = [("measure",), ("detect",), ("simulate", "lenses"), ("simulate", "field"),
-                ("simulate", "database"), ("calibrate",), ("search",), ("batch",), ("demo",)]
+                ("simulate", "database"), ("calibrate",), ("search",), ("batch",), ("demo",),
+                ("inject",)]
     # A column each catalog has, named in the README; None: no catalog of chosen columns.
     COLUMN = {("measure",): "ARCNESS", ("detect",): "ARCNESS",
               ("simulate", "lenses"): "SIM_WEIGHT", ("simulate", "field"): None,
               ("simulate", "database"): None, ("calibrate",): None, ("search",): "LENS_SCORE",
-              ("batch",): "TILE", ("demo",): "LENS_SCORE"}
+              ("batch",): "TILE", ("demo",): "LENS_SCORE", ("inject",): None}
     # Defaults the README and the -h texts state.
     DEFAULTS = {("simulate", "field"): [("SIZE", "4096"), ("PIXEL_SCALE", "0.257")],
                 ("simulate", "lenses"): [("SEED", "1"), ("SAMPLING", "importance"),
