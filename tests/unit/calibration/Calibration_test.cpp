@@ -14,6 +14,7 @@
 #include <random>
 #include <vector>
 
+#include "CalibrationTestSupport.h"
 #include "octarc/calibration/LensingFraction.h"
 #include "octarc/calibration/NoiseThreshold.h"
 #include "octarc/calibration/Weights.h"
@@ -23,12 +24,8 @@
 namespace octarc {
 namespace {
 
-ColumnSpec column(const char* name) {
-  ColumnSpec c;
-  c.name = name;
-  c.type = ColumnType::Float64;
-  return c;
-}
+using test::column;
+using test::handfulSimulation;
 
 // Systems: (ARC_FOUND, ARCNESS, E_IMAGE, SNR_ISO).
 Table systemsTable(const std::vector<std::array<double, 4>>& rows) {
@@ -174,20 +171,6 @@ TEST(NormalisedHistogram, WeightedFractionsAndTheEffectiveNumber) {
   EXPECT_DOUBLE_EQ(h.fraction[2], 5.0 / 8.0);
   EXPECT_DOUBLE_EQ(h.effective, 144.0 / 46.0);
   EXPECT_THROW(normalisedHistogram({0.1}, 0.0, 1.0, 2, {1, 2}), ConfigError);
-}
-
-// A simulation of `rows` systems on the default grid axes: (ARC_FOUND, ARCNESS, ANTIARCNESS,
-// SKEW_MAJOR, SKEW_MINOR, E_IMAGE, SNR_ISO, SIM_WEIGHT).
-SimulationOutput handfulSimulation(const std::vector<std::array<double, 8>>& rows,
-                                   std::int64_t drawn) {
-  SimulationOutput sim;
-  sim.path = "handful.fits";
-  sim.systems =
-      Table({column("ARC_FOUND"), column("ARCNESS"), column("ANTIARCNESS"), column("SKEW_MAJOR"),
-             column("SKEW_MINOR"), column("E_IMAGE"), column("SNR_ISO"), column("SIM_WEIGHT")});
-  for (const auto& r : rows) std::copy(r.begin(), r.end(), sim.systems.appendRow());
-  sim.setup.systems = drawn;
-  return sim;
 }
 
 // Arcs with values drawn at random on every axis (arcness above 0.1, so every distribution
