@@ -1,24 +1,27 @@
 // What `octarc calibrate` writes, on a result whose every figure is known: the tables of the
-// calibration file.
+// calibration file and the check-plots.
 //
 // The result is calibrate() on a hand-made simulation of seven systems, six of them with an arc,
 // made in a second band, and on a hand-made survey catalog, with 4-bin histograms. Each value,
 // weight and colour is chosen so that the bins, fractions and colour-cut rows can be counted by
 // hand (no value on a bin edge, weights and colours binary fractions). The studies that simulate
 // again (noise-only threshold, threshold-count curve, S/N floor) and the binning search are set
-// by hand in the result, so their tables are checked against the values the test put there.
+// by hand in the result, so their tables and plots are checked against the values the test put
+// there.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "CalibrationTestSupport.h"
+#include "ExpectError.h"
 #include "TestPaths.h"
 #include "octarc/calibration/Calibration.h"
 #include "octarc/calibration/Weights.h"
@@ -620,6 +623,317 @@ TEST(CalibrationTables, NoGridAskedForHasAnEmptyBinningTable) {
   EXPECT_FALSE(binning.logical("GRIDMADE"));
   EXPECT_EQ(binning.integer("NGRIDAX"), 0);
   EXPECT_EQ(binning.integer("NDROPAX"), 0);
+}
+
+// Plots ------------------------------------------------------------------------------------------
+
+// The types the header lists, and each drawable: labelled, with series whose points match (n + 1
+// edges for n steps), error bars around their points, and a finite point to draw.
+TEST(CalibrationPlot, EveryListedTypeIsDrawnFromAResultWithEveryStudy) {
+  EXPECT_EQ(
+      calibrationPlotTypes(),
+      (std::vector<std::string>{"ARCNESS", "ANTIARCNESS", "SKEW_MAJOR", "SKEW_MINOR", "E_IMAGE",
+                                "SNR_ISO", "LENSING_FRACTION", "NOISE_THRESHOLD", "THRESHOLD_COUNT",
+                                "SNR_FLOOR", "COLOUR_CUT", "COLOUR_DIFF", "GRID_BINNING"}));
+  for (const std::string& type : calibrationPlotTypes()) {
+    SCOPED_TRACE(type);
+    const Plot p = calibrationPlot(everyStudyResult(), type);
+    EXPECT_FALSE(p.title.empty());
+    EXPECT_FALSE(p.xLabel.empty());
+    EXPECT_FALSE(p.yLabel.empty());
+    ASSERT_FALSE(p.series.empty());
+    bool finitePoint = false;
+    for (const PlotSeries& s : p.series) {
+      EXPECT_FALSE(s.label.empty());
+      EXPECT_EQ(s.x.size(), s.y.size() + (s.steps ? 1 : 0)) << s.label;
+      EXPECT_TRUE(s.yLow.empty() || s.yLow.size() == s.y.size()) << s.label;
+      EXPECT_EQ(s.yLow.size(), s.yHigh.size()) << s.label;
+      for (std::size_t i = 0; i < s.yLow.size(); ++i) {
+        EXPECT_LE(s.yLow[i], s.y[i]) << s.label << " " << i;
+        EXPECT_GE(s.yHigh[i], s.y[i]) << s.label << " " << i;
+      }
+      for (std::size_t i = 0; i < s.y.size(); ++i) {
+        finitePoint = finitePoint || (std::isfinite(s.x[i]) && std::isfinite(s.y[i]));
+        if (p.logX) {
+          EXPECT_GT(s.x[i], 0.0) << s.label;
+        }
+      }
+    }
+    EXPECT_TRUE(finitePoint);
+  }
+}
+
+// Each distribution: the simulated histogram (and the survey's) as steps over the bin edges,
+// the Gaussian fit of the skewnesses sampled over the range, and the search spaces' cuts.
+TEST(CalibrationPlot, DistributionsOfKnownArcsAndSurveyObjects) {
+  for (const ExpectedDistribution& e : expectedDistributions()) {
+    SCOPED_TRACE(e.name);
+    const Plot p = calibrationPlot(knownResult(), e.name);
+    EXPECT_EQ(p.title, e.name + " (" + e.selection + ")");
+    const std::string xLabel = e.name == "SNR_ISO"       ? "log#d10#u S/N (ISO)"
+                               : e.name == "COLOUR_DIFF" ? "ARC_COLOUR_g - LENS_COLOUR_g [mag]"
+                                                         : e.name;
+    EXPECT_EQ(p.xLabel, xLabel);
+    EXPECT_EQ(p.yLabel, "fraction per bin");
+    EXPECT_FALSE(p.logX);
+    EXPECT_FALSE(p.logY);
+    const std::vector<double> edges = equalBinEdges(e.lo, e.hi, 4);
+    ASSERT_EQ(p.series.size(), 1u + (e.survey.empty() ? 0 : 1) + (e.gaussian ? 1 : 0));
+    const PlotSeries& simulated = p.series[0];
+    // 4 arcs of Kish number 64 / 22 = 2.9; 2 of 36 / 20 = 1.8.
+    EXPECT_EQ(simulated.label, e.simulatedValues == 4 ? "simulated: 4 arcs (3 effective)"
+                                                      : "simulated: 2 arcs (2 effective)");
+    EXPECT_TRUE(simulated.steps);
+    expectSameDoubles(simulated.x, edges);
+    expectSameDoubles(simulated.y, e.simulated);
+    EXPECT_TRUE(simulated.yLow.empty());
+    if (!e.survey.empty()) {
+      const PlotSeries& survey = p.series[1];
+      EXPECT_EQ(survey.label, "survey objects (2)");
+      EXPECT_TRUE(survey.steps);
+      expectSameDoubles(survey.x, edges);
+      expectSameDoubles(survey.y, e.survey);
+    }
+    if (e.gaussian) {
+      const Distribution* d = distributionNamed(knownResult(), e.name);
+      ASSERT_TRUE(d && d->gaussian);
+      const GaussianFit& g = *d->gaussian;
+      const PlotSeries& curve = p.series.back();
+      char label[64];
+      std::snprintf(label, sizeof label, "Gaussian fit, FWHM %.3f", g.fwhm);
+      EXPECT_EQ(curve.label, label);
+      EXPECT_FALSE(curve.steps);
+      ASSERT_EQ(curve.x.size(), 201u);
+      EXPECT_DOUBLE_EQ(curve.x.front(), e.lo);
+      EXPECT_DOUBLE_EQ(curve.x.back(), e.hi);
+      for (std::size_t k = 0; k < curve.x.size(); k += 50) {
+        const double u = (curve.x[k] - g.mean) / g.sigma;
+        EXPECT_NEAR(curve.y[k], g.amplitude * std::exp(-0.5 * u * u), 1e-12) << k;
+      }
+      // The fit follows the histogram: highest in the bin of half the weight.
+      const std::size_t peak =
+          std::size_t(std::max_element(curve.y.begin(), curve.y.end()) - curve.y.begin());
+      EXPECT_GE(curve.x[peak], edges[1]);
+      EXPECT_LE(curve.x[peak], edges[3]);
+    }
+    ASSERT_EQ(p.cuts.size(), e.cuts.size());
+    for (std::size_t i = 0; i < e.cuts.size(); ++i) {
+      EXPECT_DOUBLE_EQ(p.cuts[i].x, e.cuts[i].x) << i;
+      EXPECT_EQ(p.cuts[i].label, e.cuts[i].label) << i;
+    }
+  }
+}
+
+// Steps over the arcness bins (the open last bin drawn 0.05 wide), all arcs and the distorted
+// and bright ones, with their intervals as error bars.
+TEST(CalibrationPlot, LensingFractionOfKnownArcs) {
+  const Plot p = calibrationPlot(knownResult(), "LENSING_FRACTION");
+  // 6 arcs of Kish number 121 / 27 = 4.5.
+  EXPECT_NE(p.title.find("6 systems (4 effective) with an arc"), std::string::npos) << p.title;
+  EXPECT_EQ(p.xLabel, "ARCNESS of the chosen arc");
+  EXPECT_EQ(p.yLabel, "fraction of systems with an arc");
+  ASSERT_EQ(p.series.size(), 2u);
+  EXPECT_EQ(p.series[0].label, "all");
+  EXPECT_EQ(p.series[1].label, "also e > 0.6, S/N > 40");
+  const std::vector<std::vector<double>> weights = {{1, 2, 6}, {1, 2, 5}};
+  for (std::size_t k = 0; k < 2; ++k) {
+    SCOPED_TRACE(p.series[k].label);
+    const PlotSeries& s = p.series[k];
+    EXPECT_TRUE(s.steps);
+    expectSameDoubles(s.x, {0.05, 0.10, 0.15, 0.20});
+    ASSERT_EQ(s.y.size(), 3u);
+    ASSERT_EQ(s.yLow.size(), 3u);
+    for (std::size_t i = 0; i < 3; ++i) {
+      const FractionInterval expected = expectedInterval(weights[k][i] / 11.0, 121.0 / 27.0);
+      EXPECT_DOUBLE_EQ(s.y[i], expected.fraction) << i;
+      EXPECT_NEAR(s.yLow[i], expected.lo, 1e-12) << i;
+      EXPECT_NEAR(s.yHigh[i], expected.hi, 1e-12) << i;
+    }
+  }
+  EXPECT_TRUE(p.cuts.empty());
+}
+
+// The completeness against MAX with its intervals, and a line at the MAX of each level that
+// some MAX reaches (the 10 % that any MAX keeps has none).
+TEST(CalibrationPlot, ColourCutOfKnownColours) {
+  const Plot p = calibrationPlot(knownResult(), "COLOUR_CUT");
+  for (const char* part : {"in g", "3 arcs (2 effective)", "2 with both colours"}) {
+    EXPECT_NE(p.title.find(part), std::string::npos) << p.title;
+  }
+  EXPECT_EQ(p.xLabel, "MAX of COLOUR_CUT g,MAX [mag]");
+  EXPECT_EQ(p.yLabel, "fraction of simulated arcs kept");
+  ASSERT_EQ(p.series.size(), 1u);
+  const PlotSeries& s = p.series[0];
+  EXPECT_NE(s.label.find("ARC_COLOUR_g - LENS_COLOUR_g <= MAX"), std::string::npos) << s.label;
+  EXPECT_FALSE(s.steps);
+  expectSameDoubles(s.x, {-0.5, -0.25, 0.0, 0.25, 0.5});
+  const std::vector<double> weight = {1, 5, 5, 7, 7};
+  ASSERT_EQ(s.y.size(), 5u);
+  ASSERT_EQ(s.yLow.size(), 5u);
+  for (std::size_t i = 0; i < 5; ++i) {
+    const FractionInterval expected = expectedInterval(weight[i] / 7.0, 49.0 / 21.0);
+    EXPECT_DOUBLE_EQ(s.y[i], expected.fraction) << i;
+    EXPECT_NEAR(s.yLow[i], expected.lo, 1e-12) << i;
+    EXPECT_NEAR(s.yHigh[i], expected.hi, 1e-12) << i;
+  }
+  ASSERT_EQ(p.cuts.size(), 2u);
+  EXPECT_DOUBLE_EQ(p.cuts[0].x, -0.25);
+  EXPECT_EQ(p.cuts[0].label, "50% kept from -0.25");
+  EXPECT_DOUBLE_EQ(p.cuts[1].x, 0.25);
+  EXPECT_EQ(p.cuts[1].label, "90% kept from 0.25");
+}
+
+TEST(CalibrationPlot, HandMadeStudiesAndBinningSearch) {
+  const CalibrationResult& r = everyStudyResult();
+  {
+    const Plot p = calibrationPlot(r, "NOISE_THRESHOLD");
+    EXPECT_EQ(p.xLabel, "detection threshold [sigma]");
+    EXPECT_EQ(p.yLabel, "realisations with an object");
+    ASSERT_EQ(p.series.size(), 1u);
+    expectSameDoubles(p.series[0].x, {3.0, 3.5, 4.0, 4.5});
+    expectSameDoubles(p.series[0].y, {20, 6, 1, 0});
+    ASSERT_EQ(p.cuts.size(), 1u);
+    EXPECT_DOUBLE_EQ(p.cuts[0].x, 4.5);
+    EXPECT_EQ(p.cuts[0].label, "none from 4.50");
+    // Objects even at the highest rung: no threshold, no line.
+    CalibrationResult none = r;
+    none.noise->noiseOnlyThresholdSigma = std::nan("");
+    EXPECT_TRUE(calibrationPlot(none, "NOISE_THRESHOLD").cuts.empty());
+  }
+  {
+    const Plot p = calibrationPlot(r, "THRESHOLD_COUNT");
+    EXPECT_NE(p.title.find("ARCNESS > 0.10"), std::string::npos) << p.title;
+    EXPECT_EQ(p.xLabel, "number of detection thresholds");
+    EXPECT_EQ(p.yLabel, "fraction of simulated systems");
+    ASSERT_EQ(p.series.size(), 1u);
+    const PlotSeries& s = p.series[0];
+    expectSameDoubles(s.x, {1, 5, 10});
+    expectSameDoubles(s.y, {0.100, 0.150, 0.155});
+    expectSameDoubles(s.yLow, {0.085, 0.130, 0.135});
+    expectSameDoubles(s.yHigh, {0.115, 0.170, 0.175});
+    ASSERT_EQ(p.cuts.size(), 1u);
+    EXPECT_DOUBLE_EQ(p.cuts[0].x, 5.0);
+    EXPECT_EQ(p.cuts[0].label, "flat from 5");
+  }
+  {
+    const Plot p = calibrationPlot(r, "SNR_FLOOR");
+    // 3 arcs of Kish number 16 / 6 = 2.7.
+    for (const char* part : {"ARCNESS 0.10", "3 arcs (3 effective)"}) {
+      EXPECT_NE(p.title.find(part), std::string::npos) << p.title;
+    }
+    EXPECT_EQ(p.xLabel, "S/N (ISO)");
+    EXPECT_EQ(p.yLabel, "ARCNESS (scaled)");
+    EXPECT_TRUE(p.logX);
+    ASSERT_EQ(p.series.size(), 1u);
+    const PlotSeries& s = p.series[0];
+    // The bins with measurements, at their centres on the log axis.
+    expectSameDoubles(s.x,
+                      {std::sqrt(10.0 * 20.0), std::sqrt(20.0 * 40.0), std::sqrt(40.0 * 80.0)});
+    expectSameDoubles(s.y, {0.13, 0.105, 0.10});
+    expectSameDoubles(s.yLow, {0.09, 0.085, 0.095});
+    expectSameDoubles(s.yHigh, {0.17, 0.125, 0.11});
+    ASSERT_EQ(p.cuts.size(), 1u);
+    EXPECT_DOUBLE_EQ(p.cuts[0].x, 20.0);
+    EXPECT_EQ(p.cuts[0].label, "S/N floor 20");
+  }
+  {
+    const Plot p = calibrationPlot(r, "GRID_BINNING");
+    EXPECT_NE(p.title.find("5 arcs (4 effective)"), std::string::npos) << p.title;
+    EXPECT_EQ(p.title.find("GRID_NAME NONE"), std::string::npos) << p.title;
+    EXPECT_EQ(p.xLabel, "bins per axis");
+    EXPECT_EQ(p.yLabel, "selected bins without a selected neighbour");
+    ASSERT_EQ(p.series.size(), 2u);
+    EXPECT_EQ(p.series[0].label, "2 axes");  // every axis asked for
+    expectSameDoubles(p.series[0].x, {2, 3, 4});
+    expectSameDoubles(p.series[0].y, {2, 1, 2});
+    EXPECT_EQ(p.series[1].label, "1 axes (ARCNESS)");  // fewer: named
+    expectSameDoubles(p.series[1].x, {2, 3, 4});
+    expectSameDoubles(p.series[1].y, {0, 0, 1});
+    ASSERT_EQ(p.cuts.size(), 1u);
+    EXPECT_DOUBLE_EQ(p.cuts[0].x, 3.0);
+    EXPECT_EQ(p.cuts[0].label, "finest connected: 3");
+  }
+}
+
+// GRID_NAME NONE: nothing searched; a line at zero over the binnings that would have been tried.
+TEST(CalibrationPlot, NoGridAskedForIsALineAtZero) {
+  const Plot p = calibrationPlot(knownResult(), "GRID_BINNING");
+  EXPECT_NE(p.title.find("GRID_NAME NONE"), std::string::npos) << p.title;
+  ASSERT_EQ(p.series.size(), 1u);
+  EXPECT_EQ(p.series[0].label, "no grid asked for");
+  const CalibrationSettings s = knownSettings();
+  expectSameDoubles(p.series[0].x, {double(s.minBinsPerAxis), double(s.maxBinsPerAxis)});
+  expectSameDoubles(p.series[0].y, {0.0, 0.0});
+  EXPECT_TRUE(p.cuts.empty());
+}
+
+TEST(CalibrationPlot, AnUnknownTypeOrAStudyNotMadeIsAnErrorNamingIt) {
+  test::expectError<ConfigError>([] { calibrationPlot(knownResult(), "ARCNES"); },
+                                 {"'ARCNES'", "not a calibration plot"});
+  test::expectError<ConfigError>([] { calibrationPlot(knownResult(), ""); }, {"''"});
+  for (const char* type : {"NOISE_THRESHOLD", "THRESHOLD_COUNT", "SNR_FLOOR"}) {
+    test::expectError<ConfigError>([&] { calibrationPlot(knownResult(), type); }, {type, "off"});
+  }
+  // Without a second band there is no colour cut and no colour distribution.
+  SimulationOutput oneBand = knownArcsSimulation();
+  oneBand.band.clear();
+  const CalibrationResult r = calibrate(oneBand, nullptr, knownSettings());
+  EXPECT_FALSE(r.colourCut.has_value());
+  for (const char* type : {"COLOUR_CUT", "COLOUR_DIFF"}) {
+    test::expectError<ConfigError>([&] { calibrationPlot(r, type); }, {type, "second band"});
+  }
+  EXPECT_EQ(calibrationTables(r).size(), 1 + 6 + 1u);  // no DIST_COLOUR_DIFF nor COLOUR_CUT
+}
+
+// No arc at all (documented as no error: every study is made, no grid): every table and plot is
+// there, with empty histograms, fractions of 0 whose intervals are the whole range, and the
+// binning plot saying that nothing was searched.
+TEST(CalibrationOutputs, NoArcGivesEveryTableAndPlotWithNothingCounted) {
+  SimulationOutput sim = knownArcsSimulation();
+  const int found = sim.systems.findColumn("ARC_FOUND");
+  for (std::int64_t row = 0; row < sim.systems.rows(); ++row) sim.systems.setValue(row, found, 0);
+  CalibrationSettings settings = knownSettings();
+  settings.makeGrid = true;
+  const CalibrationResult r = calibrate(sim, nullptr, settings);
+  const std::vector<FitsTable> tables = calibrationTables(r);
+  EXPECT_EQ(tableNames(tables), tableNames(calibrationTables(knownResult())));
+
+  const FitsTable& fraction = tables.front();
+  EXPECT_EQ(fraction.integers("N_SYSTEMS"), std::vector<std::int64_t>(6, 0));
+  expectSameDoubles(fraction.doubles("FRACTION"), std::vector<double>(6, 0.0));
+  expectSameDoubles(fraction.doubles("FRACTION_LO"), std::vector<double>(6, 0.0));
+  expectSameDoubles(fraction.doubles("FRACTION_HI"), std::vector<double>(6, 1.0));
+  EXPECT_EQ(fraction.integer("NSYSTEMS"), kKnownSystemsDrawn);
+  EXPECT_EQ(fraction.integer("NARCSYS"), 0);
+  EXPECT_EQ(fraction.number("NEFFARC"), 0.0);
+  for (const ExpectedDistribution& e : expectedDistributions()) {
+    SCOPED_TRACE(e.name);
+    const FitsTable* t = tableNamed(tables, "DIST_" + e.name);
+    ASSERT_NE(t, nullptr);
+    expectSameDoubles(t->doubles("SIM_FRACTION"), std::vector<double>(4, 0.0));
+    EXPECT_EQ(t->integer("NSIM"), 0);
+    EXPECT_EQ(t->number("NEFFSIM"), 0.0);
+    const Plot p = calibrationPlot(r, e.name);
+    ASSERT_FALSE(p.series.empty());
+    EXPECT_EQ(p.series[0].label, "simulated: 0 arcs (0 effective)");
+    expectSameDoubles(p.series[0].y, std::vector<double>(4, 0.0));
+  }
+  const FitsTable* colour = tableNamed(tables, "COLOUR_CUT");
+  ASSERT_NE(colour, nullptr);
+  EXPECT_EQ(colour->integer("NARCS"), 0);
+  EXPECT_EQ(colour->integers("N_KEPT"), std::vector<std::int64_t>(5, 0));
+  expectSameDoubles(colour->doubles("FRACTION_HI"), std::vector<double>(5, 1.0));
+  EXPECT_TRUE(calibrationPlot(r, "COLOUR_CUT").cuts.empty());  // no MAX reaches a level
+  EXPECT_FALSE(tables.back().logical("GRIDMADE"));
+
+  const Plot binning = calibrationPlot(r, "GRID_BINNING");
+  EXPECT_NE(binning.title.find("0 arcs (0 effective)"), std::string::npos) << binning.title;
+  ASSERT_EQ(binning.series.size(), 1u);
+  EXPECT_EQ(binning.series[0].label, "too few arcs: no binning searched");
+  expectSameDoubles(binning.series[0].x,
+                    {double(settings.minBinsPerAxis), double(settings.maxBinsPerAxis)});
+  expectSameDoubles(binning.series[0].y, {0.0, 0.0});
+  EXPECT_TRUE(binning.cuts.empty());
 }
 
 }  // namespace
