@@ -1,5 +1,5 @@
-// What `octarc calibrate` writes, on a result whose every figure is known: the tables of the
-// calibration file and the check-plots.
+// What `octarc calibrate` writes and prints, on a result whose every figure is known: the tables
+// of the calibration file, the check-plots and the summary.
 //
 // The result is calibrate() on a hand-made simulation of seven systems, six of them with an arc,
 // made in a second band, and on a hand-made survey catalog, with 4-bin histograms. Each value,
@@ -24,6 +24,8 @@
 #include "ExpectError.h"
 #include "TestPaths.h"
 #include "octarc/calibration/Calibration.h"
+#include "octarc/calibration/CalibrationKeys.h"
+#include "octarc/calibration/CalibrationSummary.h"
 #include "octarc/calibration/Weights.h"
 #include "octarc/core/Error.h"
 #include "octarc/io/FitsTable.h"
@@ -934,6 +936,162 @@ TEST(CalibrationOutputs, NoArcGivesEveryTableAndPlotWithNothingCounted) {
                     {double(settings.minBinsPerAxis), double(settings.maxBinsPerAxis)});
   expectSameDoubles(binning.series[0].y, {0.0, 0.0});
   EXPECT_TRUE(binning.cuts.empty());
+}
+
+// Summary ----------------------------------------------------------------------------------------
+
+std::string printedSummary(const CalibrationRun& run, const CalibrationResult& r) {
+  testing::internal::CaptureStdout();
+  printCalibrationSummary(run, r);
+  return testing::internal::GetCapturedStdout();
+}
+
+// The line that starts with `start`, "" when none does.
+std::string lineStartingWith(const std::string& text, const std::string& start) {
+  std::size_t at = 0;
+  while (at < text.size()) {
+    const std::size_t end = std::min(text.find('\n', at), text.size());
+    if (text.compare(at, start.size(), start) == 0) return text.substr(at, end - at);
+    at = end + 1;
+  }
+  return "";
+}
+
+// The run that made everyStudyResult: the known settings and those of the studies set by hand.
+CalibrationRun everyStudyRun() {
+  CalibrationRun run;
+  run.settings = knownSettings();
+  run.settings.noise.emplace();
+  run.settings.noise->realisations = 40;
+  run.settings.noise->sizePix = 64;
+  run.settings.noise->minAreaPix = 3;
+  run.settings.thresholdCount.emplace();
+  run.settings.thresholdCount->systems = 500;
+  run.settings.snrFloor.emplace();
+  run.settings.snrFloor->realisations = 10;
+  return run;
+}
+
+TEST(CalibrationSummary, PrintsTheFiguresOfTheResultInOrder) {
+  const std::string out = printedSummary(everyStudyRun(), everyStudyResult());
+  EXPECT_NE(out.find("200 simulated systems, 6 systems (4 effective) with an arc"),
+            std::string::npos)
+      << out;
+
+  // Each arcness bin: the fractions of all arcs and of the distorted and bright ones, each
+  // with its interval as +(hi - f) -(f - lo), to 4 decimals.
+  const std::vector<std::pair<std::string, std::array<double, 2>>> bins = {
+      {"0.05-0.10", {1, 1}}, {"0.10-0.15", {2, 2}}, {"> 0.15", {6, 5}}};
+  for (const auto& [range, weights] : bins) {
+    SCOPED_TRACE(range);
+    const std::string line = lineStartingWith(out, "  " + range + " ");
+    ASSERT_FALSE(line.empty()) << out;
+    double printed[6];
+    ASSERT_EQ(std::sscanf(line.c_str() + 12, " %lf +%lf -%lf %lf +%lf -%lf", &printed[0],
+                          &printed[1], &printed[2], &printed[3], &printed[4], &printed[5]),
+              6)
+        << line;
+    for (std::size_t k = 0; k < 2; ++k) {
+      const FractionInterval f = expectedInterval(weights[k] / 11.0, 121.0 / 27.0);
+      EXPECT_NEAR(printed[3 * k], f.fraction, 0.51e-4) << line;
+      EXPECT_NEAR(printed[3 * k + 1], f.hi - f.fraction, 0.51e-4) << line;
+      EXPECT_NEAR(printed[3 * k + 2], f.fraction - f.lo, 0.51e-4) << line;
+    }
+  }
+
+  // The Gaussian fits of the skewnesses, and of nothing else.
+  for (const char* name : {"SKEW_MAJOR", "SKEW_MINOR"}) {
+    const std::string line = lineStartingWith(out, std::string(name) + " of the arcs with ");
+    ASSERT_FALSE(line.empty()) << out;
+    double fwhm = 0, mean = 0;
+    const std::size_t at = line.find("FWHM");
+    ASSERT_NE(at, std::string::npos) << line;
+    ASSERT_EQ(std::sscanf(line.c_str() + at, "FWHM %lf (mean %lf)", &fwhm, &mean), 2) << line;
+    const Distribution* d = distributionNamed(knownResult(), name);
+    ASSERT_TRUE(d && d->gaussian);
+    EXPECT_NEAR(fwhm, d->gaussian->fwhm, 0.51e-3) << line;
+    EXPECT_NEAR(mean, d->gaussian->mean, 0.51e-3) << line;
+  }
+  std::size_t fits = 0;
+  for (std::size_t at = out.find("Gaussian fit"); at != std::string::npos;
+       at = out.find("Gaussian fit", at + 1)) {
+    ++fits;
+  }
+  EXPECT_EQ(fits, 2u) << out;
+
+  EXPECT_NE(out.find("Noise-only threshold: 4.50 sigma (40 realisations of 64^2 pixels, "
+                     "DETECT_MINAREA 3)"),
+            std::string::npos)
+      << out;
+
+  // The threshold-count curve: the arcs with arcness > 0.10 count with their Kish numbers
+  // 50^2 / 70 = 35.7, 75^2 / 105 = 53.6, 77.5^2 / 110 = 54.6.
+  EXPECT_NE(out.find("(500 systems each, 480 rendered)"), std::string::npos) << out;
+  for (const char* line : {"    1 levels  0.1000 +0.0150 -0.0150  (40 arcs (36 effective))",
+                           "    5 levels  0.1500 +0.0200 -0.0200  (60 arcs (54 effective))",
+                           "   10 levels  0.1550 +0.0200 -0.0200  (62 arcs (55 effective))",
+                           "  flat (within 1 sigma of the most levels) from 5 levels"}) {
+    EXPECT_NE(out.find(std::string(line) + "\n"), std::string::npos) << line << "\n" << out;
+  }
+
+  // The S/N floor (through std::cout): the bins with measurements and the floor.
+  EXPECT_NE(out.find("S/N floor (3 arcs (3 effective) scaled to ARCNESS 0.10, 10 noise "
+                     "realisations per noise factor)"),
+            std::string::npos)
+      << out;
+  EXPECT_NE(out.find("0.1300  0.0900  0.1700  unreliable\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("0.1050  0.0850  0.1250\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("0.1000  0.0950  0.1100\n"), std::string::npos) << out;
+  EXPECT_EQ(out.find("5.0-10.0"), std::string::npos) << out;  // the empty bin
+  EXPECT_NE(out.find("arcness unreliable below S/N 20.0"), std::string::npos) << out;
+
+  // The colour cut: 3 arcs of Kish number 49 / 21 = 2.3, the MAX of each level, and the kept
+  // fraction every 0.25 mag (1 / 7, 5 / 7, 5 / 7, 1, 1).
+  EXPECT_NE(out.find("Colour cut COLOUR_CUT g,MAX on 3 arcs (2 effective)"), std::string::npos)
+      << out;
+  EXPECT_NE(out.find("2 with both colours"), std::string::npos) << out;
+  for (const char* line :
+       {"   10% of the arcs kept from MAX = any\n", "   50% of the arcs kept from MAX = -0.250\n",
+        "   90% of the arcs kept from MAX = 0.250\n", "      -0.50  0.1429 ",
+        "      -0.25  0.7143 ", "       0.00  0.7143 ", "       0.25  1.0000 ",
+        "       0.50  1.0000 "}) {
+    EXPECT_NE(out.find(line), std::string::npos) << line << "\n" << out;
+  }
+
+  EXPECT_NE(out.find("Occupation grid: 5 arcs (4 effective), 1 axes, 3 bins per axis (finest "
+                     "connected at P = 0.85), 2 of 3 occupied bins selected\n"),
+            std::string::npos)
+      << out;
+
+  // The sections in the order of the header, the S/N floor's among them.
+  std::size_t previous = 0;
+  for (const char* section :
+       {"simulated systems", "Lensing fraction", "SKEW_MAJOR of the arcs", "Noise-only threshold",
+        "against the number of thresholds", "S/N floor (", "Colour cut", "Occupation grid"}) {
+    const std::size_t at = out.find(section);
+    ASSERT_NE(at, std::string::npos) << section;
+    EXPECT_GE(at, previous) << section << "\n" << out;
+    previous = at;
+  }
+}
+
+// Without the studies that simulate again, none of them is printed; with GRID_NAME NONE and with
+// no arc for the grid, the grid line says why there is no grid.
+TEST(CalibrationSummary, PrintsOnlyTheStudiesMade) {
+  CalibrationRun run;
+  run.settings = knownSettings();
+  const std::string out = printedSummary(run, knownResult());
+  for (const char* absent : {"Noise-only", "against the number of thresholds", "S/N floor"}) {
+    EXPECT_EQ(out.find(absent), std::string::npos) << absent << "\n" << out;
+  }
+  EXPECT_NE(out.find("Colour cut COLOUR_CUT g,MAX"), std::string::npos) << out;
+  EXPECT_NE(out.find("Occupation grid: none (GRID_NAME NONE)\n"), std::string::npos) << out;
+
+  CalibrationResult gridWithoutArcs = knownResult();
+  gridWithoutArcs.grid = GridOutcome();
+  EXPECT_NE(
+      printedSummary(run, gridWithoutArcs).find("Occupation grid: none (0 arcs (0 effective))\n"),
+      std::string::npos);
 }
 
 }  // namespace
