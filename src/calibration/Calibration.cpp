@@ -34,12 +34,9 @@ struct DistributionSpec {
 std::vector<DistributionSpec> distributionSpecs(const FractionCuts& c) {
   const double nan = std::nan("");
   const std::string e = formatNumber(c.ellipticityMin), snr = formatNumber(c.snrMin);
-  static std::vector<std::string> texts;  // keeps the composed cut texts alive
-  texts = {"ARC_FOUND == 1 && E_IMAGE > " + e + " && SNR_ISO > " + snr,
-           "E_IMAGE > " + e + " && SNR_ISO > " + snr, "E_IMAGE > " + e + " and SNR_ISO > " + snr};
-  const char* bright = texts[0].c_str();
-  const char* brightSurvey = texts[1].c_str();
-  const char* brightWords = texts[2].c_str();
+  const std::string bright = "ARC_FOUND == 1 && E_IMAGE > " + e + " && SNR_ISO > " + snr;
+  const std::string brightSurvey = "E_IMAGE > " + e + " && SNR_ISO > " + snr;
+  const std::string brightWords = "E_IMAGE > " + e + " and SNR_ISO > " + snr;
   const char* arcCut = "ARC_FOUND == 1 && ARCNESS > 0.1";
   const char* arcWords = "ARCNESS > 0.10";
   return {
@@ -412,7 +409,10 @@ FitsTable distributionTable(const Distribution& d) {
   t.name = "DIST_" + d.name;
   std::vector<double> lo(d.simulated.edges.begin(), d.simulated.edges.end() - 1);
   std::vector<double> hi(d.simulated.edges.begin() + 1, d.simulated.edges.end());
-  t.columns = {doubles("BIN_LO", lo, "bin lower edge"), doubles("BIN_HI", hi, "bin upper edge"),
+  // The colour difference is in magnitudes; the other distributions are dimensionless.
+  const std::string unit = d.name == "COLOUR_DIFF" ? "mag" : "";
+  t.columns = {doubles("BIN_LO", lo, "bin lower edge", unit),
+               doubles("BIN_HI", hi, "bin upper edge", unit),
                doubles("SIM_FRACTION", d.simulated.fraction,
                        "weighted fraction of simulated arcs (SIM_WEIGHT)")};
   t.keywords = {FitsKeyword::text("VALUE", d.column, "what is histogrammed"),
@@ -904,6 +904,10 @@ Plot calibrationPlot(const CalibrationResult& r, const std::string& type) {
     throw ConfigError("CHECKPLOT_TYPE COLOUR_DIFF: the simulation has no second band");
   }
   if (type == "GRID_BINNING") return binningPlot(r);
+  const std::vector<std::string> types = calibrationPlotTypes();
+  if (std::find(types.begin(), types.end(), type) != types.end()) {
+    throw ConfigError("CHECKPLOT_TYPE " + type + ": the calibration has no such distribution");
+  }
   throw ConfigError("CHECKPLOT_TYPE " + quoteForMessage(type) + " is not a calibration plot");
 }
 

@@ -463,6 +463,10 @@ TEST(CalibrationTables, DistributionsOfKnownArcsAndSurveyObjects) {
     const std::vector<double> edges = equalBinEdges(e.lo, e.hi, 4);
     expectSameDoubles(t->doubles("BIN_LO"), {edges.begin(), edges.end() - 1});
     expectSameDoubles(t->doubles("BIN_HI"), {edges.begin() + 1, edges.end()});
+    // The colour difference is in magnitudes, as its plot's axis; the rest are pure numbers.
+    const std::string unit = e.name == "COLOUR_DIFF" ? "mag" : "";
+    EXPECT_EQ(t->column("BIN_LO").unit, unit);
+    EXPECT_EQ(t->column("BIN_HI").unit, unit);
     expectSameDoubles(t->doubles("SIM_FRACTION"), e.simulated);
     EXPECT_EQ(t->text("VALUE"), e.value);
     EXPECT_EQ(t->text("SELECT"), e.selection);
@@ -885,6 +889,9 @@ TEST(CalibrationPlot, AnUnknownTypeOrAStudyNotMadeIsAnErrorNamingIt) {
     test::expectError<ConfigError>([&] { calibrationPlot(r, type); }, {type, "second band"});
   }
   EXPECT_EQ(calibrationTables(r).size(), 1 + 6 + 1u);  // no DIST_COLOUR_DIFF nor COLOUR_CUT
+  // A listed type that a result lacks is named as such, not as an unknown plot.
+  test::expectError<ConfigError>([] { calibrationPlot(CalibrationResult{}, "ARCNESS"); },
+                                 {"ARCNESS", "no such distribution"});
 }
 
 // No arc at all (documented as no error: every study is made, no grid): every table and plot is
