@@ -21,20 +21,12 @@ import tempfile
 
 import numpy as np
 
+from study_intervals import wilson
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 PARAMS = os.path.join(HERE, "..", "params")
 SCALE = 0.257
 DENSITIES = [30, 100, 400, 1000, None]
-
-
-def wilson(k, n, z=1.0):
-    """Wilson score interval of k successes in n (z = 1: 68.27 %)."""
-    if n == 0:
-        return 0.0, 1.0
-    p = k / n
-    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
-    half = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
-    return max(0.0, centre - half), min(1.0, centre + half)
 
 
 def read_field(folder):

@@ -34,6 +34,8 @@ import warnings
 import numpy as np
 from astropy.io import fits
 
+from study_intervals import wilson
+
 # The report spaces of the default SEARCH_SPACE, by bit; "all" is the grid selection alone.
 SPACES = [("probability selection alone", None), ("A015: a > 0.15, e > 0.6, S/N > 40", 0),
           ("A010_015: 0.10 < a <= 0.15, e > 0.6, S/N > 40", 1)]
@@ -106,16 +108,6 @@ def run_seed(octarc, seed, lenses, out, extra):
     found = systems[:, 3] > 0
     score[found] = cands[systems[found, 3].astype(int) - 1, 3]
     return np.column_stack([systems, score]), cands, area
-
-
-def wilson(k, n, z=1.0):
-    """Wilson score interval of k successes in n (z = 1: 68%)."""
-    if n == 0:
-        return 0.0, 1.0
-    p = k / n
-    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
-    half = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
-    return max(0.0, centre - half), min(1.0, centre + half)
 
 
 def completeness_at(systems, cands, area, per_deg2):
