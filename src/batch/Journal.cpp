@@ -55,18 +55,26 @@ std::vector<JournalEntry> parseJournal(const std::string& text) {
   return entries;  // text after the last line break: a line cut short, ignored
 }
 
+// An exclusive flock on the open file `fd`, waited for or not: 1 when taken, 0 when `wait` is
+// false and another open file holds it, -1 on any other failure (errno says which).
+int lockExclusive(int fd, bool wait) {
+  while (::flock(fd, LOCK_EX | (wait ? 0 : LOCK_NB)) != 0) {
+    if (errno == EINTR) continue;
+    return !wait && errno == EWOULDBLOCK ? 0 : -1;
+  }
+  return 1;
+}
+
 // An open journal, locked for as long as it lives.
 class LockedJournal {
  public:
   explicit LockedJournal(const std::string& path) : path_(path) {
     fd_ = ::open(path.c_str(), O_RDWR | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
     if (fd_ < 0) throw IoError(path + ": cannot open the journal (" + std::strerror(errno) + ")");
-    while (::flock(fd_, LOCK_EX) != 0) {
-      if (errno != EINTR) {
-        const int e = errno;
-        ::close(fd_);
-        throw IoError(path + ": cannot lock the journal (" + std::strerror(e) + ")");
-      }
+    if (lockExclusive(fd_, true) != 1) {
+      const int e = errno;
+      ::close(fd_);
+      throw IoError(path + ": cannot lock the journal (" + std::strerror(e) + ")");
     }
   }
   ~LockedJournal() { ::close(fd_); }  // closing releases the lock
@@ -120,14 +128,25 @@ std::string lineOf(int run, const std::string& event, const std::string& tile,
 Journal::Journal(std::string path) : path_(std::move(path)) {}
 
 std::vector<JournalEntry> Journal::read() const {
+  std::uint64_t offset = 0;
+  return readFrom(offset);
+}
+
+std::vector<JournalEntry> Journal::readFrom(std::uint64_t& offset) const {
   std::ifstream in(path_, std::ios::binary);
   if (!in) {
     if (::access(path_.c_str(), F_OK) != 0) return {};
     throw IoError(path_ + ": cannot read the journal");
   }
+  in.seekg(std::streamoff(offset));
   std::stringstream text;
-  text << in.rdbuf();
-  return parseJournal(text.str());
+  if (in) text << in.rdbuf();  // nothing past the end
+  if (in.bad()) throw IoError(path_ + ": cannot read the journal");
+  const std::string lines = text.str();
+  const std::size_t end = lines.rfind('\n');
+  if (end == std::string::npos) return {};  // no complete line yet
+  offset += end + 1;
+  return parseJournal(lines.substr(0, end + 1));
 }
 
 int Journal::startRun(const std::string& detail) const {
@@ -150,6 +169,34 @@ void Journal::appendWhileLocked(
   LockedJournal journal(path_);
   journal.append(lineOf(run, event, tile, detail));
   whileLocked(parseJournal(journal.readAll()));
+}
+
+std::optional<TileClaim> TileClaim::tryTake(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) throw IoError(path + ": cannot open the tile's claim (" + std::strerror(errno) + ")");
+  const int taken = lockExclusive(fd, false);
+  if (taken == 1) return TileClaim(fd);
+  const int e = errno;
+  ::close(fd);
+  if (taken == 0) return std::nullopt;
+  throw IoError(path + ": cannot lock the tile's claim (" + std::strerror(e) + ")");
+}
+
+TileClaim::TileClaim(TileClaim&& other) noexcept : fd_(other.fd_) {
+  other.fd_ = -1;
+}
+
+TileClaim& TileClaim::operator=(TileClaim&& other) noexcept {
+  if (this != &other) {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = other.fd_;
+    other.fd_ = -1;
+  }
+  return *this;
+}
+
+TileClaim::~TileClaim() {
+  if (fd_ >= 0) ::close(fd_);  // closing lets go of the lock
 }
 
 std::set<std::string> completedTiles(const std::vector<JournalEntry>& entries) {

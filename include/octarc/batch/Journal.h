@@ -10,10 +10,16 @@
 // journal shows which tiles each run did.
 //
 // Lines are appended with O_APPEND under an exclusive flock and synced, so that the tasks of a
-// job array can share one journal. A line cut short by a crash is ignored when reading.
+// job array, and batches started at once into one OUTPUT_DIR, can share one journal. A line cut
+// short by a crash is ignored when reading.
+//
+// Runs that share a journal share the tiles through claims (TileClaim): a run searches a tile
+// only while it holds the tile's claim, and journals it before letting go.
 #pragma once
 
+#include <cstdint>
 #include <functional>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -36,6 +42,10 @@ class Journal {
   const std::string& path() const { return path_; }
   // Every complete line; none when the file does not exist. IoError when it cannot be read.
   std::vector<JournalEntry> read() const;
+  // The complete lines from byte `offset` on, and `offset` moved past the last of them: a run
+  // follows what other runs append without reading the whole journal again. None when the file
+  // does not exist; IoError when it cannot be read.
+  std::vector<JournalEntry> readFrom(std::uint64_t& offset) const;
   // Appends a `start` line for the next run number and returns that number.
   int startRun(const std::string& detail) const;
   // Appends one line (tabs and line breaks in the fields become blanks); IoError on failure.
@@ -50,6 +60,27 @@ class Journal {
 
  private:
   std::string path_;
+};
+
+// A run's claim on one tile: an exclusive flock on the tile's lock file (OUTPUT_DIR/claims/NAME),
+// taken before the tile is searched and let go once it is journaled. While it lives no other
+// process (nor another open file of this one) can take the same claim; it ends with the object
+// or with the process, so a killed run leaves its tile free for the next. The lock file stays:
+// removing it would let two processes lock two different files of one name.
+class TileClaim {
+ public:
+  // The claim, or nothing when another holds it. IoError naming the file when it cannot be made
+  // or locked.
+  static std::optional<TileClaim> tryTake(const std::string& path);
+  TileClaim(TileClaim&& other) noexcept;
+  TileClaim& operator=(TileClaim&& other) noexcept;
+  TileClaim(const TileClaim&) = delete;
+  TileClaim& operator=(const TileClaim&) = delete;
+  ~TileClaim();
+
+ private:
+  explicit TileClaim(int fd) : fd_(fd) {}
+  int fd_ = -1;
 };
 
 // The tiles that a `done` line names.

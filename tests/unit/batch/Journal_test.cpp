@@ -3,12 +3,14 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/file.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 
 #include "TestFiles.h"
+#include "octarc/core/Error.h"
 
 namespace octarc {
 namespace {
@@ -65,6 +67,78 @@ TEST(Journal, ALineCutShortByACrashIsIgnored) {
   ASSERT_EQ(entries.size(), 2u);
   EXPECT_EQ(entries[1].tile, "t1");
   EXPECT_EQ(completedTiles(entries), (std::set<std::string>{"t1"}));
+  fs::remove(path);
+}
+
+TEST(Journal, ReadFromFollowsTheLinesAppendedSince) {
+  const fs::path path = scratch("follow");
+  const Journal journal(path.string());
+  std::uint64_t offset = 0;
+  EXPECT_TRUE(journal.readFrom(offset).empty());  // no file yet
+  EXPECT_EQ(offset, 0u);
+  journal.startRun("2 tiles");
+  journal.append(1, "done", "t1", "3 candidates");
+  std::vector<JournalEntry> entries = journal.readFrom(offset);
+  ASSERT_EQ(entries.size(), 2u);
+  EXPECT_EQ(entries[1].tile, "t1");
+  EXPECT_EQ(offset, fs::file_size(path));
+  EXPECT_TRUE(journal.readFrom(offset).empty());  // nothing new
+  {
+    std::ofstream out(path, std::ios::app);
+    out << "1\t2026-12-02T00:00:00\tfailed\tt2\tcut";  // a line not ended yet
+  }
+  EXPECT_TRUE(journal.readFrom(offset).empty());
+  EXPECT_LT(offset, fs::file_size(path));  // the partial line is read again next time
+  {
+    std::ofstream out(path, std::ios::app);
+    out << " short\n";
+  }
+  entries = journal.readFrom(offset);
+  ASSERT_EQ(entries.size(), 1u);
+  EXPECT_EQ(entries[0].tile, "t2");
+  EXPECT_EQ(entries[0].detail, "cut short");
+  EXPECT_EQ(offset, fs::file_size(path));
+  fs::remove(path);
+}
+
+TEST(TileClaim, HeldByOneOpenFileAtATimeAndFreedWithIt) {
+  const fs::path path = scratch("claim");
+  {
+    std::optional<TileClaim> first = TileClaim::tryTake(path.string());
+    ASSERT_TRUE(first.has_value());
+    EXPECT_TRUE(fs::exists(path));
+    // Another open file, in this process as in another, cannot take it meanwhile.
+    EXPECT_FALSE(TileClaim::tryTake(path.string()).has_value());
+    const int fd = ::open(path.c_str(), O_RDONLY);
+    EXPECT_NE(::flock(fd, LOCK_EX | LOCK_NB), 0);
+    ::close(fd);
+    // Moved, still held.
+    TileClaim moved = std::move(*first);
+    first.reset();
+    EXPECT_FALSE(TileClaim::tryTake(path.string()).has_value());
+  }
+  // Let go with the object: the next run takes it; the file stays.
+  EXPECT_TRUE(TileClaim::tryTake(path.string()).has_value());
+  EXPECT_TRUE(fs::exists(path));
+  // Held by a process that is gone: free (a child locks it, then exits without unlocking).
+  const pid_t child = ::fork();
+  if (child == 0) {
+    const int fd = ::open(path.c_str(), O_RDWR);
+    _exit(fd >= 0 && ::flock(fd, LOCK_EX | LOCK_NB) == 0 ? 0 : 1);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  EXPECT_TRUE(TileClaim::tryTake(path.string()).has_value());
+  // A claim that cannot be made names its file.
+  try {
+    (void)TileClaim::tryTake((fs::temp_directory_path() / "octarc-no-such-dir" / "t1").string());
+    ADD_FAILURE() << "no IoError";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("octarc-no-such-dir/t1: cannot open"), std::string::npos)
+        << e.what();
+  }
   fs::remove(path);
 }
 
