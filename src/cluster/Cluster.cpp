@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <string>
 #include <thread>
 
 namespace octarc {
@@ -15,6 +16,25 @@ bool launchedAsMpiRank() {
     if (std::getenv(name) != nullptr) return true;
   }
   return false;
+}
+
+std::string slurmLaunchWarning(const char* stepTasks, const char* jobTasks, const char* stepId,
+                               int mpiRanks) {
+  if (mpiRanks != 1) return {};
+  const bool inStep = stepId != nullptr || stepTasks != nullptr;  // started by srun
+  const char* tasksText = stepTasks != nullptr ? stepTasks : jobTasks;
+  if (tasksText == nullptr) return {};
+  char* end = nullptr;
+  const long tasks = std::strtol(tasksText, &end, 10);
+  if (end == tasksText || *end != '\0' || tasks <= 1) return {};
+  const std::string n = std::to_string(tasks);
+  if (inStep) {
+    return "Slurm started " + n +
+           " tasks but MPI sees 1 rank: launch with srun --mpi=pmix (or mpirun); each task now "
+           "runs alone";
+  }
+  return "the Slurm job has " + n +
+         " tasks but this is one process: launch with srun --mpi=pmix (or mpirun) to use them";
 }
 
 int Cluster::threadsPerRank(int requested) const {

@@ -14,10 +14,12 @@ Cluster::Cluster() {
 
 Cluster::~Cluster() = default;
 
-void Cluster::distribute(
-    std::int64_t count, const std::function<std::string(std::int64_t)>& work,
-    const std::function<void(std::int64_t, const std::string&)>& collect) const {
-  for (std::int64_t i = 0; i < count; ++i) collect(i, work(i));
+void Cluster::distribute(std::int64_t count, const std::function<std::string(std::int64_t)>& work,
+                         const std::function<void(std::int64_t, const std::string&)>& collect,
+                         const std::function<bool(std::int64_t)>& take) const {
+  for (std::int64_t i = 0; i < count; ++i) {
+    if (!take || take(i)) collect(i, work(i));
+  }
 }
 
 std::string Cluster::broadcast(const std::string& bytes) const {

@@ -70,11 +70,13 @@ Cluster::~Cluster() {
   if (!finalised) MPI_Finalize();
 }
 
-void Cluster::distribute(
-    std::int64_t count, const std::function<std::string(std::int64_t)>& work,
-    const std::function<void(std::int64_t, const std::string&)>& collect) const {
+void Cluster::distribute(std::int64_t count, const std::function<std::string(std::int64_t)>& work,
+                         const std::function<void(std::int64_t, const std::string&)>& collect,
+                         const std::function<bool(std::int64_t)>& take) const {
   if (size_ == 1) {
-    for (std::int64_t i = 0; i < count; ++i) collect(i, work(i));
+    for (std::int64_t i = 0; i < count; ++i) {
+      if (!take || take(i)) collect(i, work(i));
+    }
     return;
   }
   if (rank_ != 0) {
@@ -95,14 +97,27 @@ void Cluster::distribute(
 
   // The root: its own tasks on a thread, the other ranks served here.
   std::atomic<std::int64_t> next{0};
+  // The next task to hand out, past those take() skips; count when none is left.
+  const auto nextTask = [&] {
+    std::int64_t i = next++;
+    while (i < count && take && !take(i)) i = next++;
+    return std::min(i, count);
+  };
   std::mutex mutex;
   std::deque<std::pair<std::int64_t, std::string>> done;
   bool ownFinished = false;
+  std::exception_ptr ownError;  // from take() on the root's own thread
   std::thread own([&] {
-    for (std::int64_t i; (i = next++) < count;) {
-      std::string report = work(i);
+    try {
+      for (std::int64_t i; (i = nextTask()) < count;) {
+        std::string report = work(i);
+        const std::lock_guard lock(mutex);
+        done.emplace_back(i, std::move(report));
+      }
+    } catch (...) {
+      next = count;
       const std::lock_guard lock(mutex);
-      done.emplace_back(i, std::move(report));
+      ownError = std::current_exception();
     }
     const std::lock_guard lock(mutex);
     ownFinished = true;
@@ -112,11 +127,14 @@ void Cluster::distribute(
     for (;;) {
       std::deque<std::pair<std::int64_t, std::string>> arrived;
       bool finished = false;
+      std::exception_ptr error;
       {
         const std::lock_guard lock(mutex);
         arrived.swap(done);
         finished = ownFinished;
+        error = ownError;
       }
+      if (error) std::rethrow_exception(error);
       for (const auto& [i, report] : arrived) collect(i, report);
       if (active == 0 && finished) break;
       int flag = 0;
@@ -135,7 +153,7 @@ void Cluster::distribute(
       std::int64_t last = -1;
       std::memcpy(&last, message.data(), sizeof last);
       if (last >= 0) collect(last, message.substr(sizeof last));
-      std::int64_t task = next++;
+      std::int64_t task = nextTask();
       if (task >= count) {
         task = -1;
         --active;

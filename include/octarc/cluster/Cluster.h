@@ -48,9 +48,12 @@ class Cluster {
   // returns a report; collect(i, report) runs on the root's calling thread, once per task, as
   // reports arrive. work must not throw (a failed task is a report). On the root, work runs on
   // a thread of its own while the calling thread serves the other ranks; without MPI, tasks
-  // run in order on the calling thread.
+  // run in order on the calling thread. When given, take(i) runs on the root just before task
+  // i would be handed out, on either of the root's threads (it must be thread-safe): false
+  // skips the task (no work, no collect); an exception from it ends the run as collect's do.
   void distribute(std::int64_t count, const std::function<std::string(std::int64_t)>& work,
-                  const std::function<void(std::int64_t, const std::string&)>& collect) const;
+                  const std::function<void(std::int64_t, const std::string&)>& collect,
+                  const std::function<bool(std::int64_t)>& take = {}) const;
 
   // The root's bytes on every rank (the root's `bytes`; the others' are ignored).
   std::string broadcast(const std::string& bytes) const;
@@ -75,5 +78,13 @@ class Cluster {
 
 // True when the environment says this process is an MPI rank.
 bool launchedAsMpiRank();
+
+// A wrong launch, said in one line (empty when there is nothing to say): Slurm started several
+// tasks but MPI joined none of them (srun without --mpi=pmix where PMIx is not the default, say),
+// so each runs as a job of one rank; or a job of several tasks runs this one process without
+// srun. The arguments are Slurm's SLURM_STEP_NUM_TASKS, SLURM_NTASKS and SLURM_STEP_ID as the
+// environment has them (nullptr: not set) and the ranks MPI sees.
+std::string slurmLaunchWarning(const char* stepTasks, const char* jobTasks, const char* stepId,
+                               int mpiRanks);
 
 }  // namespace octarc
