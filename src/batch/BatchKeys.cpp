@@ -1,6 +1,8 @@
 #include "octarc/batch/BatchKeys.h"
 
 #include <cstdlib>
+#include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "octarc/core/Error.h"
@@ -14,7 +16,54 @@ namespace {
 using sexcompat::KeySpec;
 using Kind = KeySpec::Kind;
 
+// A Slurm variable's value: nothing when not set; ConfigError unless a whole number that an int
+// holds.
+std::optional<long long> slurmNumber(const char* name, const char* value) {
+  if (value == nullptr) return std::nullopt;
+  const std::string text = value;
+  try {
+    std::size_t used = 0;
+    const long long n = std::stoll(text, &used);
+    if (used == text.size() && n >= 0 && n <= std::numeric_limits<int>::max()) return n;
+  } catch (const std::exception&) {
+  }
+  throw ConfigError(std::string("ARRAY_TASK AUTO: ") + name + " " + quoteForMessage(text) +
+                    " is not a whole number from 0 to " +
+                    std::to_string(std::numeric_limits<int>::max()));
+}
+
 }  // namespace
+
+ArrayShare slurmArrayShare(const char* id, const char* min, const char* max, const char* step,
+                           const char* count) {
+  const std::optional<long long> taskId = slurmNumber("SLURM_ARRAY_TASK_ID", id);
+  if (!taskId) return {};  // not a task of a job array
+  const std::optional<long long> first = slurmNumber("SLURM_ARRAY_TASK_MIN", min);
+  const std::optional<long long> last = slurmNumber("SLURM_ARRAY_TASK_MAX", max);
+  const std::optional<long long> spacing = slurmNumber("SLURM_ARRAY_TASK_STEP", step);
+  const std::optional<long long> tasks = slurmNumber("SLURM_ARRAY_TASK_COUNT", count);
+  const std::string task = "Slurm array task " + std::to_string(*taskId);
+  const std::string shared =
+      ": the whole manifest, shared with the other tasks through the tiles' claims";
+  if (!tasks) return {0, 1, task + " without SLURM_ARRAY_TASK_COUNT" + shared};
+  const long long from = first.value_or(0), by = spacing.value_or(1);
+  const long long to = last.value_or(from + by * (*tasks - 1));
+  const std::string range = "--array=" + std::to_string(from) + "-" + std::to_string(to) +
+                            (by != 1 ? ":" + std::to_string(by) : "") + " ";
+  // The ids of an evenly spaced array are MIN, MIN + STEP, ... MAX: COUNT of them.
+  const bool even = *tasks >= 1 && by >= 1 && to == from + by * (*tasks - 1) && *taskId >= from &&
+                    (*taskId - from) % by == 0 && (*taskId - from) / by < *tasks;
+  if (!even) {
+    return {0, 1,
+            task + ", one of " + std::to_string(*tasks) + " ids from " + std::to_string(from) +
+                " to " + std::to_string(to) + " that are not a range with step " +
+                std::to_string(by) + shared};
+  }
+  const int position = int((*taskId - from) / by);
+  return {position, int(*tasks),
+          task + " (" + range + "of " + std::to_string(*tasks) + " tasks): share " +
+              std::to_string(position) + "/" + std::to_string(*tasks)};
+}
 
 std::vector<KeySpec> batchKeys() {
   std::vector<KeySpec> keys = searchKeys();
@@ -39,7 +88,7 @@ std::vector<KeySpec> batchKeys() {
     sexcompat::KeyRow("MATCH_RADIUS", Kind::Float, {"1.0"}, "candidates of two tiles closer than "
         "this are one\n(arcsec)").range(0, 60),
     sexcompat::KeyRow("ARRAY_TASK", Kind::String, {"AUTO"}, "this job-array task's share: I/N "
-        "(tiles k with\nk % N == I), AUTO (Slurm's SLURM_ARRAY_TASK_ID)"),
+        "(tiles k with\nk % N == I), AUTO (from Slurm's SLURM_ARRAY_TASK_*)"),
   };
   // clang-format on
   keys.insert(keys.end(), own.begin(), own.end());
@@ -72,19 +121,14 @@ BatchSettings batchSettingsFromConfig(const sexcompat::Config& c, RunSettings ru
   s.matchRadiusArcsec = c.getDouble("MATCH_RADIUS");
   std::string share = uppercase(c.getString("ARRAY_TASK"));
   if (share == "AUTO") {
-    const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
-    const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
-    const char* first = std::getenv("SLURM_ARRAY_TASK_MIN");
-    if (id && count) {
-      try {
-        share = std::to_string(std::stoll(id) - (first ? std::stoll(first) : 0)) + "/" + count;
-      } catch (const std::exception&) {
-        throw ConfigError(std::string("ARRAY_TASK AUTO: SLURM_ARRAY_TASK_ID ") + id +
-                          " / SLURM_ARRAY_TASK_COUNT " + count + " are not numbers");
-      }
-    } else {
-      share = "0/1";
-    }
+    const ArrayShare slurm =
+        slurmArrayShare(std::getenv("SLURM_ARRAY_TASK_ID"), std::getenv("SLURM_ARRAY_TASK_MIN"),
+                        std::getenv("SLURM_ARRAY_TASK_MAX"), std::getenv("SLURM_ARRAY_TASK_STEP"),
+                        std::getenv("SLURM_ARRAY_TASK_COUNT"));
+    s.arrayTask = slurm.task;
+    s.arrayTasks = slurm.tasks;
+    s.arrayShareNote = slurm.note;
+    return s;
   }
   const std::size_t slash = share.find('/');
   try {

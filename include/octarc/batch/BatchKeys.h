@@ -22,12 +22,29 @@ struct BatchSettings {
   double matchRadiusArcsec = 1.0;  // MATCH_RADIUS: one object in two tiles' overlap
   // ARRAY_TASK: this task's share of a job array, the tiles k (0-based) with k % tasks == task.
   int arrayTask = 0, arrayTasks = 1;
-  int requestedThreads = 0;  // NTHREADS (0: the machine's cores shared between its ranks)
+  std::string arrayShareNote;  // how ARRAY_TASK AUTO read Slurm's variables, for the log
+  int requestedThreads = 0;    // NTHREADS (0: the machine's cores shared between its ranks)
 };
 
 // ConfigError on bad values. `run` is the detection part as the command line resolved it; its
-// imagePaths hold the manifest. ARRAY_TASK AUTO takes Slurm's SLURM_ARRAY_TASK_ID (less
-// SLURM_ARRAY_TASK_MIN) of SLURM_ARRAY_TASK_COUNT when set, else the whole manifest.
+// imagePaths hold the manifest. ARRAY_TASK AUTO: slurmArrayShare of Slurm's variables.
 BatchSettings batchSettingsFromConfig(const sexcompat::Config& config, RunSettings run);
+
+// A job-array task's share of the tiles: the tiles k with k % tasks == task.
+struct ArrayShare {
+  int task = 0, tasks = 1;
+  std::string note;  // what the variables said, for the log; empty outside a job array
+};
+
+// ARRAY_TASK AUTO from Slurm's SLURM_ARRAY_TASK_ID, _MIN, _MAX, _STEP and _COUNT (nullptr: not
+// set). A task of an evenly spaced array (--array=MIN-MAX:STEP, MAX == MIN + STEP (COUNT - 1))
+// takes the share of its position, (ID - MIN) / STEP of COUNT; the shares of all the tasks are
+// the whole manifest. The position of a task of any other array (a list such as --array=3,17,
+// failed tasks sent again) is not in its variables: it takes the whole manifest, and the tasks
+// share the tiles through their claims, each searching the tiles no other has taken. Outside a
+// job array (no ID), the whole manifest. Missing MIN, STEP or MAX count as 0, 1 and the value
+// of an even array. ConfigError for a value that is not a whole number.
+ArrayShare slurmArrayShare(const char* id, const char* min, const char* max, const char* step,
+                           const char* count);
 
 }  // namespace octarc
