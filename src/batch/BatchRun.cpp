@@ -4,11 +4,15 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <new>
+#include <optional>
 #include <sstream>
+#include <thread>
 
 #include "octarc/batch/Journal.h"
 #include "octarc/catalog/Catalog.h"
@@ -31,9 +35,14 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kAreaFile = "area.fits";
+constexpr const char* kClaimsFolder = "claims";
 
 std::string tileFolder(const BatchSettings& s, const Tile& t) {
   return (fs::path(s.outputDir) / "tiles" / t.name).string();
+}
+
+std::string claimFile(const BatchSettings& s, const Tile& t) {
+  return (fs::path(s.outputDir) / kClaimsFolder / t.name).string();
 }
 
 std::string where(const BatchSettings& s, const Tile& t) {
@@ -80,29 +89,48 @@ void checkTiles(const BatchSettings& s, const std::vector<Tile>& tiles) {
   }
 }
 
-// OUTPUT_DIR is made, or must be a batch's own (or empty).
+// True while the batch marker at `path` is being written by another batch: there, and its text
+// so far a proper beginning of the marker's.
+bool markerBeingWritten(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::string text(std::strlen(kBatchMarkerText) + 1, '\0');
+  in.read(text.data(), std::streamsize(text.size()));
+  text.resize(std::size_t(in.gcount()));
+  return text.size() < std::strlen(kBatchMarkerText) &&
+         std::string(kBatchMarkerText).compare(0, text.size(), text) == 0;
+}
+
+// OUTPUT_DIR is made, or must be a batch's own (or empty). Batches started at once into a new
+// directory all take it: the marker is its first entry, made by one of them alone (O_EXCL), and
+// the others wait the moment it takes to be written.
 void prepareOutputDirectory(const BatchSettings& s) {
   std::error_code ec;
   const fs::path out = s.outputDir;
   const fs::path marker = out / kBatchMarkerFile;
-  if (fs::exists(out, ec)) {
-    if (!fs::is_directory(out, ec)) {
-      throw ConfigError("OUTPUT_DIR " + s.outputDir + ": exists and is not a directory");
-    }
-    if (holdsMarker(s.outputDir, kBatchMarkerFile, kBatchMarkerText)) {
-      fs::create_directories(out / "tiles", ec);
-      if (ec) throw IoError(s.outputDir + "/tiles: cannot create (" + ec.message() + ")");
-      return;
+  if (fs::exists(out, ec) && !fs::is_directory(out, ec)) {
+    throw ConfigError("OUTPUT_DIR " + s.outputDir + ": exists and is not a directory");
+  }
+  fs::create_directories(out, ec);
+  if (ec) throw IoError("OUTPUT_DIR " + s.outputDir + ": cannot create (" + ec.message() + ")");
+  for (int attempt = 0; !holdsMarker(s.outputDir, kBatchMarkerFile, kBatchMarkerText); ++attempt) {
+    if (attempt < 200 && markerBeingWritten(marker)) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      continue;
     }
     if (!fs::is_empty(out, ec)) {
       throw ConfigError("OUTPUT_DIR " + s.outputDir +
                         ": is not the output of an octarc batch (it has no " + kBatchMarkerFile +
                         "); choose a new or empty directory");
     }
+    (void)createFileExclusive(marker.string(), kBatchMarkerText);  // or another batch did
   }
-  fs::create_directories(out / "tiles", ec);
-  if (ec) throw IoError("OUTPUT_DIR " + s.outputDir + ": cannot create (" + ec.message() + ")");
-  writeTextFile(marker.string(), kBatchMarkerText);
+  for (const char* folder : {"tiles", kClaimsFolder}) {
+    fs::create_directories(out / folder, ec);
+    if (ec) {
+      throw IoError(s.outputDir + "/" + folder + ": cannot create (" + ec.message() + ")");
+    }
+  }
 }
 
 bool tileFolderComplete(const BatchSettings& s, const Tile& t) {
@@ -210,16 +238,26 @@ std::string shareText(const BatchSettings& s) {
              : std::string("whole manifest");
 }
 
-std::vector<std::string> summaryLines(const BatchSettings& s, const BatchReport& r, int ranks) {
-  std::int64_t counts[4] = {0, 0, 0, 0};
+// The tiles a survey still waits for when this run ends: not journaled yet, or done but their
+// folder not in place.
+struct Waiting {
+  std::int64_t searchedElsewhere = 0;  // another run held the claim when this one came to it
+  std::int64_t left = 0;               // to other array tasks, or to a rerun
+};
+
+std::vector<std::string> summaryLines(const BatchSettings& s, const BatchReport& r, int ranks,
+                                      const Waiting& waiting) {
+  std::int64_t counts[5] = {0, 0, 0, 0, 0};
   for (const TileReport& t : r.reports) ++counts[int(t.state)];
+  const std::int64_t elsewhere =
+      counts[int(TileState::OtherTask)] + counts[int(TileState::OtherRun)];
   std::vector<std::string> lines;
   lines.push_back("Survey " + s.manifest + ": " + std::to_string(r.tiles.size()) + " tiles");
-  lines.push_back("Run " + std::to_string(r.run) + " (" + std::to_string(ranks) + " rank(s), " +
-                  shareText(s) + "): " + std::to_string(counts[0]) + " done, " +
-                  std::to_string(counts[1]) + " failed, " + std::to_string(counts[2]) +
-                  " skipped (done earlier or by other tasks)" +
-                  (counts[3] > 0 ? ", " + std::to_string(counts[3]) + " left to other tasks" : ""));
+  lines.push_back(
+      "Run " + std::to_string(r.run) + " (" + std::to_string(ranks) + " rank(s), " + shareText(s) +
+      "): " + std::to_string(counts[0]) + " done, " + std::to_string(counts[1]) + " failed, " +
+      std::to_string(counts[2]) + " skipped (done earlier or by other runs)" +
+      (elsewhere > 0 ? ", " + std::to_string(elsewhere) + " left to other runs or tasks" : ""));
   for (std::size_t i = 0; i < r.tiles.size(); ++i) {
     if (r.reports[i].state != TileState::Failed) continue;
     lines.push_back("  failed: " + r.tiles[i].name +
@@ -227,7 +265,13 @@ std::vector<std::string> summaryLines(const BatchSettings& s, const BatchReport&
                     ": " + r.reports[i].message);
   }
   if (!r.merged) {
-    lines.push_back("The survey catalog waits for the tiles of the other tasks");
+    // This run's last line: the survey is not its to write.
+    lines.push_back(
+        "The survey outputs wait for " + std::to_string(waiting.searchedElsewhere + waiting.left) +
+        " tile(s) (" + std::to_string(waiting.searchedElsewhere) +
+        " that another run was searching, " + std::to_string(waiting.left) +
+        " left to other array tasks or to a rerun): the run that journals the last of them "
+        "writes them");
     return lines;
   }
   const SurveyCandidates& sv = r.survey;
@@ -262,7 +306,8 @@ std::string surveyIndexHtml(const BatchSettings& s, const BatchReport& r) {
     const TileReport& tr = r.reports[i];
     const std::string folder = "tiles/" + t.name + "/";
     const bool failed = tr.state == TileState::Failed;
-    const char* status = failed ? "failed" : tr.state == TileState::OtherTask ? "not done" : "done";
+    const bool elsewhere = tr.state == TileState::OtherTask || tr.state == TileState::OtherRun;
+    const char* status = failed ? "failed" : elsewhere ? "not done" : "done";
     html << "<tr class=\"" << status << "\"><td>" << escapeHtml(t.name) << "</td><td>" << status;
     if (failed) html << ": " << escapeHtml(tr.message);
     html << "</td><td>" << (failed ? 0 : r.survey.keptPerTile.at(i)) << "</td><td>";
@@ -348,13 +393,13 @@ namespace {
 // The root alone reads the manifest, checks the tiles' files and OUTPUT_DIR, and picks the tiles
 // to do: this task's share, less those complete (a `done` line and the folder in place), largest
 // images first (the ranks then end together). Returns the plan: the run number, then the tiles'
-// indices.
+// indices; journalRead: the journal's bytes it read.
 std::string planRun(const BatchSettings& s, const Cluster& cluster, const Journal& journal,
-                    BatchReport& report) {
+                    BatchReport& report, std::uint64_t& journalRead) {
   report.tiles = readManifest(s.manifest);
   checkTiles(s, report.tiles);
   prepareOutputDirectory(s);
-  const std::set<std::string> done = completedTiles(journal.read());
+  const std::set<std::string> done = completedTiles(journal.readFrom(journalRead));
   report.run = journal.startRun(std::to_string(report.tiles.size()) + " tiles, " +
                                 std::to_string(cluster.size()) + " rank(s), " + shareText(s));
   report.reports.assign(report.tiles.size(), TileReport());
@@ -379,12 +424,13 @@ std::string planRun(const BatchSettings& s, const Cluster& cluster, const Journa
 // The plan on every rank: made by the root (a failure there stops every rank), then sent with
 // the tiles to the others. Returns the indices of the tiles to search.
 std::vector<std::size_t> shareRunPlan(const BatchSettings& s, const Cluster& cluster,
-                                      const Journal& journal, BatchReport& report) {
+                                      const Journal& journal, BatchReport& report,
+                                      std::uint64_t& journalRead) {
   std::exception_ptr error;
   std::string plan;
   if (cluster.isRoot()) {
     try {
-      plan = planRun(s, cluster, journal, report);
+      plan = planRun(s, cluster, journal, report, journalRead);
     } catch (const Error&) {
       error = std::current_exception();
     }
@@ -424,6 +470,56 @@ std::string searchTile(const BatchSettings& s, const Tile& tile, int threads, in
   }
 }
 
+// The claims of the tiles this run searches, on the root: taken as a tile is handed out, let go
+// once it is journaled. Its methods may run on both of the root's threads.
+class TileClaims {
+ public:
+  TileClaims(const BatchSettings& s, const Journal& journal, std::uint64_t journalRead,
+             BatchReport& report)
+      : s_(s), journal_(journal), journalRead_(journalRead), report_(report) {}
+
+  // Claims tile i for this run. False, with the tile's report set, when another run holds its
+  // claim or has journaled it since this run read the journal (checked once the claim is held:
+  // the other journals a tile before it lets go of it).
+  bool take(std::size_t i) {
+    const std::lock_guard lock(mutex_);
+    const Tile& tile = report_.tiles[i];
+    std::optional<TileClaim> claim = TileClaim::tryTake(claimFile(s_, tile));
+    if (!claim) {
+      report_.reports[i].state = TileState::OtherRun;
+      return false;
+    }
+    for (const JournalEntry& e : journal_.readFrom(journalRead_)) {
+      if (e.event == "done" || e.event == "failed") latest_[e.tile] = e.event;
+    }
+    const auto it = latest_.find(tile.name);
+    if (it != latest_.end() && it->second == "failed") {
+      report_.reports[i].state = TileState::Failed;
+      report_.reports[i].message = "(failed in another run; see journal.txt)";
+      return false;
+    }
+    if (it != latest_.end() && tileFolderComplete(s_, tile)) {
+      report_.reports[i].state = TileState::DoneEarlier;
+      return false;
+    }
+    held_.emplace(i, std::move(*claim));
+    return true;
+  }
+  void release(std::size_t i) {
+    const std::lock_guard lock(mutex_);
+    held_.erase(i);
+  }
+
+ private:
+  const BatchSettings& s_;
+  const Journal& journal_;
+  std::uint64_t journalRead_;
+  BatchReport& report_;
+  std::mutex mutex_;
+  std::map<std::string, std::string> latest_;  // tile: its last done/failed since the plan
+  std::map<std::size_t, TileClaim> held_;
+};
+
 // A searched tile's report, on the root: journaled, logged as the `finished`-th of `total`.
 void recordTile(const Journal& journal, BatchReport& report, std::size_t i, TileReport r,
                 std::int64_t finished, std::size_t total, const RunLog& log) {
@@ -455,6 +551,7 @@ void mergeSurvey(const BatchSettings& s, BatchReport& report,
     if (e.event == "done" || e.event == "failed") latest[e.tile] = e.event;
   }
   report.merged = true;
+  Waiting waiting;
   std::vector<TileCandidates> merged;
   std::vector<std::size_t> mergedIndex;
   for (std::size_t i = 0; i < tiles.size(); ++i) {
@@ -462,15 +559,19 @@ void mergeSurvey(const BatchSettings& s, BatchReport& report,
     TileReport& r = report.reports[i];
     if (it == latest.end()) {
       report.merged = false;
+      ++(r.state == TileState::OtherRun ? waiting.searchedElsewhere : waiting.left);
       continue;
     }
-    if (r.state == TileState::OtherTask) {
+    if (r.state == TileState::OtherTask || r.state == TileState::OtherRun) {
       r.state = it->second == "done" ? TileState::DoneEarlier : TileState::Failed;
-      if (r.state == TileState::Failed) r.message = "(failed in another task; see journal.txt)";
+      if (r.state == TileState::Failed) r.message = "(failed in another run; see journal.txt)";
     }
     if (it->second == "done" && r.state != TileState::Failed) {
-      // A folder that another task is redoing is not there yet: the survey waits for it.
-      if (!tileFolderComplete(s, tiles[i])) report.merged = false;
+      // A folder that another run is redoing is not there yet: the survey waits for it.
+      if (!tileFolderComplete(s, tiles[i])) {
+        report.merged = false;
+        ++waiting.left;
+      }
       mergedIndex.push_back(i);
     }
   }
@@ -491,7 +592,7 @@ void mergeSurvey(const BatchSettings& s, BatchReport& report,
     }
     report.survey.keptPerTile = kept;
   }
-  report.summaryLines = summaryLines(s, report, ranks);
+  report.summaryLines = summaryLines(s, report, ranks, waiting);
   if (report.merged) {
     writeSurveyOutputs(s, report);
     if (log) log("> Wrote " + s.outputDir);
@@ -503,14 +604,22 @@ void mergeSurvey(const BatchSettings& s, BatchReport& report,
 BatchReport runBatch(const BatchSettings& s, const Cluster& cluster, const RunLog& log) {
   BatchReport report;
   const Journal journal((fs::path(s.outputDir) / "journal.txt").string());
-  const std::vector<std::size_t> todo = shareRunPlan(s, cluster, journal, report);
+  std::uint64_t journalRead = 0;
+  const std::vector<std::size_t> todo = shareRunPlan(s, cluster, journal, report, journalRead);
   const int threads = cluster.threadsPerRank(s.requestedThreads);
   if (log && cluster.isRoot()) {
     log("> Batch run " + std::to_string(report.run) + ": " + std::to_string(report.tiles.size()) +
         " tiles, " + std::to_string(todo.size()) + " to search (" + shareText(s) + ") on " +
         std::to_string(cluster.size()) + " rank(s) of " + std::to_string(threads) + " thread(s)");
+    if (!s.arrayShareNote.empty()) log("> " + s.arrayShareNote);
+    const std::string launch =
+        slurmLaunchWarning(std::getenv("SLURM_STEP_NUM_TASKS"), std::getenv("SLURM_NTASKS"),
+                           std::getenv("SLURM_STEP_ID"), cluster.size());
+    if (!launch.empty()) log("WARNING: octarc batch: " + launch);
   }
-  // The ranks take the tiles as they become free; the root records each.
+  // The ranks take the tiles as they become free, each once the root holds its claim; the root
+  // records each, then lets go of its claim.
+  TileClaims claims(s, journal, journalRead, report);
   std::int64_t finished = 0;
   cluster.distribute(
       std::int64_t(todo.size()),
@@ -520,7 +629,9 @@ BatchReport runBatch(const BatchSettings& s, const Cluster& cluster, const RunLo
       [&](std::int64_t k, const std::string& text) {
         recordTile(journal, report, todo[std::size_t(k)], parseReport(text), ++finished,
                    todo.size(), log);
-      });
+        claims.release(todo[std::size_t(k)]);
+      },
+      [&](std::int64_t k) { return claims.take(todo[std::size_t(k)]); });
   if (!cluster.isRoot()) return report;
 
   // The survey outputs, once every tile is done or failed. The journal stays locked from this

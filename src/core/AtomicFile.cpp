@@ -1,5 +1,6 @@
 #include "octarc/core/AtomicFile.h"
 
+#include <fcntl.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -69,6 +70,27 @@ void writeTextFile(const std::string& path, const std::string& text) {
   out << text;
   out.close();
   if (!out) throw IoError(path + ": cannot write");
+}
+
+bool createFileExclusive(const std::string& path, const std::string& text) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    if (errno == EEXIST) return false;
+    throw IoError(path + ": cannot create (" + std::strerror(errno) + ")");
+  }
+  std::size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int e = errno;
+      ::close(fd);
+      throw IoError(path + ": cannot write (" + std::strerror(e) + ")");
+    }
+    done += std::size_t(n);
+  }
+  if (::close(fd) != 0) throw IoError(path + ": cannot write (" + std::strerror(errno) + ")");
+  return true;
 }
 
 bool holdsMarker(const std::string& dir, const std::string& marker, const std::string& text) {

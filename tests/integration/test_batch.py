@@ -4,7 +4,9 @@ worked out again here (astropy) from the tiles' own catalogs and the whole field
 rank killed with SIGKILL, then the same command again, gives the uninterrupted run's outputs;
 a corrupt tile fails alone; bad manifests are refused naming the line. `simulate lenses` gives
 the same data on 1 and 4 ranks."""
+import fcntl
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -265,10 +267,12 @@ class BatchRanks(BatchFixture):
 
     def test_job_array_tasks_share_one_journal(self):
         out = self.path("array")
-        for task in (0, 1):
+        for task, left in ((0, 5), (1, 2)):
             proc = run_octarc("batch", self.manifest,
                               *self.config(out, "-ARRAY_TASK", "%d/3" % task))
-            self.assertIn("waits for the tiles of the other tasks", proc.stdout)
+            self.assertIn("The survey outputs wait for %d tile(s) (0 that another run was "
+                          "searching, %d left to other array tasks or to a rerun)" % (left, left),
+                          proc.stdout)
             self.assertFalse(os.path.exists(os.path.join(out, "candidates.fits")))
         # The last task, as Slurm would start it (--array=5-7: task ids 5, 6, 7).
         env = dict(os.environ, SLURM_ARRAY_TASK_ID="7", SLURM_ARRAY_TASK_MIN="5",
@@ -398,6 +402,220 @@ class BatchResume(BatchFixture):
             self.assertGreater(len(data["TILE"]), 0)
         failed = [e for e in journal(out) if e[2] == "failed"]
         self.assertEqual([e[3] for e in failed], ["tile3", "tile3"])
+
+
+# Six small tiles (200 x 300 pixels, side by side) for the runs that share one OUTPUT_DIR: what
+# is tested is who searches which tile, not the search.
+SMALL_TILE_X0 = (0, 200, 400)
+SMALL_TILE_Y0 = (0, 300)
+
+
+def not_in_slurm():
+    """This environment without Slurm's variables (a CI runner may run inside a job)."""
+    return {k: v for k, v in os.environ.items() if not k.startswith("SLURM_")}
+
+
+def array_env(task_id, first, last, step, count):
+    """A task's environment as slurmctld makes it: MIN and MAX the lowest and highest id, STEP
+    the number after ':' in --array (1 without), COUNT the number of ids."""
+    return dict(not_in_slurm(), SLURM_ARRAY_TASK_ID=str(task_id), SLURM_ARRAY_TASK_MIN=str(first),
+                SLURM_ARRAY_TASK_MAX=str(last), SLURM_ARRAY_TASK_STEP=str(step),
+                SLURM_ARRAY_TASK_COUNT=str(count))
+
+
+def flock_waiters(path):
+    """How many processes wait for the flock of the file `path` (Linux's /proc/locks)."""
+    st = os.stat(path)
+    inode = ":%d " % st.st_ino
+    with open("/proc/locks") as f:
+        return sum(1 for line in f if " -> FLOCK " in line and inode in line)
+
+
+class BatchSharing(WorkDirTest):
+    """Runs that share one OUTPUT_DIR at the same time (batches started at once, the tasks of a
+    job array) search each tile once: a tile is searched only under its claim."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.data = tempfile.mkdtemp(prefix="octarc-sharing-")
+        field = os.path.join(cls.data, "field.fits")
+        run_octarc("simulate", "field", "-o", field, "--size", 600, "--lenses", "6",
+                   "--min-einstein-radius", "1.5", "--seed", "5", "--quiet")
+        cls.tiles = []
+        with fits.open(field) as f:
+            for y0 in SMALL_TILE_Y0:
+                for x0 in SMALL_TILE_X0:
+                    name = "small%d" % (len(cls.tiles) + 1)
+                    header = f[0].header.copy()
+                    header["CRPIX1"] -= x0
+                    header["CRPIX2"] -= y0
+                    fits.PrimaryHDU(f[0].data[y0:y0 + 300, x0:x0 + 200], header).writeto(
+                        os.path.join(cls.data, name + ".fits"))
+                    cls.tiles.append(name)
+        cls.manifest = os.path.join(cls.data, "small.txt")
+        with open(cls.manifest, "w") as f:
+            f.write("".join(name + ".fits\n" for name in cls.tiles))
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.data, ignore_errors=True)
+
+    def command(self, out, *more):
+        return [OCTARC, "batch", self.manifest, "-c", SEX, "-GRID_NAME", GRID, "-STAMPS", "N",
+                "-NTHREADS", "1", "-OUTPUT_DIR", out, *more]
+
+    def run_task(self, out, env):
+        proc = subprocess.run(self.command(out), capture_output=True, text=True, env=env)
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        return proc
+
+    def start_together(self, out, envs):
+        """One `octarc batch` per environment, all held at their first journal line (the journal's
+        lock, taken here) until every one has read the journal: each then plans every tile not
+        done, and they race for the same tiles. Returns the finished processes."""
+        # A run that searches nothing makes OUTPUT_DIR and its journal.
+        subprocess.run(self.command(out, "-ARRAY_TASK", "99/100"), check=True,
+                       capture_output=True, env=not_in_slurm())
+        path = os.path.join(out, "journal.txt")
+        with open(path, "a") as gate:
+            fcntl.flock(gate, fcntl.LOCK_EX)
+            procs = [subprocess.Popen(self.command(out), stdout=subprocess.PIPE,
+                                      stderr=subprocess.PIPE, text=True, env=env)
+                     for env in envs]
+            deadline = time.time() + 120
+            while flock_waiters(path) < len(procs):
+                self.assertTrue(time.time() < deadline and all(p.poll() is None for p in procs),
+                                "the runs did not all come to the journal's lock")
+                time.sleep(0.01)
+            fcntl.flock(gate, fcntl.LOCK_UN)
+        for p in procs:
+            p.stdout_text, p.stderr_text = p.communicate(timeout=600)
+            self.assertEqual(p.returncode, 0, p.stderr_text)
+        return procs
+
+    def done_lines(self, out):
+        """Tile -> the runs whose `done` line names it."""
+        done = {}
+        for run, _, event, tile, _ in journal(out):
+            if event == "done":
+                done.setdefault(tile, []).append(run)
+        return done
+
+    def assert_each_tile_searched_once(self, out):
+        done = self.done_lines(out)
+        self.assertEqual(sorted(done), sorted(self.tiles))
+        for tile, runs in done.items():
+            self.assertEqual(len(runs), 1, "%s searched by runs %s" % (tile, runs))
+        # The tiles' folders are complete, and nothing is left half written.
+        for tile in self.tiles:
+            self.assertTrue(os.path.exists(os.path.join(out, "tiles", tile, "area.fits")), tile)
+        self.assertEqual(temporaries(out), [])
+        return done
+
+    def assert_survey_merged(self, out):
+        _, header = table_data(os.path.join(out, "candidates.fits"))
+        self.assertEqual(header["NTILES"], len(self.tiles))
+        # The survey counts every tile's candidates once: the journal's done lines say how many.
+        in_tiles = sum(int(d.split(" candidates")[0]) for _, _, e, _, d in journal(out)
+                       if e == "done")
+        self.assertEqual(header["NTILECND"], in_tiles)
+        self.assertIn("%d tiles" % len(self.tiles), read_text(os.path.join(out, "summary.txt")))
+
+    def assert_merged_or_left_to_another(self, procs):
+        """Each run wrote the survey outputs, or ended saying it left them to a run that was
+        still searching a tile; at least one wrote them."""
+        merged = 0
+        for p in procs:
+            if "Open " in p.stdout_text:
+                merged += 1
+            else:
+                last = p.stdout_text.strip().splitlines()[-1]
+                self.assertRegex(last, r"^The survey outputs wait for \d+ tile\(s\) \([1-9]\d* "
+                                 r"that another run was searching, 0 left to other array tasks "
+                                 r"or to a rerun\)")
+        self.assertGreaterEqual(merged, 1)
+
+    def test_two_batches_started_at_once_search_each_tile_once(self):
+        out = self.path("two")
+        procs = self.start_together(out, [not_in_slurm(), not_in_slurm()])
+        events = journal(out)
+        starts = [i for i, e in enumerate(events) if e[2] == "start" and e[0] != "1"]
+        first_done = min(i for i, e in enumerate(events) if e[2] == "done")
+        self.assertEqual(len(starts), 2)
+        self.assertLess(max(starts), first_done)  # both planned every tile before any was done
+        done = self.assert_each_tile_searched_once(out)
+        # What each run says it did is what the journal says.
+        for p in procs:
+            run = re.search(r"^Run (\d+) \(1 rank\(s\), whole manifest\): (\d+) done, 0 failed",
+                            p.stdout_text, re.M)
+            self.assertIsNotNone(run, p.stdout_text)
+            self.assertEqual(int(run.group(2)),
+                             sum(1 for runs in done.values() if runs == [run.group(1)]))
+        self.assert_merged_or_left_to_another(procs)
+        self.assert_survey_merged(out)
+
+    def test_a_tile_another_run_holds_is_left_to_it(self):
+        out = self.path("held")
+        subprocess.run(self.command(out, "-ARRAY_TASK", "99/100"), check=True,
+                       capture_output=True, env=not_in_slurm())
+        with open(os.path.join(out, "claims", "small4"), "a") as claim:
+            fcntl.flock(claim, fcntl.LOCK_EX)
+            proc = self.run_task(out, not_in_slurm())
+        self.assertIn("5 done, 0 failed, 0 skipped (done earlier or by other runs), 1 left to "
+                      "other runs or tasks", proc.stdout)
+        self.assertEqual(proc.stdout.strip().splitlines()[-1],
+                         "The survey outputs wait for 1 tile(s) (1 that another run was "
+                         "searching, 0 left to other array tasks or to a rerun): the run that "
+                         "journals the last of them writes them")
+        self.assertNotIn("small4", self.done_lines(out))
+        self.assertFalse(os.path.exists(os.path.join(out, "candidates.fits")))
+        # Let go (as when its run ends or is killed): the next run searches it alone. That run
+        # is one of two tasks that srun started without joining them in MPI: it says so.
+        proc = self.run_task(out, dict(not_in_slurm(), SLURM_STEP_ID="0",
+                                       SLURM_STEP_NUM_TASKS="2", SLURM_NTASKS="2"))
+        self.assertEqual(proc.stderr.splitlines()[:2], [
+            "> Batch run 3: 6 tiles, 1 to search (whole manifest) on 1 rank(s) of 1 thread(s)",
+            "WARNING: octarc batch: Slurm started 2 tasks but MPI sees 1 rank: launch with srun "
+            "--mpi=pmix (or mpirun); each task now runs alone"])
+        self.assertIn("1 done, 0 failed, 5 skipped", proc.stdout)
+        self.assertIn("Open ", proc.stdout)
+        self.assert_each_tile_searched_once(out)
+        self.assert_survey_merged(out)
+
+    def test_stepped_array_tasks_take_the_share_of_their_position(self):
+        # --array=10-14:2: ids 10, 12 and 14, the shares 0/3, 1/3 and 2/3; run one after another,
+        # the last to finish writes the survey.
+        out = self.path("stepped")
+        for task_id, position in ((12, 1), (14, 2), (10, 0)):
+            proc = self.run_task(out, array_env(task_id, 10, 14, 2, 3))
+            self.assertIn("(1 rank(s), array task %d/3)" % position, proc.stdout)
+            self.assertIn("> Slurm array task %d (--array=10-14:2 of 3 tasks): share %d/3"
+                          % (task_id, position), proc.stderr)
+            mine = {t for t, runs in self.done_lines(out).items()
+                    if runs == [journal(out)[-1][0]]}
+            self.assertEqual(mine, {t for k, t in enumerate(self.tiles) if k % 3 == position})
+            self.assertEqual("Open " in proc.stdout, position == 0, proc.stdout)
+        self.assert_each_tile_searched_once(out)
+        self.assert_survey_merged(out)
+
+    def test_failed_tasks_sent_again_as_a_list_share_what_is_left(self):
+        # --array=0-3 where tasks 1 and 3 failed: 0 and 2 searched the tiles k % 4 of 0 and 2.
+        out = self.path("resent")
+        for task_id in (0, 2):
+            proc = self.run_task(out, array_env(task_id, 0, 3, 1, 4))
+            self.assertIn("array task %d/4" % task_id, proc.stdout)
+        self.assertEqual(sorted(self.done_lines(out)), [self.tiles[k] for k in (0, 2, 4)])
+        # Sent again, --array=1,3: ids that are no range, so each takes what no other has, and
+        # both start at once.
+        procs = self.start_together(out, [array_env(1, 1, 3, 1, 2), array_env(3, 1, 3, 1, 2)])
+        for p, task_id in zip(procs, (1, 3)):
+            self.assertIn("> Slurm array task %d, one of 2 ids from 1 to 3 that are not a range "
+                          "with step 1: the whole manifest, shared with the other tasks through "
+                          "the tiles' claims" % task_id, p.stderr_text)
+            self.assertIn("(1 rank(s), whole manifest)", p.stdout_text)
+        self.assert_each_tile_searched_once(out)
+        self.assert_merged_or_left_to_another(procs)
+        self.assert_survey_merged(out)
 
 
 def rank_process(out, rank):

@@ -2,14 +2,22 @@
 // ranks of an MPI job, resumable, and the survey-level outputs.
 //
 //   manifest (batch/Manifest.h) --> tiles still to do (batch/Journal.h)
-//     --> each tile searched (search/SearchRun.h) into OUTPUT_DIR/tiles/NAME, written whole,
-//         then journaled; the ranks take tiles as they become free (cluster/Cluster.h)
+//     --> each tile claimed, searched (search/SearchRun.h) into OUTPUT_DIR/tiles/NAME, written
+//         whole, then journaled; the ranks take tiles as they become free (cluster/Cluster.h)
 //     --> once every tile is done or failed: OUTPUT_DIR/candidates.fits (batch/SurveyMerge.h),
 //         summary.txt and index.html (the survey index), written together.
+//
+// Runs that share OUTPUT_DIR at the same time (batches started at once, the tasks of a job array,
+// several MPI jobs) share its tiles: a run searches a tile only once it holds the tile's claim
+// (a lock on claims/NAME, batch/Journal.h) and no other run has journaled it since this run
+// began; a tile claimed by another is left to it. The run whose `finished` line finds every
+// tile done or failed writes the survey outputs; one that ends while another still searches a
+// tile leaves them to that one, and says so.
 //
 // OUTPUT_DIR:
 //   .octarc-batch      marks the directory as a batch's (an other non-empty one is refused)
 //   journal.txt        what each run did (batch/Journal.h)
+//   claims/NAME        the lock file of a tile's claim (empty; locked while a run searches it)
 //   tiles/NAME/        the tile's search output (candidates, regions, stamps, contact sheet)
 //                      and area.fits, its searched area per block; its candidates.fits is
 //                      FITS-LDAC whatever CATALOG_TYPE says, as the merge reads it back
@@ -35,7 +43,10 @@ namespace octarc {
 inline constexpr const char* kBatchMarkerFile = ".octarc-batch";
 inline constexpr const char* kBatchMarkerText = "octarc batch output directory\n";
 
-enum class TileState { Done, Failed, DoneEarlier, OtherTask };
+// Done and Failed by this run; DoneEarlier: done by an earlier run, or by another while this one
+// ran; OtherTask: not this task's share; OtherRun: another run held its claim when this one came
+// to it.
+enum class TileState { Done, Failed, DoneEarlier, OtherTask, OtherRun };
 
 struct TileReport {
   TileState state = TileState::OtherTask;

@@ -103,6 +103,11 @@ class AtomicDirectory {
 // naming the path when it cannot be written whole.
 void writeTextFile(const std::string& path, const std::string& text);
 
+// Makes the file `path` holding `text` when no file of that name exists: of processes racing to
+// make it, one alone does. False when it exists; IoError naming it when it cannot be made or
+// written whole.
+bool createFileExclusive(const std::string& path, const std::string& text);
+
 // True when `dir` is a directory holding the file `marker` whose content is exactly `text`: an
 // output directory of a known kind (an AtomicDirectory's, a batch's).
 bool holdsMarker(const std::string& dir, const std::string& marker, const std::string& text);

@@ -173,9 +173,14 @@ TEST_F(BatchRunTest, EveryTileSearchedJournaledAndMergedThenResumed) {
   EXPECT_EQ(survey.spaces[0].candidates, 1);  // the arc
 
   EXPECT_EQ(test::fileNames(out()),
-            (std::set<std::string>{kBatchMarkerFile, "journal.txt", "tiles", "candidates.fits",
-                                   "summary.txt", "index.html"}));
+            (std::set<std::string>{kBatchMarkerFile, "journal.txt", "claims", "tiles",
+                                   "candidates.fits", "summary.txt", "index.html"}));
   EXPECT_EQ(test::fileNames(out() / "tiles"), (std::set<std::string>{"A", "B"}));
+  // A claim file for each tile searched, each free again once the run is over.
+  EXPECT_EQ(test::fileNames(out() / "claims"), (std::set<std::string>{"A", "B", "C"}));
+  for (const char* tile : {"A", "B", "C"}) {
+    EXPECT_TRUE(TileClaim::tryTake((out() / "claims" / tile).string()).has_value()) << tile;
+  }
   for (const char* tile : {"A", "B"}) {
     const std::set<std::string> files = test::fileNames(out() / "tiles" / tile);
     for (const char* name : {kSearchMarkerFile, "area.fits", "candidates.fits", "summary.txt"}) {
@@ -189,7 +194,7 @@ TEST_F(BatchRunTest, EveryTileSearchedJournaledAndMergedThenResumed) {
   for (const std::string& line : first.summaryLines) summary += line + "\n";
   EXPECT_EQ(test::readFile(out() / "summary.txt"), summary);
   EXPECT_NE(summary.find("\nRun 1 (1 rank(s), whole manifest): 2 done, 1 failed, 0 skipped "
-                         "(done earlier or by other tasks)\n"),
+                         "(done earlier or by other runs)\n"),
             std::string::npos)
       << summary;
   EXPECT_NE(summary.find("  failed: C (line 4): "), std::string::npos) << summary;
