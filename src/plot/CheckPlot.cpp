@@ -193,6 +193,31 @@ void writePlot(const std::string& path, PlotDevice device, const Plot& plot) {
     textColours.push_back(15);
     texts.push_back(s.label.c_str());
   }
+  // The legend sits in the top right corner; the cut labels go in a row just below it, so that
+  // it never covers one. It is drawn once to learn its height (normalised viewport units), and
+  // again after the cut lines so that none crosses it.
+  const auto drawLegend = [&] {
+    PLFLT legendWidth = 0, legendHeight = 0;
+    pllegend(&legendWidth, &legendHeight, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX,
+             PL_POSITION_TOP | PL_POSITION_RIGHT | PL_POSITION_INSIDE, 0.02, 0.02, 0.08, 0, 15, 1,
+             0, 0, PLINT(legendOpts.size()), legendOpts.data(), 1.0, 0.8, 2.0, 0.0,
+             textColours.data(), texts.data(), nullptr, nullptr, nullptr, nullptr,
+             lineColours.data(), lineStyles.data(), lineWidths.data(), nullptr, nullptr, nullptr,
+             nullptr);
+    return legendHeight;
+  };
+  double labelRowFraction = 0.95;
+  if (!plot.series.empty()) {
+    const PLFLT legendHeight = drawLegend();
+    PLFLT defaultMm = 0, charMm = 0, pageX0 = 0, pageX1 = 0, pageY0 = 0, pageY1 = 0;
+    PLFLT vpX0 = 0, vpX1 = 0, vpY0 = 0, vpY1 = 0;
+    plgchr(&defaultMm, &charMm);
+    plgspa(&pageX0, &pageX1, &pageY0, &pageY1);
+    plgvpd(&vpX0, &vpX1, &vpY0, &vpY1);
+    const double viewportMm = (vpY1 - vpY0) * (pageY1 - pageY0);
+    const double charFraction = viewportMm > 0 ? charMm / viewportMm : 0.03;
+    labelRowFraction = std::max(0.05, 1.0 - 0.02 - legendHeight - 1.5 * charFraction);
+  }
   for (const CutLine& c : plot.cuts) {
     const double cx = axisValue(c.x, plot.logX);
     if (!std::isfinite(cx)) continue;
@@ -202,17 +227,9 @@ void writePlot(const std::string& path, PlotDevice device, const Plot& plot) {
     PLFLT lx[2] = {cx, cx}, ly[2] = {yr.lo, yr.hi};
     plline(2, lx, ly);
     pllsty(1);
-    plptex(cx, yr.lo + 0.95 * (yr.hi - yr.lo), 1.0, 0.0, -0.05, c.label.c_str());
+    plptex(cx, yr.lo + labelRowFraction * (yr.hi - yr.lo), 1.0, 0.0, -0.05, c.label.c_str());
   }
-  if (!plot.series.empty()) {
-    PLFLT legendWidth = 0, legendHeight = 0;
-    pllegend(&legendWidth, &legendHeight, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX,
-             PL_POSITION_TOP | PL_POSITION_RIGHT | PL_POSITION_INSIDE, 0.02, 0.02, 0.08, 0, 15, 1,
-             0, 0, PLINT(legendOpts.size()), legendOpts.data(), 1.0, 0.8, 2.0, 0.0,
-             textColours.data(), texts.data(), nullptr, nullptr, nullptr, nullptr,
-             lineColours.data(), lineStyles.data(), lineWidths.data(), nullptr, nullptr, nullptr,
-             nullptr);
-  }
+  if (!plot.series.empty() && !plot.cuts.empty()) drawLegend();
   plend1();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec) || std::filesystem::file_size(path, ec) == 0) {
