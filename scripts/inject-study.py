@@ -60,7 +60,8 @@ def completeness_at(spurious, best, area_deg2, per_deg2):
         allowed = int(np.floor(per_deg2 * area_deg2))
         if allowed < len(scores):
             threshold = np.nextafter(scores[allowed], np.inf)  # above the first left out
-    found = int((best >= threshold).sum()) if np.isfinite(threshold) else int(np.isfinite(best).sum())
+    # Lenses never found have a best score of -inf: not found at any threshold.
+    found = int((np.isfinite(best) & (best >= threshold)).sum())
     return found, int((scores >= threshold).sum())
 
 

@@ -63,6 +63,32 @@ class IgnoredKeys(WorkDirTest):
                           "-CATALOG_NAME", "q.cat", cwd=self.work)
         self.assertEqual(proc.stderr, "")
 
+    def test_quiet_is_silent_on_both_streams_as_sextractor(self):
+        """VERBOSE_TYPE QUIET: nothing on stdout nor stderr, as source-extractor on the same
+        image (its own streams are the reference), for detect, measure and search."""
+        require_program("source-extractor")
+        param = write_param(self.path("q.param"), ["NUMBER", "X_IMAGE"])
+        image = self.path("example.fits")  # source-extractor reads no gzip
+        with gzip.open(IMAGE) as src, open(image, "wb") as dst:
+            shutil.copyfileobj(src, dst)
+        theirs = subprocess.run(
+            ["source-extractor", image, "-c", os.path.join(SEX_SHARE, "default.sex"),
+             "-PARAMETERS_NAME", param, "-FILTER", "N", "-CATALOG_NAME", self.path("s.cat"),
+             "-VERBOSE_TYPE", "QUIET"], capture_output=True, text=True, cwd=self.work, check=True)
+        self.assertEqual((theirs.stdout, theirs.stderr), ("", ""))
+        runs = {
+            "detect": ("detect", IMAGE, "-PARAMETERS_NAME", param, "-CATALOG_NAME", "d.cat"),
+            "measure": ("measure", IMAGE, "-SEGMENTATION_NAME", SEG1, "-PARAMETERS_NAME", param,
+                        "-CATALOG_NAME", "m.cat"),
+            "search": ("search", IMAGE, "-GRID_NAME", "demo.grid.fits", "-STAMPS", "N",
+                       "-PIXEL_SCALE", "0.3", "-OUTPUT_DIR", "s-out"),
+        }
+        for name, args in runs.items():
+            ours = run_octarc(*args, "-VERBOSE_TYPE", "QUIET", cwd=self.work)
+            self.assertEqual((ours.stdout, ours.stderr), ("", ""), name)
+            loud = run_octarc(*args, "-VERBOSE_TYPE", "NORMAL", cwd=self.work)
+            self.assertNotEqual(loud.stdout + loud.stderr, "", name)  # the check can fail
+
     def test_search_warns_of_write_xml(self):
         # A search writes its own summary (summary.txt), not SExtractor's XML.
         proc = run_octarc("search", IMAGE, "-WRITE_XML", "Y", "-GRID_NAME", "no.grid.fits",
