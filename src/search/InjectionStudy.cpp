@@ -4,14 +4,12 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <sstream>
 
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/DataFiles.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
-#include "octarc/core/Interrupt.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/FitsTable.h"
 #include "octarc/run/PreparedImage.h"
@@ -420,6 +418,8 @@ InjectionStudy runInjectionStudy(const InjectionStudySettings& s) {
     refuseOutputOverInput(out, "INJECT_DIR", s.search.gridPath, "GRID_NAME");
     refuseOutputOverInput(out, "INJECT_DIR", s.search.modelPath, "MODEL_NAME");
   }
+  // A user's other directory is never replaced: only an earlier inject's (its marker file).
+  AtomicDirectory::checkReplaceable(s.outDir, kInjectMarkerFile, kInjectMarkerText);
   s.injection.validate();
   if (!s.injection.populationPath.empty()) {
     (void)simulation::readPopulationModel(s.injection.populationPath);
@@ -452,61 +452,45 @@ InjectionStudy runInjectionStudy(const InjectionStudySettings& s) {
   const FieldSimulationSettings& setup = study.setup;
   plain.clear();
 
-  // From here on files are made: a failure or an interrupt removes them (and the directory
-  // when this run made it).
-  std::error_code ec;
-  const bool madeDir = !fs::exists(dir, ec);
-  if (madeDir && !fs::create_directories(dir, ec)) {
-    throw IoError(s.outDir + ": cannot make the directory (" + ec.message() + ")");
+  // From here on the outputs are made in a temporary directory beside INJECT_DIR, renamed into
+  // place whole at the end: a failure or an interrupt removes it.
+  AtomicDirectory outDir(s.outDir, kInjectMarkerFile, kInjectMarkerText);
+  const auto inTemp = [&](const std::string& finalPath) {
+    return (fs::path(outDir.tempPath()) / fs::path(finalPath).filename()).string();
+  };
+  if (s.log) s.log("> Injecting " + std::to_string(setup.lensCount) + " lenses");
+  const SimulatedField field = injectLenses(image, nullptr, setup);
+  for (const TruthRow& t : field.truth) {
+    if (t.systemId > 0) study.truth.push_back(t);
   }
-  const int dirSlot = madeDir ? removeOnInterrupt(dir.string(), true) : -1;
-  try {
-    OutputFiles files;
-    for (const std::string& out : outputs) files.add(out);
-    if (s.log) s.log("> Injecting " + std::to_string(setup.lensCount) + " lenses");
-    const SimulatedField field = injectLenses(image, nullptr, setup);
-    for (const TruthRow& t : field.truth) {
-      if (t.systemId > 0) study.truth.push_back(t);
-    }
-    files.write(3, [&](const std::string& path) {
-      OutputImageHdu hdu;
-      hdu.header = field.header;
-      hdu.floatPixels = &field.image;
-      writeImageFile(path, {hdu});
-    });
-    for (MethodCurve& m : study.methods) {
-      if (s.log)
-        s.log(std::string("> Searching the injected image (") + methodName(m.method) + ")");
-      const SearchRun run = searchWith(s, m.method, files[3].tempPath());
-      const InjectionMatch match =
-          matchInjectedLenses(study.truth, run.catalog, run.result, run.pixelScaleArcsec,
-                              ArcRules(), kDemoArcMatchArcsec, kDemoLensMatchArcsec);
-      study.injectedAreaDeg2 = run.result.summary.searchedAreaDeg2;
-      m.injectedCandidates = studyCandidates(run, match.candidateSystem);
-      m.systems = systemScores(match, m.injectedCandidates);
-      std::vector<double> spurious;
-      for (const StudyCandidate& c : m.plainCandidates) spurious.push_back(c.lensScore);
-      m.curve = completenessCurve(m.systems, spurious, study.areaDeg2,
-                                  spuriousScoresOf(m.injectedCandidates), study.injectedAreaDeg2);
-    }
-    files.write(
-        0, [&](const std::string& path) { writeFitsTables(path, {completenessTable(s, study)}); });
-    files.write(1, [&](const std::string& path) {
-      std::ostringstream summary;
-      printInjectionSummary(summary, s, study);
-      writeTextFile(path, summary.str());
-    });
-    files.write(2, [&](const std::string& path) {
-      writePlot(path, s.plotDevice, completenessPlot(study, imagePath));
-    });
-    files.write(4, [&](const std::string& path) { writeTextFile(path, truthText(study)); });
-    files.write(5, [&](const std::string& path) { writeTextFile(path, candidatesText(study)); });
-    files.commit();
-  } catch (...) {
-    if (madeDir) fs::remove_all(dir, ec);
-    throw;
+  OutputImageHdu hdu;
+  hdu.header = field.header;
+  hdu.floatPixels = &field.image;
+  writeImageFile(inTemp(study.imagePath), {hdu});
+  for (MethodCurve& m : study.methods) {
+    if (s.log) s.log(std::string("> Searching the injected image (") + methodName(m.method) + ")");
+    const SearchRun run = searchWith(s, m.method, inTemp(study.imagePath));
+    const InjectionMatch match =
+        matchInjectedLenses(study.truth, run.catalog, run.result, run.pixelScaleArcsec, ArcRules(),
+                            kDemoArcMatchArcsec, kDemoLensMatchArcsec);
+    study.injectedAreaDeg2 = run.result.summary.searchedAreaDeg2;
+    m.injectedCandidates = studyCandidates(run, match.candidateSystem);
+    m.systems = systemScores(match, m.injectedCandidates);
+    std::vector<double> spurious;
+    for (const StudyCandidate& c : m.plainCandidates) spurious.push_back(c.lensScore);
+    m.curve = completenessCurve(m.systems, spurious, study.areaDeg2,
+                                spuriousScoresOf(m.injectedCandidates), study.injectedAreaDeg2);
   }
-  if (dirSlot >= 0) forgetOnInterrupt(dirSlot);
+  writeFitsTables(inTemp(study.tablePath), {completenessTable(s, study)});
+  std::ostringstream summary;
+  printInjectionSummary(summary, s, study);
+  writeTextFile(inTemp(study.summaryPath), summary.str());
+  writePlot(inTemp(study.plotPath), s.plotDevice, completenessPlot(study, imagePath));
+  writeTextFile(inTemp(study.truthPath), truthText(study));
+  writeTextFile(inTemp(study.candidatesPath), candidatesText(study));
+  // The marker last: it says the directory is complete.
+  writeTextFile((fs::path(outDir.tempPath()) / kInjectMarkerFile).string(), kInjectMarkerText);
+  outDir.commit();
   return study;
 }
 

@@ -66,8 +66,9 @@ class InjectSmallField(unittest.TestCase):
 
     def test_outputs_together(self):
         names = sorted(os.listdir(self.out))
-        self.assertEqual(names, ["candidates.txt", "completeness.fits", "completeness.png",
-                                 "injected.fits", "injected.truth.txt", "summary.txt"])
+        self.assertEqual(names, [".octarc-inject", "candidates.txt", "completeness.fits",
+                                 "completeness.png", "injected.fits", "injected.truth.txt",
+                                 "summary.txt"])
         with open(os.path.join(self.out, "completeness.png"), "rb") as f:
             self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
         with open(os.path.join(self.out, "summary.txt")) as f:
@@ -188,3 +189,16 @@ class InjectBadInput(WorkDirTest):
         # The injected light needs the image's zero point.
         self.check_refused([field, "-c", SEX, "-GRID_NAME", "demo.grid.fits", "-MAG_ZEROPOINT",
                             0], "MAG_ZEROPOINT")
+        # A user's own folder as INJECT_DIR is refused before any work and left as it was.
+        mine = self.path("mine")
+        os.mkdir(mine)
+        with open(os.path.join(mine, "summary.txt"), "w") as f:
+            f.write("my notes\n")
+        proc = run_octarc("inject", field, "-c", SEX, "-GRID_NAME", "demo.grid.fits",
+                          "-INJECT_DIR", mine, check=False)
+        self.assertEqual(proc.returncode, 1)
+        self.assertEqual(len(proc.stderr.strip().splitlines()), 1, proc.stderr)
+        self.assertIn(mine, proc.stderr)
+        self.assertEqual(os.listdir(mine), ["summary.txt"])
+        with open(os.path.join(mine, "summary.txt")) as f:
+            self.assertEqual(f.read(), "my notes\n")

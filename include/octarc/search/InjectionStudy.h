@@ -29,6 +29,10 @@
 
 namespace octarc {
 
+// INJECT_DIR's marker: an existing INJECT_DIR is replaced only when it holds this file.
+inline constexpr const char* kInjectMarkerFile = ".octarc-inject";
+inline constexpr const char* kInjectMarkerText = "octarc inject output directory\n";
+
 // The bins of the table (the README's study): theta_E < 2", 2-2.5", >= 2.5"; arc magnitude
 // < 22, 22-23, >= 23. A bin's lower edge belongs to it.
 inline constexpr std::array<double, 2> kThetaEBinEdgesArcsec = {2.0, 2.5};
