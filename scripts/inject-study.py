@@ -21,7 +21,7 @@ import tempfile
 
 import numpy as np
 
-from study_intervals import wilson
+from injection_curves import threshold_at, wilson
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PARAMS = os.path.join(HERE, "..", "params")
@@ -54,15 +54,10 @@ def read_field(folder):
 def completeness_at(spurious, best, area_deg2, per_deg2):
     """Found lenses and spurious candidates at the lowest threshold that keeps the spurious
     candidates at most per_deg2 (None: every candidate)."""
-    scores = np.sort(spurious)[::-1]
-    threshold = -np.inf
-    if per_deg2 is not None:
-        allowed = int(np.floor(per_deg2 * area_deg2))
-        if allowed < len(scores):
-            threshold = np.nextafter(scores[allowed], np.inf)  # above the first left out
+    threshold = threshold_at(spurious, area_deg2, per_deg2)
     # Lenses never found have a best score of -inf: not found at any threshold.
     found = int((np.isfinite(best) & (best >= threshold)).sum())
-    return found, int((scores >= threshold).sum())
+    return found, int((np.asarray(spurious) >= threshold).sum())
 
 
 def main():

@@ -34,7 +34,7 @@ import warnings
 import numpy as np
 from astropy.io import fits
 
-from study_intervals import wilson
+from injection_curves import threshold_at, wilson
 
 # The report spaces of the default SEARCH_SPACE, by bit; "all" is the grid selection alone.
 SPACES = [("probability selection alone", None), ("A015: a > 0.15, e > 0.6, S/N > 40", 0),
@@ -113,14 +113,8 @@ def run_seed(octarc, seed, lenses, out, extra):
 def completeness_at(systems, cands, area, per_deg2):
     """Completeness when LENS_SCORE's threshold is the lowest that keeps the spurious candidates
     at most per_deg2 (None: every candidate)."""
-    spurious_scores = np.sort(cands[cands[:, 1] == 0, 3])[::-1]
-    if per_deg2 is None:
-        threshold = -np.inf
-    else:
-        allowed = int(np.floor(per_deg2 * area))
-        threshold = spurious_scores[allowed] if allowed < len(spurious_scores) else -np.inf
-        # Strictly above the first spurious score left out.
-        threshold = np.nextafter(threshold, np.inf) if np.isfinite(threshold) else threshold
+    spurious_scores = cands[cands[:, 1] == 0, 3]
+    threshold = threshold_at(spurious_scores, area, per_deg2)
     found = (systems[:, 7] >= threshold) & (systems[:, 3] > 0)
     spurious = (spurious_scores >= threshold).sum()
     return found.sum(), spurious

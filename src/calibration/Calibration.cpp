@@ -906,7 +906,8 @@ Plot calibrationPlot(const CalibrationResult& r, const std::string& type) {
   if (type == "GRID_BINNING") return binningPlot(r);
   const std::vector<std::string> types = calibrationPlotTypes();
   if (std::find(types.begin(), types.end(), type) != types.end()) {
-    throw ConfigError("CHECKPLOT_TYPE " + type + ": the calibration has no such distribution");
+    throw ConfigError("CHECKPLOT_TYPE " + quoteForMessage(type) +
+                      ": the calibration has no such distribution");
   }
   throw ConfigError("CHECKPLOT_TYPE " + quoteForMessage(type) + " is not a calibration plot");
 }

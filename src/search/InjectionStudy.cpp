@@ -94,7 +94,9 @@ std::optional<CompletenessPoint> pointAtSpuriousDensity(const std::vector<Comple
                                                         double perDeg2Max) {
   std::optional<CompletenessPoint> out;
   for (const CompletenessPoint& p : curve) {
-    if (p.spuriousPerDeg2 <= perDeg2Max) out = p;  // the spurious count only grows down the curve
+    // A count exactly at the level (3 in 0.03 deg2 at 100 per deg2) may divide to a hair above
+    // it: the level is allowed a relative 1e-9. The spurious count only grows down the curve.
+    if (p.spuriousPerDeg2 <= perDeg2Max * (1.0 + 1e-9)) out = p;
   }
   return out;
 }

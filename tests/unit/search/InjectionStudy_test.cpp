@@ -94,6 +94,12 @@ TEST(InjectionStudy, ReadAtSpuriousDensities) {
   EXPECT_EQ(pointAtSpuriousDensity(curve, 100.0)->scoreMin, 0.5);
   EXPECT_EQ(pointAtSpuriousDensity(curve, 250.0)->all.found, 3);
   EXPECT_EQ(pointAtSpuriousDensity(curve, 1000.0)->scoreMin, 0.05);
+  // Exactly at the level counts, though 9 / 0.018 deg2 divides to a hair above 500 per deg2.
+  const std::vector<CompletenessPoint> atLevel =
+      completenessCurve({}, {0.9, 0.8, 0.7, 0.6, 0.5, 0.4, 0.3, 0.2, 0.1}, 0.018, {}, 0.018);
+  ASSERT_GT(9 / 0.018, 500.0);
+  EXPECT_EQ(pointAtSpuriousDensity(atLevel, 500.0)->spurious, 9);
+  EXPECT_EQ(pointAtSpuriousDensity(atLevel, 450.0)->spurious, 8);
   // A first candidate that is already spurious: no threshold keeps 50 per deg2.
   const std::vector<CompletenessPoint> worse = completenessCurve({}, {0.3}, 0.01, {}, 0.01);
   ASSERT_EQ(worse.size(), 1u);
