@@ -29,7 +29,7 @@ void printDemoUsage(const po::options_description& options) {
                "params/demo.grid.fits, as the paper did). Reports how many\n"
                "injected arcs were detected and their arcness, the candidates, and which of\n"
                "them are injected lenses; writes the catalog, the candidates, their stamps and\n"
-               "the contact sheet.\n"
+               "the vetting page.\n"
                "\n"
                "--into IMAGE injects the lenses into a real image instead (its own sky, noise\n"
                "and objects; give its --pixel-scale, and --seeing, --mag-zero, --gain for the\n"

@@ -36,7 +36,7 @@ void printUsage() {
                "      lensing fractions, distributions, noise-only threshold and the occupation\n"
                "      grid of simulated arcs, with check-plots\n"
                "  search IMAGE [-c file] [-KEY value ...]\n"
-               "      ranked lens candidates: catalog, DS9 regions, stamps and a contact sheet\n"
+               "      ranked lens candidates: catalog, DS9 regions, stamps and a vetting page\n"
                "  batch MANIFEST [-c file] [-KEY value ...]\n"
                "      search every tile of a survey (resumable; under mpirun or srun on many\n"
                "      ranks, or as a job array), and the survey's candidates\n"

@@ -20,7 +20,9 @@ namespace {
 
 // Softness of the asinh stretch: the faint end is stretched about this much more than the top.
 constexpr double kStretch = 12.0;
-constexpr double kMarginFraction = 0.07;  // of the PNG side, around the image (text above, below)
+// Of the PNG side, around the image: room for a title and subtitle, or a thin frame without.
+constexpr double kTextMarginFraction = 0.07;
+constexpr double kFrameMarginFraction = 0.015;
 
 double stretched(double v, double lo, double hi) {
   if (!std::isfinite(v)) return 0.0;
@@ -150,7 +152,8 @@ void writeStampPng(const std::string& path, const Stamp& stamp) {
   cairo_t* cr = owner.get();
   cairo_set_source_rgb(cr, 0.094, 0.094, 0.094);
   cairo_paint(cr);
-  const double margin = kMarginFraction * side;
+  const bool text = !stamp.title.empty() || !stamp.subtitle.empty();
+  const double margin = (text ? kTextMarginFraction : kFrameMarginFraction) * side;
   const double area = side - 2.0 * margin;
   const double extent = double(std::max(nx, ny));
   const Frame f{

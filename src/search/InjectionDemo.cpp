@@ -273,7 +273,7 @@ void printDemoOutputs(std::ostream& o, const InjectionDemo& demo) {
     << "  the catalog (FITS_LDAC, every object at every level; VECTOR_ASSOC = truth id, kind, "
        "mag, theta_E, system)\n"
     << "  " << demo.search.outputDir
-    << "/  the candidates (candidates.fits, .cat, .reg), stamps/ and the contact sheet\n"
+    << "/  the candidates (candidates.fits, .cat, .reg), stamps/ and the vetting page\n"
     << "  " << demo.systemsPath()
     << "  per injected lens: theta_E, arc mag, its candidate, lens right, theta_E estimate\n"
     << "  " << demo.candidatesPath()

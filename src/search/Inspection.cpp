@@ -3,7 +3,6 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <sstream>
 
 #include "octarc/core/Conventions.h"
 #include "octarc/core/Format.h"
@@ -57,11 +56,6 @@ std::optional<std::array<double, 2>> skyDirection(const Wcs& wcs, double x, doub
   const double len = std::hypot(dx, dy);
   if (!std::isfinite(len) || len <= 0) return std::nullopt;
   return std::array<double, 2>{dx / len, dy / len};
-}
-
-// A number for a data-* attribute (sortable: NaN sorts last through "NaN").
-std::string dataNumber(double v) {
-  return std::isfinite(v) ? formatNumber(v, "%.8g") : "NaN";
 }
 
 }  // namespace
@@ -155,134 +149,10 @@ Stamp candidateStamp(const ImageF& image, const Table& catalog, const SearchResu
     l.red = 240;
     l.green = 60;
     l.blue = 60;
-    l.label = "lens";
     stamp.marks.push_back(l);
   }
-  stamp.title = "#" + std::to_string(index + 1) + (cand.name.empty() ? "" : "  " + cand.name);
-  std::ostringstream sub;
-  sub << "a = " << formatNumber(valueOf(catalog, cand.row, "ARCNESS"), "%.3f", true)
-      << "  e = " << formatNumber(valueOf(catalog, cand.row, "E_IMAGE"), "%.2f", true)
-      << "  S/N = " << formatNumber(valueOf(catalog, cand.row, "SNR_ISO"), "%.0f", true);
-  if (cand.lens) {
-    sub << "  theta_E = " << formatNumber(cand.lens->einsteinRadiusArcsec, "%.2f") << "\"";
-  } else {
-    sub << "  no lens seen";
-  }
-  stamp.subtitle = sub.str();
   stamp.sizePix = settings.sizePix;
   return stamp;
-}
-
-namespace {
-
-// "g 0.21 / 1.35": per band, the arc's and the lens's colour (minus the measurement band).
-std::string colourText(const Candidate& c, const std::vector<std::string>& bands) {
-  std::string text;
-  for (std::size_t k = 0; k < bands.size(); ++k) {
-    auto colour = [&](const std::vector<BandMagnitude>& mags) {
-      return mags.size() > k + 1 ? colourOf(mags[k + 1], mags[0]).value : std::nan("");
-    };
-    text += (text.empty() ? "" : "; ") + escapeHtml(bands[k]) + " " +
-            formatNumber(colour(c.arcMags), "%.2f", true) + " / " +
-            formatNumber(colour(c.lensMags), "%.2f", true);
-  }
-  return text;
-}
-
-}  // namespace
-
-std::string contactSheetHtml(const Table& catalog, const SearchResult& result,
-                             const ContactSheetInfo& info) {
-  std::ostringstream o;
-  o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-    << "<title>" << escapeHtml(info.title) << "</title>\n"
-    << "<style>\n"
-       "body{font-family:sans-serif;background:#202020;color:#e8e8e8;margin:1em}\n"
-       "a{color:#9cf}\n"
-       "#grid{display:flex;flex-wrap:wrap;gap:10px}\n"
-       ".card{background:#303030;padding:6px;width:210px;font-size:12px}\n"
-       ".card img{width:200px;height:200px;display:block}\n"
-       "table{border-collapse:collapse;margin-top:1.5em;font-size:12px}\n"
-       "td,th{border:1px solid #555;padding:2px 6px;text-align:right}\n"
-       "button{margin-right:4px}\n"
-       "</style>\n</head>\n<body>\n"
-    << "<h1>" << escapeHtml(info.title) << "</h1>\n<p>";
-  for (const std::string& line : info.summaryLines) o << escapeHtml(line) << "<br>\n";
-  o << "Catalog: <a href=\"" << escapeHtml(info.catalogFile) << "\">"
-    << escapeHtml(info.catalogFile) << "</a>; DS9 regions: <a href=\""
-    << escapeHtml(info.regionFile) << "\">" << escapeHtml(info.regionFile) << "</a></p>\n"
-    << "<p>Sort by: <button data-key=\"score\">score</button>"
-       "<button data-key=\"prob\">probability</button>"
-       "<button data-key=\"arcness\">arcness</button><button data-key=\"snr\">S/N</button>"
-       "<button data-key=\"mag\" data-asc=\"1\">magnitude</button>"
-       "<button data-key=\"number\" data-asc=\"1\">number</button> "
-       "<span id=\"status\">loading</span></p>\n"
-    << "<div id=\"grid\">\n";
-  std::ostringstream rows;
-  for (std::size_t i = 0; i < result.candidates.size(); ++i) {
-    const Candidate& c = result.candidates[i];
-    const std::string stamp = stampFileName(i);
-    const double arcness = valueOf(catalog, c.row, "ARCNESS");
-    const double snr = valueOf(catalog, c.row, "SNR_ISO");
-    const double mag = valueOf(catalog, c.row, "MAG_ISO");
-    const std::string id = "c" + std::to_string(i + 1);
-    o << "<div class=\"card\" data-number=\"" << (i + 1) << "\" data-score=\""
-      << dataNumber(c.lensScore) << "\" data-prob=\"" << dataNumber(c.probability)
-      << "\" data-arcness=\"" << dataNumber(arcness) << "\" data-snr=\"" << dataNumber(snr)
-      << "\" data-mag=\"" << dataNumber(mag) << "\">"
-      << "<a href=\"" << stamp << "\"><img src=\"" << stamp << "\" alt=\"candidate " << (i + 1)
-      << "\"></a><a href=\"#" << id << "\">#" << (i + 1) << "</a> " << escapeHtml(c.name)
-      << "<br>score " << formatNumber(c.lensScore, "%.3g") << ", a "
-      << formatNumber(arcness, "%.3f", true) << ", S/N " << formatNumber(snr, "%.0f", true)
-      << "</div>\n";
-    rows << "<tr id=\"" << id << "\"><td>" << (i + 1) << "</td><td>" << escapeHtml(c.name)
-         << "</td><td>" << formatNumber(valueOf(catalog, c.row, "X_IMAGE"), "%.2f", true)
-         << "</td><td>" << formatNumber(valueOf(catalog, c.row, "Y_IMAGE"), "%.2f", true)
-         << "</td><td>" << formatNumber(mag, "%.2f", true) << "</td><td>"
-         << formatNumber(arcness, "%.4f", true) << "</td><td>"
-         << formatNumber(valueOf(catalog, c.row, "E_IMAGE"), "%.3f", true) << "</td><td>"
-         << formatNumber(snr, "%.1f", true) << "</td><td>" << formatNumber(c.lensScore, "%.4g")
-         << "</td><td>" << formatNumber(c.probability, "%.4g") << "</td><td>"
-         << formatNumber(c.contourLevel, "%.4f", true) << "</td><td>";
-    for (std::size_t k = 0; k < c.passedLevels.size(); ++k) {
-      rows << (k ? "," : "") << c.passedLevels[k];
-    }
-    rows << "</td><td>"
-         << (c.lens ? formatNumber(c.lens->einsteinRadiusArcsec, "%.2f")
-                    : std::string(c.flags & kCandidateDarkLensPair ? "dark pair" : "dark?"));
-    if (!info.colourBands.empty()) rows << "</td><td>" << colourText(c, info.colourBands);
-    rows << "</td><td><a href=\"" << stamp << "\">stamp</a></td></tr>\n";
-  }
-  o << "</div>\n<table>\n<tr><th>#</th><th>name</th><th>X_IMAGE</th><th>Y_IMAGE</th>"
-       "<th>MAG_ISO</th><th>ARCNESS</th><th>E_IMAGE</th><th>SNR_ISO</th><th>LENS_SCORE</th>"
-       "<th>PROB</th>"
-       "<th>CONTOUR</th><th>levels</th><th>&theta;<sub>E</sub> [\"]</th>"
-    << (info.colourBands.empty() ? "" : "<th>colours arc / lens</th>") << "<th></th></tr>\n"
-    << rows.str() << "</table>\n"
-    << "<script>\n"
-       "function sortCards(key, asc) {\n"
-       "  const grid = document.getElementById('grid');\n"
-       "  const cards = Array.from(grid.children);\n"
-       "  const v = c => { const x = parseFloat(c.dataset[key]); return isNaN(x) ? null : x; };\n"
-       "  cards.sort((a, b) => { const x = v(a), y = v(b);\n"
-       "    if (x === null || y === null) return (x === null) - (y === null);\n"
-       "    return asc ? x - y : y - x; });\n"
-       "  cards.forEach(c => grid.appendChild(c));\n"
-       "  grid.dataset.sorted = key + (asc ? '-asc' : '-desc');\n"
-       "}\n"
-       "document.querySelectorAll('button[data-key]').forEach(b => b.addEventListener('click',\n"
-       "  () => sortCards(b.dataset.key, b.dataset.asc === '1')));\n"
-       "const m = /sort=([a-z]+)(-asc)?/.exec(location.hash);\n"
-       "if (m) sortCards(m[1], !!m[2]);\n"
-       "window.addEventListener('load', () => {\n"
-       "  const imgs = Array.from(document.querySelectorAll('#grid img'));\n"
-       "  const ok = imgs.filter(i => i.complete && i.naturalWidth > 0).length;\n"
-       "  document.getElementById('status').textContent = 'images ' + ok + '/' + imgs.length +\n"
-       "    ' loaded; order ' + Array.from(document.getElementById('grid').children)\n"
-       "    .map(c => c.dataset.number).join(',');\n"
-       "});\n"
-       "</script>\n</body>\n</html>\n";
-  return o.str();
 }
 
 }  // namespace octarc

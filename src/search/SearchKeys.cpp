@@ -177,7 +177,7 @@ std::vector<KeySpec> searchKeys() {
     Row("MASK_POINT_RADIUS", Kind::Float, {"0"}, "radius of the circle a MASK_NAME point masks\n"
         "(arcsec; 0: points are refused)").range(0, 3600),
     Row("OUTPUT_DIR", Kind::String, {"candidates"}, "directory of the candidates, stamps and\n"
-        "contact sheet"),
+        "vetting page"),
     Row("SNR_MIN", Kind::Float, {"40"}, "S/N floor: SNR_ISO above it").range(0, 1e30),
     Row("RESOLVED_MIN", Kind::Float, {"1.0"}, "resolved: sqrt(2) SIZE_IMAGE above it (arcsec)")
         .range(0, 1e30),
@@ -189,7 +189,7 @@ std::vector<KeySpec> searchKeys() {
         .range(1, 300),
     Row("STAMP_PIXELS", Kind::Int, {"400"}, "side of the stamp images (PNG pixels)")
         .range(64, 4096),
-    Row("STAMPS", Kind::Bool, {"Y"}, "write the stamps and contact sheet"),
+    Row("STAMPS", Kind::Bool, {"Y"}, "write the stamps and vetting page"),
     Row("NAME_PREFIX", Kind::String, {"OCTARC"}, "prefix of the designations"),
     Row("LENS_LIGHT", Kind::String, {"N"}, "subtract fitted Sersic models of bright galaxies:\n"
         "N, LOCAL (also search the residual around each)\nor IMAGE (search the residual image)"),

@@ -26,6 +26,7 @@
 #include "octarc/run/RunKeys.h"
 #include "octarc/search/CandidateTable.h"
 #include "octarc/search/LensLightSearch.h"
+#include "octarc/search/VettingPage.h"
 #include "octarc/selection/ColumnExpression.h"
 #include "octarc/selection/SurveySetup.h"
 
@@ -461,6 +462,25 @@ void writeSearchOutputs(const SearchRun& run, const SearchRunSettings& settings,
 
 namespace {
 
+// The summary as the vetting page shows it: the input files by their names, as an absolute path
+// says nothing to whoever opens the page elsewhere.
+std::vector<std::string> withFileNames(std::vector<std::string> lines,
+                                       const SearchRunSettings& settings) {
+  std::vector<std::string> paths = settings.run.imagePaths;
+  paths.push_back(settings.gridPath);
+  paths.push_back(settings.modelPath);
+  for (std::string& line : lines) {
+    for (const std::string& path : paths) {
+      const std::string name = fs::path(path).filename().string();
+      if (path.empty() || name == path) continue;
+      for (std::size_t at; (at = line.find(path)) != std::string::npos;) {
+        line.replace(at, path.size(), name);
+      }
+    }
+  }
+  return lines;
+}
+
 void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings,
                          const std::string& tempPath, const ProgressFn& progress,
                          const std::function<void(const std::string& dir)>& addFiles) {
@@ -483,6 +503,7 @@ void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings
   for (const std::string& l : summary) summaryText += l + "\n";
   writeText("summary.txt", summaryText);
   writeText("candidates.cat", candidateAsciiText(catalog, run.result, search));
+  const FitsTable objects = candidateObjectsTable(catalog, run.result, search);
   writeText("candidates.reg",
             formatDs9Regions(candidateRegionMarks(catalog, run.result, run.pixelScaleArcsec), wcs));
   if (settings.writeStamps) {
@@ -509,16 +530,18 @@ void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings
         [&](std::int64_t done) {
           if (progress) progress(done, n);
         });
-    ContactSheetInfo info;
-    info.title = "octarc search: " + fs::path(settings.run.imagePaths.front()).filename().string();
-    info.catalogFile = "candidates.fits";
-    info.regionFile = "candidates.reg";
-    info.summaryLines = summary;
-    info.colourBands = settings.search.colourBands;
-    writeText("index.html", contactSheetHtml(catalog, run.result, info));
+    VettingPageInfo page;
+    page.title = "octarc search: " + fs::path(settings.run.imagePaths.front()).filename().string();
+    page.summaryLines = withFileNames(summary, settings);
+    page.links = {{"Catalog", "candidates.fits"},
+                  {"ASCII catalog", "candidates.cat"},
+                  {"DS9 regions", "candidates.reg"}};
+    for (std::size_t i = 0; i < run.result.candidates.size(); ++i) {
+      page.stampFiles.push_back(stampFileName(i));
+    }
+    writeText("index.html", vettingPageHtml(objects, page));
   }
-  writeTableCatalog((root / "candidates.fits").string(), settings.catalogType,
-                    candidateObjectsTable(catalog, run.result, search),
+  writeTableCatalog((root / "candidates.fits").string(), settings.catalogType, objects,
                     ldacImheadTable(run.image.hdu.header, run.runCards),
                     candidateColumnUcds(search.colourBands));
   if (run.lensLight) {

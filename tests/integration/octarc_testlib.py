@@ -187,3 +187,49 @@ def fitsverify_errors(path):
         return 0, text
     m = re.search(r"^verification FAILED: .*, (\d+) errors?\s*$", text, re.M)
     return (int(m.group(1)) if m else -1), text
+
+
+def run_page_in_chromium(page, driver_js, work, budget_ms=20000):
+    """Opens the HTML file `page` in headless Chromium with `driver_js` run after the page's own
+    scripts, and returns (the JSON value the driver passed to report(value), wall-clock seconds).
+
+    The page is copied into `work` with a <base> pointing at its folder (its relative links and
+    stamps still resolve; the output folder is not touched), and the driver appended. The
+    driver calls report(value) when done; report writes JSON into <pre id="test-report">, read
+    back from --dump-dom. A fresh profile per call: localStorage starts empty."""
+    import json
+    import time
+    with open(page, encoding="utf-8") as f:
+        html = f.read()
+    # The page's own script errors are collected from the start, and reported instead of a
+    # value when the driver fails.
+    base = ('<base href="file://%s/"><script>window.pageErrors = []; addEventListener("error",'
+            ' e => pageErrors.push(e.message + " (line " + e.lineno + ")"));</script>'
+            % os.path.dirname(os.path.abspath(page)))
+    html = html.replace("<head>", "<head>" + base, 1)
+    report = ("function report(value) { const p = document.createElement('pre');"
+              " p.id = 'test-report'; p.textContent = JSON.stringify(value);"
+              " document.body.appendChild(p); }\n")
+    driver = ("try {\n" + driver_js + "\n} catch (e) {"
+              " report({driverError: String(e), pageErrors}); }")
+    html = html.replace("</body>", "<script>\n" + report + driver + "\n</script>\n</body>")
+    copy = os.path.join(work, "driven-" + os.path.basename(page))
+    with open(copy, "w", encoding="utf-8") as f:
+        f.write(html)
+    profile = tempfile.mkdtemp(prefix="chromium-", dir=work)
+    start = time.monotonic()
+    r = subprocess.run(["chromium", "--headless=new", "--no-sandbox", "--disable-gpu",
+                        "--allow-file-access-from-files", "--user-data-dir=" + profile,
+                        "--virtual-time-budget=%d" % budget_ms, "--window-size=1400,1000",
+                        "--dump-dom", "file://" + copy],
+                       capture_output=True, text=True, timeout=300)
+    seconds = time.monotonic() - start
+    m = re.search(r'<pre id="test-report">(.*?)</pre>', r.stdout, re.S)
+    if m is None:
+        raise AssertionError("the page reported nothing; chromium said:\n" + r.stderr[-3000:])
+    text = m.group(1).replace("&lt;", "<").replace("&gt;", ">").replace("&quot;", '"')
+    value = json.loads(text.replace("&amp;", "&"))
+    if isinstance(value, dict) and "driverError" in value:
+        raise AssertionError("the page's script failed: %s; page errors: %s"
+                             % (value["driverError"], value["pageErrors"]))
+    return value, seconds

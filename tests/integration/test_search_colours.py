@@ -98,7 +98,7 @@ class SearchColours(ColourFixture):
         h = fits.getheader(self.path("out/candidates.fits"), "LDAC_OBJECTS")
         self.assertEqual((h["NCOLBAND"], h["COLBAND1"], h["NCOLCUT"]), (1, "g", 0))
         with open(self.path("out/index.html")) as f:
-            self.assertIn("colours arc / lens", f.read())
+            self.assertIn('"bands":["g"]', f.read())
 
     def test_dark_lens_pair_has_no_lens_and_flag_32(self):
         self.search()

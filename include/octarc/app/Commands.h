@@ -31,7 +31,7 @@ int runBuildDatabase(const std::vector<std::string>& args);
 // their arcs (src/app/CalibrateCommand.cpp).
 int runCalibrate(const std::vector<std::string>& args);
 
-// `octarc search IMAGE`: lens candidates with stamps and a contact sheet
+// `octarc search IMAGE`: lens candidates with stamps and a vetting page
 // (src/app/SearchCommand.cpp).
 int runSearch(const std::vector<std::string>& args);
 int runBatch(const std::vector<std::string>& args);

@@ -64,7 +64,7 @@ class OutputFiles {
   std::vector<std::unique_ptr<AtomicFile>> files_;
 };
 
-// A directory of outputs written whole (a search's candidates, stamps and contact sheet): made
+// A directory of outputs written whole (a search's candidates, stamps and vetting page): made
 // under a temporary name beside its target (".<name>.tmp.<pid>.<n>"), filled by the caller, then
 // renamed into place by commit(). An existing directory of that name is replaced only when it
 // holds `markerFile` with exactly `markerText` in it (an earlier output of the same kind, which

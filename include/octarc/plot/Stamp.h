@@ -36,7 +36,7 @@ struct Stamp {
   double pixelScaleArcsec = 0;  // > 0: a scale bar of scaleBarArcsec is drawn
   double scaleBarArcsec = 5;
   std::vector<StampMark> marks;
-  std::string title;     // above the image
+  std::string title;     // above the image ("" with subtitle "": a thin frame, no text band)
   std::string subtitle;  // below it
   int sizePix = 400;     // the PNG is sizePix x sizePix
 };

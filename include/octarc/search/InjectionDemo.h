@@ -4,7 +4,7 @@
 //
 //   simulate field (with injected lenses) --> search in memory (SearchRun.h, octarc.sex: 15
 //   levels, MAP_WEIGHT, ASSOC with the truth list; the demo model or grid) --> catalog,
-//   candidates, stamps, contact sheet --> injected arcs detected and their arcness
+//   candidates, stamps, vetting page --> injected arcs detected and their arcness
 //   (simulation/engine/InjectionRecovery.h), the candidates that are injected lenses
 //   (InjectionMatch.h) --> the report
 #pragma once

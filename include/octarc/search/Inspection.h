@@ -1,5 +1,6 @@
 // What an inspector looks at (METHOD.md section 4): a DS9 region file of the candidates, one
-// postage stamp per candidate and an HTML contact sheet of them, made from a search's result.
+// postage stamp per candidate (without text: the vetting page, search/VettingPage.h, captions it),
+// made from a search's result.
 // Nothing here writes files: the caller writes the texts and stamps (atomically, together).
 //
 // Marks: the arc's ellipse at 3 A_IMAGE x 3 B_IMAGE along THETA_IMAGE (about the isophotal
@@ -31,29 +32,12 @@ std::vector<RegionMark> candidateRegionMarks(const Table& catalog, const SearchR
 
 // The stamp of candidate `index` (0-based) cut from `image` (background-subtracted), with the
 // display range from the cut-out's own pixels: black at the median minus one robust sigma,
-// white at the 99.7th percentile.
+// white at the 99.7th percentile. Marks, North / East and the scale bar only: no title.
 Stamp candidateStamp(const ImageF& image, const Table& catalog, const SearchResult& result,
                      std::size_t index, const Wcs* wcs, double pixelScaleArcsec,
                      const StampSettings& settings);
 
 // The file name of candidate `index`'s stamp inside the output directory ("stamps/0001.png").
 std::string stampFileName(std::size_t index);
-
-struct ContactSheetInfo {
-  std::string title;        // e.g. the image's name
-  std::string catalogFile;  // the candidate catalog, relative to the sheet
-  std::string regionFile;   // the region file, relative to the sheet
-  std::vector<std::string> summaryLines;
-  std::vector<std::string> colourBands;  // SearchSettings::colourBands: a column of colours
-};
-
-// The contact sheet: one self-contained HTML page (no network, no external script) with the
-// stamps in a grid, each with its number, linked to the full-size PNG and to its values (a
-// table row); sortable by LENS_SCORE, probability, arcness, S/N, magnitude or number (buttons, or
-// the URL fragment "#sort=KEY" or "#sort=KEY-asc"). Once loaded, the page writes into the element
-// id="status" how many stamp images loaded and the cards' order ("images 12/12 loaded; order
-// 3,1,2,...").
-std::string contactSheetHtml(const Table& catalog, const SearchResult& result,
-                             const ContactSheetInfo& info);
 
 }  // namespace octarc

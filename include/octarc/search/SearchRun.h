@@ -7,7 +7,7 @@
 //     --> candidates (search/Search.h)
 //   --> writeSearchOutputs(): OUTPUT_DIR holding candidates.fits (CATALOG_TYPE, FITS-LDAC by
 //       default), candidates.cat (ASCII_HEAD), candidates.reg (DS9), stamps/NNNN.png, index.html
-//       (the contact sheet), summary.txt and, with LENS_LIGHT, lensfit.fits (the fitted galaxies)
+//       (the vetting page), summary.txt and, with LENS_LIGHT, lensfit.fits (the fitted galaxies)
 //       and the check-images lensmodel.fits and lensresidual.fits, written whole into a temporary
 //       directory and renamed into place.
 #pragma once
@@ -83,7 +83,7 @@ std::vector<RegionShape> readSearchMask(const SearchRunSettings& settings,
 std::string reportSpaceLine(const std::string& name, const std::string& expression,
                             std::int64_t candidates, double areaDeg2);
 
-// The summary lines (printed, in summary.txt and on the contact sheet).
+// The summary lines (printed, in summary.txt and on the vetting page).
 std::vector<std::string> searchSummaryLines(const SearchRun& run,
                                             const SearchRunSettings& settings);
 
