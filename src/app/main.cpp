@@ -40,6 +40,8 @@ void printUsage() {
                "  batch MANIFEST [-c file] [-KEY value ...]\n"
                "      search every tile of a survey (resumable; under mpirun or srun on many\n"
                "      ranks, or as a job array), and the survey's candidates\n"
+               "  grades CATALOG GRADES.csv -o OUT.fits\n"
+               "      the grades of a vetting page merged into the catalog (a GRADE column)\n"
                "  inject IMAGE [-c file] [-KEY value ...]\n"
                "      completeness against spurious candidates per deg2 on the image, by\n"
                "      injected lenses\n"
@@ -85,6 +87,7 @@ int main(int argc, char** argv) {
     if (command == "calibrate") return octarc::runCalibrate(args);
     if (command == "search") return octarc::runSearch(args);
     if (command == "batch") return octarc::runBatch(args);
+    if (command == "grades") return octarc::runGrades(args);
     if (command == "simulate") {
       const std::string what = args.empty() ? "" : args[0];
       if (!args.empty()) args.erase(args.begin());

@@ -38,7 +38,7 @@ def tree_files(folder):
 
 # The man pages: octarc(1) and one per command.
 COMMANDS = ["measure", "detect", "simulate lenses", "simulate field", "simulate database",
-            "calibrate", "search", "batch", "inject", "demo"]
+            "calibrate", "search", "batch", "grades", "inject", "demo"]
 MAN_PAGES = ["octarc.1"] + ["octarc-%s.1" % c.replace(" ", "-") for c in COMMANDS]
 
 # Every installed file: the program and its data, the documentation (README, LICENSE, docs/,

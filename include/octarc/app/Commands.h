@@ -44,4 +44,8 @@ int runDemo(const std::vector<std::string>& args);
 // the user's image, by injected lenses (src/app/InjectCommand.cpp).
 int runInject(const std::vector<std::string>& args);
 
+// `octarc grades CATALOG GRADES.csv -o OUT`: a vetting page's grades merged into a copy of the
+// candidate catalog as a GRADE column (src/app/GradesCommand.cpp).
+int runGrades(const std::vector<std::string>& args);
+
 }  // namespace octarc

@@ -6,7 +6,8 @@
 // bits, "no visible lens" (kCandidateDarkLens), tile and grade. Grades (lens / maybe / no) are set
 // by click or keys (j / k move, 1 / 2 / 3 grade, 0 clears), kept in the browser's localStorage
 // under the page's storage key, and exported as CSV: NUMBER,[TILE,TILE_NUMBER,]NAME,ALPHA_J2000,
-// DELTA_J2000,GRADE, one line per graded candidate. A catalog with a GRADE column (a graded one) gives the grades the page starts from
+// DELTA_J2000,GRADE, one line per graded candidate, which `octarc grades` merges back into the
+// catalog. A catalog with a GRADE column (a graded one) gives the grades the page starts from
 // when the browser holds none for it.
 //
 // State the tests read: the element id="count" has data-matching (candidates passing the
