@@ -26,6 +26,7 @@
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/FitsTable.h"
 #include "octarc/search/CandidateTable.h"
+#include "octarc/search/VettingPage.h"
 #include "octarc/selection/SearchMask.h"
 
 namespace octarc {
@@ -296,11 +297,15 @@ std::string surveyIndexHtml(const BatchSettings& s, const BatchReport& r) {
        << "<style>body{font-family:sans-serif;margin:1em}table{border-collapse:collapse}"
           "td,th{border:1px solid #bbb;padding:2px 8px;text-align:left}"
           ".failed{color:#b00}</style></head><body>\n"
-       << "<h1>octarc batch: " << escapeHtml(s.manifest) << "</h1>\n<pre>";
+       << "<h1>octarc batch: " << escapeHtml(fs::path(s.manifest).filename().string())
+       << "</h1>\n<pre>";
   for (const std::string& l : r.summaryLines) html << escapeHtml(l) << "\n";
-  html << "</pre>\n<p><a href=\"candidates.fits\">candidates.fits</a> (the survey's candidates)"
-       << "</p>\n<table id=\"tiles\">\n<tr><th>tile</th><th>status</th><th>candidates kept</th>"
-       << "<th>contact sheet</th><th>regions</th></tr>\n";
+  html << "</pre>\n<p><a href=\"candidates.html\">candidates.html</a>: the survey's vetting page "
+          "(its candidates, duplicates removed); <a href=\"candidates.fits\">candidates.fits</a>, "
+          "<a href=\"candidates.cat\">candidates.cat</a>, <a href=\"candidates.reg\">"
+          "candidates.reg</a></p>\n"
+       << "<table id=\"tiles\">\n<tr><th>tile</th><th>status</th><th>candidates kept</th>"
+       << "<th>vetting page</th><th>regions</th></tr>\n";
   for (std::size_t i = 0; i < r.tiles.size(); ++i) {
     const Tile& t = r.tiles[i];
     const TileReport& tr = r.reports[i];
@@ -323,11 +328,45 @@ std::string surveyIndexHtml(const BatchSettings& s, const BatchReport& r) {
   return html.str();
 }
 
+// The survey's candidates for DS9: a circle of 2" at each RA, Dec, labelled with NUMBER (the
+// tiles' own region files hold the arcs' shapes, in their pixels).
+std::string surveyRegionText(const FitsTable& objects) {
+  const std::vector<std::int64_t> number = objects.integers("NUMBER");
+  const std::vector<double> ra = objects.doubles("ALPHA_J2000"),
+                            dec = objects.doubles("DELTA_J2000");
+  std::ostringstream out;
+  out << "# Region file format: DS9 version 4.1\n"
+      << "global color=green width=1 font=\"helvetica 10 normal roman\"\nfk5\n";
+  for (std::size_t i = 0; i < number.size(); ++i) {
+    if (!std::isfinite(ra[i]) || !std::isfinite(dec[i])) {
+      out << "# NUMBER " << number[i] << ": no RA, Dec (its tile has no WCS)\n";
+      continue;
+    }
+    out << "circle(" << formatNumber(ra[i], "%.7f") << "," << formatNumber(dec[i], "%+.7f")
+        << ",2\") # text={" << number[i] << "}\n";
+  }
+  return out.str();
+}
+
+// The summary as the vetting page shows it: the manifest by its name.
+std::vector<std::string> pageSummaryLines(const BatchSettings& s, const BatchReport& r) {
+  std::vector<std::string> lines = r.summaryLines;
+  const std::string name = fs::path(s.manifest).filename().string();
+  for (std::string& line : lines) {
+    for (std::size_t at;
+         !s.manifest.empty() && (at = line.find(s.manifest)) != std::string::npos;) {
+      line.replace(at, s.manifest.size(), name);
+    }
+  }
+  return lines;
+}
+
 void writeSurveyOutputs(const BatchSettings& s, const BatchReport& r) {
   OutputFiles outputs;
-  outputs.add((fs::path(s.outputDir) / "candidates.fits").string());
-  outputs.add((fs::path(s.outputDir) / "summary.txt").string());
-  outputs.add((fs::path(s.outputDir) / "index.html").string());
+  for (const char* name : {"candidates.fits", "summary.txt", "index.html", "candidates.html",
+                           "candidates.reg", "candidates.cat"}) {
+    outputs.add((fs::path(s.outputDir) / name).string());
+  }
   FitsTable objects = r.survey.table;
   const SurveyCandidates& sv = r.survey;
   objects.keywords = {
@@ -360,6 +399,22 @@ void writeSurveyOutputs(const BatchSettings& s, const BatchReport& r) {
   for (const std::string& l : r.summaryLines) summary += l + "\n";
   outputs.write(1, [&](const std::string& path) { writeTextFile(path, summary); });
   outputs.write(2, [&](const std::string& path) { writeTextFile(path, surveyIndexHtml(s, r)); });
+  VettingPageInfo page;
+  page.title = "octarc batch: " + fs::path(s.manifest).filename().string();
+  page.summaryLines = pageSummaryLines(s, r);
+  page.links = {{"Catalog", "candidates.fits"},
+                {"ASCII catalog", "candidates.cat"},
+                {"DS9 regions", "candidates.reg"},
+                {"Tiles", "index.html"}};
+  page.stampFiles = catalogStampFiles(objects);
+  if (!s.tile.writeStamps) page.stampFiles.assign(page.stampFiles.size(), "");
+  outputs.write(
+      3, [&](const std::string& path) { writeTextFile(path, vettingPageHtml(objects, page)); });
+  outputs.write(4,
+                [&](const std::string& path) { writeTextFile(path, surveyRegionText(objects)); });
+  outputs.write(5, [&](const std::string& path) {
+    writeTableCatalog(path, CatalogType::AsciiHead, objects, FitsTable(), ucds);
+  });
   outputs.commit();
 }
 

@@ -242,6 +242,41 @@ class BatchRanks(BatchFixture):
             self.assertTrue(os.path.exists(
                 os.path.join(self.reference, "tiles", "tile%d" % k, "candidates.reg")))
 
+    def test_survey_vetting_page_regions_and_ascii_catalog(self):
+        import json
+        import regions
+        from astropy.io import ascii
+        data = Table.read(os.path.join(self.reference, "candidates.fits"), hdu="LDAC_OBJECTS")
+        self.assertGreater(len(data), 5)
+        html = read_text(os.path.join(self.reference, "candidates.html"))
+        embedded = re.search(r'<script type="application/json" id="candidates">(.*?)</script>',
+                             html, re.S).group(1)
+        rows = json.loads(embedded)["rows"]
+        # One card per survey candidate (the duplicates gone), each with the stamp its tile
+        # made, linked relative to the page.
+        self.assertEqual([r["n"] for r in rows], list(data["NUMBER"]))
+        for r, row in zip(rows, data):
+            self.assertEqual((r["tile"], r["tn"]), (row["TILE"], row["TILE_NUMBER"]))
+            self.assertEqual(r["stamp"], "tiles/%s/stamps/%04d.png" % (row["TILE"],
+                                                                         row["TILE_NUMBER"]))
+            self.assertTrue(os.path.isfile(os.path.join(self.reference, r["stamp"])), r["stamp"])
+        self.assertNotIn(self.data, html)
+        self.assertIn('href="candidates.html"',
+                      read_text(os.path.join(self.reference, "index.html")))
+        # candidates.reg: a circle at each candidate's RA, Dec (fk5), labelled with NUMBER.
+        shapes = regions.Regions.read(os.path.join(self.reference, "candidates.reg"),
+                                      format="ds9")
+        self.assertEqual(len(shapes), len(data))
+        for shape, row in zip(shapes, data):
+            self.assertEqual(str(shape.meta["text"]), str(row["NUMBER"]))
+            self.assertAlmostEqual(shape.center.ra.deg, row["ALPHA_J2000"], delta=1e-6)
+            self.assertAlmostEqual(shape.center.dec.deg, row["DELTA_J2000"], delta=1e-6)
+        # candidates.cat: the same rows as ASCII_HEAD.
+        cat = ascii.read(os.path.join(self.reference, "candidates.cat"), format="sextractor")
+        self.assertEqual(list(cat["NUMBER"]), list(data["NUMBER"]))
+        self.assertEqual(list(cat["TILE"]), [str(t) for t in data["TILE"]])
+        np.testing.assert_allclose(cat["LENS_SCORE"], data["LENS_SCORE"], rtol=1e-5)
+
     def test_catalog_type_applies_to_the_survey_catalog_not_the_tiles(self):
         out = self.path("votable")
         run_octarc("batch", self.manifest, *self.config(out, "-CATALOG_TYPE", "ASCII_VOTABLE",

@@ -18,13 +18,16 @@
 //   .octarc-batch      marks the directory as a batch's (an other non-empty one is refused)
 //   journal.txt        what each run did (batch/Journal.h)
 //   claims/NAME        the lock file of a tile's claim (empty; locked while a run searches it)
-//   tiles/NAME/        the tile's search output (candidates, regions, stamps, contact sheet)
+//   tiles/NAME/        the tile's search output (candidates, regions, stamps, vetting page)
 //                      and area.fits, its searched area per block; its candidates.fits is
 //                      FITS-LDAC whatever CATALOG_TYPE says, as the merge reads it back
 //   candidates.fits    the survey's candidates (CATALOG_TYPE, FITS-LDAC by default),
 //                      duplicates of overlaps removed
+//   candidates.html    the survey's vetting page (search/VettingPage.h), the tiles' stamps
+//   candidates.cat     candidates.fits as ASCII_HEAD
+//   candidates.reg     a DS9 circle at each candidate's RA, Dec (fk5)
 //   summary.txt        tiles done / failed / done earlier, area, candidates per search space
-//   index.html         the survey index: every tile, its status and its contact sheet
+//   index.html         the survey index: every tile, its status and its vetting page
 #pragma once
 
 #include <string>

@@ -174,7 +174,8 @@ TEST_F(BatchRunTest, EveryTileSearchedJournaledAndMergedThenResumed) {
 
   EXPECT_EQ(test::fileNames(out()),
             (std::set<std::string>{kBatchMarkerFile, "journal.txt", "claims", "tiles",
-                                   "candidates.fits", "summary.txt", "index.html"}));
+                                   "candidates.fits", "summary.txt", "index.html",
+                                   "candidates.html", "candidates.reg", "candidates.cat"}));
   EXPECT_EQ(test::fileNames(out() / "tiles"), (std::set<std::string>{"A", "B"}));
   // A claim file for each tile searched, each free again once the run is over.
   EXPECT_EQ(test::fileNames(out() / "claims"), (std::set<std::string>{"A", "B", "C"}));
@@ -189,6 +190,15 @@ TEST_F(BatchRunTest, EveryTileSearchedJournaledAndMergedThenResumed) {
   }
   const FitsTable written = readFitsTable((out() / "candidates.fits").string(), "LDAC_OBJECTS");
   EXPECT_EQ(written.rows(), 3);
+  // One region per survey candidate, and the vetting page's tile filter has tiles to offer.
+  const std::string regions = test::readFile(out() / "candidates.reg");
+  std::size_t circles = 0;
+  for (std::size_t at = regions.find("\ncircle("); at != std::string::npos;
+       at = regions.find("\ncircle(", at + 1)) {
+    ++circles;
+  }
+  EXPECT_EQ(circles, 3u);
+  EXPECT_NE(test::readFile(out() / "candidates.html").find("\"tiles\":true"), std::string::npos);
   EXPECT_EQ(written.integer("NDUPLIC"), 1);
   std::string summary;
   for (const std::string& line : first.summaryLines) summary += line + "\n";
