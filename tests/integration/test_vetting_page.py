@@ -1,15 +1,22 @@
-"""`octarc grades` on synthetic candidate catalogs made here with astropy (independent of
-octarc's search): the GRADE column merged from a CSV, and the errors that name the CSV's line."""
+"""The vetting page and `octarc grades` on synthetic candidate catalogs made here with astropy
+(independent of octarc's search): the GRADE column merged from a CSV, the errors that name the
+CSV's line, and the page of 10 000 candidates driven in headless Chromium: a filter leaves the
+cards counted here, a key grades the current card, the export holds the grade, and octarc grades
+puts it into the catalog."""
 
+import csv
 import hashlib
+import io
 import os
 import unittest
+from urllib.parse import unquote
 
 import numpy as np
 from astropy.io import fits
 from astropy.table import Table
 
-from octarc_testlib import WorkDirTest, fitsverify_errors, have_program, run_octarc
+from octarc_testlib import (WorkDirTest, fitsverify_errors, have_program, run_octarc,
+                            run_page_in_chromium)
 
 
 def in_ci():
@@ -107,6 +114,97 @@ class GradesCommand(WorkDirTest):
         r = run_octarc("grades", cat, grades, "-o", cat, check=False)
         self.assertEqual(r.returncode, 1)
         self.assertIn(cat, r.stderr)
+
+
+class VettingPageChromium(WorkDirTest):
+    COUNT = 10000
+    TILES = ["north", "south", "east", "west"]
+
+    def test_ten_thousand_candidates_filter_grade_export(self):
+        if not have_program("chromium") and not in_ci():
+            self.skipTest("program not installed: chromium")
+        from PIL import Image
+        survey = self.path("survey")
+        os.makedirs(survey)
+        cat = os.path.join(survey, "candidates.fits")
+        cols = write_catalog(cat, self.COUNT, tiles=self.TILES)
+        # Tiny stamps, one file linked under every name the page asks for.
+        stamp = self.path("stamp.png")
+        Image.new("RGB", (8, 8), (90, 90, 90)).save(stamp)
+        for tile in self.TILES:
+            os.makedirs(os.path.join(survey, "tiles", tile, "stamps"))
+        for tile, number in zip(cols["TILE"], cols["TILE_NUMBER"]):
+            os.symlink(stamp, os.path.join(survey, "tiles", tile, "stamps", "%04d.png" % number))
+        page = os.path.join(survey, "candidates.html")
+        run_octarc("grades", cat, "--page", page, "--quiet")
+
+        # The filter the driver sets, and what it must leave, worked out here.
+        min_score, min_arcness = 0.5, 0.25
+        keep = ((cols["LENS_SCORE"] >= min_score) & (cols["ARCNESS"] >= min_arcness)
+                & ((cols["CAND_FLAGS"] & 1) != 0) & (cols["TILE"] == "south"))
+        kept = cols["NUMBER"][keep]  # by descending LENS_SCORE already
+        self.assertGreater(len(kept), 10)
+        driver = """
+        const readyMs = performance.now();
+        const $ = id => document.getElementById(id);
+        const count = () => ({matching: Number($('count').dataset.matching),
+          page: Number($('count').dataset.page),
+          cards: Array.from(document.querySelectorAll('#grid .card')).map(c => Number(c.dataset.number))});
+        const before = count();
+        $('next').click();
+        const second = count();
+        const set = (id, value) => { $(id).value = value; $(id).dispatchEvent(new Event('change')); };
+        set('min-score', '%g'); set('min-arcness', '%g'); set('lens', 'dark'); set('tile', 'south');
+        const filtered = count();
+        const key = k => document.body.dispatchEvent(new KeyboardEvent('keydown', {key: k, bubbles: true}));
+        key('j'); key('2'); key('j'); key('1');
+        const graded = Array.from(document.querySelectorAll('#grid .card[data-grade]'))
+          .map(c => [Number(c.dataset.number), c.dataset.grade]);
+        const link = $('export');
+        link.addEventListener('click', e => e.preventDefault());  // no download, keep the CSV
+        link.click();
+        const stored = Object.keys(localStorage).filter(k => k.startsWith('octarc-grades:'))
+          .map(k => JSON.parse(localStorage.getItem(k)));
+        report({readyMs, before, second, filtered, graded, stored, href: link.href,
+                text: document.body.innerText.slice(0, 4000)});
+        """ % (min_score, min_arcness)
+        result, seconds = run_page_in_chromium(page, driver, self.work)
+        print("\n10 000-candidate page: page ready %.0f ms after navigation; the whole "
+              "headless Chromium run %.1f s (page %.1f MB)"
+              % (result["readyMs"], seconds, os.path.getsize(page) / 1e6))
+
+        per_page = 200
+        self.assertEqual(result["before"]["matching"], self.COUNT)
+        self.assertEqual(result["before"]["cards"], list(range(1, per_page + 1)))
+        self.assertEqual(result["second"]["page"], 2)
+        self.assertEqual(result["second"]["cards"], list(range(per_page + 1, 2 * per_page + 1)))
+        self.assertEqual(result["filtered"]["matching"], len(kept))
+        self.assertEqual(result["filtered"]["cards"], list(kept[:per_page]))
+        # j moved to the second card, 2 graded it maybe; j, 1: the third is a lens.
+        want = {int(kept[1]): "maybe", int(kept[2]): "lens"}
+        self.assertEqual(dict((n, g) for n, g in result["graded"]), want)
+        self.assertEqual(result["stored"], [{str(k): v for k, v in want.items()}])
+        self.assertNotIn(self.work, result["text"])
+
+        prefix = "data:text/csv;charset=utf-8,"
+        self.assertTrue(result["href"].startswith(prefix), result["href"][:80])
+        text = unquote(result["href"][len(prefix):])
+        rows = list(csv.DictReader(io.StringIO(text)))
+        self.assertEqual(list(rows[0].keys()), ["NUMBER", "TILE", "TILE_NUMBER", "NAME",
+                                                "ALPHA_J2000", "DELTA_J2000", "GRADE"])
+        self.assertEqual({int(r["NUMBER"]): r["GRADE"] for r in rows}, want)
+        for r in rows:
+            i = int(r["NUMBER"]) - 1
+            self.assertEqual((r["TILE"], int(r["TILE_NUMBER"]), r["NAME"]),
+                             (cols["TILE"][i], cols["TILE_NUMBER"][i], cols["NAME"][i]))
+            self.assertAlmostEqual(float(r["ALPHA_J2000"]), cols["ALPHA_J2000"][i], delta=1e-9)
+        # The exported CSV read back into the catalog by octarc grades.
+        with open(self.path("grades.csv"), "w") as f:
+            f.write(text)
+        run_octarc("grades", cat, self.path("grades.csv"), "-o", self.path("graded.fits"))
+        t = Table.read(self.path("graded.fits"), hdu="LDAC_OBJECTS")
+        got = {int(n): str(g).strip() for n, g in zip(t["NUMBER"], t["GRADE"]) if str(g).strip()}
+        self.assertEqual(got, want)
 
 
 if __name__ == "__main__":
