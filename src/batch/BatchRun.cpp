@@ -408,6 +408,12 @@ void writeSurveyOutputs(const BatchSettings& s, const BatchReport& r) {
                 {"Tiles", "index.html"}};
   page.stampFiles = catalogStampFiles(objects);
   if (!s.tile.writeStamps) page.stampFiles.assign(page.stampFiles.size(), "");
+  for (const std::string& stamp : page.stampFiles) {
+    // The tiles' FITS cut-outs lie beside their stamps (STAMP_CUTOUTS).
+    page.cutoutFiles.push_back(stamp.empty() || !s.tile.writeCutouts
+                                   ? std::string()
+                                   : stamp.substr(0, stamp.size() - 4) + ".fits");
+  }
   outputs.write(
       3, [&](const std::string& path) { writeTextFile(path, vettingPageHtml(objects, page)); });
   outputs.write(4,

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
+#include <utility>
 
 #include "octarc/core/Conventions.h"
 #include "octarc/core/Format.h"
@@ -75,6 +77,26 @@ std::string stampFileName(std::size_t index) {
   char name[32];
   std::snprintf(name, sizeof name, "stamps/%04zu.png", index + 1);
   return name;
+}
+
+std::string cutoutFileName(std::size_t index) {
+  std::string name = stampFileName(index);
+  return name.replace(name.size() - 4, 4, ".fits");
+}
+
+FitsHeader cutoutHeader(const FitsHeader& imageHeader, const Stamp& stamp) {
+  FitsHeader h = imageHeader;
+  // The cut-out's pixel 1 is the image's pixel xFirstFits: every pixel coordinate drops by
+  // xFirstFits - 1.
+  const double dx = stamp.xFirstFits - 1.0, dy = stamp.yFirstFits - 1.0;
+  for (const auto& [key, shift] : {std::pair{"CRPIX1", dx}, std::pair{"CRPIX2", dy}}) {
+    if (const std::optional<double> v = h.number(key)) h.set(key, fitsRealValue(*v - shift, 17));
+  }
+  h.set("LTV1", fitsRealValue(-dx, 17), "physical = image - LTV: the whole image's pixels");
+  h.set("LTV2", fitsRealValue(-dy, 17));
+  h.set("LTM1_1", "1.0");
+  h.set("LTM2_2", "1.0");
+  return h;
 }
 
 Stamp candidateStamp(const ImageF& image, const Table& catalog, const SearchResult& result,

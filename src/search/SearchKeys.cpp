@@ -190,6 +190,8 @@ std::vector<KeySpec> searchKeys() {
     Row("STAMP_PIXELS", Kind::Int, {"400"}, "side of the stamp images (PNG pixels)")
         .range(64, 4096),
     Row("STAMPS", Kind::Bool, {"Y"}, "write the stamps and vetting page"),
+    Row("STAMP_CUTOUTS", Kind::Bool, {"Y"}, "with the stamps, stamps/NNNN.fits: each stamp's\n"
+        "pixels with the image's WCS, for DS9"),
     Row("NAME_PREFIX", Kind::String, {"OCTARC"}, "prefix of the designations"),
     Row("LENS_LIGHT", Kind::String, {"N"}, "subtract fitted Sersic models of bright galaxies:\n"
         "N, LOCAL (also search the residual around each)\nor IMAGE (search the residual image)"),
@@ -256,6 +258,7 @@ SearchRunSettings searchSettingsFromConfig(const sexcompat::Config& c, RunSettin
   s.stamps.sideArcsec = c.getDouble("STAMP_SIZE");
   s.stamps.sizePix = c.getInt("STAMP_PIXELS");
   s.writeStamps = c.getBool("STAMPS");
+  s.writeCutouts = c.getBool("STAMP_CUTOUTS");
   s.lensLight.mode = lenslight::parseSubtractionMode(c.getString("LENS_LIGHT"));
   s.lensLight.selectExpression = c.getString("LENS_SELECT");
   s.lensLight.cutoutArcsec = c.getDouble("LENS_CUTOUT");

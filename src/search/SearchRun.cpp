@@ -526,6 +526,10 @@ void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings
               residual ? run.lensLight->residual : run.image.hdu.pixels, catalog, run.result,
               std::size_t(i), wcs, run.pixelScaleArcsec, settings.stamps);
           writeStampPng((root / stampFileName(std::size_t(i))).string(), stamp);
+          if (settings.writeCutouts) {
+            writeImageFile((root / cutoutFileName(std::size_t(i))).string(),
+                           {{cutoutHeader(run.image.hdu.header, stamp), &stamp.pixels, nullptr}});
+          }
         },
         [&](std::int64_t done) {
           if (progress) progress(done, n);
@@ -538,6 +542,7 @@ void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings
                   {"DS9 regions", "candidates.reg"}};
     for (std::size_t i = 0; i < run.result.candidates.size(); ++i) {
       page.stampFiles.push_back(stampFileName(i));
+      if (settings.writeCutouts) page.cutoutFiles.push_back(cutoutFileName(i));
     }
     writeText("index.html", vettingPageHtml(objects, page));
   }

@@ -260,6 +260,8 @@ class BatchRanks(BatchFixture):
             self.assertEqual(r["stamp"], "tiles/%s/stamps/%04d.png" % (row["TILE"],
                                                                          row["TILE_NUMBER"]))
             self.assertTrue(os.path.isfile(os.path.join(self.reference, r["stamp"])), r["stamp"])
+            self.assertEqual(r["cutout"], r["stamp"][:-4] + ".fits")
+            self.assertTrue(os.path.isfile(os.path.join(self.reference, r["cutout"])), r["cutout"])
         self.assertNotIn(self.data, html)
         self.assertIn('href="candidates.html"',
                       read_text(os.path.join(self.reference, "index.html")))

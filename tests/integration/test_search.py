@@ -304,10 +304,40 @@ class SearchOutputs(SearchFixture):
 
     def test_stamps_one_per_candidate(self):
         stamps = sorted(os.listdir(os.path.join(self.out, "stamps")))
-        self.assertEqual(stamps, ["%04d.png" % (i + 1) for i in range(len(self.cand))])
+        numbers = range(1, len(self.cand) + 1)
+        self.assertEqual(stamps, sorted(["%04d.png" % n for n in numbers] +
+                                        ["%04d.fits" % n for n in numbers]))
         for name in stamps:
-            with open(os.path.join(self.out, "stamps", name), "rb") as f:
-                self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+            if name.endswith(".png"):
+                with open(os.path.join(self.out, "stamps", name), "rb") as f:
+                    self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+
+    def test_fits_cutouts_carry_the_image_wcs(self):
+        image = fits.getdata(self.image)
+        side = None
+        for row in self.cand:
+            path = os.path.join(self.out, "stamps", "%04d.fits" % row["NUMBER"])
+            with fits.open(path) as f:
+                cut, header = f[0].data, f[0].header
+            side = side or cut.shape[0]
+            self.assertEqual(cut.shape, (side, side))
+            # The candidate's RA, Dec (from the image's WCS) fall on its pixel of the cut-out,
+            # whose pixel 1 is the image's pixel 1 - LTV.
+            x, y = WCS(header).all_world2pix(row["ALPHA_J2000"], row["DELTA_J2000"], 1)
+            self.assertAlmostEqual(float(x), row["X_IMAGE"] + header["LTV1"], delta=0.01)
+            self.assertAlmostEqual(float(y), row["Y_IMAGE"] + header["LTV2"], delta=0.01)
+            # The pixels are the image's there, less a smooth background.
+            x0, y0 = int(-header["LTV1"]), int(-header["LTV2"])
+            if x0 >= 0 and y0 >= 0 and x0 + side <= image.shape[1] and y0 + side <= image.shape[0]:
+                raw = image[y0:y0 + side, x0:x0 + side]
+                self.assertGreater(np.corrcoef(raw.ravel(), cut.ravel())[0, 1], 0.99)
+        if have_program("fitsverify") or in_ci():
+            self.assertEqual(fitsverify_errors(path)[0], 0)
+        # The vetting page links each card to its cut-out.
+        with open(os.path.join(self.out, "index.html")) as f:
+            html = f.read()
+        self.assertEqual(re.findall(r'"cutout":"([^"]*)"', html),
+                         ["stamps/%04d.fits" % n for n in self.cand["NUMBER"]])
 
     def test_ds9_places_every_region_where_octarc_wrote_it(self):
         if not have_program("ds9") and not in_ci():

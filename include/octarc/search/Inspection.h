@@ -14,6 +14,7 @@
 #include "octarc/core/Image.h"
 #include "octarc/core/Table.h"
 #include "octarc/io/Ds9Region.h"
+#include "octarc/io/FitsHeader.h"
 #include "octarc/io/Wcs.h"
 #include "octarc/plot/Stamp.h"
 #include "octarc/search/Search.h"
@@ -39,5 +40,11 @@ Stamp candidateStamp(const ImageF& image, const Table& catalog, const SearchResu
 
 // The file name of candidate `index`'s stamp inside the output directory ("stamps/0001.png").
 std::string stampFileName(std::size_t index);
+
+// Its FITS cut-out beside it ("stamps/0001.fits"): the stamp's pixels with `imageHeader`'s cards,
+// CRPIX1/2 shifted so that the WCS holds on the cut-out, and LTV1/2 (with LTM1_1, LTM2_2) so
+// that DS9's physical coordinates are the whole image's pixels.
+std::string cutoutFileName(std::size_t index);
+FitsHeader cutoutHeader(const FitsHeader& imageHeader, const Stamp& stamp);
 
 }  // namespace octarc

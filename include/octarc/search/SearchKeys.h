@@ -38,7 +38,8 @@ struct SearchRunSettings {
   CatalogType catalogType = CatalogType::FitsLdac;
   SearchSettings search;  // pixelScaleArcsec set by the run (PIXEL_SCALE or the WCS)
   StampSettings stamps;
-  bool writeStamps = true;  // STAMPS
+  bool writeStamps = true;   // STAMPS
+  bool writeCutouts = true;  // STAMP_CUTOUTS (with STAMPS)
   // COLOUR_IMAGE: images of other bands on the measurement image's pixel grid, background-
   // subtracted as it is (without its weight map), their names in search.colourBands and their
   // zero-points (COLOUR_ZEROPOINT, else MAG_ZEROPOINT) here.

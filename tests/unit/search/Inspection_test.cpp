@@ -139,5 +139,27 @@ TEST(Inspection, StampCutsAroundTheLensWithTheDisplayRangeOfItsPixels) {
                std::out_of_range);
 }
 
+TEST(Inspection, CutoutHeaderShiftsTheWcsToTheCutout) {
+  EXPECT_EQ(cutoutFileName(0), "stamps/0001.fits");
+  EXPECT_EQ(cutoutFileName(122), "stamps/0123.fits");
+  FitsHeader image;
+  image.set("CRPIX1", "50.5");
+  image.set("CRPIX2", "60");
+  image.set("CRVAL1", "150.0");
+  Stamp stamp;
+  stamp.xFirstFits = 8;  // the cut-out's pixel (1, 1) is the image's (8, 18)
+  stamp.yFirstFits = 18;
+  const FitsHeader cut = cutoutHeader(image, stamp);
+  EXPECT_EQ(cut.number("CRPIX1"), 43.5);
+  EXPECT_EQ(cut.number("CRPIX2"), 43.0);
+  EXPECT_EQ(cut.number("CRVAL1"), 150.0);
+  // DS9's physical coordinates: image = cut-out - LTV.
+  EXPECT_EQ(cut.number("LTV1"), -7.0);
+  EXPECT_EQ(cut.number("LTV2"), -17.0);
+  EXPECT_EQ(cut.number("LTM1_1"), 1.0);
+  // Without a WCS, none is made up.
+  EXPECT_FALSE(cutoutHeader(FitsHeader(), stamp).has("CRPIX1"));
+}
+
 }  // namespace
 }  // namespace octarc

@@ -223,7 +223,8 @@ TEST(SearchRun, OutputsAreWrittenTogetherAndAgreeWithTheRun) {
   EXPECT_EQ(test::fileNames(out),
             (std::set<std::string>{kSearchMarkerFile, "candidates.cat", "candidates.fits",
                                    "candidates.reg", "index.html", "stamps", "summary.txt"}));
-  EXPECT_EQ(test::fileNames(out / "stamps"), (std::set<std::string>{"0001.png", "0002.png"}));
+  EXPECT_EQ(test::fileNames(out / "stamps"),
+            (std::set<std::string>{"0001.png", "0002.png", "0001.fits", "0002.fits"}));
   EXPECT_EQ(stamps, 2);
   EXPECT_EQ(test::readFile(out / kSearchMarkerFile), kSearchMarkerText);
   // Nothing but the inputs and the output beside it: the temporary directory is gone.
