@@ -97,7 +97,9 @@ int runGrades(const std::vector<std::string>& args) {
   if (vm.count("quiet") == 0) {
     std::cerr << "> Wrote " << (output.empty() ? page : output)
               << (page.empty() || output.empty() ? "" : " and " + page);
-    if (files.size() == 2) std::cerr << ": " << graded << " graded candidate(s) from " << files[1];
+    if (files.size() == 2) {
+      std::cerr << ": " << graded << " graded candidate(s) from " << files[1];
+    }
     std::cerr << "\n";
   }
   return 0;

@@ -348,15 +348,18 @@ std::string surveyRegionText(const FitsTable& objects) {
   return out.str();
 }
 
-// The summary as the vetting page shows it: the manifest by its name.
+// The summary as the vetting page shows it: the manifest by its name, and without the failed
+// tiles' errors, which quote their files' paths (index.html and summary.txt list them).
 std::vector<std::string> pageSummaryLines(const BatchSettings& s, const BatchReport& r) {
-  std::vector<std::string> lines = r.summaryLines;
+  std::vector<std::string> lines;
   const std::string name = fs::path(s.manifest).filename().string();
-  for (std::string& line : lines) {
+  for (std::string line : r.summaryLines) {
+    if (line.starts_with("  failed: ")) continue;
     for (std::size_t at;
          !s.manifest.empty() && (at = line.find(s.manifest)) != std::string::npos;) {
       line.replace(at, s.manifest.size(), name);
     }
+    lines.push_back(line);
   }
   return lines;
 }

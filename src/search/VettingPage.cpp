@@ -155,7 +155,8 @@ let shown = [];   // the rows passing the filters, in sort order
 let pageIndex = 0;
 let current = 0;  // index in shown of the current card
 
-const esc = s => String(s).replace(/[&<>"]/g, c => ({'&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;'})[c]);
+const entities = {'&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;'};
+const esc = s => String(s).replace(/[&<>"]/g, c => entities[c]);
 const fixed = (v, digits) => v === null ? '&ndash;' : v.toFixed(digits);
 const general = v => v === null ? '&ndash;' : v.toPrecision(3);
 const flagNames = {1: 'no visible lens', 2: 'no curvature', 4: 'no WCS', 8: 'side unknown',
@@ -175,8 +176,9 @@ function passes(r, f) {
 }
 
 function apply() {
-  const f = {minScore: parseFloat($('min-score').value), minArcness: parseFloat($('min-arcness').value),
-             flag: $('flag').value, lens: $('lens').value, tile: $('tile').value, grade: $('grade').value};
+  const f = {minScore: parseFloat($('min-score').value),
+             minArcness: parseFloat($('min-arcness').value), flag: $('flag').value,
+             lens: $('lens').value, tile: $('tile').value, grade: $('grade').value};
   const key = $('sort').value, sign = $('ascending').checked ? 1 : -1;
   shown = rows.filter(r => passes(r, f));
   // Missing values last in either direction; ties by number.
@@ -209,7 +211,8 @@ function card(r) {
       (data.tiles ? '<br>tile ' + esc(r.tile) + ' #' + r.tn : '') +
       (r.cutout ? '<br><a href="' + esc(r.cutout) + '">FITS cut-out</a>' : '') + '</div>' +
       '<div class="grades">' + gradeNames.map((g, k) =>
-          '<button data-grade="' + g + '" title="key ' + (k + 1) + '">' + g + '</button>').join('') +
+          '<button data-grade="' + g + '" title="key ' + (k + 1) + '">' + g + '</button>')
+        .join('') +
       '</div>';
   return div;
 }
@@ -265,7 +268,8 @@ function exportCsv(link) {
   const lines = [columns.join(',')];
   for (const r of rows) {
     if (!grades[r.n]) continue;
-    const values = [r.n].concat(data.tiles ? [r.tile, r.tn] : [], [r.name, r.ra, r.dec, grades[r.n]]);
+    const values = [r.n].concat(data.tiles ? [r.tile, r.tn] : [],
+                                [r.name, r.ra, r.dec, grades[r.n]]);
     lines.push(values.map(csvField).join(','));
   }
   link.href = 'data:text/csv;charset=utf-8,' + encodeURIComponent(lines.join('\n') + '\n');
@@ -277,7 +281,11 @@ $('grid').addEventListener('click', e => {
   if (!c) return;
   current = pageIndex * perPage + Array.prototype.indexOf.call($('grid').children, c);
   markCurrent(false);
-  if (button) setGrade(c.dataset.number, c.dataset.grade === button.dataset.grade ? '' : button.dataset.grade);
+  // A second click on the card's grade clears it.
+  if (button) {
+    const grade = button.dataset.grade;
+    setGrade(c.dataset.number, c.dataset.grade === grade ? '' : grade);
+  }
 });
 document.addEventListener('keydown', e => {
   const typing = e.target instanceof Element && e.target.closest('input, select, textarea');
@@ -290,8 +298,13 @@ document.addEventListener('keydown', e => {
   else return;
   e.preventDefault();
 });
-$('previous').addEventListener('click', () => { pageIndex--; current = pageIndex * perPage; render(); });
-$('next').addEventListener('click', () => { pageIndex++; current = pageIndex * perPage; render(); });
+function turnPage(step) {
+  pageIndex += step;
+  current = pageIndex * perPage;
+  render();
+}
+$('previous').addEventListener('click', () => turnPage(-1));
+$('next').addEventListener('click', () => turnPage(1));
 $('export').addEventListener('click', e => exportCsv(e.currentTarget));
 $('sort').addEventListener('change', () => {
   $('ascending').checked = $('sort').selectedOptions[0].dataset.ascending === '1';
@@ -328,10 +341,12 @@ constexpr const char* kControls = R"HTML(<div id="controls">
 <option value="16">16 lens-light residual</option><option value="32">32 dark-lens pair</option>
 <option value="64">64 lens in arc</option></select></label>
 <label>lens <select id="lens"><option value="">any</option>
-<option value="dark">no visible lens</option><option value="seen">visible lens</option></select></label>
+<option value="dark">no visible lens</option><option value="seen">visible lens</option>
+</select></label>
 <label id="tile-filter" hidden>tile <select id="tile"><option value="">all</option></select></label>
 <label>grade <select id="grade"><option value="">any</option><option value="none">ungraded</option>
-<option value="lens">lens</option><option value="maybe">maybe</option><option value="no">no</option></select></label>
+<option value="lens">lens</option><option value="maybe">maybe</option><option value="no">no</option>
+</select></label>
 <a id="export" href="#" download="grades.csv">Export CSV</a>
 <span id="count"></span>
 </div>

@@ -437,6 +437,11 @@ class BatchResume(BatchFixture):
             data, _ = table_data(os.path.join(out, "candidates.fits"))
             self.assertNotIn("tile3", set(data["TILE"]))
             self.assertGreater(len(data["TILE"]), 0)
+            # The vetting page says a tile failed, without the error quoting its path.
+            page = read_text(os.path.join(out, "candidates.html"))
+            self.assertIn(" 1 failed, ", page)
+            self.assertNotIn(d, page)
+            self.assertIn(d, read_text(os.path.join(out, "summary.txt")))
         failed = [e for e in journal(out) if e[2] == "failed"]
         self.assertEqual([e[3] for e in failed], ["tile3", "tile3"])
 

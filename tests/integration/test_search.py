@@ -328,7 +328,8 @@ class SearchOutputs(SearchFixture):
             self.assertAlmostEqual(float(y), row["Y_IMAGE"] + header["LTV2"], delta=0.01)
             # The pixels are the image's there, less a smooth background.
             x0, y0 = int(-header["LTV1"]), int(-header["LTV2"])
-            if x0 >= 0 and y0 >= 0 and x0 + side <= image.shape[1] and y0 + side <= image.shape[0]:
+            inside = x0 + side <= image.shape[1] and y0 + side <= image.shape[0]
+            if x0 >= 0 and y0 >= 0 and inside:
                 raw = image[y0:y0 + side, x0:x0 + side]
                 self.assertGreater(np.corrcoef(raw.ravel(), cut.ravel())[0, 1], 0.99)
         if have_program("fitsverify") or in_ci():
@@ -369,15 +370,15 @@ class SearchOutputs(SearchFixture):
         page = os.path.join(self.out, "index.html")
         # The driver loads every card's stamp (the page loads them lazily) and reads the cards.
         driver = """
-        location.hash = '';
         document.getElementById('sort').value = 'arcness';
-        document.getElementById('ascending').checked = true;
         document.getElementById('sort').dispatchEvent(new Event('change'));
         document.getElementById('ascending').checked = true;
         document.getElementById('ascending').dispatchEvent(new Event('change'));
         const cards = Array.from(document.querySelectorAll('#grid .card'));
         Promise.all(cards.map(c => new Promise(done => {
-          const i = new Image(); i.onload = () => done(i.naturalWidth > 0); i.onerror = () => done(false);
+          const i = new Image();
+          i.onload = () => done(i.naturalWidth > 0);
+          i.onerror = () => done(false);
           i.src = c.querySelector('img').src; }))).then(loaded => report({
             order: cards.map(c => Number(c.dataset.number)),
             loaded: loaded.filter(x => x).length,

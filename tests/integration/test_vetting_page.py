@@ -149,14 +149,22 @@ class VettingPageChromium(WorkDirTest):
         const $ = id => document.getElementById(id);
         const count = () => ({matching: Number($('count').dataset.matching),
           page: Number($('count').dataset.page),
-          cards: Array.from(document.querySelectorAll('#grid .card')).map(c => Number(c.dataset.number))});
+          cards: Array.from(document.querySelectorAll('#grid .card'))
+                      .map(c => Number(c.dataset.number))});
         const before = count();
         $('next').click();
         const second = count();
-        const set = (id, value) => { $(id).value = value; $(id).dispatchEvent(new Event('change')); };
-        set('min-score', '%g'); set('min-arcness', '%g'); set('lens', 'dark'); set('tile', 'south');
+        const set = (id, value) => {
+          $(id).value = value;
+          $(id).dispatchEvent(new Event('change'));
+        };
+        set('min-score', '%g');
+        set('min-arcness', '%g');
+        set('lens', 'dark');
+        set('tile', 'south');
         const filtered = count();
-        const key = k => document.body.dispatchEvent(new KeyboardEvent('keydown', {key: k, bubbles: true}));
+        const key = k => document.body.dispatchEvent(
+          new KeyboardEvent('keydown', {key: k, bubbles: true}));
         key('j'); key('2'); key('j'); key('1');
         const graded = Array.from(document.querySelectorAll('#grid .card[data-grade]'))
           .map(c => [Number(c.dataset.number), c.dataset.grade]);
