@@ -22,6 +22,7 @@
 #include "octarc/core/AtomicFile.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
+#include "octarc/core/Interrupt.h"
 #include "octarc/io/Ds9Region.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/FitsTable.h"
@@ -590,9 +591,14 @@ void recordTile(const Journal& journal, BatchReport& report, std::size_t i, Tile
   const Tile& tile = report.tiles[i];
   const std::string count = "[" + std::to_string(finished) + "/" + std::to_string(total) + "] ";
   if (r.state == TileState::Done) {
-    journal.append(report.run, "done", tile.name,
-                   std::to_string(r.candidates) + " candidates, " +
-                       formatNumber(r.seconds, "%.2f") + " s, rank " + std::to_string(r.rank));
+    {
+      // The count a signal reports is that of the `done` lines: both or neither.
+      const DeferInterrupts hold;
+      journal.append(report.run, "done", tile.name,
+                     std::to_string(r.candidates) + " candidates, " +
+                         formatNumber(r.seconds, "%.2f") + " s, rank " + std::to_string(r.rank));
+      notePieceKept();
+    }
     if (log) {
       log(count + tile.name + ": " + std::to_string(r.candidates) + " candidate(s), " +
           formatNumber(r.seconds, "%.1f") + " s (rank " + std::to_string(r.rank) + ")");
@@ -658,14 +664,39 @@ void mergeSurvey(const BatchSettings& s, BatchReport& report,
   }
   report.summaryLines = summaryLines(s, report, ranks, waiting);
   if (report.merged) {
+    markNextOutputsFinal();
     writeSurveyOutputs(s, report);
     if (log) log("> Wrote " + s.outputDir);
   }
 }
 
+// What a signal leaves on disk, said on the line it prints (core/Interrupt.h): the tiles this run
+// journaled, the survey outputs or not. Only the root knows them; the other ranks say so.
+void accountOnInterrupt(const BatchSettings& s, const Cluster& cluster) {
+  PiecesAccount account;
+  if (!cluster.isRoot()) {
+    account.before = " (rank " + std::to_string(cluster.rank()) +
+                     "): its tile in progress is left to a rerun; the first rank's line says "
+                     "what is kept";
+    account.counted = false;
+  } else {
+    account.before = "; this run searched and journaled ";
+    account.after = " tile(s), kept in " + s.outputDir +
+                    "/tiles (run the same command again to resume from them); ";
+    account.finalWritten =
+        "it wrote the survey outputs (candidates.fits, summary.txt, index.html), complete; "
+        "nothing half-written is left";
+    account.finalNotWritten =
+        "it wrote no survey output (candidates.fits, summary.txt, index.html); nothing "
+        "half-written is left";
+  }
+  accountPiecesOnInterrupt(account);
+}
+
 }  // namespace
 
 BatchReport runBatch(const BatchSettings& s, const Cluster& cluster, const RunLog& log) {
+  accountOnInterrupt(s, cluster);
   BatchReport report;
   const Journal journal((fs::path(s.outputDir) / "journal.txt").string());
   std::uint64_t journalRead = 0;

@@ -34,6 +34,14 @@ std::atomic<int> gPendingSignal{0};
 std::atomic<bool> gOutputsComplete{false};
 std::atomic_flag gEnding = ATOMIC_FLAG_INIT;
 char gPrefix[256] = "octarc";
+// PiecesAccount's texts, fixed before the run.
+constexpr std::size_t kAccountBytes = 1024;
+std::atomic<bool> gCountPieces{false}, gShowCount{false};
+char gPiecesBefore[kAccountBytes], gPiecesAfter[kAccountBytes];
+char gFinalWritten[kAccountBytes], gFinalNotWritten[kAccountBytes];
+std::atomic<long long> gPiecesKept{0};
+std::atomic<bool> gNextOutputsFinal{false};
+std::atomic<bool> gFinalOutputsWritten{false};
 bool gStderrIsTerminal = false;
 
 void writeText(const char* text) {
@@ -44,6 +52,23 @@ void writeText(const char* text) {
     text += n;
     left -= std::size_t(n);
   }
+}
+
+// `n` in decimal, with no allocation.
+void writeCount(long long n) {
+  char digits[24];
+  int at = int(sizeof digits);
+  digits[--at] = '\0';
+  do {
+    digits[--at] = char('0' + n % 10);
+    n /= 10;
+  } while (n > 0 && at > 0);
+  writeText(digits + at);
+}
+
+void copyText(char* to, const std::string& text) {
+  std::strncpy(to, text.c_str(), kAccountBytes - 1);
+  to[kAccountBytes - 1] = '\0';
 }
 
 const char* signalName(int sig) {
@@ -130,7 +155,15 @@ void removeTreeAt(int parentFd, const char* name, int depth) {
   writeText(gPrefix);
   writeText(": interrupted by ");
   writeText(signalName(sig));
-  if (heldBack) {
+  if (gCountPieces.load()) {
+    writeText(gPiecesBefore);
+    if (gShowCount.load()) {
+      writeCount(gPiecesKept.load());
+      writeText(gPiecesAfter);
+      writeText(gFinalOutputsWritten.load() ? gFinalWritten : gFinalNotWritten);
+    }
+    writeText("\n");
+  } else if (heldBack) {
     writeText(" while the outputs were renamed into place; they are complete\n");
   } else if (gOutputsComplete.load() && removed == 0) {
     writeText(" after its outputs were written; they are complete\n");
@@ -190,6 +223,25 @@ int removeOnInterrupt(const std::string& path, bool isDirectory) {
 
 void markOutputsComplete() {
   gOutputsComplete.store(true);
+  if (gNextOutputsFinal.load()) gFinalOutputsWritten.store(true);
+}
+
+void accountPiecesOnInterrupt(const PiecesAccount& account) {
+  gCountPieces.store(false);  // the handler does not read texts being copied
+  copyText(gPiecesBefore, account.before);
+  copyText(gPiecesAfter, account.after);
+  copyText(gFinalWritten, account.finalWritten);
+  copyText(gFinalNotWritten, account.finalNotWritten);
+  gShowCount.store(account.counted);
+  gCountPieces.store(true);
+}
+
+void notePieceKept() {
+  ++gPiecesKept;
+}
+
+void markNextOutputsFinal() {
+  gNextOutputsFinal.store(true);
 }
 
 void forgetOnInterrupt(int slot) {

@@ -378,6 +378,18 @@ class BatchResume(BatchFixture):
         self.assertEqual(temporaries(out), [])
         first = {e[3] for e in journal(out) if e[2] == "done"}
         self.assertLess(len(first), 8)
+        # The last line says what is on disk: the journal's tiles, each folder complete, and no
+        # survey output.
+        self.assertEqual(
+            err.decode().strip().splitlines()[-1],
+            "octarc batch: interrupted by SIGINT; this run searched and journaled %d tile(s), "
+            "kept in %s/tiles (run the same command again to resume from them); it wrote no "
+            "survey output (candidates.fits, summary.txt, index.html); nothing half-written is "
+            "left" % (len(first), out))
+        for name in first:
+            self.assertTrue(os.path.exists(os.path.join(out, "tiles", name, "area.fits")), name)
+        for name in ("candidates.fits", "summary.txt", "index.html"):
+            self.assertFalse(os.path.exists(os.path.join(out, name)), name)
         proc = run_octarc("batch", self.manifest, *self.config(out))
         self.assertIn("%d done, 0 failed, %d skipped" % (8 - len(first), len(first)), proc.stdout)
         assert_same_tables(self, os.path.join(self.reference, "candidates.fits"),

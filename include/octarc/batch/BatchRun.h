@@ -1,5 +1,6 @@
 // `octarc batch` as a library: the search of every tile of a survey, on one machine or on the
-// ranks of an MPI job, resumable, and the survey-level outputs.
+// ranks of an MPI job, resumable, and the survey-level outputs. Interrupted (core/Interrupt.h),
+// it says how many tiles it journaled and whether it wrote the survey outputs.
 //
 //   manifest (batch/Manifest.h) --> tiles still to do (batch/Journal.h)
 //     --> each tile claimed, searched (search/SearchRun.h) into OUTPUT_DIR/tiles/NAME, written

@@ -34,6 +34,21 @@ int removeTreeOnInterrupt(const std::string& path);
 // the outputs are complete.
 void markOutputsComplete();
 
+// A run that keeps its outputs piece by piece (octarc batch keeps each tile once journaled, then
+// writes the survey's files) has a signal print its own account of what is on disk instead:
+//   PREFIX: interrupted by SIGINT<before>N<after><final>
+// N counts the notePieceKept() calls so far; <final> is `finalWritten` once the outputs committed
+// after markNextOutputsFinal() are in place (a signal held back by their renames included), else
+// `finalNotWritten`; without `counted`, <before> alone. The texts are copied here, before any
+// signal, as the handler may only write; a text longer than 1023 bytes is cut.
+struct PiecesAccount {
+  std::string before, after, finalWritten, finalNotWritten;
+  bool counted = true;
+};
+void accountPiecesOnInterrupt(const PiecesAccount& account);
+void notePieceKept();
+void markNextOutputsFinal();
+
 // While one exists (on any thread), SIGINT/SIGTERM/SIGHUP are held back; when the last one is
 // destroyed, a signal that arrived meanwhile ends the process (outputs kept, since they are
 // complete). Not nestable across threads in a meaningful way: use it around a short sequence of

@@ -91,6 +91,39 @@ TEST(Interrupt, AfterTheOutputsAreInPlaceTheLineSaysTheyAreComplete) {
             "complete\n");
 }
 
+// A run kept piece by piece: the line counts the pieces, and says whether the final outputs are
+// in place: not while only pieces (here one, committed as outputs of their own) are; yes once
+// those after markNextOutputsFinal are, also when the signal waited for their renames.
+TEST(Interrupt, APiecesAccountCountsThePiecesAndSaysWhetherTheFinalOutputsAreWritten) {
+  const fs::path dir = test::scratchDir();
+  const PiecesAccount account{": ", " kept; ", "final written", "no final output"};
+  for (const bool final : {false, true}) {
+    const fs::path log = dir / "stderr.txt";
+    const int status = inChild([&] {
+      std::freopen(log.c_str(), "w", stderr);
+      installInterruptCleanup("test");
+      accountPiecesOnInterrupt(account);
+      OutputFiles piece;
+      piece.add((dir / "piece.txt").string());
+      piece.write(0, [](const std::string& p) { std::ofstream(p) << "1"; });
+      piece.commit();
+      for (int k = 0; k < 12; ++k) notePieceKept();
+      if (!final) ::raise(SIGTERM);
+      markNextOutputsFinal();
+      OutputFiles last;
+      last.add((dir / "final.txt").string());
+      last.write(0, [](const std::string& p) { std::ofstream(p) << "2"; });
+      const DeferInterrupts hold;
+      ::raise(SIGTERM);
+      last.commit();
+    });
+    EXPECT_EQ(status, 128 + SIGTERM);
+    EXPECT_EQ(fs::exists(dir / "final.txt"), final);
+    EXPECT_EQ(test::readFile(log), std::string("test: interrupted by SIGTERM: 12 kept; ") +
+                                       (final ? "final written" : "no final output") + "\n");
+  }
+}
+
 TEST(Interrupt, ForgottenPathsStay) {
   const fs::path dir = test::scratchDir();
   const int status = inChild([&] {
