@@ -89,6 +89,9 @@ std::vector<KeySpec> batchKeys() {
         "this are one\n(arcsec)").range(0, 60),
     sexcompat::KeyRow("ARRAY_TASK", Kind::String, {"AUTO"}, "this job-array task's share: I/N "
         "(tiles k with\nk % N == I), AUTO (from Slurm's SLURM_ARRAY_TASK_*)"),
+    sexcompat::KeyRow("RESTART", Kind::Bool, {"N"}, "Y: when OUTPUT_DIR's tiles were searched "
+        "with another\nconfiguration, set them aside (OUTPUT_DIR/earlier-N)\nand start over; N: "
+        "that is an error"),
   };
   // clang-format on
   keys.insert(keys.end(), own.begin(), own.end());
@@ -119,6 +122,17 @@ BatchSettings batchSettingsFromConfig(const sexcompat::Config& c, RunSettings ru
   s.tile = searchSettingsFromConfig(c, std::move(run));
   s.outputDir = s.tile.outputDir;
   s.matchRadiusArcsec = c.getDouble("MATCH_RADIUS");
+  s.restart = c.getBool("RESTART");
+  s.configuration = configurationValues(c, batchKeys());
+  // The files are those the search reads, as the run found them (PARAMETERS_NAME and
+  // FILTER_NAME looked up in octarc's data folder too).
+  s.configurationFiles.push_back({"PARAMETERS_NAME", s.tile.run.parametersPath});
+  if (s.tile.run.filter) s.configurationFiles.push_back({"FILTER_NAME", s.tile.run.filterPath});
+  if (uppercase(c.getString("SELECTION_METHOD")) == "TREES") {
+    s.configurationFiles.push_back({"MODEL_NAME", s.tile.modelPath});
+  } else {
+    s.configurationFiles.push_back({"GRID_NAME", s.tile.gridPath});
+  }
   std::string share = uppercase(c.getString("ARRAY_TASK"));
   if (share == "AUTO") {
     const ArrayShare slurm =

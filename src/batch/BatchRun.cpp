@@ -14,6 +14,7 @@
 #include <sstream>
 #include <thread>
 
+#include "octarc/batch/BatchConfiguration.h"
 #include "octarc/batch/Journal.h"
 #include "octarc/catalog/Catalog.h"
 #include "octarc/catalog/FitsCard.h"
@@ -38,6 +39,11 @@ namespace {
 
 constexpr const char* kAreaFile = "area.fits";
 constexpr const char* kClaimsFolder = "claims";
+constexpr const char* kConfigurationFile = "configuration.txt";
+// What RESTART Y sets aside into OUTPUT_DIR/earlier-N: the batch's own files, never others.
+// The claims stay, as other runs may hold them (batch/Journal.h).
+constexpr const char* kEarlierRunFiles[] = {"journal.txt",     "configuration.txt", "tiles",
+                                            "candidates.fits", "summary.txt",       "index.html"};
 
 std::string tileFolder(const BatchSettings& s, const Tile& t) {
   return (fs::path(s.outputDir) / "tiles" / t.name).string();
@@ -455,18 +461,118 @@ std::int64_t BatchReport::failed() const {
 
 namespace {
 
+// This run's configuration (batch/BatchConfiguration.h), the files the search reads hashed.
+std::vector<ConfigurationItem> currentConfiguration(const BatchSettings& s) {
+  std::vector<ConfigurationItem> items = s.configuration;
+  for (const auto& [key, path] : s.configurationFiles) {
+    const auto it = std::find_if(items.begin(), items.end(),
+                                 [&](const ConfigurationItem& i) { return i.key == key; });
+    if (it != items.end()) {
+      *it = fileItem(key, path);
+    } else {
+      items.push_back(fileItem(key, path));
+    }
+  }
+  return items;
+}
+
+std::string readWholeFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path + ": cannot read");
+  std::stringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw IoError(path + ": cannot read");
+  return text.str();
+}
+
+void writeConfiguration(const std::string& path, const std::string& text) {
+  OutputFiles out;
+  out.add(path);
+  out.write(0, [&](const std::string& temp) { writeTextFile(temp, text); });
+  out.commit();
+}
+
+// Moves the earlier runs' files into OUTPUT_DIR/earlier-N, the first N free, and makes tiles/
+// again. Returns the folder.
+std::string setEarlierRunsAside(const BatchSettings& s) {
+  const fs::path out = s.outputDir;
+  fs::path aside;
+  std::error_code ec;
+  for (int n = 1;; ++n) {
+    aside = out / ("earlier-" + std::to_string(n));
+    if (fs::create_directory(aside, ec)) break;
+    if (ec) throw IoError(aside.string() + ": cannot create (" + ec.message() + ")");
+  }
+  for (const char* name : kEarlierRunFiles) {
+    if (!fs::exists(out / name, ec)) continue;
+    fs::rename(out / name, aside / name, ec);
+    if (ec) {
+      throw IoError((out / name).string() + ": cannot move to " + aside.string() + " (" +
+                    ec.message() + ")");
+    }
+  }
+  fs::create_directories(out / "tiles", ec);
+  if (ec) throw IoError(s.outputDir + "/tiles: cannot create (" + ec.message() + ")");
+  return aside.string();
+}
+
+// With the journal locked, before this run's start line: the configuration OUTPUT_DIR's tiles
+// are searched with is this run's (the first run records it), else ConfigError naming the keys
+// that differ, or with RESTART Y the earlier runs' files set aside (returns true: a new
+// journal). Then every later line of this run checks that it still is (another run may set
+// them aside).
+bool checkConfiguration(const BatchSettings& s, Journal& journal, const RunLog& log) {
+  const std::string path = (fs::path(s.outputDir) / kConfigurationFile).string();
+  const std::vector<ConfigurationItem> current = currentConfiguration(s);
+  const std::string text = formatConfiguration(current);
+  journal.guardAppends([path, current, dir = s.outputDir] {
+    std::error_code ec;
+    if (!fs::exists(path, ec) ||
+        !configurationDifferences(parseConfiguration(readWholeFile(path), path), current).empty()) {
+      throw ConfigError("OUTPUT_DIR " + dir +
+                        ": another run set this run's tiles aside (RESTART Y, another "
+                        "configuration); this run stops");
+    }
+  });
+  std::error_code ec;
+  if (!fs::exists(path, ec)) {
+    // A new OUTPUT_DIR (or one of a version that kept no configuration): this one's.
+    writeConfiguration(path, text);
+    return false;
+  }
+  const std::vector<std::string> differences =
+      configurationDifferences(parseConfiguration(readWholeFile(path), path), current);
+  if (differences.empty()) return false;
+  std::string list;
+  for (const std::string& d : differences) list += (list.empty() ? "" : "; ") + d;
+  if (!s.restart) {
+    throw ConfigError("OUTPUT_DIR " + s.outputDir + " was made with " + list +
+                      ": its tiles would mix two searches; give -RESTART Y to set them aside "
+                      "(into " +
+                      s.outputDir + "/earlier-N) and start over, or another OUTPUT_DIR");
+  }
+  const std::string aside = setEarlierRunsAside(s);
+  writeConfiguration(path, text);
+  if (log) log("> RESTART Y: the earlier runs' files, of " + list + ", set aside into " + aside);
+  return true;
+}
+
 // The root alone reads the manifest, checks the tiles' files and OUTPUT_DIR, and picks the tiles
 // to do: this task's share, less those complete (a `done` line and the folder in place), largest
 // images first (the ranks then end together). Returns the plan: the run number, then the tiles'
 // indices; journalRead: the journal's bytes it read.
-std::string planRun(const BatchSettings& s, const Cluster& cluster, const Journal& journal,
-                    BatchReport& report, std::uint64_t& journalRead) {
+std::string planRun(const BatchSettings& s, const Cluster& cluster, Journal& journal,
+                    BatchReport& report, std::uint64_t& journalRead, const RunLog& log) {
   report.tiles = readManifest(s.manifest);
   checkTiles(s, report.tiles);
   prepareOutputDirectory(s);
+  report.run = journal.startRun(
+      std::to_string(report.tiles.size()) + " tiles, " + std::to_string(cluster.size()) +
+          " rank(s), " + shareText(s),
+      [&](const std::vector<JournalEntry>&) { return checkConfiguration(s, journal, log); });
+  // Read once the configuration is checked (RESTART Y may start a new journal); the claims
+  // follow the lines appended after these.
   const std::set<std::string> done = completedTiles(journal.readFrom(journalRead));
-  report.run = journal.startRun(std::to_string(report.tiles.size()) + " tiles, " +
-                                std::to_string(cluster.size()) + " rank(s), " + shareText(s));
   report.reports.assign(report.tiles.size(), TileReport());
   std::vector<std::pair<std::uintmax_t, std::size_t>> bySize;
   for (std::size_t i = 0; i < report.tiles.size(); ++i) {
@@ -489,13 +595,13 @@ std::string planRun(const BatchSettings& s, const Cluster& cluster, const Journa
 // The plan on every rank: made by the root (a failure there stops every rank), then sent with
 // the tiles to the others. Returns the indices of the tiles to search.
 std::vector<std::size_t> shareRunPlan(const BatchSettings& s, const Cluster& cluster,
-                                      const Journal& journal, BatchReport& report,
-                                      std::uint64_t& journalRead) {
+                                      Journal& journal, BatchReport& report,
+                                      std::uint64_t& journalRead, const RunLog& log) {
   std::exception_ptr error;
   std::string plan;
   if (cluster.isRoot()) {
     try {
-      plan = planRun(s, cluster, journal, report, journalRead);
+      plan = planRun(s, cluster, journal, report, journalRead, log);
     } catch (const Error&) {
       error = std::current_exception();
     }
@@ -698,9 +804,9 @@ void accountOnInterrupt(const BatchSettings& s, const Cluster& cluster) {
 BatchReport runBatch(const BatchSettings& s, const Cluster& cluster, const RunLog& log) {
   accountOnInterrupt(s, cluster);
   BatchReport report;
-  const Journal journal((fs::path(s.outputDir) / "journal.txt").string());
+  Journal journal((fs::path(s.outputDir) / "journal.txt").string());
   std::uint64_t journalRead = 0;
-  const std::vector<std::size_t> todo = shareRunPlan(s, cluster, journal, report, journalRead);
+  const std::vector<std::size_t> todo = shareRunPlan(s, cluster, journal, report, journalRead, log);
   const int threads = cluster.threadsPerRank(s.requestedThreads);
   if (log && cluster.isRoot()) {
     log("> Batch run " + std::to_string(report.run) + ": " + std::to_string(report.tiles.size()) +

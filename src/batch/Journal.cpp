@@ -149,17 +149,29 @@ std::vector<JournalEntry> Journal::readFrom(std::uint64_t& offset) const {
   return parseJournal(lines.substr(0, end + 1));
 }
 
-int Journal::startRun(const std::string& detail) const {
+int Journal::startRun(
+    const std::string& detail,
+    const std::function<bool(const std::vector<JournalEntry>&)>& beforeStart) const {
+  const auto start = [&](LockedJournal& journal, const std::vector<JournalEntry>& entries) {
+    int last = 0;
+    for (const JournalEntry& e : entries) last = std::max(last, e.run);
+    journal.append(lineOf(last + 1, "start", "-", detail));
+    return last + 1;
+  };
   LockedJournal journal(path_);
-  int last = 0;
-  for (const JournalEntry& e : parseJournal(journal.readAll())) last = std::max(last, e.run);
-  journal.append(lineOf(last + 1, "start", "-", detail));
-  return last + 1;
+  const std::vector<JournalEntry> entries = parseJournal(journal.readAll());
+  if (beforeStart && beforeStart(entries)) {
+    // Set aside: the old one stays locked until the new one starts.
+    LockedJournal fresh(path_);
+    return start(fresh, parseJournal(fresh.readAll()));
+  }
+  return start(journal, entries);
 }
 
 void Journal::append(int run, const std::string& event, const std::string& tile,
                      const std::string& detail) const {
   LockedJournal journal(path_);
+  if (guard_) guard_();
   journal.append(lineOf(run, event, tile, detail));
 }
 
@@ -167,6 +179,7 @@ void Journal::appendWhileLocked(
     int run, const std::string& event, const std::string& tile, const std::string& detail,
     const std::function<void(const std::vector<JournalEntry>&)>& whileLocked) const {
   LockedJournal journal(path_);
+  if (guard_) guard_();
   journal.append(lineOf(run, event, tile, detail));
   whileLocked(parseJournal(journal.readAll()));
 }

@@ -589,6 +589,67 @@ class BatchSharing(WorkDirTest):
                                  r"or to a rerun\)")
         self.assertGreaterEqual(merged, 1)
 
+    def test_a_rerun_with_another_configuration_is_refused_until_restart(self):
+        out = self.path("config")
+        self.run_task(out, not_in_slurm())
+        grid_copy = self.path("copy.grid.fits")
+        shutil.copyfile(GRID, grid_copy)
+        changed_grid = self.path("changed.grid.fits")
+        with open(GRID, "rb") as f, open(changed_grid, "wb") as g:
+            g.write(f.read() + b"x")
+
+        def refused(*more):
+            before = read_text(os.path.join(out, "journal.txt"))
+            proc = subprocess.run(self.command(out, *more), capture_output=True, text=True,
+                                  env=not_in_slurm())
+            self.assertNotEqual(proc.returncode, 0)
+            lines = proc.stderr.strip().splitlines()
+            self.assertEqual(len(lines), 1, proc.stderr)
+            self.assertEqual(read_text(os.path.join(out, "journal.txt")), before)
+            return lines[0]
+
+        # octarc.sex has DETECT_THRESH 2.5, SNR_MIN is unset there.
+        line = refused("-DETECT_THRESH", "3.0", "-SNR_MIN", "7")
+        self.assertIn("OUTPUT_DIR %s was made with DETECT_THRESH 2.5, this run has 3.0; SNR_MIN "
+                      % out, line)
+        self.assertIn(", this run has 7: its tiles would mix two searches; give -RESTART Y to "
+                      "set them aside (into %s/earlier-N) and start over" % out, line)
+        self.assertIn("GRID_NAME %s (content " % GRID, refused("-GRID_NAME", changed_grid))
+        # Keys that do not change a tile's search, and a copy of the grid: the tiles are kept.
+        for more in (("-NTHREADS", "2", "-MATCH_RADIUS", "2", "-VERBOSE_TYPE", "NORMAL",
+                      "-CATALOG_TYPE", "FITS_1.0"), ("-GRID_NAME", grid_copy)):
+            proc = subprocess.run(self.command(out, *more), capture_output=True, text=True,
+                                  env=not_in_slurm())
+            self.assertEqual(proc.returncode, 0, proc.stderr)
+            self.assertIn("0 done, 0 failed, 6 skipped", proc.stdout)
+
+        # RESTART Y: the earlier runs' files set aside, the user's own left, a new journal.
+        with open(os.path.join(out, "notes.txt"), "w") as f:
+            f.write("mine")
+        earlier_journal = read_text(os.path.join(out, "journal.txt"))
+        proc = subprocess.run(self.command(out, "-DETECT_THRESH", "3.0", "-RESTART", "Y"),
+                              capture_output=True, text=True, env=not_in_slurm())
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        self.assertIn("6 done, 0 failed, 0 skipped", proc.stdout)
+        aside = os.path.join(out, "earlier-1")
+        self.assertEqual(sorted(os.listdir(aside)),
+                         ["candidates.fits", "configuration.txt", "index.html", "journal.txt",
+                          "summary.txt", "tiles"])
+        self.assertEqual(read_text(os.path.join(aside, "journal.txt")), earlier_journal)
+        self.assertEqual(sorted(os.listdir(os.path.join(aside, "tiles"))), sorted(self.tiles))
+        self.assertIn("DETECT_THRESH\t2.5\t2.5\n",
+                      read_text(os.path.join(aside, "configuration.txt")))
+        self.assertIn("DETECT_THRESH\t3.0\t3.0\n",
+                      read_text(os.path.join(out, "configuration.txt")))
+        self.assertEqual(read_text(os.path.join(out, "notes.txt")), "mine")
+        self.assertEqual({e[0] for e in journal(out)}, {"1"})
+        self.assert_each_tile_searched_once(out)
+        # The same configuration with RESTART Y resumes.
+        proc = subprocess.run(self.command(out, "-DETECT_THRESH", "3.0", "-RESTART", "Y"),
+                              capture_output=True, text=True, env=not_in_slurm())
+        self.assertIn("0 done, 0 failed, 6 skipped", proc.stdout)
+        self.assertFalse(os.path.exists(os.path.join(out, "earlier-2")))
+
     def test_two_batches_started_at_once_search_each_tile_once(self):
         out = self.path("two")
         procs = self.start_together(out, [not_in_slurm(), not_in_slurm()])

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "octarc/batch/BatchConfiguration.h"
 #include "octarc/run/RunSettings.h"
 #include "octarc/search/SearchKeys.h"
 #include "octarc/sexcompat/Config.h"
@@ -12,7 +13,7 @@
 namespace octarc {
 
 // The keys of `octarc batch`: those of search (OUTPUT_DIR names the survey's folder, "survey"
-// by default), MATCH_RADIUS and ARRAY_TASK.
+// by default), MATCH_RADIUS, ARRAY_TASK and RESTART.
 std::vector<sexcompat::KeySpec> batchKeys();
 
 struct BatchSettings {
@@ -24,6 +25,13 @@ struct BatchSettings {
   int arrayTask = 0, arrayTasks = 1;
   std::string arrayShareNote;  // how ARRAY_TASK AUTO read Slurm's variables, for the log
   int requestedThreads = 0;    // NTHREADS (0: the machine's cores shared between its ranks)
+  // RESTART: when OUTPUT_DIR's tiles were searched with another configuration, set them aside
+  // and start over (else that is an error).
+  bool restart = false;
+  // The configuration the tiles are searched with (batch/BatchConfiguration.h): the keys'
+  // values, and the files the search reads (key, path), hashed by the run that checks them.
+  std::vector<ConfigurationItem> configuration;
+  std::vector<std::pair<std::string, std::string>> configurationFiles;
 };
 
 // ConfigError on bad values. `run` is the detection part as the command line resolved it; its

@@ -18,6 +18,12 @@
 // OUTPUT_DIR:
 //   .octarc-batch      marks the directory as a batch's (an other non-empty one is refused)
 //   journal.txt        what each run did (batch/Journal.h)
+//   configuration.txt  the configuration the tiles are searched with (batch/BatchConfiguration.h),
+//                      written by the first run; a run with another one is a ConfigError naming
+//                      the keys that differ, or with RESTART Y moves journal.txt,
+//                      configuration.txt, tiles/ and the survey outputs into earlier-N/ (the
+//                      first N free) and starts over. Each run checks it again before each of
+//                      its journal lines, and stops once another has set its tiles aside.
 //   claims/NAME        the lock file of a tile's claim (empty; locked while a run searches it)
 //   tiles/NAME/        the tile's search output (candidates, regions, stamps, vetting page)
 //                      and area.fits, its searched area per block; its candidates.fits is
@@ -71,8 +77,8 @@ struct BatchReport {
 };
 
 // Runs the batch on `cluster` (every rank calls it). ConfigError / IoError for a bad manifest,
-// configuration or OUTPUT_DIR, before any tile is searched; a tile's own trouble makes it
-// failed, and the others go on. The report is complete on the root only.
+// configuration, OUTPUT_DIR or another configuration there, before any tile is searched; a tile's
+// own trouble makes it failed, and the others go on. The report is complete on the root only.
 BatchReport runBatch(const BatchSettings& settings, const Cluster& cluster, const RunLog& log);
 
 }  // namespace octarc

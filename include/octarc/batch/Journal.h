@@ -46,8 +46,15 @@ class Journal {
   // follows what other runs append without reading the whole journal again. None when the file
   // does not exist; IoError when it cannot be read.
   std::vector<JournalEntry> readFrom(std::uint64_t& offset) const;
-  // Appends a `start` line for the next run number and returns that number.
-  int startRun(const std::string& detail) const;
+  // Appends a `start` line for the next run number and returns that number. With the journal
+  // locked, beforeStart(every line) runs first: it may throw (no line is written), or set the
+  // journal aside (rename it) and return true, the start line then opening a new journal.
+  int startRun(const std::string& detail,
+               const std::function<bool(const std::vector<JournalEntry>&)>& beforeStart = {}) const;
+  // A check run with the journal locked before each later line (append, appendWhileLocked): it
+  // throws when this run may no longer write (OUTPUT_DIR set aside by another run), and the
+  // line is not written.
+  void guardAppends(std::function<void()> guard) { guard_ = std::move(guard); }
   // Appends one line (tabs and line breaks in the fields become blanks); IoError on failure.
   void append(int run, const std::string& event, const std::string& tile,
               const std::string& detail) const;
@@ -60,6 +67,7 @@ class Journal {
 
  private:
   std::string path_;
+  std::function<void()> guard_;
 };
 
 // A run's claim on one tile: an exclusive flock on the tile's lock file (OUTPUT_DIR/claims/NAME),

@@ -173,8 +173,8 @@ TEST_F(BatchRunTest, EveryTileSearchedJournaledAndMergedThenResumed) {
   EXPECT_EQ(survey.spaces[0].candidates, 1);  // the arc
 
   EXPECT_EQ(test::fileNames(out()),
-            (std::set<std::string>{kBatchMarkerFile, "journal.txt", "claims", "tiles",
-                                   "candidates.fits", "summary.txt", "index.html",
+            (std::set<std::string>{kBatchMarkerFile, "journal.txt", "configuration.txt", "claims",
+                                   "tiles", "candidates.fits", "summary.txt", "index.html",
                                    "candidates.html", "candidates.reg", "candidates.cat"}));
   EXPECT_EQ(test::fileNames(out() / "tiles"), (std::set<std::string>{"A", "B"}));
   // A claim file for each tile searched, each free again once the run is over.

@@ -53,6 +53,48 @@ TEST(Journal, RunsAreNumberedAndLinesReadBack) {
   fs::remove(path);
 }
 
+TEST(Journal, AJournalSetAsideBeforeTheStartIsFollowedByANewOne) {
+  const fs::path path = scratch("aside");
+  const fs::path aside = scratch("aside.earlier");
+  Journal journal(path.string());
+  journal.startRun("run 1");
+  journal.append(1, "done", "t1", "");
+  std::size_t seen = 0;
+  EXPECT_EQ(journal.startRun("run 2",
+                             [&](const std::vector<JournalEntry>& lines) {
+                               seen = lines.size();
+                               fs::rename(path, aside);
+                               return true;
+                             }),
+            1);  // the first run of the new journal
+  EXPECT_EQ(seen, 2u);
+  ASSERT_EQ(journal.read().size(), 1u);
+  EXPECT_EQ(journal.read()[0].detail, "run 2");
+  EXPECT_EQ(Journal(aside.string()).read().size(), 2u);
+  // A check that throws: no start line.
+  EXPECT_THROW(journal.startRun("run 3",
+                                [](const std::vector<JournalEntry>&) -> bool {
+                                  throw ConfigError("another configuration");
+                                }),
+               ConfigError);
+  EXPECT_EQ(journal.read().size(), 1u);
+  // The guard runs before each later line; when it throws, the line is not written.
+  bool stop = false;
+  journal.guardAppends([&] {
+    if (stop) throw ConfigError("set aside by another run");
+  });
+  journal.append(1, "done", "t1", "");
+  stop = true;
+  EXPECT_THROW(journal.append(1, "done", "t2", ""), ConfigError);
+  EXPECT_THROW(
+      journal.appendWhileLocked(1, "finished", "-", "", [](const std::vector<JournalEntry>&) {}),
+      ConfigError);
+  ASSERT_EQ(journal.read().size(), 2u);
+  EXPECT_EQ(journal.read()[1].tile, "t1");
+  fs::remove(path);
+  fs::remove(aside);
+}
+
 TEST(Journal, ALineCutShortByACrashIsIgnored) {
   const fs::path path = scratch("cut");
   const Journal journal(path.string());
