@@ -563,7 +563,7 @@ bool checkConfiguration(const BatchSettings& s, Journal& journal, const RunLog& 
 // indices; journalRead: the journal's bytes it read.
 std::string planRun(const BatchSettings& s, const Cluster& cluster, Journal& journal,
                     BatchReport& report, std::uint64_t& journalRead, const RunLog& log) {
-  report.tiles = readManifest(s.manifest);
+  report.tiles = readManifest(s.manifest, s.tile.run.weightType != WeightType::None);
   checkTiles(s, report.tiles);
   prepareOutputDirectory(s);
   report.run = journal.startRun(

@@ -16,6 +16,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
+constexpr const char* kWeightSuffix = ".weight";
+
+bool endsWith(const std::string& s, const std::string& end) {
+  return s.size() >= end.size() && s.compare(s.size() - end.size(), end.size(), end) == 0;
+}
+
 bool isGlobPattern(const std::string& s) {
   return s.find_first_of("*?[") != std::string::npos;
 }
@@ -67,17 +73,25 @@ bool readable(const std::string& path) {
 
 }  // namespace
 
-std::vector<Tile> readManifest(const std::string& manifestOrGlob) {
+std::vector<Tile> readManifest(const std::string& manifestOrGlob, bool globWeights) {
   std::vector<Tile> tiles;
   std::error_code ec;
   std::string where = manifestOrGlob;
   if (!fs::exists(manifestOrGlob, ec) && isGlobPattern(manifestOrGlob)) {
     glob_t found{};
     const int status = ::glob(manifestOrGlob.c_str(), 0, nullptr, &found);
+    const std::size_t matched = status == 0 ? found.gl_pathc : 0;
     for (std::size_t i = 0; status == 0 && i < found.gl_pathc; ++i) {
       Tile t;
       t.imagePath = found.gl_pathv[i];
       t.name = tileNameOf(t.imagePath);
+      // NAME.weight.fits is NAME.fits's weight map (as `simulate field` writes them), not a tile.
+      if (endsWith(t.name, kWeightSuffix)) continue;
+      if (globWeights) {
+        t.weightPath =
+            (fs::path(t.imagePath).parent_path() / (t.name + kWeightSuffix + std::string(".fits")))
+                .string();
+      }
       tiles.push_back(std::move(t));
     }
     ::globfree(&found);
@@ -88,9 +102,19 @@ std::vector<Tile> readManifest(const std::string& manifestOrGlob) {
                           " holds a control character");
       }
       if (!readable(t.imagePath)) throw ConfigError(t.imagePath + ": cannot be read");
+      if (t.weightPath.empty()) continue;
+      if (!fs::exists(t.weightPath, ec)) {
+        throw ConfigError(manifestOrGlob + ": " + t.imagePath + " has no weight map " +
+                          t.weightPath + " beside it, and WEIGHT_TYPE is not NONE");
+      }
+      if (!readable(t.weightPath)) throw ConfigError(t.weightPath + ": cannot be read");
     }
     std::sort(tiles.begin(), tiles.end(),
               [](const Tile& a, const Tile& b) { return a.imagePath < b.imagePath; });
+    if (tiles.empty() && matched > 0) {
+      throw ConfigError(manifestOrGlob +
+                        ": only weight maps (NAME.weight.fits) match the pattern, no image");
+    }
     if (tiles.empty()) throw ConfigError(manifestOrGlob + ": no file matches the pattern");
   } else {
     std::ifstream in(manifestOrGlob);

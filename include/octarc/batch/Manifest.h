@@ -12,7 +12,8 @@
 // .fts, .fz) ending; names must differ.
 //
 // Instead of a manifest, a glob pattern of images ('tiles/*.fits', quoted so that the shell
-// leaves it alone), in sorted order, with no weight, mask or catalog.
+// leaves it alone), in sorted order, with no mask or catalog. The weight map of NAME.fits is
+// NAME.weight.fits beside it (as `octarc simulate field` writes them), never a tile itself.
 #pragma once
 
 #include <string>
@@ -30,9 +31,11 @@ struct Tile {
 };
 
 // The tiles of `manifestOrGlob`. ConfigError naming the manifest and line ("survey.txt:4: ...")
-// for a missing or unreadable file, a repeated image or tile name, too many fields, or a
-// manifest (or glob) of no tile; IoError when the manifest itself cannot be read. Masks are
-// only opened here; the batch parses them against their images before any tile is searched.
-std::vector<Tile> readManifest(const std::string& manifestOrGlob);
+// for a missing or unreadable file (a glob's weight map included), a repeated image or tile name,
+// too many fields, or a manifest (or glob) of no tile; IoError when the manifest itself cannot be
+// read. Masks are only opened here; the batch parses them against their images before any tile is
+// searched. globWeights (WEIGHT_TYPE is not NONE): a glob's tiles take their weight maps, which
+// must be there; else they have none.
+std::vector<Tile> readManifest(const std::string& manifestOrGlob, bool globWeights = false);
 
 }  // namespace octarc

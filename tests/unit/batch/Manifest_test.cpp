@@ -62,16 +62,35 @@ TEST_F(ManifestTest, BlankSeparatedFieldsAndAbsolutePaths) {
   EXPECT_EQ(tiles[1].name, "other");
 }
 
-TEST_F(ManifestTest, GlobOfImagesInSortedOrder) {
+TEST_F(ManifestTest, GlobOfImagesInSortedOrderWithoutTheWeightMaps) {
   const std::vector<Tile> tiles = readManifest((dir_ / "tiles" / "*.fit*").string());
-  ASSERT_EQ(tiles.size(), 4u);  // a.fits, a.weight.fits, b.fits.fz, c.fit
+  ASSERT_EQ(tiles.size(), 3u);  // a.fits, b.fits.fz, c.fit; a.weight.fits is a's weight map
   EXPECT_EQ(tiles[0].name, "a");
-  EXPECT_EQ(tiles[1].name, "a.weight");
-  EXPECT_EQ(tiles[2].name, "b");
-  EXPECT_EQ(tiles[3].name, "c");
+  EXPECT_EQ(tiles[1].name, "b");
+  EXPECT_EQ(tiles[2].name, "c");
   EXPECT_EQ(tiles[0].line, 0);
+  EXPECT_EQ(tiles[0].weightPath, "");  // no weights asked for
   test::expectError<ConfigError>([&] { readManifest((dir_ / "none" / "*.fits").string()); },
                                  {"no file matches"});
+  test::expectError<ConfigError>([&] { readManifest((dir_ / "tiles" / "*.weight.*").string()); },
+                                 {"*.weight.*: only weight maps", "no image"});
+}
+
+TEST_F(ManifestTest, GlobPairsEachImageWithTheWeightMapBesideIt) {
+  fs::create_directories(dir_ / "sim");
+  for (const char* f : {"sim/f1.fits", "sim/f1.weight.fits", "sim/f2.fits", "sim/f2.weight.fits"}) {
+    writeTextFile(dir_ / f, "x");
+  }
+  const std::vector<Tile> tiles = readManifest((dir_ / "sim" / "*.fits").string(), true);
+  ASSERT_EQ(tiles.size(), 2u);
+  EXPECT_EQ(tiles[0].imagePath, (dir_ / "sim/f1.fits").string());
+  EXPECT_EQ(tiles[0].weightPath, (dir_ / "sim/f1.weight.fits").string());
+  EXPECT_EQ(tiles[1].imagePath, (dir_ / "sim/f2.fits").string());
+  EXPECT_EQ(tiles[1].weightPath, (dir_ / "sim/f2.weight.fits").string());
+  // b.fits.fz and c.fit have none.
+  test::expectError<ConfigError>(
+      [&] { readManifest((dir_ / "tiles" / "*.fit*").string(), true); },
+      {(dir_ / "tiles/b.fits.fz").string(), "has no weight map", "b.weight.fits"});
 }
 
 TEST_F(ManifestTest, BadLinesAreNamedByLine) {
