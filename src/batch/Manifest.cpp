@@ -41,26 +41,64 @@ std::string tileNameOf(const std::string& imagePath) {
   return name;
 }
 
-// Fields of one line: commas separate when there is one, else blanks.
-std::vector<std::string> splitFields(const std::string& line) {
-  std::vector<std::string> fields;
-  const bool csv = line.find(',') != std::string::npos;
-  std::string field;
-  auto flush = [&](bool always) {
-    const std::size_t a = field.find_first_not_of(" \t\r");
-    const std::size_t b = field.find_last_not_of(" \t\r");
-    std::string trimmed = a == std::string::npos ? "" : field.substr(a, b - a + 1);
-    if (always || !trimmed.empty()) fields.push_back(trimmed);
-    field.clear();
-  };
+bool isBlank(char c) {
+  return c == ' ' || c == '\t' || c == '\r';
+}
+
+// Fields of one line: commas separate when there is one outside quotes, else blanks. A field
+// may be quoted (RFC 4180): "a, b#1.fits" holds its commas, blanks and '#', and "" in it is a
+// quote. `at` starts the error messages ("survey.csv:4: ").
+std::vector<std::string> splitFields(const std::string& line, const std::string& at) {
+  bool csv = false, quoted = false;
   for (const char c : line) {
-    if (csv ? c == ',' : (c == ' ' || c == '\t')) {
-      flush(csv);
-    } else {
-      field += c;
-    }
+    if (c == '"') quoted = !quoted;  // "" inside a quote toggles twice
+    if (c == ',' && !quoted) csv = true;
   }
-  flush(csv);
+  if (quoted) throw ConfigError(at + "a quote (\") is not closed");
+  const auto separator = [&](char c) { return csv ? c == ',' : isBlank(c); };
+  std::vector<std::string> fields;
+  std::size_t i = 0;
+  const std::size_t n = line.size();
+  const auto skipBlanks = [&] {
+    while (i < n && isBlank(line[i])) ++i;
+  };
+  for (;;) {
+    skipBlanks();
+    if (i == n && !csv) break;  // blanks separate: no field after the last blank
+    std::string field;
+    if (i < n && line[i] == '"') {
+      for (++i;; ++i) {
+        if (line[i] == '"' && i + 1 < n && line[i + 1] == '"') {
+          field += '"';
+          ++i;
+        } else if (line[i] == '"') {
+          ++i;
+          break;
+        } else {
+          field += line[i];
+        }
+      }
+      const std::size_t closed = i;
+      skipBlanks();
+      // Then the line's end, or a separator: a comma, or (blank-separated) the blanks skipped.
+      if (i < n && !(csv ? line[i] == ',' : i > closed)) {
+        throw ConfigError(at + "text after a closing quote: quote the whole field");
+      }
+    } else {
+      while (i < n && !separator(line[i])) {
+        if (line[i] == '"') {
+          throw ConfigError(at +
+                            "a quote inside a field: quote the whole "
+                            "field, \"\" for a quote");
+        }
+        field += line[i++];
+      }
+      while (!field.empty() && isBlank(field.back())) field.pop_back();
+    }
+    fields.push_back(field);
+    if (i == n) break;
+    if (csv) ++i;  // past the comma
+  }
   return fields;
 }
 
@@ -126,11 +164,12 @@ std::vector<Tile> readManifest(const std::string& manifestOrGlob, bool globWeigh
     };
     std::string line;
     for (int n = 1; std::getline(in, line); ++n) {
-      const std::size_t hash = line.find('#');
-      if (hash != std::string::npos) line.resize(hash);
-      const std::vector<std::string> f = splitFields(line);
-      if (f.empty() || (f.size() == 1 && f[0].empty())) continue;
+      // A comment is a line of its own: elsewhere '#' may be part of a path.
+      const std::size_t first = line.find_first_not_of(" \t\r");
+      if (first == std::string::npos || line[first] == '#') continue;
       const std::string at = manifestOrGlob + ":" + std::to_string(n) + ": ";
+      const std::vector<std::string> f = splitFields(line, at);
+      if (f.empty() || (f.size() == 1 && f[0].empty())) continue;
       for (const std::string& field : f) {
         if (hasControlCharacter(field)) throw ConfigError(at + "holds a control character");
       }

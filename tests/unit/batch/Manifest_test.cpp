@@ -93,6 +93,43 @@ TEST_F(ManifestTest, GlobPairsEachImageWithTheWeightMapBesideIt) {
       {(dir_ / "tiles/b.fits.fz").string(), "has no weight map", "b.weight.fits"});
 }
 
+// RFC 4180 quoting: a quoted field holds commas, blanks, '#' and "" for a quote; a comment is a
+// line of its own.
+TEST_F(ManifestTest, QuotedPathsWithBlanksCommasHashesAndQuotes) {
+  for (const char* f : {"tiles/a b.fits", "tiles/c,d.fits", "tiles/e#1.fits",
+                        "tiles/say \"hi\".fits", "tiles/w, 1.fits"}) {
+    writeTextFile(dir_ / f, "x");
+  }
+  const std::vector<Tile> tiles =
+      readManifest(manifest("image,weight\n"
+                            "\"tiles/a b.fits\", \"tiles/w, 1.fits\"\n"
+                            "  # a comment, with \"an open quote\n"
+                            "\"tiles/c,d.fits\",-\n"
+                            "tiles/e#1.fits\n"
+                            "\"tiles/say \"\"hi\"\".fits\"   \"tiles/a.reg\"\n"));
+  ASSERT_EQ(tiles.size(), 4u);
+  EXPECT_EQ(tiles[0].imagePath, (dir_ / "tiles/a b.fits").string());
+  EXPECT_EQ(tiles[0].weightPath, (dir_ / "tiles/w, 1.fits").string());
+  EXPECT_EQ(tiles[0].name, "a b");
+  EXPECT_EQ(tiles[1].imagePath, (dir_ / "tiles/c,d.fits").string());
+  EXPECT_EQ(tiles[1].line, 4);
+  EXPECT_EQ(tiles[1].weightPath, "");
+  EXPECT_EQ(tiles[2].imagePath, (dir_ / "tiles/e#1.fits").string());
+  // Blank-separated, quoted.
+  EXPECT_EQ(tiles[3].imagePath, (dir_ / "tiles/say \"hi\".fits").string());
+  EXPECT_EQ(tiles[3].weightPath, (dir_ / "tiles/a.reg").string());
+}
+
+TEST_F(ManifestTest, BadQuotesAreNamedByLine) {
+  test::expectError<ConfigError>(
+      [&] { readManifest(manifest("tiles/a.fits\n\"tiles/a b.fits\n")); },
+      {"survey.txt:2: ", "a quote (\") is not closed"});
+  test::expectError<ConfigError>([&] { readManifest(manifest("\"tiles/a\".fits,-\n")); },
+                                 {"survey.txt:1: ", "text after a closing quote"});
+  test::expectError<ConfigError>([&] { readManifest(manifest("tiles/a\"\"b.fits\n")); },
+                                 {"survey.txt:1: ", "a quote inside a field"});
+}
+
 TEST_F(ManifestTest, BadLinesAreNamedByLine) {
   test::expectError<ConfigError>(
       [&] { readManifest(manifest("tiles/a.fits\ntiles/a.fits,tiles/missing.fits\n")); },
