@@ -777,13 +777,18 @@ void mergeSurvey(const BatchSettings& s, BatchReport& report,
 }
 
 // What a signal leaves on disk, said on the line it prints (core/Interrupt.h): the tiles this run
-// journaled, the survey outputs or not. Only the root knows them; the other ranks say so.
+// journaled, the survey outputs or not. Only the root knows them; the other ranks point to the
+// journal.
 void accountOnInterrupt(const BatchSettings& s, const Cluster& cluster) {
   PiecesAccount account;
   if (!cluster.isRoot()) {
-    account.before = " (rank " + std::to_string(cluster.rank()) +
-                     "): its tile in progress is left to a rerun; the first rank's line says "
-                     "what is kept";
+    // Said whole here: mpirun may kill the first rank before it prints its own line.
+    account.before =
+        " (rank " + std::to_string(cluster.rank()) +
+        "): its tile in progress is left to a rerun; the tiles with a `done` line in " +
+        s.outputDir +
+        "/journal.txt are kept (run the same command again to resume "
+        "from them)";
     account.counted = false;
   } else {
     account.before = "; this run searched and journaled ";

@@ -6,6 +6,7 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstring>
@@ -44,8 +45,21 @@ std::atomic<bool> gNextOutputsFinal{false};
 std::atomic<bool> gFinalOutputsWritten{false};
 bool gStderrIsTerminal = false;
 
+// The line a signal prints, put together first and written at once: the ranks of an MPI job
+// share one stderr, and lines written piece by piece would interleave there. A pipe takes a
+// write of up to 4096 bytes whole.
+char gLine[4096];
+std::size_t gLineBytes = 0;
+
 void writeText(const char* text) {
-  std::size_t left = std::strlen(text);
+  const std::size_t n = std::min(std::strlen(text), sizeof gLine - gLineBytes);
+  std::memcpy(gLine + gLineBytes, text, n);
+  gLineBytes += n;
+}
+
+void flushLine() {
+  const char* text = gLine;
+  std::size_t left = gLineBytes;
   while (left > 0) {
     const ssize_t n = ::write(STDERR_FILENO, text, left);
     if (n <= 0) return;
@@ -170,6 +184,7 @@ void removeTreeAt(int parentFd, const char* name, int depth) {
   } else {
     writeText("; no output written\n");
   }
+  flushLine();
   ::_exit(128 + sig);
 }
 

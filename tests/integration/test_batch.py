@@ -395,6 +395,38 @@ class BatchResume(BatchFixture):
         assert_same_tables(self, os.path.join(self.reference, "candidates.fits"),
                            os.path.join(out, "candidates.fits"))
 
+    def test_every_rank_signalled_says_what_is_kept(self):
+        # SIGTERM to each rank, as scancel sends it: the first rank counts the journal's tiles,
+        # the other points to them.
+        out = self.path("terminated")
+        args = ["batch", self.manifest, *self.config(out, "-NTHREADS", "1")]
+        require_program("mpirun")
+        proc = subprocess.Popen(mpi_command(2, *args), stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE, env=mpi_env(), text=True)
+        ranks = []
+        deadline = time.time() + 120
+        while time.time() < deadline and proc.poll() is None and not ranks:
+            if os.path.exists(os.path.join(out, "journal.txt")) and any(
+                    e[2] == "done" for e in journal(out)):
+                ranks = [rank_process(out, 0), rank_process(out, 1)]
+                self.assertNotIn(None, ranks)
+                for pid in ranks:
+                    os.kill(pid, signal.SIGTERM)
+            time.sleep(0.01)
+        _, err = proc.communicate(timeout=120)
+        self.assertTrue(ranks, "the ranks were not found running")
+        done = len([e for e in journal(out) if e[2] == "done"])
+        self.assertLess(done, 8)
+        self.assertIn("octarc batch: interrupted by SIGTERM; this run searched and journaled %d "
+                      "tile(s), kept in %s/tiles (run the same command again to resume from "
+                      "them); it wrote no survey output (candidates.fits, summary.txt, "
+                      "index.html); nothing half-written is left\n" % (done, out), err)
+        self.assertIn("octarc batch: interrupted by SIGTERM (rank 1): its tile in progress is "
+                      "left to a rerun; the tiles with a `done` line in %s/journal.txt are kept "
+                      "(run the same command again to resume from them)\n" % out, err)
+        self.assertFalse(os.path.exists(os.path.join(out, "candidates.fits")))
+        self.assertEqual(temporaries(out), [])
+
     def test_searched_area_cards_out_of_their_range_are_refused(self):
         # A finished batch run again merges its tiles' searched areas from their area.fits:
         # a card no search writes stops the merge, naming the file and the card.
