@@ -521,7 +521,8 @@ std::string setEarlierRunsAside(const BatchSettings& s) {
 // that differ, or with RESTART Y the earlier runs' files set aside (returns true: a new
 // journal). Then every later line of this run checks that it still is (another run may set
 // them aside).
-bool checkConfiguration(const BatchSettings& s, Journal& journal, const RunLog& log) {
+bool checkConfiguration(const BatchSettings& s, Journal& journal,
+                        const std::vector<JournalEntry>& entries, const RunLog& log) {
   const std::string path = (fs::path(s.outputDir) / kConfigurationFile).string();
   const std::vector<ConfigurationItem> current = currentConfiguration(s);
   const std::string text = formatConfiguration(current);
@@ -536,7 +537,13 @@ bool checkConfiguration(const BatchSettings& s, Journal& journal, const RunLog& 
   });
   std::error_code ec;
   if (!fs::exists(path, ec)) {
-    // A new OUTPUT_DIR (or one of a version that kept no configuration): this one's.
+    // A new OUTPUT_DIR, or one of an octarc that kept no configuration: this one's.
+    const std::size_t earlier = completedTiles(entries).size();
+    if (earlier > 0 && log) {
+      log("WARNING: octarc batch: OUTPUT_DIR " + s.outputDir + " holds " + std::to_string(earlier) +
+          " tile(s) done by runs that recorded no configuration (an earlier octarc): they are "
+          "kept as if searched with this run's");
+    }
     writeConfiguration(path, text);
     return false;
   }
@@ -566,10 +573,11 @@ std::string planRun(const BatchSettings& s, const Cluster& cluster, Journal& jou
   report.tiles = readManifest(s.manifest, s.tile.run.weightType != WeightType::None);
   checkTiles(s, report.tiles);
   prepareOutputDirectory(s);
-  report.run = journal.startRun(
-      std::to_string(report.tiles.size()) + " tiles, " + std::to_string(cluster.size()) +
-          " rank(s), " + shareText(s),
-      [&](const std::vector<JournalEntry>&) { return checkConfiguration(s, journal, log); });
+  report.run = journal.startRun(std::to_string(report.tiles.size()) + " tiles, " +
+                                    std::to_string(cluster.size()) + " rank(s), " + shareText(s),
+                                [&](const std::vector<JournalEntry>& entries) {
+                                  return checkConfiguration(s, journal, entries, log);
+                                });
   // Read once the configuration is checked (RESTART Y may start a new journal); the claims
   // follow the lines appended after these.
   const std::set<std::string> done = completedTiles(journal.readFrom(journalRead));

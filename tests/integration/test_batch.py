@@ -655,6 +655,14 @@ class BatchSharing(WorkDirTest):
             self.assertEqual(proc.returncode, 0, proc.stderr)
             self.assertIn("0 done, 0 failed, 6 skipped", proc.stdout)
 
+        # A directory of an octarc that kept no configuration takes this run's, with a warning.
+        os.remove(os.path.join(out, "configuration.txt"))
+        proc = self.run_task(out, not_in_slurm())
+        self.assertIn("WARNING: octarc batch: OUTPUT_DIR %s holds 6 tile(s) done by runs that "
+                      "recorded no configuration" % out, proc.stderr)
+        self.assertIn("DETECT_THRESH\t2.5\t2.5\n",
+                      read_text(os.path.join(out, "configuration.txt")))
+
         # RESTART Y: the earlier runs' files set aside, the user's own left, a new journal.
         with open(os.path.join(out, "notes.txt"), "w") as f:
             f.write("mine")
