@@ -28,8 +28,9 @@ std::string shown(const ConfigurationItem& item) {
 }  // namespace
 
 bool keyLeavesTilesAlone(const std::string& key) {
-  static const std::set<std::string> keys = {"NTHREADS",   "VERBOSE_TYPE", "ARRAY_TASK",  "RESTART",
-                                             "OUTPUT_DIR", "MATCH_RADIUS", "CATALOG_TYPE"};
+  static const std::set<std::string> keys = {"NTHREADS",     "VERBOSE_TYPE", "ARRAY_TASK",
+                                             "RESTART",      "OUTPUT_DIR",   "MATCH_RADIUS",
+                                             "CATALOG_TYPE", "CATALOG_NAME", "CHECKIMAGE_NAME"};
   return keys.count(key) > 0;
 }
 

@@ -649,7 +649,8 @@ class BatchSharing(WorkDirTest):
         self.assertIn("GRID_NAME %s (content " % GRID, refused("-GRID_NAME", changed_grid))
         # Keys that do not change a tile's search, and a copy of the grid: the tiles are kept.
         for more in (("-NTHREADS", "2", "-MATCH_RADIUS", "2", "-VERBOSE_TYPE", "NORMAL",
-                      "-CATALOG_TYPE", "FITS_1.0"), ("-GRID_NAME", grid_copy)):
+                      "-CATALOG_TYPE", "FITS_1.0", "-CATALOG_NAME", "other.ldac"),
+                     ("-GRID_NAME", grid_copy)):
             proc = subprocess.run(self.command(out, *more), capture_output=True, text=True,
                                   env=not_in_slurm())
             self.assertEqual(proc.returncode, 0, proc.stderr)

@@ -27,7 +27,8 @@ struct ConfigurationItem {
 
 // The keys that do not change a tile's search: how it runs (NTHREADS, VERBOSE_TYPE), which run
 // does it (ARRAY_TASK, RESTART), where (OUTPUT_DIR), and what only the survey's merge uses
-// (MATCH_RADIUS, CATALOG_TYPE: it is redone by the run that writes the survey).
+// (MATCH_RADIUS, CATALOG_TYPE: it is redone by the run that writes the survey), and the names
+// of outputs a batch does not write (CATALOG_NAME, CHECKIMAGE_NAME).
 bool keyLeavesTilesAlone(const std::string& key);
 
 // Every key of `schema` that changes a tile's search (not keyLeavesTilesAlone, nor ignored by

@@ -38,7 +38,7 @@ TEST(BatchConfiguration, TheValuesAreThoseOfTheKeysThatChangeATilesSearch) {
   EXPECT_EQ(items[1].key, "SEARCH_SPACE");
   EXPECT_EQ(items[1].value, "a, b");
   for (const char* k : {"NTHREADS", "VERBOSE_TYPE", "ARRAY_TASK", "RESTART", "OUTPUT_DIR",
-                        "MATCH_RADIUS", "CATALOG_TYPE"}) {
+                        "MATCH_RADIUS", "CATALOG_TYPE", "CATALOG_NAME", "CHECKIMAGE_NAME"}) {
     EXPECT_TRUE(keyLeavesTilesAlone(k)) << k;
   }
   for (const char* k : {"DETECT_THRESH", "GRID_NAME", "WEIGHT_TYPE", "STAMPS"}) {
