@@ -122,7 +122,11 @@ void prepareOutputDirectory(const BatchSettings& s) {
   fs::create_directories(out, ec);
   if (ec) throw IoError("OUTPUT_DIR " + s.outputDir + ": cannot create (" + ec.message() + ")");
   for (int attempt = 0; !holdsMarker(s.outputDir, kBatchMarkerFile, kBatchMarkerText); ++attempt) {
-    if (attempt < 200 && markerBeingWritten(marker)) {
+    // Another batch may have made the marker (and its first folders) since the test above: the
+    // directory is then not empty, and the marker being written or complete says whose it is.
+    const bool anotherBatch =
+        markerBeingWritten(marker) || holdsMarker(s.outputDir, kBatchMarkerFile, kBatchMarkerText);
+    if (attempt < 200 && anotherBatch) {
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
       continue;
     }

@@ -83,13 +83,18 @@ bool createFileExclusive(const std::string& path, const std::string& text) {
     const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
-      const int e = errno;
+      const int e = n < 0 ? errno : EIO;  // a write of 0 bytes sets no errno
       ::close(fd);
+      ::unlink(path.c_str());  // no partial file for the next process to wait on
       throw IoError(path + ": cannot write (" + std::strerror(e) + ")");
     }
     done += std::size_t(n);
   }
-  if (::close(fd) != 0) throw IoError(path + ": cannot write (" + std::strerror(errno) + ")");
+  if (::close(fd) != 0) {
+    const int e = errno;
+    ::unlink(path.c_str());
+    throw IoError(path + ": cannot write (" + std::strerror(e) + ")");
+  }
   return true;
 }
 
