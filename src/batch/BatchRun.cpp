@@ -40,10 +40,21 @@ namespace {
 constexpr const char* kAreaFile = "area.fits";
 constexpr const char* kClaimsFolder = "claims";
 constexpr const char* kConfigurationFile = "configuration.txt";
-// What RESTART Y sets aside into OUTPUT_DIR/earlier-N: the batch's own files, never others.
-// The claims stay, as other runs may hold them (batch/Journal.h).
-constexpr const char* kEarlierRunFiles[] = {"journal.txt",     "configuration.txt", "tiles",
-                                            "candidates.fits", "summary.txt",       "index.html"};
+// The survey outputs, written together once every tile is done or failed.
+constexpr const char* kSurveyOutputFiles[] = {"candidates.fits", "summary.txt",
+                                              "index.html",      "candidates.html",
+                                              "candidates.reg",  "candidates.cat"};
+// What RESTART Y sets aside into OUTPUT_DIR/earlier-N: the batch's own files (these and the
+// survey outputs), never others. The claims stay, as other runs may hold them (batch/Journal.h).
+constexpr const char* kEarlierRunFiles[] = {"journal.txt", "configuration.txt", "tiles"};
+
+// "candidates.fits, summary.txt, ...", for the messages.
+std::string surveyOutputList() {
+  std::string list;
+  for (const char* name : kSurveyOutputFiles)
+    list += (list.empty() ? "" : ", ") + std::string(name);
+  return list;
+}
 
 std::string tileFolder(const BatchSettings& s, const Tile& t) {
   return (fs::path(s.outputDir) / "tiles" / t.name).string();
@@ -377,10 +388,7 @@ std::vector<std::string> pageSummaryLines(const BatchSettings& s, const BatchRep
 
 void writeSurveyOutputs(const BatchSettings& s, const BatchReport& r) {
   OutputFiles outputs;
-  for (const char* name : {"candidates.fits", "summary.txt", "index.html", "candidates.html",
-                           "candidates.reg", "candidates.cat"}) {
-    outputs.add((fs::path(s.outputDir) / name).string());
-  }
+  for (const char* name : kSurveyOutputFiles) outputs.add((fs::path(s.outputDir) / name).string());
   FitsTable objects = r.survey.table;
   const SurveyCandidates& sv = r.survey;
   objects.keywords = {
@@ -507,7 +515,9 @@ std::string setEarlierRunsAside(const BatchSettings& s) {
     if (fs::create_directory(aside, ec)) break;
     if (ec) throw IoError(aside.string() + ": cannot create (" + ec.message() + ")");
   }
-  for (const char* name : kEarlierRunFiles) {
+  std::vector<std::string> names(std::begin(kEarlierRunFiles), std::end(kEarlierRunFiles));
+  names.insert(names.end(), std::begin(kSurveyOutputFiles), std::end(kSurveyOutputFiles));
+  for (const std::string& name : names) {
     if (!fs::exists(out / name, ec)) continue;
     fs::rename(out / name, aside / name, ec);
     if (ec) {
@@ -806,12 +816,10 @@ void accountOnInterrupt(const BatchSettings& s, const Cluster& cluster) {
     account.before = "; this run searched and journaled ";
     account.after = " tile(s), kept in " + s.outputDir +
                     "/tiles (run the same command again to resume from them); ";
-    account.finalWritten =
-        "it wrote the survey outputs (candidates.fits, summary.txt, index.html), complete; "
-        "nothing half-written is left";
+    account.finalWritten = "it wrote the survey outputs (" + surveyOutputList() +
+                           "), complete; nothing half-written is left";
     account.finalNotWritten =
-        "it wrote no survey output (candidates.fits, summary.txt, index.html); nothing "
-        "half-written is left";
+        "it wrote no survey output (" + surveyOutputList() + "); nothing half-written is left";
   }
   accountPiecesOnInterrupt(account);
 }

@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -69,12 +70,27 @@ int lockExclusive(int fd, bool wait) {
 class LockedJournal {
  public:
   explicit LockedJournal(const std::string& path) : path_(path) {
-    fd_ = ::open(path.c_str(), O_RDWR | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
-    if (fd_ < 0) throw IoError(path + ": cannot open the journal (" + std::strerror(errno) + ")");
-    if (lockExclusive(fd_, true) != 1) {
-      const int e = errno;
-      ::close(fd_);
-      throw IoError(path + ": cannot lock the journal (" + std::strerror(e) + ")");
+    // RESTART Y may move the journal aside while this run waits for its lock: the lock then
+    // holds the moved file, so it is taken again on the file the path names now.
+    for (;;) {
+      fd_ = ::open(path.c_str(), O_RDWR | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
+      if (fd_ < 0) {
+        throw IoError(path + ": cannot open the journal (" + std::strerror(errno) + ")");
+      }
+      if (lockExclusive(fd_, true) != 1) {
+        const int e = errno;
+        ::close(fd_);
+        throw IoError(path + ": cannot lock the journal (" + std::strerror(e) + ")");
+      }
+      struct stat locked {};
+      struct stat named {};
+      if (::fstat(fd_, &locked) != 0 || (::stat(path.c_str(), &named) != 0 && errno != ENOENT)) {
+        const int e = errno;
+        ::close(fd_);
+        throw IoError(path + ": cannot check the journal (" + std::strerror(e) + ")");
+      }
+      if (locked.st_dev == named.st_dev && locked.st_ino == named.st_ino) return;
+      ::close(fd_);  // moved or removed meanwhile (named then all zero): take the new one
     }
   }
   ~LockedJournal() { ::close(fd_); }  // closing releases the lock

@@ -384,11 +384,12 @@ class BatchResume(BatchFixture):
             err.decode().strip().splitlines()[-1],
             "octarc batch: interrupted by SIGINT; this run searched and journaled %d tile(s), "
             "kept in %s/tiles (run the same command again to resume from them); it wrote no "
-            "survey output (candidates.fits, summary.txt, index.html); nothing half-written is "
-            "left" % (len(first), out))
+            "survey output (candidates.fits, summary.txt, index.html, candidates.html, "
+            "candidates.reg, candidates.cat); nothing half-written is left" % (len(first), out))
         for name in first:
             self.assertTrue(os.path.exists(os.path.join(out, "tiles", name, "area.fits")), name)
-        for name in ("candidates.fits", "summary.txt", "index.html"):
+        for name in ("candidates.fits", "summary.txt", "index.html", "candidates.html",
+                     "candidates.reg", "candidates.cat"):
             self.assertFalse(os.path.exists(os.path.join(out, name)), name)
         proc = run_octarc("batch", self.manifest, *self.config(out))
         self.assertIn("%d done, 0 failed, %d skipped" % (8 - len(first), len(first)), proc.stdout)
@@ -420,7 +421,8 @@ class BatchResume(BatchFixture):
         self.assertIn("octarc batch: interrupted by SIGTERM; this run searched and journaled %d "
                       "tile(s), kept in %s/tiles (run the same command again to resume from "
                       "them); it wrote no survey output (candidates.fits, summary.txt, "
-                      "index.html); nothing half-written is left\n" % (done, out), err)
+                      "index.html, candidates.html, candidates.reg, candidates.cat); nothing "
+                      "half-written is left\n" % (done, out), err)
         self.assertIn("octarc batch: interrupted by SIGTERM (rank 1): its tile in progress is "
                       "left to a rerun; the tiles with a `done` line in %s/journal.txt are kept "
                       "(run the same command again to resume from them)\n" % out, err)
@@ -674,8 +676,9 @@ class BatchSharing(WorkDirTest):
         self.assertIn("6 done, 0 failed, 0 skipped", proc.stdout)
         aside = os.path.join(out, "earlier-1")
         self.assertEqual(sorted(os.listdir(aside)),
-                         ["candidates.fits", "configuration.txt", "index.html", "journal.txt",
-                          "summary.txt", "tiles"])
+                         ["candidates.cat", "candidates.fits", "candidates.html", "candidates.reg",
+                          "configuration.txt", "index.html", "journal.txt", "summary.txt",
+                          "tiles"])
         self.assertEqual(read_text(os.path.join(aside, "journal.txt")), earlier_journal)
         self.assertEqual(sorted(os.listdir(os.path.join(aside, "tiles"))), sorted(self.tiles))
         self.assertIn("DETECT_THRESH\t2.5\t2.5\n",

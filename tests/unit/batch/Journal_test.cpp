@@ -6,8 +6,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include "TestFiles.h"
 #include "octarc/core/Error.h"
@@ -91,6 +94,36 @@ TEST(Journal, AJournalSetAsideBeforeTheStartIsFollowedByANewOne) {
       ConfigError);
   ASSERT_EQ(journal.read().size(), 2u);
   EXPECT_EQ(journal.read()[1].tile, "t1");
+  fs::remove(path);
+  fs::remove(aside);
+}
+
+// A run waiting for the lock while another moves the journal aside (RESTART Y) writes its line
+// into the journal the path names afterwards, not into the moved one. The other run holds the
+// lock for 200 ms after the waiter has started: long enough for it to be waiting on the file.
+TEST(Journal, ALineWaitingWhileTheJournalIsMovedGoesToTheNewOne) {
+  const fs::path path = scratch("moved");
+  const fs::path aside = scratch("moved.earlier");
+  Journal journal(path.string());
+  journal.startRun("run 1");
+  std::atomic<bool> started{false};
+  std::thread waiter;
+  journal.appendWhileLocked(1, "done", "t1", "", [&](const std::vector<JournalEntry>&) {
+    waiter = std::thread([&] {
+      started = true;
+      Journal(path.string()).append(2, "done", "t2", "");
+    });
+    while (!started) std::this_thread::yield();
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    fs::rename(path, aside);
+  });
+  waiter.join();
+  const std::vector<JournalEntry> moved = Journal(aside.string()).read();
+  ASSERT_EQ(moved.size(), 2u);
+  EXPECT_EQ(moved[1].tile, "t1");
+  const std::vector<JournalEntry> current = journal.read();
+  ASSERT_EQ(current.size(), 1u);
+  EXPECT_EQ(current[0].tile, "t2");
   fs::remove(path);
   fs::remove(aside);
 }
