@@ -92,10 +92,13 @@ FitsHeader cutoutHeader(const FitsHeader& imageHeader, const Stamp& stamp) {
   for (const auto& [key, shift] : {std::pair{"CRPIX1", dx}, std::pair{"CRPIX2", dy}}) {
     if (const std::optional<double> v = h.number(key)) h.set(key, fitsRealValue(*v - shift, 17));
   }
-  h.set("LTV1", fitsRealValue(-dx, 17), "physical = image - LTV: the whole image's pixels");
-  h.set("LTV2", fitsRealValue(-dy, 17));
-  h.set("LTM1_1", "1.0");
-  h.set("LTM2_2", "1.0");
+  // IRAF's image = LTM physical + LTV: the cut-out's image pixels drop by dx, so LTV does,
+  // from the image's own (a cut-out of a cut-out keeps the first one's physical pixels).
+  const double ltv1 = h.number("LTV1").value_or(0.0), ltv2 = h.number("LTV2").value_or(0.0);
+  h.set("LTV1", fitsRealValue(ltv1 - dx, 17), "physical = (image - LTV) / LTM");
+  h.set("LTV2", fitsRealValue(ltv2 - dy, 17));
+  if (!h.number("LTM1_1")) h.set("LTM1_1", "1.0");
+  if (!h.number("LTM2_2")) h.set("LTM2_2", "1.0");
   return h;
 }
 

@@ -157,6 +157,12 @@ TEST(Inspection, CutoutHeaderShiftsTheWcsToTheCutout) {
   EXPECT_EQ(cut.number("LTV1"), -7.0);
   EXPECT_EQ(cut.number("LTV2"), -17.0);
   EXPECT_EQ(cut.number("LTM1_1"), 1.0);
+  // A cut-out of that cut-out: its pixel (1, 1) is the first one's (8, 18), i.e. the image's
+  // (15, 35): physical = image - LTV with LTV = -14, -34.
+  const FitsHeader again = cutoutHeader(cut, stamp);
+  EXPECT_EQ(again.number("LTV1"), -14.0);
+  EXPECT_EQ(again.number("LTV2"), -34.0);
+  EXPECT_EQ(again.number("CRPIX1"), 36.5);
   // Without a WCS, none is made up.
   EXPECT_FALSE(cutoutHeader(FitsHeader(), stamp).has("CRPIX1"));
 }
