@@ -3,6 +3,7 @@
 its curves added up over the fields.
 
     scripts/inject-study.py [--seeds 20] [--first-seed 401] [--lenses 12] [--size 2048]
+                            [--set KEY=VALUE]... [--lens-mag-offset 0]
                             [--octarc build/release/bin/octarc]
 
 For each seed it simulates a field without lenses (`octarc simulate field`, the demo's setup:
@@ -12,7 +13,14 @@ methods are measured on the same injections. The fields' lists (each run's candi
 injected.truth.txt) are then pooled: a lens's score is the highest LENS_SCORE among its
 candidates in the injected image, the spurious candidates are those of the fields as they are,
 and the threshold is lowered until they reach each density per deg2 of all the fields' area.
-Prints the Markdown table of the README ("Completeness by injection, built in")."""
+Prints the Markdown table of the README ("Completeness by injection, built in").
+
+--set KEY=VALUE adds `-KEY VALUE` to the inject command (e.g. LENS_LIGHT=LOCAL, SNR_MIN=20),
+after the study's own keys. --lens-mag-offset D injects the same
+lenses with their light D magnitudes fainter (a copy of the dls population with
+lens.fj.abs_mag_star, lens.mag_min and lens.mag_max moved by D, so that the same systems are
+drawn): with D = 10 the lenses are dark, and the completeness over every candidate is what a
+perfect removal of the lens light would leave to the selection."""
 import argparse
 import os
 import subprocess
@@ -60,12 +68,30 @@ def completeness_at(spurious, best, area_deg2, per_deg2):
     return found, int((np.asarray(spurious) >= threshold).sum())
 
 
+def shifted_population(path, offset_mag):
+    """The dls population with every lens `offset_mag` fainter, written to `path`."""
+    keys = ("lens.fj.abs_mag_star", "lens.mag_min", "lens.mag_max")
+    lines = []
+    with open(os.path.join(PARAMS, "simulation", "population-dls.txt")) as f:
+        for line in f:
+            key = line.split("=")[0].strip()
+            if key in keys:
+                value = float(line.split("=")[1].split("#")[0]) + offset_mag
+                line = "%s = %.6g\n" % (key, value)
+            lines.append(line)
+    with open(path, "w") as f:
+        f.writelines(lines)
+    return path
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seeds", type=int, default=20)
     parser.add_argument("--first-seed", type=int, default=401)
     parser.add_argument("--lenses", type=int, default=12)
     parser.add_argument("--size", type=int, default=2048)
+    parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    parser.add_argument("--lens-mag-offset", type=float, default=0.0)
     parser.add_argument("--octarc", default=os.path.join(HERE, "..", "build", "release", "bin",
                                                          "octarc"))
     args = parser.parse_args()
@@ -73,6 +99,14 @@ def main():
     systems = 0
     area_deg2 = 0.0
     with tempfile.TemporaryDirectory() as work:
+        extra = []
+        for setting in args.set:
+            key, _, value = setting.partition("=")
+            extra += ["-" + key, value]
+        if args.lens_mag_offset != 0:
+            extra += ["-INJECT_POPULATION",
+                      shifted_population(os.path.join(work, "population.txt"),
+                                         args.lens_mag_offset)]
         for seed in range(args.first_seed, args.first_seed + args.seeds):
             field = os.path.join(work, "f%d.fits" % seed)
             subprocess.run([args.octarc, "simulate", "field", "-o", field, "--size",
@@ -86,7 +120,7 @@ def main():
                             "-MODEL_NAME", os.path.join(PARAMS, "demo.model.fits"),
                             "-INJECT_NUMBER", str(args.lenses), "-INJECT_SEED", str(seed),
                             "-INJECT_DIR", folder, "-SEEING_FWHM", "0.9", "-MAG_ZEROPOINT", "30",
-                            "-GAIN", "54"], check=True, stdout=subprocess.DEVNULL,
+                            "-GAIN", "54", *extra], check=True, stdout=subprocess.DEVNULL,
                            stderr=subprocess.DEVNULL)
             field_lists, n = read_field(folder)
             systems += n
@@ -95,9 +129,11 @@ def main():
                 s, b = pooled.get(method, (np.array([]), np.array([])))
                 pooled[method] = (np.concatenate([s, spurious]), np.concatenate([b, best]))
             print("seed %d: %d lenses" % (seed, n), file=sys.stderr)
-    print("%d seeds (%d-%d) x %d injected lenses (theta_E >= 1.5\") in %dx%d fields, %.4f deg2\n"
+    print("%d seeds (%d-%d) x %d injected lenses (theta_E >= 1.5\") in %dx%d fields, %.4f deg2, "
+          "%s, lens light %+g mag\n"
           % (args.seeds, args.first_seed, args.first_seed + args.seeds - 1, args.lenses,
-             args.size, args.size, area_deg2))
+             args.size, args.size, area_deg2, " ".join(args.set) or "no key set",
+             args.lens_mag_offset))
     print("| method | " + " | ".join("<= %d / deg2" % v if v else "every candidate"
                                     for v in DENSITIES) + " |")
     print("|---|" + "---|" * len(DENSITIES))
