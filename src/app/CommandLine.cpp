@@ -179,13 +179,4 @@ std::string commandLineText(const std::string& command, const std::vector<std::s
   return text;
 }
 
-int addXmlOutput(const RunSettings& s, OutputFiles& outputs,
-                 const std::vector<NamedInput>& inputs) {
-  if (!s.writeXml) return -1;
-  const int index = int(outputs.size());
-  outputs.add(s.xmlName);
-  for (const NamedInput& in : inputs) refuseOutputOverInput(s.xmlName, "XML_NAME", in.path, in.key);
-  return index;
-}
-
 }  // namespace octarc

@@ -16,6 +16,7 @@
 #include "octarc/run/CatalogAssembly.h"
 #include "octarc/run/DetectionRun.h"
 #include "octarc/run/Levels.h"
+#include "octarc/run/MeasureJob.h"
 #include "octarc/run/PreparedImage.h"
 #include "octarc/run/RunKeys.h"
 #include "octarc/run/RunSettings.h"

@@ -69,11 +69,6 @@ struct LoadedRun {
 // "octarc <command> <args...>", as the XML run summary records it.
 std::string commandLineText(const std::string& command, const std::vector<std::string>& args);
 
-// WRITE_XML for a detect or measure run: registers XML_NAME with `outputs` (after the run's
-// other outputs), refusing it over any of `inputs`; returns its index, or -1 without WRITE_XML.
-int addXmlOutput(const RunSettings& settings, OutputFiles& outputs,
-                 const std::vector<NamedInput>& inputs);
-
 // Parses the arguments of `octarc <command>` (loadConfig with `schema`), loads the
 // configuration and returns the run's settings, or nullopt when the arguments only asked for a
 // flag. Configuration warnings go to stderr unless VERBOSE_TYPE is QUIET. `argumentName` names
