@@ -378,6 +378,11 @@ bool Config::isExplicit(std::string_view key) const {
   return find(key).isExplicit;
 }
 
+std::string Config::where(std::string_view key) const {
+  const Value& v = find(key);
+  return v.isExplicit ? v.where : std::string();
+}
+
 bool Config::givenWithoutValue(std::string_view key) const {
   return find(key).givenWithoutValue;
 }

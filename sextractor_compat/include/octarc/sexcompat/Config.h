@@ -68,6 +68,8 @@ class Config {
   bool has(std::string_view key) const;   // key is part of the schema
   // True when the value came from the configuration file or the command line.
   bool isExplicit(std::string_view key) const;
+  // Where the value was last set: "file:line" or "command line"; "" for the default.
+  std::string where(std::string_view key) const;
   // True when the key was last given as a list of no value with a comma in it ("COLOUR_CUT ,"),
   // which counts as not given (as in SExtractor), so that a key may refuse it.
   bool givenWithoutValue(std::string_view key) const;
