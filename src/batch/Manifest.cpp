@@ -111,11 +111,17 @@ bool readable(const std::string& path) {
 
 }  // namespace
 
-std::vector<Tile> readManifest(const std::string& manifestOrGlob, bool globWeights) {
+std::vector<Tile> readManifest(const std::string& manifestOrGlob, bool globWeights,
+                               ManifestRows rows) {
   std::vector<Tile> tiles;
   std::error_code ec;
-  std::string where = manifestOrGlob;
+  const bool measure = rows == ManifestRows::Measure;
   if (!fs::exists(manifestOrGlob, ec) && isGlobPattern(manifestOrGlob)) {
+    if (measure) {
+      throw ConfigError(manifestOrGlob +
+                        ": TASK MEASURE takes a manifest of IMAGE SEGMENTATION CATALOG [WEIGHT] "
+                        "rows, not a glob of images (each image needs its SExtractor outputs)");
+    }
     glob_t found{};
     const int status = ::glob(manifestOrGlob.c_str(), 0, nullptr, &found);
     const std::size_t matched = status == 0 ? found.gl_pathc : 0;
@@ -174,6 +180,10 @@ std::vector<Tile> readManifest(const std::string& manifestOrGlob, bool globWeigh
         if (hasControlCharacter(field)) throw ConfigError(at + "holds a control character");
       }
       if (tiles.empty() && lowercase(f[0]) == "image") continue;  // a CSV header
+      if (measure && (f.size() < 3 || f.size() > 4)) {
+        throw ConfigError(at + std::to_string(f.size()) + " field(s): give IMAGE SEGMENTATION " +
+                          "CATALOG [WEIGHT] (TASK MEASURE)");
+      }
       if (f.size() > 4) {
         throw ConfigError(at + "too many fields (" + std::to_string(f.size()) +
                           "): give IMAGE [WEIGHT [MASK [CATALOG]]]");
@@ -182,14 +192,24 @@ std::vector<Tile> readManifest(const std::string& manifestOrGlob, bool globWeigh
       Tile t;
       t.line = n;
       t.imagePath = resolve(f[0]);
-      t.weightPath = f.size() > 1 ? resolve(f[1]) : "";
-      t.maskPath = f.size() > 2 ? resolve(f[2]) : "";
-      t.catalogPath = f.size() > 3 ? resolve(f[3]) : "";
+      if (measure) {
+        t.segmentationPath = resolve(f[1]);
+        t.catalogPath = resolve(f[2]);
+        t.weightPath = f.size() > 3 ? resolve(f[3]) : "";
+        if (t.segmentationPath.empty()) throw ConfigError(at + "no segmentation image");
+        if (t.catalogPath.empty()) throw ConfigError(at + "no catalog");
+      } else {
+        t.weightPath = f.size() > 1 ? resolve(f[1]) : "";
+        t.maskPath = f.size() > 2 ? resolve(f[2]) : "";
+        t.catalogPath = f.size() > 3 ? resolve(f[3]) : "";
+      }
       t.name = tileNameOf(t.imagePath);
-      const std::pair<const char*, const std::string*> files[] = {{"image", &t.imagePath},
-                                                                  {"weight map", &t.weightPath},
-                                                                  {"mask", &t.maskPath},
-                                                                  {"catalog", &t.catalogPath}};
+      const std::pair<const char*, const std::string*> files[] = {
+          {"image", &t.imagePath},
+          {"segmentation image", &t.segmentationPath},
+          {"weight map", &t.weightPath},
+          {"mask", &t.maskPath},
+          {"catalog", &t.catalogPath}};
       for (const auto& [what, path] : files) {
         if (path->empty()) continue;
         if (!fs::exists(*path, ec)) throw ConfigError(at + what + " " + *path + ": no such file");

@@ -11,6 +11,14 @@
 // from the manifest's folder. A tile is named by its image's file name without the .fits (.fit,
 // .fts, .fz) ending; names must differ.
 //
+// The manifest of a measuring batch (TASK MEASURE) has rows of SExtractor's outputs instead:
+//
+//   IMAGE SEGMENTATION CATALOG [WEIGHT]
+//
+// three or four fields: the image, the SEGMENTATION check-image and the catalog (FITS_LDAC or
+// FITS_1.0) of a SExtractor run on it, and its weight map ('-' or empty for none); a header's
+// first field is "image" too. No glob: each image needs its own SExtractor outputs.
+//
 // Instead of a manifest, a glob pattern of images ('tiles/*.fits', quoted so that the shell
 // leaves it alone), in sorted order, with no mask or catalog. The weight map of NAME.fits is
 // NAME.weight.fits beside it (as `octarc simulate field` writes them), never a tile itself.
@@ -24,10 +32,11 @@ namespace octarc {
 struct Tile {
   std::string name;  // from the image's file name
   std::string imagePath;
-  std::string weightPath;   // "" for none
-  std::string maskPath;     // "" for none
-  std::string catalogPath;  // "" for none
-  int line = 0;             // 1-based line of the manifest (0 for a glob)
+  std::string weightPath;        // "" for none
+  std::string maskPath;          // "" for none
+  std::string catalogPath;       // "" for none
+  std::string segmentationPath;  // SExtractor's SEGMENTATION check-image (TASK MEASURE), or ""
+  int line = 0;                  // 1-based line of the manifest (0 for a glob)
 };
 
 // The tiles of `manifestOrGlob`. ConfigError naming the manifest and line ("survey.txt:4: ...")
@@ -35,7 +44,11 @@ struct Tile {
 // too many fields, or a manifest (or glob) of no tile; IoError when the manifest itself cannot be
 // read. Masks are only opened here; the batch parses them against their images before any tile is
 // searched. globWeights (WEIGHT_TYPE is not NONE): a glob's tiles take their weight maps, which
-// must be there; else they have none.
-std::vector<Tile> readManifest(const std::string& manifestOrGlob, bool globWeights = false);
+// must be there; else they have none. `rows`: the layout of the rows; a MEASURE row of another
+// count than 3 or 4 fields, or without its segmentation image or catalog, is a ConfigError
+// naming the line, and so is a glob.
+enum class ManifestRows { Search, Measure };
+std::vector<Tile> readManifest(const std::string& manifestOrGlob, bool globWeights = false,
+                               ManifestRows rows = ManifestRows::Search);
 
 }  // namespace octarc

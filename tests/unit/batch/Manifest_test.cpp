@@ -154,5 +154,57 @@ TEST_F(ManifestTest, BadLinesAreNamedByLine) {
                       {"absent.txt", "cannot read the manifest"});
 }
 
+// TASK MEASURE: IMAGE SEGMENTATION CATALOG [WEIGHT], quoted as in CSV, the header's first field
+// "image" too.
+TEST_F(ManifestTest, MeasureRowsOfThreeOrFourFields) {
+  writeTextFile(dir_ / "tiles/a seg.fits", "x");
+  const std::vector<Tile> tiles = readManifest(
+      manifest("image,segmentation,catalog,weight\n"
+               "tiles/a.fits, \"tiles/a seg.fits\", tiles/a.ldac, tiles/a.weight.fits\n"
+               "# the second\n"
+               "tiles/c.fit tiles/a.reg tiles/a.ldac\n"),
+      false, ManifestRows::Measure);
+  ASSERT_EQ(tiles.size(), 2u);
+  EXPECT_EQ(tiles[0].name, "a");
+  EXPECT_EQ(tiles[0].line, 2);
+  EXPECT_EQ(tiles[0].imagePath, (dir_ / "tiles/a.fits").string());
+  EXPECT_EQ(tiles[0].segmentationPath, (dir_ / "tiles/a seg.fits").string());
+  EXPECT_EQ(tiles[0].catalogPath, (dir_ / "tiles/a.ldac").string());
+  EXPECT_EQ(tiles[0].weightPath, (dir_ / "tiles/a.weight.fits").string());
+  EXPECT_EQ(tiles[0].maskPath, "");
+  EXPECT_EQ(tiles[1].name, "c");
+  EXPECT_EQ(tiles[1].line, 4);
+  EXPECT_EQ(tiles[1].segmentationPath, (dir_ / "tiles/a.reg").string());
+  EXPECT_EQ(tiles[1].weightPath, "");
+  // The same rows as a search's: image, weight, mask.
+  const std::vector<Tile> searched =
+      readManifest(manifest("tiles/c.fit tiles/a.reg tiles/a.ldac\n"));
+  EXPECT_EQ(searched[0].segmentationPath, "");
+  EXPECT_EQ(searched[0].weightPath, (dir_ / "tiles/a.reg").string());
+}
+
+TEST_F(ManifestTest, BadMeasureRowsAreNamedByLine) {
+  const auto measure = [&](const std::string& text) {
+    readManifest(manifest(text), false, ManifestRows::Measure);
+  };
+  test::expectError<ConfigError>(
+      [&] { measure("tiles/a.fits,tiles/a.reg,tiles/a.ldac\ntiles/c.fit,tiles/a.reg\n"); },
+      {"survey.txt:2: ", "2 field(s)", "IMAGE SEGMENTATION CATALOG [WEIGHT]"});
+  test::expectError<ConfigError>([&] { measure("tiles/a.fits\n"); },
+                                 {"survey.txt:1: ", "1 field(s)"});
+  test::expectError<ConfigError>([&] { measure("tiles/a.fits,tiles/a.reg,tiles/a.ldac,-,x\n"); },
+                                 {"survey.txt:1: ", "5 field(s)"});
+  test::expectError<ConfigError>([&] { measure("tiles/a.fits,-,tiles/a.ldac\n"); },
+                                 {"survey.txt:1: ", "no segmentation image"});
+  test::expectError<ConfigError>([&] { measure("tiles/a.fits,tiles/a.reg,\n"); },
+                                 {"survey.txt:1: ", "no catalog"});
+  test::expectError<ConfigError>(
+      [&] { measure("# x\ntiles/a.fits,tiles/missing.fits,tiles/a.ldac\n"); },
+      {"survey.txt:2: ", "segmentation image", "missing.fits", "no such file"});
+  test::expectError<ConfigError>(
+      [&] { readManifest((dir_ / "tiles" / "*.fits").string(), false, ManifestRows::Measure); },
+      {"not a glob"});
+}
+
 }  // namespace
 }  // namespace octarc
