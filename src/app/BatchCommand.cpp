@@ -1,8 +1,11 @@
-// `octarc batch`: the search of every tile of a survey, on one machine, on the ranks of an MPI
-// job or as the tasks of a job array; resumable; the survey's candidates at the end.
+// `octarc batch`: the search of every tile of a survey (or, TASK MEASURE, the measurement of
+// every tile's SExtractor outputs), on one machine, on the ranks of an MPI job or as the tasks of
+// a job array; resumable; the survey's candidates (or a summary of the tiles' catalogs) at the
+// end.
 //
 //   manifest --> tiles not yet done (journal) --> each searched as `octarc search` does it
-//   --> OUTPUT_DIR/tiles/NAME --> survey candidates, summary, index (batch/BatchRun.h)
+//   (or measured as `octarc measure` does it) --> OUTPUT_DIR/tiles/NAME --> survey candidates,
+//   summary, index (batch/BatchRun.h)
 
 #include <iostream>
 
@@ -33,6 +36,14 @@ void printBatchUsage() {
       "a DS9 region file (MASK_NAME), CATALOG an earlier detection run (INPUT_CATALOG). Or a\n"
       "quoted glob of images: 'tiles/*.fits', where NAME.weight.fits is NAME.fits's weight\n"
       "map (with a WEIGHT_TYPE), not a tile. Tiles are named by their image file.\n"
+      "\n"
+      "-TASK MEASURE measures each tile as octarc measure does, on SExtractor's outputs: the\n"
+      "manifest's rows are IMAGE SEGMENTATION CATALOG [WEIGHT] (the image, its SEGMENTATION\n"
+      "check-image, its FITS_LDAC or FITS_1.0 catalog, its weight map). Each catalog is\n"
+      "written with octarc's columns appended (APPEND_COLUMNS Y, its format kept) or anew\n"
+      "(APPEND_COLUMNS N, CATALOG_TYPE) into OUTPUT_DIR/tiles/NAME/, with the same journal,\n"
+      "resume, claims, MPI and job arrays; summary.txt lists each tile's rows and seconds.\n"
+      "The search's own keys (GRID_NAME, MATCH_RADIUS, ...) are not used then.\n"
       "\n"
       "Launched by mpirun or srun (srun --mpi=pmix --cpus-per-task=$SLURM_CPUS_PER_TASK), the\n"
       "tiles are shared between the ranks as each becomes free; the first rank writes the\n"
@@ -71,7 +82,7 @@ void printBatchUsage() {
       "\n"
       "Options:\n"
       "  -c FILE      configuration file (the keys of octarc search, and MATCH_RADIUS,\n"
-      "               ARRAY_TASK, RESTART)\n"
+      "               ARRAY_TASK, RESTART, TASK)\n"
       "  -KEY value   override a configuration key (e.g. -ARRAY_TASK 3/16)\n"
       "  -d, -dd      print the default configuration (-dd: every key)\n"
       "  -dp          list the columns of the survey's candidate catalog\n"
@@ -114,6 +125,9 @@ int runBatch(const std::vector<std::string>& args) {
   if (!loaded) return 0;
   const bool quiet = loaded->settings.quiet;
   const RunLog log = quiet ? RunLog() : [](const std::string& line) { std::cerr << line << "\n"; };
+  if (log && cluster.isRoot()) {
+    for (const std::string& w : settings->warnings) log("WARNING: " + w);
+  }
 
   BatchReport report;
   try {
@@ -126,7 +140,9 @@ int runBatch(const std::vector<std::string>& args) {
   }
   if (!cluster.isRoot()) return 0;
   for (const std::string& line : report.summaryLines) std::cout << line << "\n";
-  if (report.merged) std::cout << "Open " << settings->outputDir << "/index.html for the tiles\n";
+  if (report.merged && settings->task == BatchTask::Search) {
+    std::cout << "Open " << settings->outputDir << "/index.html for the tiles\n";
+  }
   if (report.failed() > 0) {
     std::cerr << "octarc batch: " << report.failed()
               << " tile(s) failed (see above); run the same command again to retry them\n";

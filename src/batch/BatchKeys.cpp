@@ -1,12 +1,15 @@
 #include "octarc/batch/BatchKeys.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <limits>
 #include <optional>
+#include <set>
 #include <stdexcept>
 
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
+#include "octarc/run/RunKeys.h"
 #include "octarc/sexcompat/KeyRow.h"
 
 namespace octarc {
@@ -80,7 +83,12 @@ std::vector<KeySpec> batchKeys() {
     } else if (k.name == "CATALOG_TYPE") {
       k.comment =
           "format of the survey's OUTPUT_DIR/candidates.fits:\nFITS_LDAC, FITS_1.0, ASCII_HEAD, "
-          "ASCII or\nASCII_VOTABLE (the tiles' stay FITS_LDAC)";
+          "ASCII or\nASCII_VOTABLE (the tiles' stay FITS_LDAC); TASK MEASURE\nwith "
+          "APPEND_COLUMNS N: format of each tile's catalog";
+    } else if (k.name == "APPEND_COLUMNS") {
+      k.comment =
+          "TASK MEASURE: Y appends octarc's columns to each\ntile's CATALOG (its format kept), N "
+          "writes a new\ncatalog (CATALOG_TYPE)";
     }
   }
   // clang-format off
@@ -92,26 +100,107 @@ std::vector<KeySpec> batchKeys() {
     sexcompat::KeyRow("RESTART", Kind::Bool, {"N"}, "Y: when OUTPUT_DIR's tiles were searched "
         "with another\nconfiguration, set them aside (OUTPUT_DIR/earlier-N)\nand start over; N: "
         "that is an error"),
+    sexcompat::KeyRow("TASK", Kind::Keyword, {"SEARCH"}, "SEARCH: search each tile for lens "
+        "candidates;\nMEASURE: octarc measure on each tile's SExtractor\noutputs (manifest "
+        "rows IMAGE SEGMENTATION CATALOG\n[WEIGHT])").keywords({"SEARCH", "MEASURE"}),
   };
   // clang-format on
   keys.insert(keys.end(), own.begin(), own.end());
   return keys;
 }
 
+std::vector<std::string> keysOfTaskOnly(BatchTask task) {
+  if (task == BatchTask::Measure) return {"APPEND_COLUMNS"};
+  std::set<std::string> measureKeys;
+  for (const KeySpec& k : octarcKeys()) measureKeys.insert(k.name);
+  std::vector<std::string> keys;
+  for (const KeySpec& k : batchKeys()) {
+    if (k.ignored || measureKeys.count(k.name)) continue;
+    if (k.name == "OUTPUT_DIR" || k.name == "ARRAY_TASK" || k.name == "RESTART" ||
+        k.name == "TASK") {
+      continue;  // every task's
+    }
+    keys.push_back(k.name);
+  }
+  return keys;
+}
+
+namespace {
+
+// "WHERE: -KEY is not used with TASK T ..." for each key of the other task that is set on the
+// command line, or in the file to another value than its default (a -dd template lists every
+// key), as for the keys octarc ignores.
+std::vector<std::string> otherTaskKeyWarnings(const sexcompat::Config& c, BatchTask task) {
+  const BatchTask other = task == BatchTask::Search ? BatchTask::Measure : BatchTask::Search;
+  const char* taskName = task == BatchTask::Search ? "SEARCH" : "MEASURE";
+  const char* otherName = task == BatchTask::Search ? "MEASURE" : "SEARCH";
+  const sexcompat::Config defaults = sexcompat::Config::load(batchKeys(), "", {}, nullptr);
+  std::vector<std::string> warnings;
+  for (const std::string& key : keysOfTaskOnly(other)) {
+    const std::string where = c.where(key);
+    if (where.empty()) continue;
+    const bool onCommandLine = where == "command line";
+    if (!onCommandLine && c.getStrings(key) == defaults.getStrings(key)) continue;
+    warnings.push_back(where + ": " + (onCommandLine ? "-" : "") + key + " is not used with TASK " +
+                       taskName + " (a key of TASK " + otherName + "; setting it has no effect)");
+  }
+  return warnings;
+}
+
+// TASK MEASURE: each tile is measured as `octarc measure` does it, on the settings of `run`.
+void measureSettings(const sexcompat::Config& c, RunSettings run, BatchSettings& s) {
+  if (!run.appendColumns && uppercase(run.catalogType) == "NONE") {
+    throw ConfigError(
+        "CATALOG_TYPE NONE: with TASK MEASURE and APPEND_COLUMNS N a batch writes each "
+        "tile's catalog; give FITS_LDAC, FITS_1.0, ASCII_HEAD, ASCII or ASCII_VOTABLE");
+  }
+  s.outputDir = c.getString("OUTPUT_DIR");
+  s.config = c;
+  // What changes a tile's catalog: every key the measure run reads (not the search's), and
+  // CATALOG_TYPE, the format of a new catalog.
+  const std::vector<std::string> searchOnly = keysOfTaskOnly(BatchTask::Search);
+  for (const ConfigurationItem& item : configurationValues(c, batchKeys())) {
+    if (std::find(searchOnly.begin(), searchOnly.end(), item.key) == searchOnly.end()) {
+      s.configuration.push_back(item);
+    }
+  }
+  const std::string catalogType = c.getString("CATALOG_TYPE");
+  s.configuration.push_back({"CATALOG_TYPE", catalogType, catalogType});
+  s.configurationFiles.push_back({"PARAMETERS_NAME", run.parametersPath});
+  s.tile.run = std::move(run);
+}
+
+}  // namespace
+
 BatchSettings batchSettingsFromConfig(const sexcompat::Config& c, RunSettings run) {
   BatchSettings s;
+  s.task = uppercase(c.getString("TASK")) == "MEASURE" ? BatchTask::Measure : BatchTask::Search;
+  const bool measure = s.task == BatchTask::Measure;
   if (run.imagePaths.size() != 1) {
-    throw ConfigError("batch: give one manifest (or one quoted glob of images); see -h");
+    throw ConfigError(measure ? "batch: give one manifest; see -h"
+                              : "batch: give one manifest (or one quoted glob of images); see -h");
   }
   s.manifest = run.imagePaths.front();
   s.requestedThreads = run.threads;
-  for (const char* key : {"MASK_NAME", "INPUT_CATALOG", "WEIGHT_IMAGE"}) {
-    if (c.isExplicit(key)) {
-      throw ConfigError(std::string(key) + ": a batch takes each tile's files from the manifest " +
-                        "(IMAGE WEIGHT MASK CATALOG per line)");
+  std::vector<const char*> tileKeys = {"MASK_NAME", "INPUT_CATALOG", "WEIGHT_IMAGE"};
+  if (measure) tileKeys.push_back("SEGMENTATION_NAME");
+  for (const char* key : tileKeys) {
+    const std::string where = c.where(key);
+    if (where.empty()) continue;
+    const std::string manifest = measure
+                                     ? "(IMAGE SEGMENTATION CATALOG WEIGHT per line, TASK MEASURE)"
+                                     : "(IMAGE WEIGHT MASK CATALOG per line)";
+    // The .sex file of the SExtractor runs that a measuring batch reads names their files
+    // (WEIGHT_IMAGE weight.fits in SExtractor's default.sex): not used, said once.
+    if (measure && where != "command line") {
+      s.warnings.push_back(where + ": " + key + " is not used by a batch, which takes each " +
+                           "tile's files from the manifest " + manifest);
+      continue;
     }
+    throw ConfigError(std::string(key) + ": a batch takes each tile's files from the manifest " +
+                      manifest);
   }
-  if (c.count("COLOUR_IMAGE") > 0) {
+  if (!measure && c.count("COLOUR_IMAGE") > 0) {
     throw ConfigError(
         "COLOUR_IMAGE: a batch's manifest holds one image per tile; search the "
         "tiles one by one (octarc search) to measure colours");
@@ -119,19 +208,24 @@ BatchSettings batchSettingsFromConfig(const sexcompat::Config& c, RunSettings ru
   if (c.isExplicit("CHECKIMAGE_TYPE") && uppercase(c.getString("CHECKIMAGE_TYPE")) != "NONE") {
     throw ConfigError("CHECKIMAGE_TYPE: a batch writes no check-images");
   }
-  s.tile = searchSettingsFromConfig(c, std::move(run));
-  s.outputDir = s.tile.outputDir;
-  s.matchRadiusArcsec = c.getDouble("MATCH_RADIUS");
+  for (std::string& w : otherTaskKeyWarnings(c, s.task)) s.warnings.push_back(std::move(w));
   s.restart = c.getBool("RESTART");
-  s.configuration = configurationValues(c, batchKeys());
-  // The files are those the search reads, as the run found them (PARAMETERS_NAME and
-  // FILTER_NAME looked up in octarc's data folder too).
-  s.configurationFiles.push_back({"PARAMETERS_NAME", s.tile.run.parametersPath});
-  if (s.tile.run.filter) s.configurationFiles.push_back({"FILTER_NAME", s.tile.run.filterPath});
-  if (uppercase(c.getString("SELECTION_METHOD")) == "TREES") {
-    s.configurationFiles.push_back({"MODEL_NAME", s.tile.modelPath});
+  if (measure) {
+    measureSettings(c, std::move(run), s);
   } else {
-    s.configurationFiles.push_back({"GRID_NAME", s.tile.gridPath});
+    s.tile = searchSettingsFromConfig(c, std::move(run));
+    s.outputDir = s.tile.outputDir;
+    s.matchRadiusArcsec = c.getDouble("MATCH_RADIUS");
+    s.configuration = configurationValues(c, batchKeys());
+    // The files are those the search reads, as the run found them (PARAMETERS_NAME and
+    // FILTER_NAME looked up in octarc's data folder too).
+    s.configurationFiles.push_back({"PARAMETERS_NAME", s.tile.run.parametersPath});
+    if (s.tile.run.filter) s.configurationFiles.push_back({"FILTER_NAME", s.tile.run.filterPath});
+    if (uppercase(c.getString("SELECTION_METHOD")) == "TREES") {
+      s.configurationFiles.push_back({"MODEL_NAME", s.tile.modelPath});
+    } else {
+      s.configurationFiles.push_back({"GRID_NAME", s.tile.gridPath});
+    }
   }
   std::string share = uppercase(c.getString("ARRAY_TASK"));
   if (share == "AUTO") {

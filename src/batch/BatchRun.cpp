@@ -11,6 +11,7 @@
 #include <mutex>
 #include <new>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -27,6 +28,7 @@
 #include "octarc/io/Ds9Region.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/FitsTable.h"
+#include "octarc/run/MeasureJob.h"
 #include "octarc/search/CandidateTable.h"
 #include "octarc/search/VettingPage.h"
 #include "octarc/selection/SearchMask.h"
@@ -40,20 +42,41 @@ namespace {
 constexpr const char* kAreaFile = "area.fits";
 constexpr const char* kClaimsFolder = "claims";
 constexpr const char* kConfigurationFile = "configuration.txt";
-// The survey outputs, written together once every tile is done or failed.
+// The survey outputs, written together once every tile is done or failed: a search's, and a
+// measuring batch's (its tiles' catalogs stay in their folders).
 constexpr const char* kSurveyOutputFiles[] = {"candidates.fits", "summary.txt",
                                               "index.html",      "candidates.html",
                                               "candidates.reg",  "candidates.cat"};
+constexpr const char* kMeasureSurveyOutputFiles[] = {"summary.txt"};
 // What RESTART Y sets aside into OUTPUT_DIR/earlier-N: the batch's own files (these and the
 // survey outputs), never others. The claims stay, as other runs may hold them (batch/Journal.h).
 constexpr const char* kEarlierRunFiles[] = {"journal.txt", "configuration.txt", "tiles"};
+// The marker of a measured tile's folder (AtomicDirectory): written last, so a folder holding
+// it is complete.
+constexpr const char* kMeasureTileMarkerFile = ".octarc-measure";
+constexpr const char* kMeasureTileMarkerText = "octarc batch measured tile\n";
+
+bool measuring(const BatchSettings& s) {
+  return s.task == BatchTask::Measure;
+}
+
+std::vector<std::string> surveyOutputFiles(const BatchSettings& s) {
+  if (measuring(s)) {
+    return {std::begin(kMeasureSurveyOutputFiles), std::end(kMeasureSurveyOutputFiles)};
+  }
+  return {std::begin(kSurveyOutputFiles), std::end(kSurveyOutputFiles)};
+}
 
 // "candidates.fits, summary.txt, ...", for the messages.
-std::string surveyOutputList() {
+std::string surveyOutputList(const BatchSettings& s) {
   std::string list;
-  for (const char* name : kSurveyOutputFiles)
-    list += (list.empty() ? "" : ", ") + std::string(name);
+  for (const std::string& name : surveyOutputFiles(s)) list += (list.empty() ? "" : ", ") + name;
   return list;
+}
+
+// What the batch does to a tile, for the messages: "search" or "measure".
+const char* taskVerb(const BatchSettings& s) {
+  return measuring(s) ? "measure" : "search";
 }
 
 std::string tileFolder(const BatchSettings& s, const Tile& t) {
@@ -158,6 +181,8 @@ void prepareOutputDirectory(const BatchSettings& s) {
 
 bool tileFolderComplete(const BatchSettings& s, const Tile& t) {
   std::error_code ec;
+  if (measuring(s))
+    return holdsMarker(tileFolder(s, t), kMeasureTileMarkerFile, kMeasureTileMarkerText);
   return holdsMarker(tileFolder(s, t), kSearchMarkerFile, kSearchMarkerText) &&
          fs::exists(fs::path(tileFolder(s, t)) / kAreaFile, ec);
 }
@@ -227,13 +252,13 @@ TileCandidates loadTile(const BatchSettings& s, const Tile& t) {
   return c;
 }
 
-// Tiles as bytes for the other ranks: six fields per tile, each ended by a NUL byte (the
+// Tiles as bytes for the other ranks: seven fields per tile, each ended by a NUL byte (the
 // manifest refuses control characters in its fields).
 std::string serialiseTiles(const std::vector<Tile>& tiles) {
   std::string out;
   for (const Tile& t : tiles) {
     for (const std::string* f :
-         {&t.name, &t.imagePath, &t.weightPath, &t.maskPath, &t.catalogPath}) {
+         {&t.name, &t.imagePath, &t.weightPath, &t.maskPath, &t.catalogPath, &t.segmentationPath}) {
       out += *f;
       out += '\0';
     }
@@ -249,8 +274,8 @@ std::vector<Tile> parseTiles(const std::string& bytes) {
     f.push_back(bytes.substr(at, end - at));
   }
   std::vector<Tile> tiles;
-  for (std::size_t k = 0; k + 6 <= f.size(); k += 6) {
-    tiles.push_back({f[k], f[k + 1], f[k + 2], f[k + 3], f[k + 4], std::stoi(f[k + 5])});
+  for (std::size_t k = 0; k + 7 <= f.size(); k += 7) {
+    tiles.push_back({f[k], f[k + 1], f[k + 2], f[k + 3], f[k + 4], f[k + 5], std::stoi(f[k + 6])});
   }
   return tiles;
 }
@@ -268,14 +293,63 @@ struct Waiting {
   std::int64_t left = 0;               // to other array tasks, or to a rerun
 };
 
+// TASK MEASURE: a tile's catalog in its folder: the input catalog's file name when appended
+// (its format kept), else NAME.cat (CATALOG_TYPE), as SExtractor names its catalogs.
+std::string tileCatalogName(const BatchSettings& s, const Tile& t) {
+  if (s.tile.run.appendColumns) return fs::path(t.catalogPath).filename().string();
+  return t.name + ".cat";
+}
+
+// TASK MEASURE: the summary's lines of each tile done, from the latest `done` line of each in the
+// journal (whichever run measured it): rows, seconds, run and rank.
+std::vector<std::string> measuredTileLines(const BatchSettings& s, const BatchReport& r,
+                                           const std::vector<JournalEntry>& entries) {
+  std::map<std::string, const JournalEntry*> done;
+  for (const JournalEntry& e : entries) {
+    if (e.event == "done") done[e.tile] = &e;
+    if (e.event == "failed") done.erase(e.tile);
+  }
+  std::vector<std::string> lines;
+  long long rowsInAll = 0;
+  double secondsInAll = 0.0;
+  std::int64_t tiles = 0;
+  for (const Tile& t : r.tiles) {
+    const auto it = done.find(t.name);
+    if (it == done.end()) continue;
+    long long rows = 0;
+    double seconds = 0.0;
+    int rank = 0;
+    // "N rows, S s, rank R", as recordTile writes it.
+    if (std::sscanf(it->second->detail.c_str(), "%lld rows, %lf s, rank %d", &rows, &seconds,
+                    &rank) != 3) {
+      lines.push_back("  " + t.name + ": " + it->second->detail + " (run " +
+                      std::to_string(it->second->run) + ")");
+      continue;
+    }
+    ++tiles;
+    rowsInAll += rows;
+    secondsInAll += seconds;
+    lines.push_back("  " + t.name + ": " + std::to_string(rows) + " rows, " +
+                    formatNumber(seconds, "%.2f") + " s (run " + std::to_string(it->second->run) +
+                    ", rank " + std::to_string(rank) + "), tiles/" + t.name + "/" +
+                    tileCatalogName(s, t));
+  }
+  lines.insert(lines.begin(), "Catalogs of " + std::to_string(tiles) +
+                                  " tile(s): " + std::to_string(rowsInAll) + " rows, " +
+                                  formatNumber(secondsInAll, "%.2f") + " s of measuring in all");
+  return lines;
+}
+
 std::vector<std::string> summaryLines(const BatchSettings& s, const BatchReport& r, int ranks,
-                                      const Waiting& waiting) {
+                                      const Waiting& waiting,
+                                      const std::vector<std::string>& measuredLines) {
   std::int64_t counts[5] = {0, 0, 0, 0, 0};
   for (const TileReport& t : r.reports) ++counts[int(t.state)];
   const std::int64_t elsewhere =
       counts[int(TileState::OtherTask)] + counts[int(TileState::OtherRun)];
   std::vector<std::string> lines;
-  lines.push_back("Survey " + s.manifest + ": " + std::to_string(r.tiles.size()) + " tiles");
+  lines.push_back("Survey " + s.manifest + ": " + std::to_string(r.tiles.size()) + " tiles" +
+                  (measuring(s) ? " (TASK MEASURE)" : ""));
   lines.push_back(
       "Run " + std::to_string(r.run) + " (" + std::to_string(ranks) + " rank(s), " + shareText(s) +
       "): " + std::to_string(counts[0]) + " done, " + std::to_string(counts[1]) + " failed, " +
@@ -295,6 +369,10 @@ std::vector<std::string> summaryLines(const BatchSettings& s, const BatchReport&
         " that another run was searching, " + std::to_string(waiting.left) +
         " left to other array tasks or to a rerun): the run that journals the last of them "
         "writes them");
+    return lines;
+  }
+  if (measuring(s)) {
+    lines.insert(lines.end(), measuredLines.begin(), measuredLines.end());
     return lines;
   }
   const SurveyCandidates& sv = r.survey;
@@ -387,6 +465,15 @@ std::vector<std::string> pageSummaryLines(const BatchSettings& s, const BatchRep
 }
 
 void writeSurveyOutputs(const BatchSettings& s, const BatchReport& r) {
+  std::string summary;
+  for (const std::string& l : r.summaryLines) summary += l + "\n";
+  if (measuring(s)) {
+    OutputFiles outputs;
+    outputs.add((fs::path(s.outputDir) / "summary.txt").string());
+    outputs.write(0, [&](const std::string& path) { writeTextFile(path, summary); });
+    outputs.commit();
+    return;
+  }
   OutputFiles outputs;
   for (const char* name : kSurveyOutputFiles) outputs.add((fs::path(s.outputDir) / name).string());
   FitsTable objects = r.survey.table;
@@ -417,8 +504,6 @@ void writeSurveyOutputs(const BatchSettings& s, const BatchReport& r) {
     writeTableCatalog(path, s.tile.catalogType, objects, ldacImheadTable(FitsHeader(), cards),
                       ucds);
   });
-  std::string summary;
-  for (const std::string& l : r.summaryLines) summary += l + "\n";
   outputs.write(1, [&](const std::string& path) { writeTextFile(path, summary); });
   outputs.write(2, [&](const std::string& path) { writeTextFile(path, surveyIndexHtml(s, r)); });
   VettingPageInfo page;
@@ -446,15 +531,16 @@ void writeSurveyOutputs(const BatchSettings& s, const BatchReport& r) {
   outputs.commit();
 }
 
-// A tile's report as it crosses between ranks: "done\tN\tSECONDS\tRANK" or "failed\tMESSAGE".
-TileReport parseReport(const std::string& text) {
+// A tile's report as it crosses between ranks: "done\tN\tSECONDS\tRANK" or "failed\tMESSAGE";
+// N is the candidates of a search, the catalog rows of a measured tile.
+TileReport parseReport(const std::string& text, BatchTask task) {
   std::vector<std::string> f;
   std::stringstream in(text);
   for (std::string field; std::getline(in, field, '\t');) f.push_back(field);
   TileReport r;
   if (f.size() == 4 && f[0] == "done") {
     r.state = TileState::Done;
-    r.candidates = std::stoll(f[1]);
+    (task == BatchTask::Measure ? r.catalogRows : r.candidates) = std::stoll(f[1]);
     r.seconds = std::stod(f[2]);
     r.rank = std::stoi(f[3]);
   } else {
@@ -473,6 +559,15 @@ std::int64_t BatchReport::failed() const {
 
 namespace {
 
+// A configuration without TASK (recorded before batches had it) is a search's.
+std::vector<ConfigurationItem> withTask(std::vector<ConfigurationItem> items) {
+  if (std::none_of(items.begin(), items.end(),
+                   [](const ConfigurationItem& i) { return i.key == "TASK"; })) {
+    items.push_back({"TASK", "SEARCH", "SEARCH"});
+  }
+  return items;
+}
+
 // This run's configuration (batch/BatchConfiguration.h), the files the search reads hashed.
 std::vector<ConfigurationItem> currentConfiguration(const BatchSettings& s) {
   std::vector<ConfigurationItem> items = s.configuration;
@@ -485,7 +580,7 @@ std::vector<ConfigurationItem> currentConfiguration(const BatchSettings& s) {
       items.push_back(fileItem(key, path));
     }
   }
-  return items;
+  return withTask(std::move(items));
 }
 
 std::string readWholeFile(const std::string& path) {
@@ -495,6 +590,11 @@ std::string readWholeFile(const std::string& path) {
   text << in.rdbuf();
   if (in.bad()) throw IoError(path + ": cannot read");
   return text.str();
+}
+
+// The configuration recorded in OUTPUT_DIR.
+std::vector<ConfigurationItem> recordedConfiguration(const std::string& path) {
+  return withTask(parseConfiguration(readWholeFile(path), path));
 }
 
 void writeConfiguration(const std::string& path, const std::string& text) {
@@ -543,7 +643,7 @@ bool checkConfiguration(const BatchSettings& s, Journal& journal,
   journal.guardAppends([path, current, dir = s.outputDir] {
     std::error_code ec;
     if (!fs::exists(path, ec) ||
-        !configurationDifferences(parseConfiguration(readWholeFile(path), path), current).empty()) {
+        !configurationDifferences(recordedConfiguration(path), current).empty()) {
       throw ConfigError("OUTPUT_DIR " + dir +
                         ": another run set this run's tiles aside (RESTART Y, another "
                         "configuration); this run stops");
@@ -562,13 +662,21 @@ bool checkConfiguration(const BatchSettings& s, Journal& journal,
     return false;
   }
   const std::vector<std::string> differences =
-      configurationDifferences(parseConfiguration(readWholeFile(path), path), current);
+      configurationDifferences(recordedConfiguration(path), current);
   if (differences.empty()) return false;
   std::string list;
   for (const std::string& d : differences) list += (list.empty() ? "" : "; ") + d;
+  // Another TASK: every other key differs too, and says nothing more.
+  const auto task = std::find_if(differences.begin(), differences.end(),
+                                 [](const std::string& d) { return d.rfind("TASK ", 0) == 0; });
+  if (task != differences.end()) list = *task;
+  const std::string mixed = task != differences.end() ? "tasks"
+                            : measuring(s)            ? "measurements"
+                                                      : "searches";
   if (!s.restart) {
     throw ConfigError("OUTPUT_DIR " + s.outputDir + " was made with " + list +
-                      ": its tiles would mix two searches; give -RESTART Y to set them aside "
+                      ": its tiles would mix two " + mixed +
+                      "; give -RESTART Y to set them aside "
                       "(into " +
                       s.outputDir + "/earlier-N) and start over, or another OUTPUT_DIR");
   }
@@ -584,7 +692,8 @@ bool checkConfiguration(const BatchSettings& s, Journal& journal,
 // indices; journalRead: the journal's bytes it read.
 std::string planRun(const BatchSettings& s, const Cluster& cluster, Journal& journal,
                     BatchReport& report, std::uint64_t& journalRead, const RunLog& log) {
-  report.tiles = readManifest(s.manifest, s.tile.run.weightType != WeightType::None);
+  report.tiles = readManifest(s.manifest, s.tile.run.weightType != WeightType::None,
+                              measuring(s) ? ManifestRows::Measure : ManifestRows::Search);
   checkTiles(s, report.tiles);
   prepareOutputDirectory(s);
   report.run = journal.startRun(std::to_string(report.tiles.size()) + " tiles, " +
@@ -663,6 +772,65 @@ std::string searchTile(const BatchSettings& s, const Tile& tile, int threads, in
   }
 }
 
+// TASK MEASURE: the measure run of one tile, as `octarc measure` runs it on the configuration's
+// settings with the tile's files, its catalog written into `folder`.
+RunSettings measureTileSettings(const BatchSettings& s, const Tile& t, const std::string& folder,
+                                int threads) {
+  RunSettings run = s.tile.run;
+  run.imagePaths = {t.imagePath};
+  run.segmentationPaths = {t.segmentationPath};
+  run.inputCatalogPaths = {t.catalogPath};
+  run.weightImagePath = t.weightPath;
+  run.measurement.weightImagePath = t.weightPath;
+  run.catalogNames = {(fs::path(folder) / tileCatalogName(s, t)).string()};
+  run.replaceInputCatalog = false;
+  run.writeXml = false;  // a batch reports in its journal and summary.txt
+  run.threads = threads;
+  run.quiet = true;
+  return run;
+}
+
+// Measures one tile into its folder, written whole (AtomicDirectory); its report as it crosses
+// between ranks (parseReport).
+std::string measureTile(const BatchSettings& s, const Tile& tile, int threads, int rank,
+                        const RunLog& log) {
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    const std::string folder = tileFolder(s, tile);
+    AtomicDirectory dir(folder, kMeasureTileMarkerFile, kMeasureTileMarkerText);
+    // The tiles' runs share one configuration, so its warnings (CATALOG_TYPE not used with
+    // APPEND_COLUMNS Y, say) would repeat for every tile: each is said once, with its tile.
+    static std::mutex warnedMutex;
+    static std::set<std::string> warned;
+    const RunLog tileLog = [&](const std::string& line) {
+      if (!log || line.rfind("WARNING", 0) != 0) return;
+      const std::lock_guard lock(warnedMutex);
+      if (warned.insert(line).second) log("tile " + tile.name + ": " + line);
+    };
+    MeasureJobReport measured;
+    try {
+      measured = runMeasureJob(measureTileSettings(s, tile, dir.tempPath(), threads), *s.config,
+                               MeasureJobFacts(), tileLog);
+      writeTextFile(dir.tempPath() + "/" + kMeasureTileMarkerFile, kMeasureTileMarkerText);
+    } catch (const Error& e) {
+      // Messages name the folder the user knows, not its temporary name.
+      std::string message = e.what();
+      for (std::size_t at; (at = message.find(dir.tempPath())) != std::string::npos;) {
+        message.replace(at, dir.tempPath().size(), folder);
+      }
+      throw Error(message);
+    }
+    dir.commit();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return "done\t" + std::to_string(measured.catalogRows) + "\t" + formatNumber(seconds, "%.2f") +
+           "\t" + std::to_string(rank);
+  } catch (const std::exception& e) {
+    // A tile's trouble is its own: reported and journaled, the others go on.
+    return "failed\t" + printableMessage(e.what());
+  }
+}
+
 // The claims of the tiles this run searches, on the root: taken as a tile is handed out, let go
 // once it is journaled. Its methods may run on both of the root's threads.
 class TileClaims {
@@ -715,20 +883,24 @@ class TileClaims {
 
 // A searched tile's report, on the root: journaled, logged as the `finished`-th of `total`.
 void recordTile(const Journal& journal, BatchReport& report, std::size_t i, TileReport r,
-                std::int64_t finished, std::size_t total, const RunLog& log) {
+                std::int64_t finished, std::size_t total, BatchTask task, const RunLog& log) {
   const Tile& tile = report.tiles[i];
   const std::string count = "[" + std::to_string(finished) + "/" + std::to_string(total) + "] ";
   if (r.state == TileState::Done) {
+    const bool rows = task == BatchTask::Measure;
+    const std::string counted = rows ? std::to_string(r.catalogRows) + " rows"
+                                     : std::to_string(r.candidates) + " candidates";
     {
       // The count a signal reports is that of the `done` lines: both or neither.
       const DeferInterrupts hold;
-      journal.append(report.run, "done", tile.name,
-                     std::to_string(r.candidates) + " candidates, " +
-                         formatNumber(r.seconds, "%.2f") + " s, rank " + std::to_string(r.rank));
+      journal.append(
+          report.run, "done", tile.name,
+          counted + ", " + formatNumber(r.seconds, "%.2f") + " s, rank " + std::to_string(r.rank));
       notePieceKept();
     }
     if (log) {
-      log(count + tile.name + ": " + std::to_string(r.candidates) + " candidate(s), " +
+      log(count + tile.name + ": " +
+          (rows ? counted : std::to_string(r.candidates) + " candidate(s)") + ", " +
           formatNumber(r.seconds, "%.1f") + " s (rank " + std::to_string(r.rank) + ")");
     }
   } else {
@@ -773,7 +945,7 @@ void mergeSurvey(const BatchSettings& s, BatchReport& report,
       mergedIndex.push_back(i);
     }
   }
-  if (report.merged) {
+  if (report.merged && !measuring(s)) {
     const auto start = std::chrono::steady_clock::now();
     for (const std::size_t i : mergedIndex) merged.push_back(loadTile(s, tiles[i]));
     report.survey = mergeTiles(merged, s.matchRadiusArcsec);
@@ -790,7 +962,9 @@ void mergeSurvey(const BatchSettings& s, BatchReport& report,
     }
     report.survey.keptPerTile = kept;
   }
-  report.summaryLines = summaryLines(s, report, ranks, waiting);
+  report.summaryLines = summaryLines(
+      s, report, ranks, waiting,
+      measuring(s) ? measuredTileLines(s, report, entries) : std::vector<std::string>());
   if (report.merged) {
     markNextOutputsFinal();
     writeSurveyOutputs(s, report);
@@ -813,13 +987,14 @@ void accountOnInterrupt(const BatchSettings& s, const Cluster& cluster) {
         "from them)";
     account.counted = false;
   } else {
-    account.before = "; this run searched and journaled ";
+    account.before =
+        std::string("; this run ") + (measuring(s) ? "measured" : "searched") + " and journaled ";
     account.after = " tile(s), kept in " + s.outputDir +
                     "/tiles (run the same command again to resume from them); ";
-    account.finalWritten = "it wrote the survey outputs (" + surveyOutputList() +
+    account.finalWritten = "it wrote the survey outputs (" + surveyOutputList(s) +
                            "), complete; nothing half-written is left";
     account.finalNotWritten =
-        "it wrote no survey output (" + surveyOutputList() + "); nothing half-written is left";
+        "it wrote no survey output (" + surveyOutputList(s) + "); nothing half-written is left";
   }
   accountPiecesOnInterrupt(account);
 }
@@ -835,8 +1010,9 @@ BatchReport runBatch(const BatchSettings& s, const Cluster& cluster, const RunLo
   const int threads = cluster.threadsPerRank(s.requestedThreads);
   if (log && cluster.isRoot()) {
     log("> Batch run " + std::to_string(report.run) + ": " + std::to_string(report.tiles.size()) +
-        " tiles, " + std::to_string(todo.size()) + " to search (" + shareText(s) + ") on " +
-        std::to_string(cluster.size()) + " rank(s) of " + std::to_string(threads) + " thread(s)");
+        " tiles, " + std::to_string(todo.size()) + " to " + taskVerb(s) + " (" + shareText(s) +
+        ") on " + std::to_string(cluster.size()) + " rank(s) of " + std::to_string(threads) +
+        " thread(s)");
     if (!s.arrayShareNote.empty()) log("> " + s.arrayShareNote);
     const std::string launch =
         slurmLaunchWarning(std::getenv("SLURM_STEP_NUM_TASKS"), std::getenv("SLURM_NTASKS"),
@@ -850,11 +1026,13 @@ BatchReport runBatch(const BatchSettings& s, const Cluster& cluster, const RunLo
   cluster.distribute(
       std::int64_t(todo.size()),
       [&](std::int64_t k) {
-        return searchTile(s, report.tiles[todo[std::size_t(k)]], threads, cluster.rank(), log);
+        const Tile& tile = report.tiles[todo[std::size_t(k)]];
+        return measuring(s) ? measureTile(s, tile, threads, cluster.rank(), log)
+                            : searchTile(s, tile, threads, cluster.rank(), log);
       },
       [&](std::int64_t k, const std::string& text) {
-        recordTile(journal, report, todo[std::size_t(k)], parseReport(text), ++finished,
-                   todo.size(), log);
+        recordTile(journal, report, todo[std::size_t(k)], parseReport(text, s.task), ++finished,
+                   todo.size(), s.task, log);
         claims.release(todo[std::size_t(k)]);
       },
       [&](std::int64_t k) { return claims.take(todo[std::size_t(k)]); });

@@ -1,7 +1,8 @@
-// The configuration of `octarc batch`: its keys (those of search, MATCH_RADIUS and ARRAY_TASK)
-// and the settings a loaded configuration gives.
+// The configuration of `octarc batch`: its keys (those of search, MATCH_RADIUS, ARRAY_TASK,
+// RESTART and TASK) and the settings a loaded configuration gives.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,12 +14,29 @@
 namespace octarc {
 
 // The keys of `octarc batch`: those of search (OUTPUT_DIR names the survey's folder, "survey"
-// by default), MATCH_RADIUS, ARRAY_TASK and RESTART.
+// by default), MATCH_RADIUS, ARRAY_TASK, RESTART and TASK.
 std::vector<sexcompat::KeySpec> batchKeys();
 
+// TASK: what a batch does to each tile. SEARCH: `octarc search` (lens candidates, merged into
+// the survey's); MEASURE: `octarc measure` on SExtractor's outputs of the tile (its catalog with
+// octarc's columns appended, or a new one).
+enum class BatchTask { Search, Measure };
+
+// The keys of batchKeys() that one task alone uses: TASK SEARCH the search's own keys (those
+// octarc measure has not) and MATCH_RADIUS; TASK MEASURE APPEND_COLUMNS. Setting one for the
+// other task has no effect, and gives a warning.
+std::vector<std::string> keysOfTaskOnly(BatchTask task);
+
 struct BatchSettings {
-  std::string manifest;            // a manifest file or a glob of images
-  SearchRunSettings tile;          // every tile's search; image, weight, mask, catalog per tile
+  BatchTask task = BatchTask::Search;  // TASK
+  std::string manifest;                // a manifest file or a glob of images
+  // SEARCH: every tile's search; image, weight, mask, catalog per tile. MEASURE: only `run`,
+  // every tile's measure run; image, segmentation image, catalog and weight per tile.
+  SearchRunSettings tile;
+  // TASK MEASURE: the loaded configuration, which each tile's measure run reads (ASSOC keys).
+  std::optional<sexcompat::Config> config;
+  // Keys set that this task does not use, "WHERE: -KEY is not used ...", printed by the command.
+  std::vector<std::string> warnings;
   std::string outputDir;           // OUTPUT_DIR
   double matchRadiusArcsec = 1.0;  // MATCH_RADIUS: one object in two tiles' overlap
   // ARRAY_TASK: this task's share of a job array, the tiles k (0-based) with k % tasks == task.
@@ -34,8 +52,9 @@ struct BatchSettings {
   std::vector<std::pair<std::string, std::string>> configurationFiles;
 };
 
-// ConfigError on bad values. `run` is the detection part as the command line resolved it; its
-// imagePaths hold the manifest. ARRAY_TASK AUTO: slurmArrayShare of Slurm's variables.
+// ConfigError on bad values (and for keys naming a tile's files, which the manifest gives). `run`
+// is the detection part as the command line resolved it; its imagePaths hold the manifest.
+// ARRAY_TASK AUTO: slurmArrayShare of Slurm's variables.
 BatchSettings batchSettingsFromConfig(const sexcompat::Config& config, RunSettings run);
 
 // A job-array task's share of the tiles: the tiles k with k % tasks == task.

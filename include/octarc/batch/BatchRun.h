@@ -1,5 +1,7 @@
-// `octarc batch` as a library: the search of every tile of a survey, on one machine or on the
-// ranks of an MPI job, resumable, and the survey-level outputs. Interrupted (core/Interrupt.h),
+// `octarc batch` as a library: the search of every tile of a survey (TASK SEARCH), or the
+// measurement of every tile's SExtractor outputs (TASK MEASURE, as `octarc measure` does it,
+// run/MeasureJob.h), on one machine or on the ranks of an MPI job, resumable, and the
+// survey-level outputs. Interrupted (core/Interrupt.h),
 // it says how many tiles it journaled and whether it wrote the survey outputs.
 //
 //   manifest (batch/Manifest.h) --> tiles still to do (batch/Journal.h)
@@ -35,6 +37,10 @@
 //   candidates.reg     a DS9 circle at each candidate's RA, Dec (fk5)
 //   summary.txt        tiles done / failed / done earlier, area, candidates per search space
 //   index.html         the survey index: every tile, its status and its vetting page
+//
+// TASK MEASURE: tiles/NAME/ holds the tile's catalog (its input catalog with octarc's columns
+// appended, under the input's file name; or, APPEND_COLUMNS N, a new catalog NAME.cat) and the
+// folder's marker; summary.txt, the only survey output, lists each tile's rows and seconds.
 #pragma once
 
 #include <string>
@@ -60,8 +66,9 @@ enum class TileState { Done, Failed, DoneEarlier, OtherTask, OtherRun };
 
 struct TileReport {
   TileState state = TileState::OtherTask;
-  std::string message;  // the error of a failed tile
-  std::int64_t candidates = 0;
+  std::string message;           // the error of a failed tile
+  std::int64_t candidates = 0;   // TASK SEARCH
+  std::int64_t catalogRows = 0;  // TASK MEASURE: the rows of the tile's catalog
   double seconds = 0.0;
   int rank = 0;
 };
