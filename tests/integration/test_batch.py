@@ -21,8 +21,8 @@ from astropy.table import Table
 from astropy.wcs import WCS
 import astropy.units as u
 
-from octarc_testlib import (OCTARC, SOURCE_DIR, WorkDirTest, fitsverify_errors,
-                            full_allocation_stacks_env, ldac_imhead, require_program, run_octarc)
+from octarc_testlib import (OCTARC, SOURCE_DIR, WorkDirTest, fitsverify_errors, ldac_imhead,
+                            mpi_env, require_program, run_octarc)
 
 SEX = os.path.join(SOURCE_DIR, "params", "octarc.sex")
 GRID = os.path.join(SOURCE_DIR, "params", "demo.grid.fits")
@@ -31,19 +31,6 @@ FIELD_SIZE = 2400
 TILE_X0 = (0, 567, 1133, 1700)
 TILE_Y0 = (0, 1100)
 TILE_W, TILE_H = 700, 1300
-
-
-def mpi_env():
-    env = dict(os.environ)
-    # Open MPI refuses to run as root without these (CLIENTS.md); a container has no CMA.
-    # HWLOC_COMPONENTS=-gl: hwloc's OpenGL plugin looks for GPUs by opening X displays :0, :1...
-    # over TCP to "localhost"; in a root without /etc/hosts each name goes to DNS, and mpirun
-    # then took 11.3 s instead of 1.3 s (4 ranks, 40 systems).
-    env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               OMPI_MCA_btl_vader_single_copy_mechanism="none", HWLOC_COMPONENTS="-gl")
-    # Open MPI keeps what MPI_Init allocates; tests/lsan.supp names its libraries, which only a
-    # full allocation stack shows.
-    return full_allocation_stacks_env(env)
 
 
 def mpi_command(ranks, *args):

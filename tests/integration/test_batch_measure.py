@@ -16,8 +16,8 @@ import unittest
 import numpy as np
 from astropy.io import fits
 
-from octarc_testlib import (OCTARC, SEX_SHARE, SOURCE_DIR, WorkDirTest, require_program,
-                            run_octarc, run_sextractor, write_param)
+from octarc_testlib import (OCTARC, SEX_SHARE, SOURCE_DIR, WorkDirTest, mpi_env,
+                            require_program, run_octarc, run_sextractor, write_param)
 
 IMAGE = os.path.join(SOURCE_DIR, "testdata", "multiband.r.fits.gz")
 # Three 160 x 160 tiles overlapping by 20 pixels: (x0, y0) of each, 0-based.
@@ -164,11 +164,9 @@ class BatchMeasureRanks(MeasureTiles):
     def test_new_catalogs_on_two_ranks_are_those_of_octarc_measure(self):
         require_program("mpirun")
         out = self.path("survey")
-        env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-                   OMPI_MCA_btl_vader_single_copy_mechanism="none", HWLOC_COMPONENTS="-gl")
         subprocess.run(["mpirun", "--oversubscribe", "-np", "2", OCTARC,
                         *self.batch_args(out, "-APPEND_COLUMNS", "N", "-CATALOG_TYPE", "FITS_LDAC")],
-                       check=True, capture_output=True, env=env)
+                       check=True, capture_output=True, env=mpi_env())
         for tile in self.tiles:
             self.assert_same_file(self.measure(tile, "N"),
                                   os.path.join(out, "tiles", tile[0], tile[0] + ".cat"))
