@@ -260,26 +260,13 @@ bool worthFitting(FittedGalaxy& g, const Stamp& stamp, const SeparatedObjects& s
   return worth;
 }
 
-// The galaxy in its cut-out: pixels, variances, the pre-screen, and the fit with its outliers
-// masked.
-void fitGalaxy(FittedGalaxy& g, const ImageF& pixels, const ImageF& varianceAdu2, double sigmaAdu,
-               const SeparatedObjects& separated, const SubtractionSettings& subtraction,
-               const LensLightSettings& settings) {
-  const Stamp cut = stampOf(g, pixels, varianceAdu2, sigmaAdu);
+// The fit of `stamp` from `start` within the fitted square (SubtractionSettings::
+// fitHalfSideArcsec about the start, within the cut-out), its centre in cut-out pixels, and the
+// flags it earns.
+void fitInSquare(FittedGalaxy& g, const Stamp& cut, const SersicParams& start,
+                 const SubtractionSettings& subtraction, const LensLightSettings& settings) {
   const ImageD& stamp = cut.pixels;
   const ImageD& variance = cut.variance;
-  // The start from the stamp's moments, centred on the catalog's centroid: a neighbour in the
-  // cut-out pulls the moments, not the object's own position.
-  SersicParams start = momentsStart(stamp);
-  start.xPix = fromFitsPixel(g.xPix) - double(g.x0);
-  start.yPix = fromFitsPixel(g.yPix) - double(g.y0);
-  if (!worthFitting(g, cut, separated, subtraction)) {
-    g.fit.params = start;
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    g.fit.errors = {nan, nan, nan, nan, nan, nan, nan};
-    return;
-  }
-  // The fitted square: at most fitHalfSideArcsec either side of the start, within the cut-out.
   std::int64_t fx0 = 0, fy0 = 0, fw = g.width, fh = g.height;
   if (subtraction.fitHalfSideArcsec > 0) {
     const auto half =
@@ -324,6 +311,64 @@ void fitGalaxy(FittedGalaxy& g, const ImageF& pixels, const ImageF& varianceAdu2
   }
 }
 
+// The start from the stamp's moments, centred on the catalog's centroid: a neighbour in the
+// cut-out pulls the moments, not the object's own position.
+SersicParams startOf(const FittedGalaxy& g, const ImageD& stamp) {
+  SersicParams start = momentsStart(stamp);
+  start.xPix = fromFitsPixel(g.xPix) - double(g.x0);
+  start.yPix = fromFitsPixel(g.yPix) - double(g.y0);
+  return start;
+}
+
+// The band a galaxy is fitted in, when not the searched image (FitBandImage), with its fit
+// settings (its own PSF) and the searched image's PSF, with which its model is drawn here.
+struct OtherBand {
+  const FitBandImage* image = nullptr;
+  LensLightSettings fit;
+  double searchedPsfSigmaPix = 0.0;
+};
+
+// The galaxy in its cut-out: pixels, variances, the pre-screen, and the fit with its outliers
+// masked, in the searched image or in the other band's (then scaled to the searched image).
+void fitGalaxy(FittedGalaxy& g, const ImageF& pixels, const ImageF& varianceAdu2, double sigmaAdu,
+               const SeparatedObjects& separated, const SubtractionSettings& subtraction,
+               const LensLightSettings& settings, const OtherBand& other) {
+  const Stamp cut = stampOf(g, pixels, varianceAdu2, sigmaAdu);
+  const SersicParams start = startOf(g, cut.pixels);
+  if (!worthFitting(g, cut, separated, subtraction)) {
+    g.fit.params = start;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    g.fit.errors = {nan, nan, nan, nan, nan, nan, nan};
+    return;
+  }
+  if (other.image == nullptr) {
+    fitInSquare(g, cut, start, subtraction, settings);
+    return;
+  }
+  static const ImageF kNoVariance;
+  const Stamp bandCut =
+      stampOf(g, *other.image->pixels,
+              other.image->varianceAdu2 != nullptr ? *other.image->varianceAdu2 : kNoVariance,
+              other.image->sigmaAdu);
+  fitInSquare(g, bandCut, startOf(g, bandCut.pixels), subtraction, other.fit);
+  g.failure |= kFitOtherBand;
+  if (!g.subtracted()) return;
+  // The model as this image sees it (its PSF), at that band's flux; its amplitude here, in the
+  // core, is the flux ratio.
+  const ImageD seen =
+      renderSersic(g.fit.params, int(g.width), int(g.height), other.searchedPsfSigmaPix);
+  const double ratio = coreFluxRatio(
+      cut.pixels, cut.variance, seen, g.fit.params.xPix, g.fit.params.yPix,
+      std::max(kBandRatioCoreArcsec / subtraction.pixelScaleArcsec, kBandRatioCoreMinPix));
+  if (!(std::isfinite(ratio) && ratio > 0)) {
+    g.failure |= kFitNoBandRatio;
+    return;
+  }
+  g.bandFluxRatio = ratio;
+  g.fit.params.totalFluxAdu *= ratio;
+  g.fit.errors.totalFluxAdu *= ratio;
+}
+
 // The catalog columns the choice of galaxies reads besides the expression's; ConfigError when
 // one is missing.
 struct ChoiceColumns {
@@ -342,9 +387,35 @@ void checkLensSelectColumns(const Table& catalog, const std::string& selectExpre
   ColumnExpression(selectExpression, "LENS_SELECT").evaluate(catalog);
 }
 
+double coreFluxRatio(const ImageD& stamp, const ImageD& varianceAdu2, const ImageD& model,
+                     double xPix, double yPix, double radiusPix) {
+  if (model.width() != stamp.width() || model.height() != stamp.height() ||
+      varianceAdu2.width() != stamp.width() || varianceAdu2.height() != stamp.height()) {
+    throw ConfigError("lens light: the core's stamp, variances and model differ in size");
+  }
+  double dataTimesModel = 0.0, modelSquared = 0.0;
+  const std::int64_t x0 = std::max<std::int64_t>(0, std::int64_t(std::floor(xPix - radiusPix)));
+  const std::int64_t x1 =
+      std::min<std::int64_t>(stamp.width() - 1, std::int64_t(std::ceil(xPix + radiusPix)));
+  const std::int64_t y0 = std::max<std::int64_t>(0, std::int64_t(std::floor(yPix - radiusPix)));
+  const std::int64_t y1 =
+      std::min<std::int64_t>(stamp.height() - 1, std::int64_t(std::ceil(yPix + radiusPix)));
+  for (std::int64_t y = y0; y <= y1; ++y) {
+    for (std::int64_t x = x0; x <= x1; ++x) {
+      if (std::hypot(double(x) - xPix, double(y) - yPix) > radiusPix) continue;
+      const double v = varianceAdu2(x, y), m = model(x, y);
+      if (!usable(stamp(x, y), v) || !std::isfinite(m)) continue;
+      dataTimesModel += stamp(x, y) * m / v;
+      modelSquared += m * m / v;
+    }
+  }
+  return modelSquared > 0 ? dataTimesModel / modelSquared
+                          : std::numeric_limits<double>::quiet_NaN();
+}
+
 Subtraction subtractLensLight(const ImageF& pixels, const ImageF& varianceAdu2, double sigmaAdu,
                               const Table& catalog, const SubtractionSettings& settings,
-                              const ProgressFn& progress) {
+                              const ProgressFn& progress, const FitBandImage* fitBand) {
   if (!(settings.pixelScaleArcsec > 0)) {
     throw ConfigError("lens light: the pixel scale must be positive");
   }
@@ -354,6 +425,18 @@ Subtraction subtractLensLight(const ImageF& pixels, const ImageF& varianceAdu2, 
   }
   if (settings.prescreenMinSnr > 0 && !(settings.searchRadiusArcsec > 0)) {
     throw ConfigError("lens light: the pre-screen's search radius must be positive");
+  }
+  if (fitBand != nullptr) {
+    const bool noVariance = fitBand->varianceAdu2 == nullptr || fitBand->varianceAdu2->empty();
+    if (fitBand->pixels == nullptr || fitBand->pixels->width() != pixels.width() ||
+        fitBand->pixels->height() != pixels.height() ||
+        (!noVariance && (fitBand->varianceAdu2->width() != pixels.width() ||
+                         fitBand->varianceAdu2->height() != pixels.height()))) {
+      throw ConfigError("lens light: the fitted band's image is not the searched image's size");
+    }
+    if (!(fitBand->sigmaAdu > 0) && noVariance) {
+      throw ConfigError("lens light: the fitted band's noise must be known (sigma > 0)");
+    }
   }
   const ChoiceColumns columns(catalog);
   SeparatedObjects separated;
@@ -390,17 +473,26 @@ Subtraction subtractLensLight(const ImageF& pixels, const ImageF& varianceAdu2, 
     out.galaxies.push_back(g);
   }
 
+  const auto psfSigmaPix = [&](double seeingFwhmArcsec) {
+    return seeingFwhmArcsec > 0
+               ? seeingFwhmArcsec / settings.pixelScaleArcsec / kGaussianFwhmPerSigma
+               : 0.0;
+  };
   LensLightSettings fit = settings.fit;
-  fit.fit.psfSigmaPix =
-      settings.seeingFwhmArcsec > 0
-          ? settings.seeingFwhmArcsec / settings.pixelScaleArcsec / kGaussianFwhmPerSigma
-          : 0.0;
+  fit.fit.psfSigmaPix = psfSigmaPix(settings.seeingFwhmArcsec);
+  OtherBand other;
+  if (fitBand != nullptr) {
+    other.image = fitBand;
+    other.fit = settings.fit;
+    other.fit.fit.psfSigmaPix = psfSigmaPix(fitBand->seeingFwhmArcsec);
+    other.searchedPsfSigmaPix = fit.fit.psfSigmaPix;
+  }
   const std::int64_t n = std::int64_t(out.galaxies.size());
   parallelForDynamic(
       n, resolveThreads(settings.threads),
       [&](std::int64_t i) {
         fitGalaxy(out.galaxies[std::size_t(i)], pixels, varianceAdu2, sigmaAdu, separated, settings,
-                  fit);
+                  fit, other);
       },
       [&](std::int64_t done) {
         if (progress) progress(done, n);

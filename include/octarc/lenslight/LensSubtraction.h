@@ -61,17 +61,23 @@ struct SubtractionSettings {
   double searchRadiusArcsec = 6.0;
 };
 
-// LENSFIT_FLAGS, the bits of FittedGalaxy::failure. 1, 2, 4 and 16 leave the galaxy in the
-// image; 8 is a warning, the model is subtracted.
+// LENSFIT_FLAGS, the bits of FittedGalaxy::failure. 1, 2, 4, 16 and 64 leave the galaxy in the
+// image; 8 is a warning and 32 information, the model is subtracted.
 enum FitFailure : int {
   kFitNotConverged = 1,   // the solver stopped without converging
   kFitOutsideCutout = 2,  // the fitted centre left the cut-out, or the radius ran to a limit
   kFitTooFewPixels = 4,   // fewer usable pixels than parameters (bad weights, an edge)
   kFitAtBound = 8,        // the index or the axis ratio ended on a bound (SersicFitSettings)
   kFitSkipped = 16,       // not fitted: its quick residual holds nothing to search (pre-screen)
+  // Fitted in another band's image (FitBandImage, LENS_LIGHT_BAND), its flux scaled by the
+  // galaxy's flux ratio in its core and drawn with this image's PSF: information, not trouble.
+  kFitOtherBand = 32,
+  // Fitted in another band, but no positive, finite flux ratio between the bands in its core
+  // (no light there in this image, or no usable pixel): left in the image.
+  kFitNoBandRatio = 64,
 };
 inline constexpr int kFitLeftInImage =
-    kFitNotConverged | kFitOutsideCutout | kFitTooFewPixels | kFitSkipped;
+    kFitNotConverged | kFitOutsideCutout | kFitTooFewPixels | kFitSkipped | kFitNoBandRatio;
 
 struct FittedGalaxy {
   // Its level-1 row in the searched catalog (LENS_LIGHT IMAGE: moved to the row appended for it
@@ -86,6 +92,9 @@ struct FittedGalaxy {
   // S/N of the brightest object of the pre-screen's quick residual that decided the fit (NaN:
   // no pre-screen, or nothing in the residual).
   double quickResidualSnr = std::numeric_limits<double>::quiet_NaN();
+  // Fitted in another band (kFitOtherBand): this image's flux over that band's in the galaxy's
+  // core (coreFluxRatio), by which `fit`'s flux and its error were scaled; NaN otherwise.
+  double bandFluxRatio = std::numeric_limits<double>::quiet_NaN();
   bool fitted() const { return (failure & kFitSkipped) == 0; }
   bool subtracted() const { return (failure & kFitLeftInImage) == 0; }
   // The fitted centre as 1-based image pixels.
@@ -100,6 +109,35 @@ struct Subtraction {
   std::int64_t subtractedCount() const;
   std::int64_t fittedCount() const;  // not skipped by the pre-screen
 };
+
+// Another band's image on the searched image's pixel grid, in which the galaxies are fitted
+// instead (LENS_LIGHT_BAND): a redder band, where the lens dominates and a blue arc is faint, so
+// that the arc does not pull the model. Each galaxy is chosen and pre-screened in the searched
+// image, fitted in this one's cut-out (same pixels) with this one's PSF, and its model is drawn
+// with the searched image's PSF (for Gaussian PSFs, the sharper band's model convolved with a
+// Gaussian of sqrt(sigma_broad^2 - sigma_sharp^2): PSF-matched either way) and scaled by the
+// galaxy's flux ratio between the bands in its core (coreFluxRatio), where an arc adds little.
+struct FitBandImage {
+  const ImageF* pixels = nullptr;        // background-subtracted, the searched image's size
+  const ImageF* varianceAdu2 = nullptr;  // per-pixel variances; null or empty: sigmaAdu^2
+  double sigmaAdu = 0.0;
+  double seeingFwhmArcsec = 0.0;  // its Gaussian PSF; 0: none
+};
+
+// Radius of the core in which the flux ratio between the bands is measured: well inside
+// kMinLensArcArcsec, the closest an arc lies to its lens, so that an arc's light reaches it only
+// through the seeing's wings (which still add to it: an arc of 0.375 times the lens's flux at
+// 1.5" in 1" seeing raises the ratio by 1.5 %); at least kBandRatioCoreMinPix, so that a coarse
+// pixel grid still has a few pixels in it.
+inline constexpr double kBandRatioCoreArcsec = 0.3;
+inline constexpr double kBandRatioCoreMinPix = 1.5;
+
+// The least-squares amplitude of `model` in `stamp` over the pixels within radiusPix of
+// (xPix, yPix) (0-based) with a usable variance: sum(d m / v) / sum(m^2 / v). With `model` a
+// galaxy's model fitted in another band and drawn with this image's PSF, it is this image's flux
+// over that band's. NaN when no such pixel holds model light.
+double coreFluxRatio(const ImageD& stamp, const ImageD& varianceAdu2, const ImageD& model,
+                     double xPix, double yPix, double radiusPix);
 
 // ConfigError when `catalog` lacks a column subtractLensLight needs (X_IMAGE, Y_IMAGE,
 // THRESH_LEVEL, NUMBER and the expression's): a catalog with no rows, the planned columns,
@@ -129,11 +167,14 @@ std::vector<QuickResidualObject> quickResidual(const ImageD& stamp, const ImageD
 // catalog within 0.5" of it holding at least half its flux, i.e. not one the image already
 // separates), fits each in its cut-out of `pixels` (background-subtracted) with
 // per-pixel variances `varianceAdu2` (a weight map's; empty: sigmaAdu^2 everywhere), on
-// `settings.threads` threads, and builds the model and residual images. ConfigError for a bad
-// expression or settings; `progress` hears of each galaxy.
+// `settings.threads` threads, and builds the model and residual images. With `fitBand`, each
+// galaxy is fitted in that band's image instead and its model scaled and PSF-matched to this one
+// (FitBandImage). ConfigError for a bad expression or settings, or a fitBand image of another
+// size; `progress` hears of each galaxy.
 Subtraction subtractLensLight(const ImageF& pixels, const ImageF& varianceAdu2, double sigmaAdu,
                               const Table& catalog, const SubtractionSettings& settings,
-                              const ProgressFn& progress = {});
+                              const ProgressFn& progress = {},
+                              const FitBandImage* fitBand = nullptr);
 
 // An arc is at least this far from its lens's centre (METHOD.md section 3): residual objects
 // closer are what is left of the galaxy itself.

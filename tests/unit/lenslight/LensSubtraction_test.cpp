@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
+#include <utility>
 
 #include "octarc/core/Error.h"
 #include "octarc/simulation/LensLight.h"
@@ -294,6 +296,152 @@ TEST(LensSubtraction, ResidualRowsBelongToTheNearestSubtractedGalaxy) {
   const ResidualRows near = residualRowsNearLenses(rows, sub, 3.0, 0.25);
   EXPECT_EQ(near.rows, (std::vector<std::int64_t>{1, 2, 3}));
   EXPECT_EQ(near.galaxy, (std::vector<std::size_t>{0, 0, 2}));
+}
+
+// The flux ratio in the core, against sums done by hand: the inverse-variance weighted
+// least-squares amplitude over the pixels within the radius, nothing beyond it.
+TEST(LensSubtraction, CoreFluxRatioIsTheModelsAmplitudeInTheCore) {
+  ImageD model(9, 9, 2.0), stamp(9, 9, 6.0), variance(9, 9, 1.0);
+  // Beyond 1.5 px of (4, 4): an arc ten times brighter, which must not count.
+  for (std::int64_t y = 0; y < 9; ++y) {
+    for (std::int64_t x = 0; x < 9; ++x) {
+      if (std::hypot(double(x) - 4.0, double(y) - 4.0) > 1.5) stamp(x, y) = 60.0;
+    }
+  }
+  EXPECT_DOUBLE_EQ(coreFluxRatio(stamp, variance, model, 4.0, 4.0, 1.5), 3.0);
+  // Two pixels of the core with other values and variances: within 1 px of (4, 4) are the
+  // centre and its four neighbours; (4, 4) holds d = 10, m = 4, v = 4 and (5, 4) d = 1, m = 1,
+  // v = 0.5, the other three d = 6, m = 2, v = 1:
+  // sum(d m / v) = 10 + 2 + 36 = 48, sum(m^2 / v) = 4 + 2 + 12 = 18, ratio 8/3.
+  stamp(4, 4) = 10.0;
+  model(4, 4) = 4.0;
+  variance(4, 4) = 4.0;
+  stamp(5, 4) = 1.0;
+  model(5, 4) = 1.0;
+  variance(5, 4) = 0.5;
+  EXPECT_NEAR(coreFluxRatio(stamp, variance, model, 4.0, 4.0, 1.0), 8.0 / 3.0, 1e-14);
+  // A rejected pixel (infinite variance) is left out: the same sums without (5, 4).
+  variance(5, 4) = std::numeric_limits<double>::infinity();
+  EXPECT_NEAR(coreFluxRatio(stamp, variance, model, 4.0, 4.0, 1.0), 46.0 / 16.0, 1e-14);
+  // No model light in the core: no ratio.
+  EXPECT_TRUE(std::isnan(coreFluxRatio(stamp, variance, ImageD(9, 9, 0.0), 4.0, 4.0, 1.5)));
+  EXPECT_THROW(coreFluxRatio(stamp, variance, ImageD(8, 9, 1.0), 4.0, 4.0, 1.5), ConfigError);
+}
+
+// A circular Gaussian of `sigmaPix` and `fluxAdu` about (xPix, yPix) (0-based) integrated over
+// each pixel exactly (a product of two differences of error functions).
+ImageD pixelGaussian(int width, int height, double xPix, double yPix, double sigmaPix,
+                     double fluxAdu) {
+  auto along = [&](int i, double centre) {
+    const double k = 1.0 / (std::sqrt(2.0) * sigmaPix);
+    return 0.5 * (std::erf((i + 0.5 - centre) * k) - std::erf((i - 0.5 - centre) * k));
+  };
+  ImageD out(width, height, 0.0);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) out(x, y) = fluxAdu * along(x, xPix) * along(y, yPix);
+  }
+  return out;
+}
+
+struct Moments {
+  double flux = 0, x = 0, y = 0, xx = 0, yy = 0;
+};
+Moments momentsOf(const ImageF& image) {
+  Moments m;
+  double sx = 0, sy = 0, sxx = 0, syy = 0;
+  for (std::int64_t y = 0; y < image.height(); ++y) {
+    for (std::int64_t x = 0; x < image.width(); ++x) {
+      const double v = image(x, y);
+      m.flux += v;
+      sx += v * double(x);
+      sy += v * double(y);
+      sxx += v * double(x) * double(x);
+      syy += v * double(y) * double(y);
+    }
+  }
+  m.x = sx / m.flux;
+  m.y = sy / m.flux;
+  m.xx = sxx / m.flux - m.x * m.x;
+  m.yy = syy / m.flux - m.y * m.y;
+  return m;
+}
+
+// A Sersic profile of index 0.5 is a Gaussian (half-light radius sigma sqrt(2 ln 2)), so a galaxy
+// fitted in another band must come back, drawn for this image, as a Gaussian whose variance is
+// the galaxy's plus this image's PSF's (Gaussians convolved add their variances: the model is
+// PSF-matched whether this image's seeing is broader or sharper) and whose flux is this image's
+// (the band's times the flux ratio).
+TEST(LensSubtraction, AGalaxyFittedInAnotherBandIsScaledAndPsfMatched) {
+  const int side = 81;
+  const double x0 = 40.3, y0 = 39.8;  // 0-based
+  const double galaxySigmaPix = 3.0, bandFluxAdu = 2.0e5, ratio = 0.4;
+  // The images hold no noise, but the fits are told of some, as a real image's would be: told
+  // of almost none, they leave out (as an arc) the pixels where the model's quadrature is off
+  // by a thousandth of the peak.
+  const double kNoiseAdu = 20.0;
+  const Table catalog = catalogOf({{1, 1, x0 + 1.0, y0 + 1.0}});
+  for (const auto& [searchedPsfPix, bandPsfPix] : {std::pair{2.0, 1.2}, std::pair{1.0, 2.0}}) {
+    SCOPED_TRACE(searchedPsfPix);
+    const double searchedVariance =
+        galaxySigmaPix * galaxySigmaPix + searchedPsfPix * searchedPsfPix;
+    const double bandVariance = galaxySigmaPix * galaxySigmaPix + bandPsfPix * bandPsfPix;
+    const ImageF searched = toFloat(
+        pixelGaussian(side, side, x0, y0, std::sqrt(searchedVariance), ratio * bandFluxAdu));
+    const ImageF band =
+        toFloat(pixelGaussian(side, side, x0, y0, std::sqrt(bandVariance), bandFluxAdu));
+    SubtractionSettings s = settings();
+    s.cutoutArcsec = 80 * kScaleArcsec;  // the whole image
+    s.seeingFwhmArcsec = searchedPsfPix * kScaleArcsec * 2.3548200450309493;
+    FitBandImage fitBand;
+    fitBand.pixels = &band;
+    fitBand.sigmaAdu = kNoiseAdu;
+    fitBand.seeingFwhmArcsec = bandPsfPix * kScaleArcsec * 2.3548200450309493;
+    const Subtraction sub = subtractLensLight(searched, ImageF(), kNoiseAdu, catalog, s, {}, &fitBand);
+    ASSERT_EQ(sub.galaxies.size(), 1u);
+    const FittedGalaxy& g = sub.galaxies[0];
+    EXPECT_EQ(g.failure, kFitOtherBand) << g.fit.message;
+    EXPECT_NEAR(g.bandFluxRatio, ratio, 1e-3);
+    EXPECT_NEAR(g.fit.params.sersicIndex, 0.5, 0.01);
+    // The galaxy's own size: the band's PSF taken out.
+    EXPECT_NEAR(g.fit.params.halfLightRadiusPix, galaxySigmaPix * std::sqrt(2.0 * std::log(2.0)),
+                0.01);
+    EXPECT_NEAR(g.fit.params.totalFluxAdu, ratio * bandFluxAdu, 1e-3 * ratio * bandFluxAdu);
+    // The model: this image's flux (conserved), centre, and the variances added (plus the
+    // pixel's 1/12, which the exact pixel integral holds too).
+    const Moments m = momentsOf(sub.model);
+    EXPECT_NEAR(m.flux / (ratio * bandFluxAdu), 1.0, 1e-3);
+    EXPECT_NEAR(m.x, x0, 0.01);
+    EXPECT_NEAR(m.y, y0, 0.01);
+    EXPECT_NEAR(m.xx, searchedVariance + 1.0 / 12.0, 0.02 * searchedVariance);
+    EXPECT_NEAR(m.yy, searchedVariance + 1.0 / 12.0, 0.02 * searchedVariance);
+    // And the residual is nothing: at most a thousandth of the peak.
+    double peak = 0, worst = 0;
+    for (std::int64_t i = 0; i < searched.size(); ++i) {
+      peak = std::max(peak, double(searched[i]));
+      worst = std::max(worst, std::abs(double(sub.residual[i])));
+    }
+    EXPECT_LT(worst, 1e-3 * peak);
+  }
+}
+
+TEST(LensSubtraction, AGalaxyWithoutLightInTheSearchedBandIsLeftAlone) {
+  const int side = 61;
+  const Table catalog = catalogOf({{1, 1, 31.0, 31.0}});
+  const ImageF band = toFloat(pixelGaussian(side, side, 30.0, 30.0, 3.0, 1e5));
+  FitBandImage fitBand;
+  fitBand.pixels = &band;
+  fitBand.sigmaAdu = 1.0;
+  const ImageF empty(side, side, 0.0f);
+  SubtractionSettings s = settings();
+  s.seeingFwhmArcsec = 0.0;
+  const Subtraction sub = subtractLensLight(empty, ImageF(), 1.0, catalog, s, {}, &fitBand);
+  ASSERT_EQ(sub.galaxies.size(), 1u);
+  EXPECT_EQ(sub.galaxies[0].failure, kFitOtherBand | kFitNoBandRatio);
+  EXPECT_EQ(sub.subtractedCount(), 0);
+  // Another band of another size is refused.
+  const ImageF small(side - 1, side, 0.0f);
+  fitBand.pixels = &small;
+  EXPECT_THROW(subtractLensLight(empty, ImageF(), 1.0, catalog, s, {}, &fitBand), ConfigError);
 }
 
 }  // namespace
