@@ -205,6 +205,11 @@ BatchSettings batchSettingsFromConfig(const sexcompat::Config& c, RunSettings ru
         "COLOUR_IMAGE: a batch's manifest holds one image per tile; search the "
         "tiles one by one (octarc search) to measure colours");
   }
+  if (c.count("LENS_LIGHT_BAND") > 0) {
+    throw ConfigError(
+        "LENS_LIGHT_BAND: a batch's manifest holds one image per tile; search the tiles one "
+        "by one (octarc search) to fit the lenses in another band");
+  }
   if (c.isExplicit("CHECKIMAGE_TYPE") && uppercase(c.getString("CHECKIMAGE_TYPE")) != "NONE") {
     throw ConfigError("CHECKIMAGE_TYPE: a batch writes no check-images");
   }

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <optional>
+#include <string>
 
 #include "octarc/core/Error.h"
 #include "octarc/core/Parallel.h"
@@ -175,7 +177,7 @@ void replaceByResidual(SearchRun& run, ResidualCatalog& residual,
 }  // namespace
 
 void applyLensLight(SearchRun& run, const SearchRunSettings& settings, const ColumnPlan& columns,
-                    const RunLog& log) {
+                    const RunLog& log, const PreparedImage* fitBand) {
   const lenslight::SubtractionMode mode = settings.lensLight.mode;
   if (mode == lenslight::SubtractionMode::Off) return;
   lenslight::SubtractionSettings ls = settings.lensLight;
@@ -188,9 +190,18 @@ void applyLensLight(SearchRun& run, const SearchRunSettings& settings, const Col
   ls.prescreenMinSizeArcsec = 0.75 * settings.search.resolvedMinArcsec;
   ls.searchRadiusArcsec = settings.search.lensRadiusArcsec;
   ls.fitHalfSideArcsec = settings.search.lensRadiusArcsec + 1.0;
-  if (log) log("> Fitting lens galaxies (LENS_SELECT " + ls.selectExpression + ")");
-  run.lensLight = lenslight::subtractLensLight(run.image.hdu.pixels, run.image.variance,
-                                               run.image.sigmaAdu, run.catalog, ls);
+  std::optional<lenslight::FitBandImage> band;
+  std::string inBand;
+  if (fitBand != nullptr) {
+    const auto k = std::size_t(settings.lensLightBand);
+    band = lenslight::FitBandImage{&fitBand->hdu.pixels, &fitBand->variance, fitBand->sigmaAdu,
+                                   settings.colourSeeingFwhmArcsec.at(k)};
+    inBand = " in band " + settings.search.colourBands.at(k);
+  }
+  if (log) log("> Fitting lens galaxies" + inBand + " (LENS_SELECT " + ls.selectExpression + ")");
+  run.lensLight =
+      lenslight::subtractLensLight(run.image.hdu.pixels, run.image.variance, run.image.sigmaAdu,
+                                   run.catalog, ls, {}, band ? &*band : nullptr);
   const lenslight::Subtraction& sub = *run.lensLight;
   if (log) {
     log("> " + std::to_string(sub.galaxies.size()) + " galaxies chosen, " +
@@ -269,7 +280,11 @@ FitsTable lensFitTable(const SearchRun& run) {
   integer("SERSIC_ITER", "solver iterations", [](const G& g) { return g.fit.iterations; });
   column("QUICK_SNR", "", "S/N of the pre-screen's residual object (NaN: none)",
          [](const G& g) { return g.quickResidualSnr; });
-  integer("LENSFIT_FLAGS", "1 unconv., 2 centre/radius, 4 few px, 8 at bound, 16 not fitted",
+  column("BAND_RATIO", "", "flux over LENS_LIGHT_BAND's in the core (NaN: not used)",
+         [](const G& g) { return g.bandFluxRatio; });
+  integer("LENSFIT_FLAGS",
+          "1 unconv., 2 centre/radius, 4 few px, 8 at bound, 16 not fitted, 32 other band, 64 "
+          "no band ratio",
           [](const G& g) { return g.failure; });
   return t;
 }

@@ -94,6 +94,16 @@ void readColourSettings(const sexcompat::Config& c, SearchRunSettings& s) {
                       " COLOUR_IMAGE(s); give one per image, or none for "
                       "MAG_ZEROPOINT");
   }
+  const int seeings = c.count("COLOUR_SEEING_FWHM");
+  if (seeings == 0) {
+    s.colourSeeingFwhmArcsec.assign(n, s.run.seeingFwhmArcsec);
+  } else if (std::size_t(seeings) == n) {
+    s.colourSeeingFwhmArcsec = c.getDoubles("COLOUR_SEEING_FWHM");
+  } else {
+    throw ConfigError("COLOUR_SEEING_FWHM: " + std::to_string(seeings) + " value(s) for " +
+                      std::to_string(n) +
+                      " COLOUR_IMAGE(s); give one per image, or none for SEEING_FWHM");
+  }
   if (c.givenWithoutValue("COLOUR_CUT")) {
     throw ConfigError(
         "COLOUR_CUT: a comma but no band and no MAX; give both, as in 'COLOUR_CUT g,-0.3', or "
@@ -129,6 +139,30 @@ void readColourSettings(const sexcompat::Config& c, SearchRunSettings& s) {
         " is the measurement image's sky, not the other bands'; use BACK_TYPE AUTO, or subtract "
         "the backgrounds first and give BACK_VALUE 0");
   }
+}
+
+// LENS_LIGHT_BAND: one of COLOUR_BAND, with LENS_LIGHT LOCAL or IMAGE.
+void readLensLightBand(const sexcompat::Config& c, SearchRunSettings& s) {
+  if (c.count("LENS_LIGHT_BAND") == 0) return;
+  const std::string band = c.getString("LENS_LIGHT_BAND");
+  if (s.lensLight.mode == lenslight::SubtractionMode::Off) {
+    throw ConfigError("LENS_LIGHT_BAND " + band +
+                      ": the lens models are fitted only with LENS_LIGHT LOCAL or IMAGE");
+  }
+  if (s.colourImagePaths.empty()) {
+    throw ConfigError("LENS_LIGHT_BAND " + band +
+                      ": no COLOUR_IMAGE; give the band's image in COLOUR_IMAGE and its name in "
+                      "COLOUR_BAND");
+  }
+  const auto& bands = s.search.colourBands;
+  const auto at = std::find(bands.begin(), bands.end(), band);
+  if (at == bands.end()) {
+    std::string names;
+    for (const std::string& b : bands) names += (names.empty() ? "" : ", ") + b;
+    throw ConfigError("LENS_LIGHT_BAND: band " + quoteForMessage(band) +
+                      " is not one of COLOUR_BAND (" + names + ")");
+  }
+  s.lensLightBand = int(at - bands.begin());
 }
 
 }  // namespace
@@ -201,12 +235,16 @@ std::vector<KeySpec> searchKeys() {
     Row("LENS_CUTOUT", Kind::Float, {"20.0"}, "side of the square fitted around each (arcsec)")
         .range(1, 600),
     Row("LENS_CHECKIMAGES", Kind::Bool, {"Y"}, "write lensmodel.fits and lensresidual.fits"),
+    Row("LENS_LIGHT_BAND", Kind::String, {}, "fit the lens models in this COLOUR_BAND's image\n"
+        "(a redder band), scaled and PSF-matched to this one").list(0, 1),
     Row("COLOUR_IMAGE", Kind::String, {}, "images of other bands on the measurement image's\n"
         "pixel grid: colours of arcs and lenses").list(0, 16),
     Row("COLOUR_BAND", Kind::String, {}, "their band names, one per image (in column names)")
         .list(0, 16),
     Row("COLOUR_ZEROPOINT", Kind::Float, {}, "their magnitude zero-points (none: MAG_ZEROPOINT)")
         .list(0, 16),
+    Row("COLOUR_SEEING_FWHM", Kind::Float, {}, "their seeing FWHM, arcsec (none: SEEING_FWHM)")
+        .list(0, 16).range(0, 1e10),
     Row("COLOUR_CUT", Kind::String, {}, "BAND,MAX: remove candidates whose arc minus lens\n"
         "colour in BAND exceeds MAX (mag)").list(0, 2),
     Row("DARK_PAIR_COLOUR", Kind::Float, {"2.0", "0.1"}, "a dark-lens pair's colours agree\n"
@@ -277,6 +315,7 @@ SearchRunSettings searchSettingsFromConfig(const sexcompat::Config& c, RunSettin
     }
   }
   readColourSettings(c, s);
+  readLensLightBand(c, s);
   if (!s.colourImagePaths.empty() && !s.inputCatalogPath.empty()) {
     throw ConfigError(
         "COLOUR_IMAGE: colours are measured in the detection footprints, which "

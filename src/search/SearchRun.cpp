@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <tuple>
 
@@ -127,9 +128,10 @@ void checkColourImageGrids(const SearchRunSettings& s) {
   }
 }
 
-// The colour bands' images, background-subtracted with the measurement image's BACK_TYPE and
-// mesh settings (each its own background; no BACKGROUND_NAME maps, no weight map, no filter).
-std::vector<PreparedImage> prepareColourImages(const SearchRunSettings& s, const RunLog& log) {
+// A colour band's image, background-subtracted with the measurement image's BACK_TYPE and mesh
+// settings (its own background; no BACKGROUND_NAME maps, no weight map, no filter).
+PreparedImage prepareColourImage(const SearchRunSettings& s, const std::string& path,
+                                 const RunLog& log) {
   RunSettings band = measurementImageSettings(s.run);
   band.weightType = WeightType::None;
   band.weightImagePath.clear();
@@ -138,10 +140,15 @@ std::vector<PreparedImage> prepareColourImages(const SearchRunSettings& s, const
   // estimated (or is 0, readColourSettings).
   band.backgroundMapPath.clear();
   band.backgroundRmsMapPath.clear();
+  if (log) log("> Reading " + path);
+  return prepareImage(path, band, {}, false);
+}
+
+// Every colour band's image (prepareColourImage).
+std::vector<PreparedImage> prepareColourImages(const SearchRunSettings& s, const RunLog& log) {
   std::vector<PreparedImage> images;
   for (const std::string& path : s.colourImagePaths) {
-    if (log) log("> Reading " + path);
-    images.push_back(prepareImage(path, band, {}, false));
+    images.push_back(prepareColourImage(s, path, log));
   }
   return images;
 }
@@ -197,7 +204,13 @@ void detectRows(const SearchRunSettings& settings, SearchRun& run, const RunLog&
   requireColumns(run.catalog, searchRequiredColumns(), "PARAMETERS_NAME " + rs.parametersPath);
   if (settings.lensLight.mode != lenslight::SubtractionMode::Off) {
     run.pixelScaleArcsec = runPixelScaleArcsec(run, rs);
-    applyLensLight(run, settings, columns, log);
+    // LENS_LIGHT_BAND: that band's image, needed only for the fits (read again for the colours).
+    std::optional<PreparedImage> fitBand;
+    if (settings.lensLightBand >= 0) {
+      fitBand = prepareColourImage(
+          settings, settings.colourImagePaths[std::size_t(settings.lensLightBand)], log);
+    }
+    applyLensLight(run, settings, columns, log, fitBand ? &*fitBand : nullptr);
   }
 }
 
@@ -424,7 +437,11 @@ std::vector<std::string> searchSummaryLines(const SearchRun& run,
     for (const Candidate& c : run.result.candidates) found += (c.flags & kCandidateLensLight) != 0;
     const bool local = settings.lensLight.mode == lenslight::SubtractionMode::Local;
     const std::int64_t fitted = sub.fittedCount();
-    lines.push_back(std::string("Lens light (LENS_LIGHT ") + (local ? "LOCAL" : "IMAGE") +
+    const std::string band = settings.lensLightBand >= 0
+                                 ? ", LENS_LIGHT_BAND " + settings.search.colourBands.at(
+                                                              std::size_t(settings.lensLightBand))
+                                 : std::string();
+    lines.push_back(std::string("Lens light (LENS_LIGHT ") + (local ? "LOCAL" : "IMAGE") + band +
                     "): " + std::to_string(sub.galaxies.size()) + " galaxies chosen (" +
                     settings.lensLight.selectExpression + "), " + std::to_string(fitted) +
                     " galaxies fitted (the others' quick residual holds nothing), " +

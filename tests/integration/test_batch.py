@@ -830,6 +830,8 @@ class BatchBadInput(WorkDirTest):
         self.assert_refused(self.batch(m, "-MASK_NAME", "x.reg"), "MASK_NAME", "manifest")
         self.assert_refused(self.batch(m, "-COLOUR_IMAGE", "a.fits", "-COLOUR_BAND", "g"),
                             "COLOUR_IMAGE", "manifest")
+        self.assert_refused(self.batch(m, "-LENS_LIGHT", "LOCAL", "-LENS_LIGHT_BAND", "i"),
+                            "LENS_LIGHT_BAND", "manifest")
         self.assert_refused(self.batch(m, "-ARRAY_TASK", "3/3"), "ARRAY_TASK")
         os.mkdir(self.path("out"))
         self.write("out/notes.txt", "mine")

@@ -19,17 +19,23 @@
 namespace octarc {
 
 // Applies settings.lensLight to `run` (its catalog, footprints, levels and prepared image, as
-// detected here), filling run.lensLight and run.lensLightOf. ConfigError for a bad LENS_SELECT.
+// detected here), filling run.lensLight and run.lensLightOf. With `fitBand` (LENS_LIGHT_BAND:
+// that colour band's prepared image, settings.lensLightBand), the galaxies are fitted in it and
+// their models scaled and PSF-matched to the searched image (lenslight::FitBandImage).
+// ConfigError for a bad LENS_SELECT.
 void applyLensLight(SearchRun& run, const SearchRunSettings& settings, const ColumnPlan& columns,
-                    const RunLog& log);
+                    const RunLog& log, const PreparedImage* fitBand = nullptr);
 
 // The FITS table of the chosen galaxies (EXTNAME LENSFIT), one row each, in catalog order:
 // NUMBER of the galaxy's level-1 row in the image's detection, LENS_NUMBER (the candidates'
 // LENS_NUMBER of it, SearchRun::lensNumbers), X_IMAGE/Y_IMAGE (catalog), the fitted centre, flux,
 // half-light radius, index, axis ratio and angle with their errors, chi^2 per degree of
-// freedom, the solver's iterations, the pre-screen's QUICK_SNR and LENSFIT_FLAGS
-// (lenslight::FitFailure bits: 0 or 8 subtracted, 8 an index or axis ratio at its bound, 16 not
-// fitted by the pre-screen; the parameters of a galaxy not fitted are its start).
+// freedom, the solver's iterations, the pre-screen's QUICK_SNR, BAND_RATIO (LENS_LIGHT_BAND: the
+// searched image's flux over that band's in the galaxy's core; NaN without) and LENSFIT_FLAGS
+// (lenslight::FitFailure bits: 0, 8, 32 or 40 subtracted, 8 an index or axis ratio at its bound,
+// 16 not fitted by the pre-screen, 32 fitted in LENS_LIGHT_BAND, 64 no flux ratio; the
+// parameters of a galaxy not fitted are its start; with 32, the flux is the searched image's and
+// the other parameters and chi^2 are the band's fit's).
 FitsTable lensFitTable(const SearchRun& run);
 
 }  // namespace octarc

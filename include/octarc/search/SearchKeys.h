@@ -19,8 +19,8 @@ namespace octarc {
 // The configuration keys of `octarc search`: those of detect (run/RunKeys.h) and GRID_NAME,
 // SEARCH_SPACE, MASK_NAME, MASK_BORDER, OUTPUT_DIR, SNR_MIN, RESOLVED_MIN, LENS_RADIUS,
 // LENS_SIDE_ARCNESS, STAMP_SIZE, STAMP_PIXELS, STAMPS, NAME_PREFIX, the lens-light keys
-// LENS_LIGHT, LENS_SELECT, LENS_CUTOUT, LENS_CHECKIMAGES, and the colour keys COLOUR_IMAGE,
-// COLOUR_BAND, COLOUR_ZEROPOINT, COLOUR_CUT, DARK_PAIR_COLOUR.
+// LENS_LIGHT, LENS_SELECT, LENS_CUTOUT, LENS_CHECKIMAGES, LENS_LIGHT_BAND, and the colour keys
+// COLOUR_IMAGE, COLOUR_BAND, COLOUR_ZEROPOINT, COLOUR_SEEING_FWHM, COLOUR_CUT, DARK_PAIR_COLOUR.
 std::vector<sexcompat::KeySpec> searchKeys();
 
 struct SearchRunSettings {
@@ -45,6 +45,12 @@ struct SearchRunSettings {
   // zero-points (COLOUR_ZEROPOINT, else MAG_ZEROPOINT) here.
   std::vector<std::string> colourImagePaths;
   std::vector<double> colourZeropoints;
+  // Their seeing FWHM (arcsec; COLOUR_SEEING_FWHM, else SEEING_FWHM), the Gaussian PSF of a lens
+  // model fitted in one of them.
+  std::vector<double> colourSeeingFwhmArcsec;
+  // LENS_LIGHT_BAND: the index in colourImagePaths of the band the lens models are fitted in
+  // (lenslight::FitBandImage), -1 for the searched image itself.
+  int lensLightBand = -1;
   // ASSOC, when PARAMETERS_NAME asks for its columns (rows are never removed: the search needs
   // the whole component tree, so ASSOCSELEC_TYPE must be ALL).
   std::optional<sexcompat::AssocSettings> assoc;
