@@ -280,11 +280,10 @@ FitsTable lensFitTable(const SearchRun& run) {
   integer("SERSIC_ITER", "solver iterations", [](const G& g) { return g.fit.iterations; });
   column("QUICK_SNR", "", "S/N of the pre-screen's residual object (NaN: none)",
          [](const G& g) { return g.quickResidualSnr; });
-  column("BAND_RATIO", "", "flux over LENS_LIGHT_BAND's in the core (NaN: not used)",
+  // The comments fit their TTYPE card (47 characters).
+  column("BAND_RATIO", "", "flux ratio to LENS_LIGHT_BAND in the core",
          [](const G& g) { return g.bandFluxRatio; });
-  integer("LENSFIT_FLAGS",
-          "1 unconv., 2 centre/radius, 4 few px, 8 at bound, 16 not fitted, 32 other band, 64 "
-          "no band ratio",
+  integer("LENSFIT_FLAGS", "1,2,4,16,64: left in; 8 bound, 32 other band",
           [](const G& g) { return g.failure; });
   return t;
 }

@@ -396,7 +396,8 @@ TEST(LensSubtraction, AGalaxyFittedInAnotherBandIsScaledAndPsfMatched) {
     fitBand.pixels = &band;
     fitBand.sigmaAdu = kNoiseAdu;
     fitBand.seeingFwhmArcsec = bandPsfPix * kScaleArcsec * 2.3548200450309493;
-    const Subtraction sub = subtractLensLight(searched, ImageF(), kNoiseAdu, catalog, s, {}, &fitBand);
+    const Subtraction sub =
+        subtractLensLight(searched, ImageF(), kNoiseAdu, catalog, s, {}, &fitBand);
     ASSERT_EQ(sub.galaxies.size(), 1u);
     const FittedGalaxy& g = sub.galaxies[0];
     EXPECT_EQ(g.failure, kFitOtherBand) << g.fit.message;
