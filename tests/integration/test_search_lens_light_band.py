@@ -3,8 +3,8 @@ lens drawn here with numpy (a renderer independent of octarc's), a red de Vaucou
 with a blue arc close to it. In the searched band g the arc is bright; in the colour band i the
 galaxy is 2.5 times brighter and the arc ten times fainter, and the seeing is sharper. The
 residual keeps the arc's injected light where the one-band fit (LENS_LIGHT LOCAL alone) takes
-much of it into the model; the galaxy's light is gone; the fitted flux ratio is the injected one;
-and bad settings are refused with one line naming the key."""
+much of it into the model; the galaxy's light is gone; the fitted flux ratio is the injected one
+(LOCAL and IMAGE); and bad settings are refused with one line naming the key."""
 import os
 import shutil
 import tempfile
@@ -189,6 +189,16 @@ class SearchLensLightBand(BandFixture):
                         0.1)
         d = np.hypot(residual[0]["X_IMAGE"] - LENS_X, residual[0]["Y_IMAGE"] - LENS_Y)
         self.assertAlmostEqual(d, ARC_RADIUS * np.sin(ARC_HALF) / ARC_HALF, delta=1.5)
+
+    def test_image_mode_subtracts_the_same_model(self):
+        # LENS_LIGHT IMAGE searches the residual image: the model is fitted in i there too.
+        self.search("image", "-LENS_LIGHT", "IMAGE", "-LENS_LIGHT_BAND", "i",
+                    "-COLOUR_SEEING_FWHM", str(SEEING_I))
+        residual = fits.getdata(self.path("image/lensresidual.fits")).astype(float)
+        self.assertGreater(self.kept_arc_fraction(residual), 0.9)
+        fit = fits.getdata(self.path("image/lensfit.fits"), "LENSFIT")
+        self.assertEqual(list(fit["LENSFIT_FLAGS"]), [32])
+        self.assertAlmostEqual(fit["BAND_RATIO"][0], LENS_FLUX_G / LENS_FLUX_I, delta=0.01)
 
 
 class LensLightBandBadInput(BandFixture):
