@@ -114,6 +114,7 @@ ImageRunResult detectAndMeasure(PreparedImage& image, const MeasurementPlan& pla
   // appended, give the catalog's order.
   out.rows = Table(plan.columns(), Table::Chunks::Large);
   std::vector<std::vector<std::int64_t>> levelRows(request.levels.size());
+  if (request.checkpoint) request.checkpoint();
   {
     MeasurementQueue queue(plan, context, request.threads);
     out.objectsPerLevel =
@@ -124,6 +125,7 @@ ImageRunResult detectAndMeasure(PreparedImage& image, const MeasurementPlan& pla
             levelRows[std::size_t(o.level - 1)].push_back(out.rows.rows());
             queue.add(std::move(o), out.rows.appendRowUnset());
           }
+          if (request.checkpoint) request.checkpoint();
         });
     restoreVariance();
     if (image.separateDetection) image.detectionVariance = ImageF();  // no longer needed

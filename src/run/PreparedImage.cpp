@@ -37,15 +37,19 @@ double finiteMedian(const ImageF& image) {
   return *mid;
 }
 
-ImageF readMapLike(const std::string& path, const ImageHdu& image, const char* what) {
-  ImageHdu map = readImage(path);
-  if (map.pixels.width() != image.pixels.width() || map.pixels.height() != image.pixels.height()) {
-    throw IoError(path + ": " + what + " is " + std::to_string(map.pixels.width()) + "x" +
-                  std::to_string(map.pixels.height()) + " but the image is " +
+// A map of the image's size: IoError naming it (`name`) otherwise.
+ImageF checkMapLike(ImageF map, const std::string& name, const ImageHdu& image, const char* what) {
+  if (map.width() != image.pixels.width() || map.height() != image.pixels.height()) {
+    throw IoError(name + ": " + what + " is " + std::to_string(map.width()) + "x" +
+                  std::to_string(map.height()) + " but the image is " +
                   std::to_string(image.pixels.width()) + "x" +
                   std::to_string(image.pixels.height()));
   }
-  return std::move(map.pixels);
+  return map;
+}
+
+ImageF readMapLike(const std::string& path, const ImageHdu& image, const char* what) {
+  return checkMapLike(std::move(readImage(path).pixels), path, image, what);
 }
 
 void subtractMap(ImageF& image, const ImageF& background) {
@@ -189,7 +193,8 @@ ImageF PreparedImage::backgroundRmsImage() const {
 void PreparedImage::reloadVariance(const RunSettings& settings) {
   if (!varianceFiltered) return;
   variance = ImageF();  // freed before the map is read again
-  ImageF weights = readMapLike(settings.weightImagePath, hdu, "weight map");
+  ImageF weights = weightReader ? checkMapLike(weightReader(), "weights", hdu, "weight map")
+                                : readMapLike(settings.weightImagePath, hdu, "weight map");
   weightsToVariance(weights, *mesh, settings);
   variance = std::move(weights);
   varianceFiltered = false;
@@ -220,18 +225,20 @@ void readGainAndSaturation(PreparedImage& out, const std::string& imagePath,
 }
 
 // The weight map, read into the buffer that becomes the variance map (so that weights cost one
-// image-sized buffer); no map for WEIGHT_TYPE NONE.
-WeightMap openWeightMap(const RunSettings& settings, const ImageHdu& image, ImageF& buffer) {
+// image-sized buffer); no map for WEIGHT_TYPE NONE. From `maps` when it has the weights.
+WeightMap openWeightMap(const RunSettings& settings, const ImageHdu& image, const ImageMaps& maps,
+                        ImageF& buffer) {
   WeightMap weights;
   if (settings.weightType == WeightType::None) return weights;
-  buffer = readMapLike(settings.weightImagePath, image, "weight map");
+  buffer = maps.weights ? checkMapLike(maps.weights(), "weights", image, "weight map")
+                        : readMapLike(settings.weightImagePath, image, "weight map");
   weights.pixels = &buffer;
   weights.type = settings.weightType == WeightType::MapWeight ? WeightMapType::Weight
                  : settings.weightType == WeightType::MapRms  ? WeightMapType::Rms
                                                               : WeightMapType::Variance;
   weights.threshold = settings.weightThreshold;
   weights.rescale = settings.rescaleWeights;
-  weights.name = settings.weightImagePath;
+  weights.name = maps.weights ? std::string("weights") : settings.weightImagePath;
   return weights;
 }
 
@@ -242,7 +249,7 @@ WeightMap openWeightMap(const RunSettings& settings, const ImageHdu& image, Imag
 // needed, and always with a weight map (RESCALE_WEIGHTS comes from its statistics).
 void subtractBackground(PreparedImage& out, const std::string& imagePath,
                         const RunSettings& settings, const CatalogRunValues& fromCatalog,
-                        const WeightMap& weights, bool keepCheckMaps) {
+                        const WeightMap& weights, const ImageMaps& maps, bool keepCheckMaps) {
   ImageF& pixels = out.hdu.pixels;
   std::optional<MeshBackground>& mesh = out.mesh;
   auto meshBackground = [&]() -> const MeshBackground& {
@@ -276,8 +283,10 @@ void subtractBackground(PreparedImage& out, const std::string& imagePath,
     }
   };
 
-  if (!settings.backgroundMapPath.empty()) {
-    ImageF map = readMapLike(settings.backgroundMapPath, out.hdu, "BACKGROUND map");
+  if (maps.background || !settings.backgroundMapPath.empty()) {
+    ImageF map = maps.background
+                     ? checkMapLike(maps.background(), "background", out.hdu, "BACKGROUND map")
+                     : readMapLike(settings.backgroundMapPath, out.hdu, "BACKGROUND map");
     out.backgroundAdu = finiteMedian(map);
     out.origin.background = "CHECKIMAGE";
     sigmaFromMesh();
@@ -325,11 +334,12 @@ void subtractBackground(PreparedImage& out, const std::string& imagePath,
 }
 
 // The variance map from the weights, and the filtered detection image (FILTER Y).
-void varianceAndFilter(PreparedImage& out, const RunSettings& settings, ImageF& weightPixels,
-                       bool haveWeights, bool filterVariance) {
+void varianceAndFilter(PreparedImage& out, const RunSettings& settings, const ImageMaps& maps,
+                       ImageF& weightPixels, bool haveWeights, bool filterVariance) {
   std::optional<ConvKernel> kernel;
   if (settings.filter) {
-    kernel = sexcompat::readConvFile(resolveFilterFile(settings.filterPath));
+    kernel = maps.filter ? *maps.filter
+                         : sexcompat::readConvFile(resolveFilterFile(settings.filterPath));
   }
   if (haveWeights) {
     weightsToVariance(weightPixels, *out.mesh, settings);
@@ -352,11 +362,12 @@ void varianceAndFilter(PreparedImage& out, const RunSettings& settings, ImageF& 
 
 }  // namespace
 
-PreparedImage prepareImage(const std::string& imagePath, const RunSettings& settings,
-                           const CatalogRunValues& fromCatalog, bool keepCheckMaps,
-                           bool filterVariance) {
-  PreparedImage out;
-  out.hdu = readImage(imagePath);
+namespace {
+
+// prepareImage's steps on an image in memory (`out.hdu`).
+void prepareLoaded(PreparedImage& out, const std::string& imagePath, const RunSettings& settings,
+                   const CatalogRunValues& fromCatalog, const ImageMaps& maps, bool keepCheckMaps,
+                   bool filterVariance) {
   ImageF& pixels = out.hdu.pixels;
   const bool anyFinite = std::any_of(pixels.pixels().begin(), pixels.pixels().end(),
                                      [](float v) { return std::isfinite(v); });
@@ -365,10 +376,30 @@ PreparedImage prepareImage(const std::string& imagePath, const RunSettings& sett
   // SATUR_LEVEL applies to raw values, so saturated pixels are found before the background goes.
   out.saturatedPixels = findSaturatedPixels(pixels, out.saturationAdu, settings.threads);
   ImageF weightPixels;
-  const WeightMap weights = openWeightMap(settings, out.hdu, weightPixels);
-  subtractBackground(out, imagePath, settings, fromCatalog, weights, keepCheckMaps);
-  varianceAndFilter(out, settings, weightPixels, weights.pixels != nullptr, filterVariance);
+  const WeightMap weights = openWeightMap(settings, out.hdu, maps, weightPixels);
+  subtractBackground(out, imagePath, settings, fromCatalog, weights, maps, keepCheckMaps);
+  varianceAndFilter(out, settings, maps, weightPixels, weights.pixels != nullptr, filterVariance);
   out.wcs = Wcs::fromHeader(out.hdu.header, imagePath);
+}
+
+}  // namespace
+
+PreparedImage prepareImage(const std::string& imagePath, const RunSettings& settings,
+                           const CatalogRunValues& fromCatalog, bool keepCheckMaps,
+                           bool filterVariance) {
+  PreparedImage out;
+  out.hdu = readImage(imagePath);
+  prepareLoaded(out, imagePath, settings, fromCatalog, ImageMaps(), keepCheckMaps, filterVariance);
+  return out;
+}
+
+PreparedImage prepareImage(ImageHdu image, const std::string& imageName,
+                           const RunSettings& settings, const ImageMaps& maps,
+                           const CatalogRunValues& given, bool filterVariance) {
+  PreparedImage out;
+  out.hdu = std::move(image);
+  if (settings.weightType != WeightType::None) out.weightReader = maps.weights;
+  prepareLoaded(out, imageName, settings, given, maps, false, filterVariance);
   return out;
 }
 

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -50,6 +51,11 @@ struct DetectionRequest {
   // Footprints handed to the measurements as pixel runs rather than pixel lists (less memory
   // for large images; the same measured values).
   bool footprintRuns = true;
+  // Called on the calling thread before the detection and after each connected component's
+  // objects are queued for measurement (an embedding program's chance to see an interrupt, e.g.
+  // Python's Ctrl-C); an exception thrown there abandons the run: every worker is joined and it
+  // propagates out of detectAndMeasure. Empty: never called.
+  std::function<void()> checkpoint;
 };
 
 struct ImageRunResult {

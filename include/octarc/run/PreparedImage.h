@@ -2,6 +2,7 @@
 // known, detection image filtered, WCS and photometric settings resolved.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -9,6 +10,7 @@
 
 #include "octarc/background/MeshBackground.h"
 #include "octarc/catalog/InputCatalog.h"
+#include "octarc/core/ConvKernel.h"
 #include "octarc/core/Image.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/io/Wcs.h"
@@ -56,6 +58,9 @@ struct PreparedImage {
   // The mesh background when one was estimated (a few grids, not image-sized): check images
   // are interpolated from it on demand.
   std::optional<MeshBackground> mesh;
+  // The weight map's pixels again, for reloadVariance, when they came from memory rather than
+  // from WEIGHT_IMAGE (ImageMaps::weights); empty otherwise.
+  std::function<ImageF()> weightReader;
   // Per-pixel variance (ADU^2) from WEIGHT_IMAGE; empty without a weight map. Pixels that
   // WEIGHT_THRESH rejects (zero weight by default), or NaN weights, hold +Inf: they never join an
   // object and are left out of every measurement sum.
@@ -110,6 +115,25 @@ struct PreparedImage {
 PreparedImage prepareImage(const std::string& imagePath, const RunSettings& settings,
                            const CatalogRunValues& fromCatalog, bool keepCheckMaps,
                            bool filterVariance = false);
+
+// Maps given in memory (the Python module's arrays) instead of the files the settings name.
+// Each is a function returning the map's pixels, the image's size (IoError naming the map
+// otherwise); the weights may be asked for twice (reloadVariance), so a reader must make them
+// anew each time. An empty function: the file of the settings, if any.
+struct ImageMaps {
+  std::function<ImageF()> weights;     // in place of WEIGHT_IMAGE (WEIGHT_TYPE says what they are)
+  std::function<ImageF()> background;  // in place of BACKGROUND_NAME
+  const ConvKernel* filter = nullptr;  // in place of FILTER_NAME (with FILTER Y)
+};
+
+// prepareImage for an image already in memory: `image` (its pixels moved in; its header gives
+// GAIN, SATURATE and the WCS as a file's would), named `imageName` in messages, with `maps`
+// standing in for the settings' WEIGHT_IMAGE, BACKGROUND_NAME and FILTER_NAME, and `given`
+// values (a known noise sigma...) as an input catalog's. The same steps, in the same order and
+// arithmetic, as for a file.
+PreparedImage prepareImage(ImageHdu image, const std::string& imageName,
+                           const RunSettings& settings, const ImageMaps& maps,
+                           const CatalogRunValues& given, bool filterVariance = false);
 
 // Why two images are not on one pixel grid, "" when they are: their sizes differ ("WxH and WxH
 // pixels"), or both have a celestial WCS and a corner pixel of one lands more than 0.1 pixel
