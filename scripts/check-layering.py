@@ -5,8 +5,8 @@ The stages follow the data flow (STAGES below, earliest first). A file of one st
 the headers of its own stage and of an earlier stage whose library its stage's library links:
 directly (PUBLIC or PRIVATE in target_link_libraries) or through a chain of PUBLIC links. The
 links are read from the CMakeLists.txt files of the source tree. Checked: every file under
-include/octarc/, src/ and sextractor_compat/; fuzz/ holds clients that may include any stage, so
-its files are only counted.
+include/octarc/, src/, sextractor_compat/ and python/src/ (the Python module's bindings, the
+last stage); fuzz/ holds clients that may include any stage, so its files are only counted.
 
 Libraries wrapped once, at the io boundary (include/octarc/io/detail/Cfitsio.h: "Include only
 from .cpp files of the io and catalog stages: public headers never expose fitsio.h"):
@@ -49,8 +49,11 @@ STAGES = [
     ("search", "octarc_search", None),
     ("batch", "octarc_batch", None),
     ("app", "octarc_app", None),
+    # The Python module: like app, a client on top of the libraries (python/src: one binding
+    # file per stage).
+    ("python", "octarc_python", ["python/src"]),
 ]
-CHECKED_FOLDERS = ["include/octarc", "src", "sextractor_compat"]
+CHECKED_FOLDERS = ["include/octarc", "src", "sextractor_compat", "python/src"]
 CLIENT_FOLDERS = ["fuzz"]  # may include anything
 SOURCE_SUFFIXES = (".h", ".hpp", ".cpp", ".cc", ".cxx")
 WRAPPING_STAGES = {"io", "catalog"}  # may use cfitsio and wcslib

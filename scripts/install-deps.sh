@@ -33,6 +33,11 @@ packages=(
   libxgboost-dev
   libgtest-dev
   googletest
+  # The Python module (import octarc, python/): pybind11 and the Python headers it compiles
+  # against (CMake builds the module when it finds them)
+  pybind11-dev
+  python3-pybind11
+  python3-dev
   # Cluster runs (octarc batch, simulate lenses under mpirun or srun): Open MPI; its mpirun
   # refuses to start without an ssh client (how it reaches other machines), even for one
   libopenmpi-dev

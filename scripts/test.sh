@@ -7,7 +7,9 @@
 # - build/asan (AddressSanitizer + UndefinedBehaviorSanitizer) runs the unit tests, built in this
 #   tree only. The libraries compute the same numbers at -O1 and -O3 (no -ffast-math, and no FMA
 #   without -march: GCC reorders no floating-point operation), and here the unit tests also catch
-#   memory and undefined-behaviour errors in the code they call. This tree runs the end-to-end
+#   memory and undefined-behaviour errors in the code they call. It has no Python module (an
+#   instrumented extension cannot be loaded by Debian's python3): the module's tests run in
+#   build/release only. This tree runs the end-to-end
 #   tests again, on the instrumented octarc, except those labelled `slow`
 #   (tests/integration/CMakeLists.txt: the cases that take 4 s or more in a release build) or
 #   `packaging` (installation and Debian package: they check what is installed, not how it was
@@ -40,7 +42,7 @@ stage "sanitizer build"
 # RelWithDebInfo's -O2 -g.
 cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DOCTARC_WERROR=ON -DOCTARC_SANITIZE=ON \
-  -DOCTARC_UNIT_TESTS=ON
+  -DOCTARC_UNIT_TESTS=ON -DOCTARC_PYTHON=OFF
 cmake --build build/asan -j "$jobs"
 stage "sanitizer tests"
 # Allocation stacks by the fast unwinder (ASan's default): it stops at the first frame inside a

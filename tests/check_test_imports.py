@@ -84,8 +84,14 @@ def embedded_imports(path):
 
 
 def own_modules():
-    """Modules the project itself provides (any .py file of tests/ or scripts/)."""
-    return {os.path.splitext(os.path.basename(p))[0] for p in python_files()}
+    """Modules the project itself provides: any .py file of tests/ or scripts/, and the
+    packages of python/ (the octarc module, built with octarc)."""
+    own = {os.path.splitext(os.path.basename(p))[0] for p in python_files()}
+    packages = os.path.join(SOURCE_DIR, "python")
+    if os.path.isdir(packages):
+        own.update(name for name in os.listdir(packages)
+                   if os.path.isfile(os.path.join(packages, name, "__init__.py")))
+    return own
 
 
 def owning_package(path):

@@ -1,0 +1,333 @@
+"""octarc in Python: SExtractor-compatible detection at many thresholds in one pass and octarc's
+measurements (isophotal photometry and shape, the octopole "arcness" moments) on numpy arrays,
+with astropy tables out.
+
+    >>> import octarc
+    >>> found = octarc.detect(image, [2.5, 5.0, 10.0])     # thresholds in units of sigma
+    >>> table = found.to_table()                            # astropy Table, units from octarc
+    >>> labels = found.segmentation(1)                      # int32 labels of the lowest level
+
+The work is done by octarc's libraries, the same calls as the `octarc detect` and `octarc
+measure` commands make: the same arrays give the same numbers as the commands on a FITS file
+holding them. The GIL is released while octarc works, Ctrl-C interrupts a call
+(KeyboardInterrupt), and octarc's one-line errors arrive as ValueError (bad input) or OSError (a
+file). See docs/python.md.
+"""
+import numbers
+
+import numpy as np
+
+from . import _octarc
+
+__all__ = ["detect", "measure", "DetectionResult", "MeasurementResult", "__version__"]
+
+#: octarc's version (the same as `octarc -v`).
+__version__ = _octarc.__version__
+
+_FLOAT_TYPES = (np.dtype(np.float32), np.dtype(np.float64))
+
+
+def _image_array(values, what):
+    """`values` as a 2-D C-contiguous float32/float64 array: the array itself when it is one
+    (octarc reads it in place), otherwise converted once to float32. Returns (array, converted)."""
+    array = np.asarray(values)
+    if array.dtype.kind not in "iuf":
+        raise ValueError("%s: dtype %s is not a real number type" % (what, array.dtype))
+    if array.ndim != 2:
+        raise ValueError("%s: a 2-D array is needed, not one of %d dimension(s)"
+                         % (what, array.ndim))
+    if array.dtype in _FLOAT_TYPES and array.dtype.isnative and array.flags.c_contiguous:
+        return array, False
+    return np.ascontiguousarray(array, dtype=np.float32), True
+
+
+def _map_array(values, what):
+    """A number stays a number; an array is made 2-D float32/float64 C-contiguous."""
+    if values is None or isinstance(values, numbers.Real):
+        return None if values is None else float(values)
+    return _image_array(values, what)[0]
+
+
+def _mask_array(mask):
+    if mask is None:
+        return None
+    array = np.asarray(mask)
+    if array.ndim != 2:
+        raise ValueError("mask: a 2-D array is needed, not one of %d dimension(s)" % array.ndim)
+    return np.ascontiguousarray(array, dtype=bool)
+
+
+def _header_cards(wcs):
+    """The FITS header cards of `wcs`: an astropy WCS, an astropy Header or a header's text."""
+    if wcs is None:
+        return []
+    if hasattr(wcs, "to_header"):
+        wcs = wcs.to_header()
+    if hasattr(wcs, "cards"):
+        return [card.image for card in wcs.cards]
+    if isinstance(wcs, str):
+        text = wcs.rstrip()
+        cards = [text[i:i + 80].ljust(80) for i in range(0, len(text), 80)]
+        return [c for c in cards if not c.startswith("END ") and c.strip()]
+    raise ValueError("wcs: an astropy WCS, an astropy Header or a header's text is needed, not %s"
+                     % type(wcs).__name__)
+
+
+def _thresholds(thresholds, default):
+    if thresholds is None:
+        return default
+    if isinstance(thresholds, numbers.Real):
+        return [float(thresholds)]
+    return [float(t) for t in thresholds]
+
+
+def _relative(thresh_type):
+    kind = str(thresh_type).upper()
+    if kind not in ("RELATIVE", "ABSOLUTE"):
+        raise ValueError("thresh_type: RELATIVE or ABSOLUTE, not %r" % (thresh_type,))
+    return kind == "RELATIVE"
+
+
+def _config_keys(config):
+    """octarc configuration keys (SExtractor's names) as (KEY, value) pairs."""
+    keys = []
+    for key, value in (config or {}).items():
+        if isinstance(value, (list, tuple)):
+            value = ",".join(repr(float(v)) if isinstance(v, float) else str(v) for v in value)
+        elif isinstance(value, bool):
+            value = "Y" if value else "N"
+        elif isinstance(value, float):
+            value = repr(value)
+        keys.append((str(key).upper(), str(value)))
+    return keys
+
+
+def _unit(text):
+    from astropy import units as u
+    return u.Unit(text, parse_strict="silent") if text else None
+
+
+class _TableResult:
+    """What detect and measure results share: the catalog table and the run's values."""
+
+    def __init__(self, raw):
+        self._raw = raw
+        self._columns = {c["name"]: c for c in raw.table.columns}
+
+    @property
+    def column_names(self):
+        """The names of every column octarc measured, in its order."""
+        return list(self._columns)
+
+    @property
+    def thresholds(self):
+        """The threshold of each level in ADU, lowest first (a numpy array)."""
+        return np.array(self._raw.thresholds)
+
+    @property
+    def background(self):
+        """The background level in ADU (the global level for a mesh background)."""
+        return self._raw.values["background"]
+
+    @property
+    def sigma(self):
+        """The global noise sigma in ADU (the unit of RELATIVE thresholds)."""
+        return self._raw.values["sigma"]
+
+    @property
+    def warnings(self):
+        """octarc's warnings about the input (constant image, bad meshes...)."""
+        return list(self._raw.values["warnings"])
+
+    def __len__(self):
+        return self._raw.table.rows
+
+    def column(self, name):
+        """The values of one column as a numpy array of the type octarc's catalogs store it in;
+        ValueError for a name octarc does not measure."""
+        return self._raw.table.column(name)
+
+    def to_table(self, columns=None):
+        """An astropy Table of the rows, with the columns `columns` (names, in that order;
+        default every column) as octarc's catalogs hold them: the same storage types, and the
+        units, descriptions and UCDs (in each column's meta) of octarc's column declarations.
+        The table's meta holds the background, sigma and thresholds (ADU).
+        ValueError for a column name octarc does not measure."""
+        from astropy.table import Column, Table
+        names = self.column_names if columns is None else list(columns)
+        for name in names:
+            if name not in self._columns:
+                raise ValueError("to_table: the table has no column %s" % name)
+        table = Table()
+        for name in names:
+            spec = self._columns[name]
+            table[name] = Column(self._raw.table.column(name), name=name, unit=_unit(spec["unit"]),
+                                 description=spec["description"], meta={"ucd": spec["ucd"]})
+        table.meta["BACKGROUND"] = self.background
+        table.meta["SIGMA"] = self.sigma
+        table.meta["THRESHOLDS"] = list(self._raw.thresholds)
+        return table
+
+
+class DetectionResult(_TableResult):
+    """What `detect` found: one row per object per level (`to_table`), the thresholds, the
+    background and noise, and the segmentation of every level (`segmentation`)."""
+
+    def __init__(self, raw, data, converted):
+        super().__init__(raw)
+        self._data = data
+        #: True when `data` was not a C-contiguous float32/float64 array and was converted
+        #: once to float32 before octarc read it; False when octarc read the caller's array
+        #: itself (no copy before octarc's own working image).
+        self.data_converted = converted
+
+    @property
+    def objects_per_level(self):
+        """The number of objects at each level, lowest first (a list)."""
+        return list(self._raw.objects_per_level)
+
+    @property
+    def data(self):
+        """The array octarc read: the caller's own when `data_converted` is False."""
+        return self._data
+
+    def segmentation(self, level=1):
+        """The labels of level `level` (1 = lowest) as an int32 array of the image's shape:
+        each object's NUMBER on its pixels, 0 elsewhere (SExtractor's SEGMENTATION check-image
+        of that threshold). ValueError when the run kept none (segmentation=False)."""
+        return self._raw.segmentation(level)
+
+
+class MeasurementResult(_TableResult):
+    """What `measure` measured: one row per object per level (`to_table`), or, with a
+    `catalog`, that catalog's rows with octarc's columns appended."""
+
+    def __init__(self, raw, catalog):
+        super().__init__(raw)
+        self._catalog = catalog
+
+    def to_table(self, columns=None):
+        """As `DetectionResult.to_table`. With the `catalog` given to `measure`, its rows and
+        columns come first, joined by NUMBER, followed by octarc's columns (those of `columns`,
+        default every column) that the catalog lacks, as `octarc measure` appends them."""
+        table = super().to_table(columns)
+        if self._catalog is None:
+            return table
+        catalog = self._catalog.copy()
+        numbers_here = np.asarray(table["NUMBER"]) if "NUMBER" in table.colnames else \
+            np.asarray(self._raw.table.column("NUMBER"))
+        row_of = {int(n): i for i, n in enumerate(numbers_here)}
+        wanted = np.asarray(catalog["NUMBER"])
+        missing = [int(n) for n in wanted if int(n) not in row_of]
+        if missing:
+            raise ValueError("catalog: NUMBER %d has no object in the segmentation" % missing[0])
+        if len(wanted) != len(row_of):
+            extra = sorted(set(row_of) - set(int(n) for n in wanted))
+            raise ValueError("catalog: label %d of the segmentation has no row" % extra[0])
+        order = np.array([row_of[int(n)] for n in wanted], dtype=int)
+        for name in table.colnames:
+            if name not in catalog.colnames:
+                catalog[name] = table[name][order]
+        return catalog
+
+
+def detect(data, thresholds=None, *, background=None, error=None, mask=None, weight=None,
+           minarea=5, kernel=None, wcs=None, thresh_type="RELATIVE", segmentation=True,
+           config=None):
+    """Detects the objects of `data` at every threshold in one pass, without deblending, and
+    measures every object of every level, as `octarc detect` does.
+
+    data        2-D image (rows = y, NAXIS2). A C-contiguous float32 or float64 array is read
+                in place; any other real array is converted once to float32 first (see
+                `DetectionResult.data_converted`). octarc works on its own float32 copy with
+                the background subtracted; `data` is never modified.
+    thresholds  the detection thresholds, lowest first: a number or a sequence, in units of
+                the noise sigma (thresh_type RELATIVE, SExtractor's default) or ADU
+                (ABSOLUTE). Default 1.5 (SExtractor's DETECT_THRESH). Each level's isophote is
+                its own threshold (one level: ANALYSIS_THRESH = DETECT_THRESH).
+    background  None: estimated on meshes (BACK_TYPE AUTO, BACK_SIZE 64, BACK_FILTERSIZE 3);
+                a number: that constant level (BACK_TYPE MANUAL); an array: that map,
+                subtracted (BACKGROUND_NAME).
+    error       None: the noise sigma from the background estimate; a number: the noise
+                sigma in ADU; an array: per-pixel RMS noise (WEIGHT_TYPE MAP_RMS), which
+                the RELATIVE thresholds then follow pixel by pixel.
+    mask        boolean array, True where pixels are bad: they are blank (NaN) for octarc,
+                never part of an object or of the background.
+    weight      relative weights (inverse variance; WEIGHT_TYPE MAP_WEIGHT); not with an
+                error array.
+    minarea     the least number of pixels of an object (DETECT_MINAREA).
+    kernel      None: no filtering (FILTER N, unlike SExtractor's default); a .conv file name
+                (FILTER_NAME, also looked up among SExtractor's); a 2-D array, normalised as
+                a .conv file with NORM is.
+    wcs         an astropy WCS or Header (or a header's text): the WCS of ALPHA_J2000 ...,
+                and GAIN and SATURATE keywords as in a FITS file's header.
+    thresh_type "RELATIVE" or "ABSOLUTE" (THRESH_TYPE).
+    segmentation keep every level's labels for `DetectionResult.segmentation`.
+    config      other octarc configuration keys by their SExtractor names, e.g.
+                {"GAIN": 4.0, "MAG_ZEROPOINT": 30, "BACK_SIZE": 128, "NTHREADS": 1}
+                (`octarc detect -dd` lists them; NTHREADS 0, the default, uses every core,
+                and the results never depend on it).
+
+    Returns a DetectionResult. ValueError with octarc's one-line message for bad input (wrong
+    dtype or shape, an image without a finite pixel, a map whose shape differs, thresholds not
+    increasing, a bad key); OSError for a kernel file that cannot be read."""
+    array, converted = _image_array(data, "data")
+    raw = _octarc._detect(
+        array, _thresholds(thresholds, [1.5]), _relative(thresh_type), int(minarea),
+        _map_array(background, "background"), _map_array(error, "error"),
+        _map_array(weight, "weight"), _mask_array(mask), kernel, _header_cards(wcs),
+        _config_keys(config), bool(segmentation))
+    return DetectionResult(raw, array, converted)
+
+
+def _label_arrays(segmentation):
+    """The label images, lowest level first, each int32 C-contiguous."""
+    if isinstance(segmentation, np.ndarray) and segmentation.ndim == 2:
+        levels = [segmentation]
+    elif isinstance(segmentation, np.ndarray) and segmentation.ndim == 3:
+        levels = list(segmentation)
+    elif isinstance(segmentation, (list, tuple)):
+        levels = [np.asarray(s) for s in segmentation]
+    else:
+        raise ValueError("segmentation: a 2-D label image, a 3-D stack or a list of them is "
+                         "needed")
+    out = []
+    for k, level in enumerate(levels):
+        if level.dtype.kind not in "iu":
+            raise ValueError("segmentation[%d]: dtype %s is not an integer type" % (k, level.dtype))
+        out.append(np.ascontiguousarray(level, dtype=np.int32))
+    return out
+
+
+def measure(data, segmentation, *, catalog=None, thresholds=None, background=None, error=None,
+            mask=None, weight=None, kernel=None, wcs=None, thresh_type="RELATIVE", config=None):
+    """Measures the objects of given segmentation images with octarc's columns, as `octarc
+    measure` does with SExtractor's SEGMENTATION check-images.
+
+    data          2-D image, read as by `detect`.
+    segmentation  one label image (0 = no object, > 0 = NUMBER), or a list or 3-D stack of
+                  them, one per threshold, lowest first; the levels must nest.
+    catalog       an astropy Table of the SExtractor run of a single level (with NUMBER): the
+                  result's table is then that catalog with octarc's columns appended, rows
+                  joined by NUMBER (every label must have its row and every row its label).
+    thresholds    each level's threshold (THRESH_TYPE units, as `detect`); needed with several
+                  levels; default for one level 1.5, SExtractor's ANALYSIS_THRESH.
+    background, error, mask, weight, kernel, wcs, thresh_type, config
+                  as for `detect` (the kernel gives the filtered image that SExtractor's
+                  filtered columns use).
+
+    Returns a MeasurementResult. ValueError for bad input (as `detect`, and label images that
+    do not nest or differ in shape from `data`)."""
+    array, _ = _image_array(data, "data")
+    if catalog is not None and "NUMBER" not in catalog.colnames:
+        raise ValueError("catalog: no NUMBER column")
+    levels = _label_arrays(segmentation)
+    if catalog is not None and len(levels) != 1:
+        raise ValueError("catalog: only with the segmentation of a single level")
+    threshold_list = None if thresholds is None else _thresholds(thresholds, None)
+    raw = _octarc._measure(
+        array, levels, threshold_list, _relative(thresh_type),
+        _map_array(background, "background"), _map_array(error, "error"),
+        _map_array(weight, "weight"), _mask_array(mask), kernel, _header_cards(wcs),
+        _config_keys(config))
+    return MeasurementResult(raw, catalog)
