@@ -252,7 +252,8 @@ def detect(data, thresholds=None, *, background=None, error=None, mask=None, wei
                 sigma in ADU; an array: per-pixel RMS noise (WEIGHT_TYPE MAP_RMS), which
                 the RELATIVE thresholds then follow pixel by pixel.
     mask        boolean array, True where pixels are bad: they are blank (NaN) for octarc,
-                never part of an object or of the background.
+                never part of an object or of the background (default: the mask of a numpy
+                masked array `data`).
     weight      relative weights (inverse variance; WEIGHT_TYPE MAP_WEIGHT); not with an
                 error array.
     minarea     the least number of pixels of an object (DETECT_MINAREA).
@@ -271,6 +272,8 @@ def detect(data, thresholds=None, *, background=None, error=None, mask=None, wei
     Returns a DetectionResult. ValueError with octarc's one-line message for bad input (wrong
     dtype or shape, an image without a finite pixel, a map whose shape differs, thresholds not
     increasing, a bad key); OSError for a kernel file that cannot be read."""
+    if mask is None and isinstance(data, np.ma.MaskedArray) and data.mask is not np.ma.nomask:
+        mask = np.ma.getmaskarray(data)
     array, converted = _image_array(data, "data")
     raw = _octarc._detect(
         array, _thresholds(thresholds, [1.5]), _relative(thresh_type), int(minarea),

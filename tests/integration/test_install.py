@@ -7,6 +7,7 @@ import os
 import re
 import shutil
 import subprocess
+import sys
 import unittest
 
 import numpy as np
@@ -55,12 +56,34 @@ INSTALLED = sorted(
                                              "octarcTargets.cmake", "octarcTargets-BUILDTYPE.cmake")])
 
 
+# The Python module, when the build tree has it (OCTARC_PYTHON_MODULE names its file): the octarc
+# package in Python's site directory under the prefix, lib/python3/dist-packages for /usr (the
+# Debian package), lib/python3.X/site-packages for another prefix (python/CMakeLists.txt).
+PYTHON_MODULE = os.environ.get("OCTARC_PYTHON_MODULE", "")
+PREFIX_SITE = "lib/python%d.%d/site-packages" % sys.version_info[:2]
+
+
+def python_package(site):
+    if not PYTHON_MODULE:
+        return []
+    return ["%s/octarc/%s" % (site, name) for name in ("__init__.py", "__main__.py", PYTHON_MODULE)]
+
+
+INSTALLED_IN_PREFIX = sorted(INSTALLED + python_package(PREFIX_SITE))
+INSTALLED_BY_PACKAGE = sorted(INSTALLED + python_package("lib/python3/dist-packages"))
+
+
 def files_under(root):
     """The files under root, relative to it; the CMake targets file of the build type
     (octarcTargets-release.cmake...) named octarcTargets-BUILDTYPE.cmake."""
     return sorted(re.sub(r"octarcTargets-[a-z]+\.cmake$", "octarcTargets-BUILDTYPE.cmake",
                          os.path.relpath(os.path.join(d, f), root))
                   for d, _, names in os.walk(root) for f in names)
+
+
+def run_version(octarc):
+    """The version an octarc executable prints (`octarc -v`)."""
+    return subprocess.run([octarc, "-v"], capture_output=True, text=True).stdout.split()[-1]
 
 
 def has_debug_info(binary):
@@ -88,7 +111,7 @@ class InstalledTree(WorkDirTest):
         prefix = self.path("prefix")
         subprocess.run([CMAKE, "--install", BUILD_DIR, "--prefix", prefix], check=True,
                        capture_output=True)
-        self.assertEqual(files_under(prefix), INSTALLED)
+        self.assertEqual(files_under(prefix), INSTALLED_IN_PREFIX)
         for name, source in DATA.items():
             self.assertTrue(filecmp.cmp(os.path.join(prefix, "share", "octarc", name),
                                         os.path.join(SOURCE_DIR, source), shallow=False), name)
@@ -152,6 +175,19 @@ class InstalledTree(WorkDirTest):
         thresholds = np.array([imhead["OCTTH%d" % n] for n in range(1, 16)])
         np.testing.assert_allclose(thresholds, 2.5 * sigma * 8.0 ** (np.arange(15) / 14.0),
                                    rtol=1e-9)
+
+        if PYTHON_MODULE:
+            # The copy's Python module imports and detects, from its own site directory.
+            proc = subprocess.run(
+                ["/usr/bin/python3", "-c",
+                 "import numpy as np, octarc; print(octarc.__version__, "
+                 "octarc.detect(np.ones((20, 20), 'f4'), 0.5, background=0.0, "
+                 "error=1.0).objects_per_level)"],
+                cwd=work, env=dict(env, PYTHONPATH=os.path.join(moved, PREFIX_SITE)),
+                capture_output=True, text=True)
+            self.assertEqual(proc.returncode, 0, proc.stderr)
+            self.assertEqual(proc.stdout.split(maxsplit=1),
+                             [run_version(os.path.join(moved, "bin", "octarc")), "[1]\n"])
 
         # Nothing of the source or build tree was even looked at.
         for path in demo_opened + opened:
@@ -312,7 +348,7 @@ class DebianPackage(WorkDirTest):
         files = sorted(re.sub(r"octarcTargets-[a-z]+\.cmake$", "octarcTargets-BUILDTYPE.cmake",
                               line.split()[-1][len("./usr/"):])
                        for line in listing.splitlines() if not line.startswith("d"))
-        self.assertEqual(files, INSTALLED)
+        self.assertEqual(files, INSTALLED_BY_PACKAGE)
         # The program is stripped: no symbol table, no debug information.
         unpacked = self.path("unpacked")
         subprocess.run(["dpkg-deb", "-x", debs[0], unpacked], check=True)
