@@ -23,14 +23,15 @@ ArrayView viewOf(const py::array& array, const std::string& what) {
     throw py::value_error(what + ": the array is not C-contiguous");
   }
   ArrayView view;
-  const py::dtype dtype = array.dtype();
-  if (dtype.is(py::dtype::of<float>())) {
+  // numpy's type equivalence: a byte-swapped float32 is not float32.
+  if (py::isinstance<py::array_t<float>>(array)) {
     view.type = ArrayView::Type::Float32;
-  } else if (dtype.is(py::dtype::of<double>())) {
+  } else if (py::isinstance<py::array_t<double>>(array)) {
     view.type = ArrayView::Type::Float64;
-  } else if (dtype.is(py::dtype::of<bool>())) {
+  } else if (py::isinstance<py::array_t<bool>>(array)) {
     view.type = ArrayView::Type::Bool;
   } else {
+    const py::dtype dtype = array.dtype();
     throw py::value_error(what + ": dtype " + py::cast<std::string>(py::str(py::object(dtype))) +
                           " is not float32, float64 or bool");
   }

@@ -23,8 +23,6 @@ from astropy.io import fits
 
 from octarc_testlib import (MISSING_PROGRAM, SEX_SHARE, SOURCE_DIR, WorkDirTest, ldac_objects,
                             run_octarc, run_sextractor, write_param)
-from test_detect_vs_sextractor import assert_rows_agree, label_correspondence
-
 import octarc
 
 LEVELS = [2.5, 5.0, 10.0]
@@ -129,6 +127,8 @@ class PythonVersusPeers(WorkDirTest):
         path = self.path("image.fits")
         fits.PrimaryHDU(image).writeto(path)
 
+        # Imported here: they bring scipy and sep, which the other cases do not need.
+        from test_detect_vs_sextractor import assert_rows_agree, label_correspondence
         from test_measure_vs_sextractor import SEX_COLUMNS
         param = write_param(self.path("sex.param"), SEX_COLUMNS)
         cat, checks = run_sextractor(path, self.work, "sex", param, repr(self.THRESHOLD),
@@ -186,6 +186,7 @@ class PythonArrays(unittest.TestCase):
         self.assertGreaterEqual(peak_int32, image.nbytes)
         self.assertTrue(octarc.detect(image.astype(np.float64), 3.0).data_converted is False)
         self.assertTrue(octarc.detect(np.asfortranarray(image), 3.0).data_converted)
+        self.assertTrue(octarc.detect(image.astype(">f4"), 3.0).data_converted)
 
     def test_gil_released(self):
         image = synthetic_image(size=1536, sources=300, seed=36)
@@ -240,10 +241,11 @@ class PythonArrays(unittest.TestCase):
 
 
 class PythonApi(WorkDirTest):
-    """octarc.measure on detect's own segmentation gives detect's rows, and with a catalog the
-    catalog's rows with octarc's columns appended; bad input is a Python exception with
-    octarc's one-line message, never a crash; the example of docs/python.md runs as it is;
-    `python3 -m octarc --version`; every public name has a docstring."""
+    """octarc.detect gives the same rows on any number of threads; octarc.measure on detect's
+    own segmentation gives detect's rows, and with a catalog the catalog's rows with octarc's
+    columns appended; bad input is a Python exception with octarc's one-line message, never a
+    crash; the example of docs/python.md runs as it is; `python3 -m octarc --version`; every
+    public name has a docstring."""
 
     def test_measure_equals_detect(self):
         image = synthetic_image(seed=34)
@@ -255,6 +257,11 @@ class PythonApi(WorkDirTest):
         for name in a.colnames:
             self.assertTrue(same_bits(np.asarray(a[name]), np.asarray(b[name])), name)
         self.assertEqual(b["FLUX_ISO"].unit, a["FLUX_ISO"].unit)
+        # The rows do not depend on the thread count.
+        for threads in (1, 3):
+            c = octarc.detect(image, LEVELS, config={"NTHREADS": threads}).to_table()
+            for name in a.colnames:
+                self.assertTrue(same_bits(np.asarray(a[name]), np.asarray(c[name])), name)
 
         one = octarc.detect(image, 3.0)
         catalog = one.to_table(["NUMBER", "X_IMAGE"])[::-1]
@@ -284,6 +291,8 @@ class PythonApi(WorkDirTest):
                            detect, image.ravel())
         self.assert_raises(ValueError, r"^data: a 2-D array is needed, not one of 3 dim",
                            detect, image[None])
+        self.assert_raises(ValueError, r"^data: the array is empty \(shape \(0, 5\)\)$",
+                           detect, np.zeros((0, 5), dtype=np.float32))
         self.assert_raises(ValueError, r"^data: no finite pixel \(all NaN or Inf\)$",
                            detect, np.full((32, 32), np.nan, dtype=np.float32))
         self.assert_raises(ValueError, r"^data: no finite pixel outside the mask",

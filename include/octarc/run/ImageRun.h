@@ -1,5 +1,5 @@
 // Detection and measurement of one image, in memory: the run API that `octarc detect`, the
-// lens simulator, the source-database builder, the demo (and a future Python binding) share.
+// lens simulator, the source-database builder, the demo and the Python module share.
 //
 //   PreparedImage (from a file: prepareImage; from memory: prepareInMemory)
 //     --> detectAndMeasure(image, plan, context, request)
