@@ -205,13 +205,19 @@ BatchSettings batchSettingsFromConfig(const sexcompat::Config& c, RunSettings ru
         "COLOUR_IMAGE: a batch's manifest holds one image per tile; search the "
         "tiles one by one (octarc search) to measure colours");
   }
-  if (c.count("LENS_LIGHT_BAND") > 0) {
+  if (!measure && c.count("LENS_LIGHT_BAND") > 0) {
     throw ConfigError(
         "LENS_LIGHT_BAND: a batch's manifest holds one image per tile; search the tiles one "
         "by one (octarc search) to fit the lenses in another band");
   }
   if (c.isExplicit("CHECKIMAGE_TYPE") && uppercase(c.getString("CHECKIMAGE_TYPE")) != "NONE") {
-    throw ConfigError("CHECKIMAGE_TYPE: a batch writes no check-images");
+    const std::string where = c.where("CHECKIMAGE_TYPE");
+    // The .sex file of the SExtractor runs that made the segmentation images asks for them.
+    if (!(measure && where != "command line")) {
+      throw ConfigError("CHECKIMAGE_TYPE: a batch writes no check-images");
+    }
+    s.warnings.push_back(where + ": CHECKIMAGE_TYPE is not used by a batch, which writes no " +
+                         "check-images");
   }
   for (std::string& w : otherTaskKeyWarnings(c, s.task)) s.warnings.push_back(std::move(w));
   s.restart = c.getBool("RESTART");
@@ -231,6 +237,9 @@ BatchSettings batchSettingsFromConfig(const sexcompat::Config& c, RunSettings ru
     } else {
       s.configurationFiles.push_back({"GRID_NAME", s.tile.gridPath});
     }
+  }
+  for (const ConfigurationItem& item : s.configuration) {
+    if (!c.isExplicit(item.key)) s.keysAtDefault.push_back(item.key);
   }
   std::string share = uppercase(c.getString("ARRAY_TASK"));
   if (share == "AUTO") {

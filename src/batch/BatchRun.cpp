@@ -592,9 +592,22 @@ std::string readWholeFile(const std::string& path) {
   return text.str();
 }
 
-// The configuration recorded in OUTPUT_DIR.
-std::vector<ConfigurationItem> recordedConfiguration(const std::string& path) {
-  return withTask(parseConfiguration(readWholeFile(path), path));
+// The configuration recorded in OUTPUT_DIR. A key it lacks that this run leaves at its default
+// (a key added to octarc after the recording run) is taken as this run's, so that a survey
+// started with an earlier octarc resumes.
+std::vector<ConfigurationItem> recordedConfiguration(const std::string& path,
+                                                     const std::vector<ConfigurationItem>& current,
+                                                     const std::vector<std::string>& atDefault) {
+  std::vector<ConfigurationItem> recorded = withTask(parseConfiguration(readWholeFile(path), path));
+  for (const ConfigurationItem& item : current) {
+    const bool missing =
+        std::none_of(recorded.begin(), recorded.end(),
+                     [&](const ConfigurationItem& r) { return r.key == item.key; });
+    if (missing && std::find(atDefault.begin(), atDefault.end(), item.key) != atDefault.end()) {
+      recorded.push_back(item);
+    }
+  }
+  return recorded;
 }
 
 void writeConfiguration(const std::string& path, const std::string& text) {
@@ -640,10 +653,11 @@ bool checkConfiguration(const BatchSettings& s, Journal& journal,
   const std::string path = (fs::path(s.outputDir) / kConfigurationFile).string();
   const std::vector<ConfigurationItem> current = currentConfiguration(s);
   const std::string text = formatConfiguration(current);
-  journal.guardAppends([path, current, dir = s.outputDir] {
+  journal.guardAppends([path, current, atDefault = s.keysAtDefault, dir = s.outputDir] {
     std::error_code ec;
     if (!fs::exists(path, ec) ||
-        !configurationDifferences(recordedConfiguration(path), current).empty()) {
+        !configurationDifferences(recordedConfiguration(path, current, atDefault), current)
+             .empty()) {
       throw ConfigError("OUTPUT_DIR " + dir +
                         ": another run set this run's tiles aside (RESTART Y, another "
                         "configuration); this run stops");
@@ -662,7 +676,7 @@ bool checkConfiguration(const BatchSettings& s, Journal& journal,
     return false;
   }
   const std::vector<std::string> differences =
-      configurationDifferences(recordedConfiguration(path), current);
+      configurationDifferences(recordedConfiguration(path, current, s.keysAtDefault), current);
   if (differences.empty()) return false;
   std::string list;
   for (const std::string& d : differences) list += (list.empty() ? "" : "; ") + d;

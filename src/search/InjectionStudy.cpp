@@ -375,6 +375,14 @@ std::vector<sexcompat::KeySpec> injectionKeys() {
 
 InjectionStudySettings injectionSettingsFromConfig(const sexcompat::Config& c, RunSettings run) {
   InjectionStudySettings s;
+  // The lenses are injected into the searched image only: the other bands would hold none.
+  for (const char* key : {"COLOUR_IMAGE", "LENS_LIGHT_BAND"}) {
+    if (c.count(key) > 0) {
+      throw ConfigError(std::string(key) +
+                        ": octarc inject injects lenses into the searched image only; "
+                        "measure completeness in one band");
+    }
+  }
   s.search = searchSettingsFromConfig(c, std::move(run));
   if (c.isExplicit("GRID_NAME") && c.isExplicit("MODEL_NAME")) {
     s.methods = {SelectionMethod::Grid, SelectionMethod::Trees};

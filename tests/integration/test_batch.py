@@ -646,6 +646,23 @@ class BatchSharing(WorkDirTest):
             self.assertEqual(proc.returncode, 0, proc.stderr)
             self.assertIn("0 done, 0 failed, 6 skipped", proc.stdout)
 
+        # A configuration recorded before some keys existed (here SNR_MIN and LENS_LIGHT_BAND
+        # taken out of it): a run that leaves them at their default resumes; one that sets one
+        # differs from it.
+        config_path = os.path.join(out, "configuration.txt")
+        recorded = read_text(config_path)
+        with open(config_path, "w") as f:
+            f.write("".join(line for line in recorded.splitlines(keepends=True)
+                            if line.split("\t")[0] not in ("SNR_MIN", "LENS_LIGHT_BAND")))
+        self.assertNotIn("SNR_MIN", read_text(config_path))
+        proc = subprocess.run(self.command(out), capture_output=True, text=True,
+                              env=not_in_slurm())
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        self.assertIn("0 done, 0 failed, 6 skipped", proc.stdout)
+        self.assertIn("SNR_MIN none, this run has 7", refused("-SNR_MIN", "7"))
+        with open(config_path, "w") as f:
+            f.write(recorded)
+
         # A directory of an octarc that kept no configuration takes this run's, with a warning.
         os.remove(os.path.join(out, "configuration.txt"))
         proc = self.run_task(out, not_in_slurm())

@@ -268,6 +268,27 @@ class BatchMeasureBadInput(MeasureTiles):
             run_octarc("batch", os.path.join(self.data, "tile*.fits"), "-TASK", "MEASURE",
                        "-OUTPUT_DIR", out, check=False), "not a glob")
 
+    def test_check_images_of_the_sextractor_configuration_warn(self):
+        # The .sex file of the runs that made the segmentation images asks for them: said once,
+        # the tiles measured; on the command line the key is refused.
+        tag, image, seg, cat = (os.path.basename(p) for p in self.tiles[0])
+        self.write_manifest("%s,%s,%s\n" % (image, seg, cat))
+        sex = self.path("survey.sex")
+        with open(os.path.join(SEX_SHARE, "default.sex")) as f:
+            text = f.read()
+        with open(sex, "w") as f:
+            f.write(text + "\nCHECKIMAGE_TYPE SEGMENTATION\nCHECKIMAGE_NAME check.fits\n")
+        out = self.path("survey")
+        proc = run_octarc("batch", self.manifest_path, "-TASK", "MEASURE", "-c", sex,
+                          "-FILTER", "N", "-PARAMETERS_NAME", self.param, "-OUTPUT_DIR", out)
+        self.assertRegex(proc.stderr, r"WARNING: .*survey\.sex:\d+: CHECKIMAGE_TYPE is not "
+                         r"used by a batch, which writes no check-images")
+        self.assertEqual([e[3] for e in journal(out) if e[2] == "done"], [tag])
+        self.assert_refused(self.batch(self.path("other"), "-CHECKIMAGE_TYPE", "SEGMENTATION",
+                                       check=False),
+                            "CHECKIMAGE_TYPE: a batch writes no check-images")
+        self.assertFalse(os.path.exists(self.path("other")))
+
     def test_keys_of_the_search_warn_and_a_search_directory_is_refused(self):
         tag, image, seg, cat = (os.path.basename(p) for p in self.tiles[0])
         self.write_manifest("%s,%s,%s\n" % (image, seg, cat))

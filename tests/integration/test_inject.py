@@ -189,6 +189,9 @@ class InjectBadInput(WorkDirTest):
         # The injected light needs the image's zero point.
         self.check_refused([field, "-c", SEX, "-GRID_NAME", "demo.grid.fits", "-MAG_ZEROPOINT",
                             0], "MAG_ZEROPOINT")
+        # Other bands would hold no injected lens.
+        self.check_refused([field, "-c", SEX, "-GRID_NAME", "demo.grid.fits", "-COLOUR_IMAGE",
+                            field, "-COLOUR_BAND", "g"], "COLOUR_IMAGE: octarc inject injects")
         # A user's own folder as INJECT_DIR is refused before any work and left as it was.
         mine = self.path("mine")
         os.mkdir(mine)

@@ -3,6 +3,7 @@ de Vaucouleurs galaxy, drawn here with numpy (a renderer independent of octarc's
 candidate of the plain search and is found, with that galaxy as its lens and the expected
 Einstein radius, in the residual (LOCAL and IMAGE); the fitted galaxy's parameters against the
 ones drawn; the check-images; bad input."""
+import math
 import os
 import shutil
 import tempfile
@@ -35,7 +36,7 @@ def sersic(x, y):
     major, minor = c * x + s * y, (-s * x + c * y) / LENS_Q
     r = np.hypot(major, minor) / LENS_RE
     norm = 2 * np.pi * LENS_N * LENS_Q * LENS_RE ** 2 * np.exp(b) * b ** (-2 * LENS_N) * \
-        np.exp(np.math.lgamma(2 * LENS_N))
+        np.exp(math.lgamma(2 * LENS_N))
     return LENS_FLUX / norm * np.exp(-b * (r ** (1 / LENS_N) - 1))
 
 

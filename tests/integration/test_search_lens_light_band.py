@@ -5,6 +5,7 @@ galaxy is 2.5 times brighter and the arc ten times fainter, and the seeing is sh
 residual keeps the arc's injected light where the one-band fit (LENS_LIGHT LOCAL alone) takes
 much of it into the model; the galaxy's light is gone; the fitted flux ratio is the injected one
 (LOCAL and IMAGE); and bad settings are refused with one line naming the key."""
+import math
 import os
 import shutil
 import tempfile
@@ -44,7 +45,7 @@ def sersic(dx, dy, flux):
     major, minor = c * dx + s * dy, (-s * dx + c * dy) / LENS_Q
     r = np.hypot(major, minor) / LENS_RE
     norm = 2 * np.pi * LENS_N * LENS_Q * LENS_RE ** 2 * np.exp(b) * b ** (-2 * LENS_N) * \
-        np.exp(np.math.lgamma(2 * LENS_N))
+        np.exp(math.lgamma(2 * LENS_N))
     return flux / norm * np.exp(-b * (r ** (1 / LENS_N) - 1))
 
 

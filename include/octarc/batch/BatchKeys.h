@@ -50,6 +50,10 @@ struct BatchSettings {
   // values, and the files the search reads (key, path), hashed by the run that checks them.
   std::vector<ConfigurationItem> configuration;
   std::vector<std::pair<std::string, std::string>> configurationFiles;
+  // The keys of `configuration` this run leaves at their default (neither the -c file nor the
+  // command line sets them): a configuration recorded by an earlier octarc, before such a key
+  // existed, is taken to have had it so.
+  std::vector<std::string> keysAtDefault;
 };
 
 // ConfigError on bad values (and for keys naming a tile's files, which the manifest gives). `run`
