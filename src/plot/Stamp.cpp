@@ -121,10 +121,14 @@ void writePng(cairo_surface_t* surface, const std::string& path) {
 void writeStampPng(const std::string& path, const Stamp& stamp) {
   const std::int64_t nx = stamp.pixels.width(), ny = stamp.pixels.height();
   if (nx <= 0 || ny <= 0) throw ConfigError("stamp " + stamp.title + ": empty cut-out");
-  if (!(stamp.displayHighAdu > stamp.displayLowAdu)) {
+  const bool colour = !stamp.rgbPixels.empty();
+  if (colour && (stamp.rgbPixels.width() != nx || stamp.rgbPixels.height() != ny)) {
+    throw ConfigError("stamp " + stamp.title + ": the colours are not the cut-out's size");
+  }
+  if (!colour && !(stamp.displayHighAdu > stamp.displayLowAdu)) {
     throw ConfigError("stamp " + stamp.title + ": the display range is not increasing");
   }
-  // The grey levels, top row first as a PNG holds them.
+  // The grey levels (or the colours), top row first as a PNG holds them.
   Surface image(cairo_image_surface_create(CAIRO_FORMAT_RGB24, int(nx), int(ny)));
   if (cairo_surface_status(image.get()) != CAIRO_STATUS_SUCCESS) {
     throw IoError(path + ": cannot draw the stamp (" +
@@ -135,6 +139,10 @@ void writeStampPng(const std::string& path, const Stamp& stamp) {
   for (std::int64_t j = 0; j < ny; ++j) {
     auto* row = reinterpret_cast<std::uint32_t*>(data + std::size_t(ny - 1 - j) * stride);
     for (std::int64_t i = 0; i < nx; ++i) {
+      if (colour) {
+        row[i] = stamp.rgbPixels(i, j) & 0xffffffu;
+        continue;
+      }
       const auto g = std::uint32_t(std::lround(
           255.0 * stretched(stamp.pixels(i, j), stamp.displayLowAdu, stamp.displayHighAdu)));
       row[i] = (g << 16) | (g << 8) | g;

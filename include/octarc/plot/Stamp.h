@@ -6,6 +6,7 @@
 // thread.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -25,7 +26,10 @@ struct StampMark {
 };
 
 struct Stamp {
-  ImageF pixels;          // the cut-out (NaN: no data, drawn black)
+  ImageF pixels;  // the cut-out (NaN: no data, drawn black)
+  // A colour stamp's pixels as 0xRRGGBB (plot/LuptonColour.h), the size of `pixels`: when not
+  // empty, drawn instead of the grey levels (the display range is then unused).
+  Image<std::uint32_t> rgbPixels;
   double xFirstFits = 1;  // 1-based coordinates of the cut-out's pixel (0, 0) in the image
   double yFirstFits = 1;
   double displayLowAdu = 0;   // black
@@ -42,7 +46,8 @@ struct Stamp {
 };
 
 // Writes `stamp` as a PNG at `path`; safe to call from several threads at once.
-// ConfigError for an empty cut-out or a display range that is not increasing; IoError naming
+// ConfigError for an empty cut-out, rgbPixels of another size than pixels or a display range
+// that is not increasing; IoError naming
 // the file when it cannot be written.
 void writeStampPng(const std::string& path, const Stamp& stamp);
 
