@@ -104,6 +104,9 @@ std::string candidatesJson(const FitsTable& t, const VettingPageInfo& info) {
     }
     if (!grade[i].empty()) o << ",\"grade\":" << jsonString(grade[i]);
     o << ",\"stamp\":" << jsonString(info.stampFiles[i]);
+    if (i < info.colourStampFiles.size() && !info.colourStampFiles[i].empty()) {
+      o << ",\"colour\":" << jsonString(info.colourStampFiles[i]);
+    }
     if (i < info.cutoutFiles.size() && !info.cutoutFiles[i].empty()) {
       o << ",\"cutout\":" << jsonString(info.cutoutFiles[i]);
     }
@@ -199,8 +202,9 @@ function card(r) {
   const flags = Object.keys(flagNames).filter(b => b > 1 && (r.flags & b)).map(b => flagNames[b]);
   const colours = (data.bands || []).map((b, k) =>
       esc(b) + ' ' + fixed(r.colours[k][0], 2) + ' / ' + fixed(r.colours[k][1], 2)).join('; ');
+  const stamp = r.colour && $('colour').checked ? r.colour : r.stamp;
   div.innerHTML =
-      (r.stamp ? '<a href="' + esc(r.stamp) + '"><img src="' + esc(r.stamp) +
+      (stamp ? '<a href="' + esc(stamp) + '"><img src="' + esc(stamp) +
                  '" loading="lazy" width="200" height="200" alt="candidate ' + r.n + '"></a>'
                : '<div class="nostamp">no stamp</div>') +
       '<div class="caption"><b>#' + r.n + '</b> ' + esc(r.name) +
@@ -313,6 +317,8 @@ $('sort').addEventListener('change', () => {
 for (const id of ['ascending', 'min-score', 'min-arcness', 'flag', 'lens', 'tile', 'grade']) {
   $(id).addEventListener('change', apply);
 }
+if (rows.some(r => r.colour)) $('colour-toggle').hidden = false;
+$('colour').addEventListener('change', render);
 if (data.tiles) {
   const tiles = [...new Set(rows.map(r => r.tile))].sort();
   for (const t of tiles) $('tile').add(new Option(t, t));
@@ -347,6 +353,7 @@ constexpr const char* kControls = R"HTML(<div id="controls">
 <label>grade <select id="grade"><option value="">any</option><option value="none">ungraded</option>
 <option value="lens">lens</option><option value="maybe">maybe</option><option value="no">no</option>
 </select></label>
+<label id="colour-toggle" hidden><input type="checkbox" id="colour"> colour stamps</label>
 <a id="export" href="#" download="grades.csv">Export CSV</a>
 <span id="count"></span>
 </div>

@@ -35,6 +35,9 @@ struct VettingPageInfo {
   std::vector<std::string> stampFiles;
   // Per catalog row: a FITS cut-out relative to the page ("" or absent for none).
   std::vector<std::string> cutoutFiles;
+  // Per catalog row: a colour composite stamp ("" or absent for none), which a "colour stamps"
+  // box of the page (shown when a row has one) puts in the place of the grey stamp.
+  std::vector<std::string> colourStampFiles;
 };
 
 // The page. IoError (naming the table) when `candidates` lacks NUMBER or stampFiles has another

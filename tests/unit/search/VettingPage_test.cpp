@@ -90,5 +90,17 @@ TEST(VettingPage, OneStampNamePerRow) {
   EXPECT_THROW(vettingPageHtml(candidateTable(false), info), IoError);
 }
 
+TEST(VettingPage, ColourStampsAreOfferedWhenARowHasOne) {
+  EXPECT_EQ(vettingPageHtml(candidateTable(false), pageInfo()).find("\"colour\":"),
+            std::string::npos);
+  VettingPageInfo info = pageInfo();
+  info.colourStampFiles = {"stamps/0001.colour.png", ""};
+  const std::string html = vettingPageHtml(candidateTable(false), info);
+  EXPECT_NE(html.find("\"stamp\":\"stamps/0001.png\",\"colour\":\"stamps/0001.colour.png\""),
+            std::string::npos);
+  EXPECT_EQ(html.find("\"colour\":\"\""), std::string::npos);  // none for the second row
+  EXPECT_NE(html.find("id=\"colour-toggle\" hidden"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace octarc
