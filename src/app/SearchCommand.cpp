@@ -59,6 +59,7 @@ void printSearchUsage() {
       "  candidates.reg   DS9 regions: arc ellipse (3 A x 3 B), lens circle, number (fk5 with\n"
       "                   a WCS, else image)\n"
       "  stamps/NNNN.png  STAMP_SIZE arcsec stamps, North and East arrows, scale bar\n"
+      "  stamps/NNNN.colour.png  with COLOUR_IMAGE, the colour composite (Lupton et al. 2004)\n"
       "  index.html       the vetting page (works offline): sort, filter, grade by click or\n"
       "                   keys (j/k, 1/2/3), export the grades as CSV for octarc grades\n"
       "  summary.txt      objects searched, area, candidates per search space and per deg2\n"

@@ -7,8 +7,10 @@
 #include <utility>
 
 #include "octarc/core/Conventions.h"
+#include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
 #include "octarc/core/Statistics.h"
+#include "octarc/plot/LuptonColour.h"
 
 namespace octarc {
 
@@ -77,6 +79,11 @@ std::string stampFileName(std::size_t index) {
   char name[32];
   std::snprintf(name, sizeof name, "stamps/%04zu.png", index + 1);
   return name;
+}
+
+std::string colourStampFileName(std::size_t index) {
+  std::string name = stampFileName(index);
+  return name.replace(name.size() - 4, 4, ".colour.png");
 }
 
 std::string cutoutFileName(std::size_t index) {
@@ -177,6 +184,51 @@ Stamp candidateStamp(const ImageF& image, const Table& catalog, const SearchResu
     stamp.marks.push_back(l);
   }
   stamp.sizePix = settings.sizePix;
+  return stamp;
+}
+
+Stamp candidateColourStamp(const Stamp& grey, const ColourStampBand& searched,
+                           const std::vector<ColourStampBand>& others, double skySigmaAdu) {
+  if (others.empty()) throw ConfigError("colour stamp: no band besides the searched one");
+  // Each channel a sum of bands with weights: the band's flux scale (and 1/2 for a mean).
+  struct Term {
+    const ImageF* pixels;
+    double weight;
+  };
+  const auto scale = [&](const ColourStampBand& b) {
+    return std::pow(10.0, -0.4 * (b.magZeropoint - searched.magZeropoint));
+  };
+  std::vector<Term> red{{searched.pixels, 1.0}}, green, blue;
+  if (others.size() == 1) {
+    blue = {{others[0].pixels, scale(others[0])}};
+    green = {{searched.pixels, 0.5}, {others[0].pixels, 0.5 * scale(others[0])}};
+  } else {
+    blue = {{others[0].pixels, scale(others[0])}};
+    green = {{others[1].pixels, scale(others[1])}};
+  }
+  Stamp stamp = grey;
+  stamp.marks.clear();
+  const std::int64_t nx = grey.pixels.width(), ny = grey.pixels.height();
+  stamp.rgbPixels = Image<std::uint32_t>(nx, ny, 0u);
+  const std::int64_t i0 = std::llround(grey.xFirstFits) - 1;  // 0-based image pixel of (0, 0)
+  const std::int64_t j0 = std::llround(grey.yFirstFits) - 1;
+  const LuptonStretch stretch{kColourStampQ, kColourStampSofteningSigmas * skySigmaAdu};
+  const auto channel = [](const std::vector<Term>& terms, std::int64_t x, std::int64_t y) {
+    double sum = 0.0;
+    for (const Term& t : terms) sum += t.weight * double((*t.pixels)(x, y));
+    return sum;
+  };
+  for (std::int64_t j = 0; j < ny; ++j) {
+    const std::int64_t y = j0 + j;
+    if (y < 0 || y >= searched.pixels->height()) continue;
+    for (std::int64_t i = 0; i < nx; ++i) {
+      const std::int64_t x = i0 + i;
+      if (x < 0 || x >= searched.pixels->width()) continue;
+      const Rgb8 c =
+          luptonRgb(channel(red, x, y), channel(green, x, y), channel(blue, x, y), stretch);
+      stamp.rgbPixels(i, j) = std::uint32_t(c.red) << 16 | std::uint32_t(c.green) << 8 | c.blue;
+    }
+  }
   return stamp;
 }
 

@@ -304,8 +304,9 @@ SearchResult selectCandidates(const SearchRunSettings& settings, SearchRun& run,
     // IMAGE: every row was measured on the residual, and its arcs are fitted there.
     if (!input.residualRowsAreExtra) input.pixels = &run.lensLight->residual;
   }
-  // The colour bands' images are needed only here: freed when the candidates are made.
-  const std::vector<PreparedImage> colourImages = prepareColourImages(settings, log);
+  // The colour bands' images are needed only here and for the colour stamps: freed when the
+  // candidates are made unless stamps are written.
+  std::vector<PreparedImage> colourImages = prepareColourImages(settings, log);
   const auto bandOf = [](const PreparedImage& image, double magZeropoint) {
     BandImage band;
     band.pixels = &image.hdu.pixels;
@@ -324,7 +325,9 @@ SearchResult selectCandidates(const SearchRunSettings& settings, SearchRun& run,
   input.measurementBand = &measurementBand;
   input.bands = &bands;
   if (log) log("> Selecting candidates");
-  return searchCandidates(input, search);
+  SearchResult result = searchCandidates(input, search);
+  if (settings.writeStamps) run.colourImages = std::move(colourImages);
+  return result;
 }
 
 }  // namespace
@@ -530,6 +533,12 @@ void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings
     // On every thread (cairo draws one surface per thread; the few WCS calls per stamp wait for
     // each other, wcslib's transforms of one Wcs being serialised).
     const std::int64_t n = std::int64_t(run.result.candidates.size());
+    // The colour composites: from the image (never the lens-light residual), as the colours.
+    const ColourStampBand searchedBand{&run.image.hdu.pixels, settings.run.magZeropoint};
+    std::vector<ColourStampBand> colourBands;
+    for (std::size_t k = 0; k < run.colourImages.size(); ++k) {
+      colourBands.push_back({&run.colourImages[k].hdu.pixels, settings.colourZeropoints.at(k)});
+    }
     parallelForDynamic(
         n, resolveThreads(settings.run.threads),
         [&](std::int64_t i) {
@@ -543,6 +552,11 @@ void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings
               residual ? run.lensLight->residual : run.image.hdu.pixels, catalog, run.result,
               std::size_t(i), wcs, run.pixelScaleArcsec, settings.stamps);
           writeStampPng((root / stampFileName(std::size_t(i))).string(), stamp);
+          if (!colourBands.empty()) {
+            writeStampPng(
+                (root / colourStampFileName(std::size_t(i))).string(),
+                candidateColourStamp(stamp, searchedBand, colourBands, run.image.sigmaAdu));
+          }
           if (settings.writeCutouts) {
             writeImageFile((root / cutoutFileName(std::size_t(i))).string(),
                            {{cutoutHeader(run.image.hdu.header, stamp), &stamp.pixels, nullptr}});
@@ -559,6 +573,7 @@ void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings
                   {"DS9 regions", "candidates.reg"}};
     for (std::size_t i = 0; i < run.result.candidates.size(); ++i) {
       page.stampFiles.push_back(stampFileName(i));
+      if (!colourBands.empty()) page.colourStampFiles.push_back(colourStampFileName(i));
       if (settings.writeCutouts) page.cutoutFiles.push_back(cutoutFileName(i));
     }
     writeText("index.html", vettingPageHtml(objects, page));

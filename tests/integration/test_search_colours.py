@@ -2,7 +2,7 @@
 scripts/make-multiband-example.py, whose injected positions and colours are in
 testdata/multiband.truth.txt): the blue arc's lens and colours against the injected ones, the
 dark-lens pair (CAND_FLAGS 32, no lens, the counter-image's position), the colour cut and its
-count; and bad colour input."""
+count, the colour stamps' hues against the injected colours; and bad colour input."""
 import os
 import shutil
 import tempfile
@@ -11,6 +11,7 @@ import unittest
 import numpy as np
 from astropy.io import fits
 from astropy.wcs import WCS
+from PIL import Image
 
 from octarc_testlib import SOURCE_DIR, WorkDirTest, run_octarc
 from test_search import known_grid
@@ -74,7 +75,52 @@ class ColourFixture(WorkDirTest):
                         "%s: g - r %.3f +- %.3f, injected %.2f" % (name, measured, error, injected))
 
 
+def stamp_flux_ratio(stamp_dir, number, x, y):
+    """Blue over red and green over red of the colour stamp of candidate `number` in the 3 x 3
+    image pixels around the image's 1-based pixel (x, y): each pixel's colour is read at its
+    centre in the PNG, placed through the FITS cut-out's LTV (cut-out = image + LTV) and the
+    stamp's layout (a frame of 1.5 % of the side, the cut-out filling the rest)."""
+    png = Image.open(os.path.join(stamp_dir, "%04d.colour.png" % number)).convert("RGB")
+    cut = fits.getheader(os.path.join(stamp_dir, "%04d.fits" % number))
+    side = png.size[0]
+    margin = 0.015 * side
+    per_pixel = (side - 2 * margin) / max(cut["NAXIS1"], cut["NAXIS2"])
+    total = np.zeros(3)
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            xc = round(x) + dx + cut["LTV1"]
+            yc = round(y) + dy + cut["LTV2"]
+            u = int(margin + (xc - 0.5) * per_pixel)
+            v = int(side - margin - (yc - 0.5) * per_pixel)
+            total += png.getpixel((u, v))
+    return total[2] / total[0], total[1] / total[0]
+
+
 class SearchColours(ColourFixture):
+
+    def assert_colour_stamps(self, out):
+        """A colour stamp beside every grey one, offered by the vetting page; its hue at the blue
+        arc and at its red lens that of the injected colours: on the searched band's (r) flux
+        scale, blue (g) over red (r) is 10^(-0.4 (g - r)), green their mean."""
+        cand = self.candidates(out)
+        stamps = self.path(os.path.join(out, "stamps"))
+        for n in cand["NUMBER"]:
+            self.assertTrue(os.path.isfile(os.path.join(stamps, "%04d.colour.png" % n)), n)
+        with open(self.path(os.path.join(out, "index.html"))) as f:
+            page = f.read()
+        self.assertIn('"colour":"stamps/0001.colour.png"', page)
+        self.assertIn('id="colour-toggle"', page)
+        number = self.near(cand, "a.arc", 4.0)["NUMBER"][0]
+        for name, tolerance in (("a.arc", 0.15), ("a.lens", 0.05)):
+            x, y, _, g_r = self.truth[name]
+            blue, green = stamp_flux_ratio(stamps, number, x, y)
+            self.assertAlmostEqual(blue, 10 ** (-0.4 * g_r), delta=tolerance, msg=name)
+            self.assertAlmostEqual(green, 0.5 * (1 + 10 ** (-0.4 * g_r)), delta=tolerance,
+                                   msg=name)
+        arc_blue = stamp_flux_ratio(stamps, number, *self.truth["a.arc"][:2])[0]
+        lens_blue = stamp_flux_ratio(stamps, number, *self.truth["a.lens"][:2])[0]
+        self.assertGreater(arc_blue, 2 * lens_blue)
+
 
     def test_lens_and_colours_of_the_blue_arc(self):
         self.search()
@@ -99,6 +145,7 @@ class SearchColours(ColourFixture):
         self.assertEqual((h["NCOLBAND"], h["COLBAND1"], h["NCOLCUT"]), (1, "g", 0))
         with open(self.path("out/index.html")) as f:
             self.assertIn('"bands":["g"]', f.read())
+        self.assert_colour_stamps("out")
 
     def test_dark_lens_pair_has_no_lens_and_flag_32(self):
         self.search()
@@ -129,6 +176,10 @@ class SearchColours(ColourFixture):
         self.assertEqual(plain["CAND_FLAGS"] & 33, 0)
         self.assertLess(np.hypot(plain["LENS_X"] - sec_x, plain["LENS_Y"] - sec_y), 2.0)
         self.assertNotIn("MAG_g", self.candidates("plain").columns.names)
+        # No colour stamp without a colour band.
+        self.assertEqual([f for f in os.listdir(self.path("plain/stamps")) if "colour" in f], [])
+        with open(self.path("plain/index.html")) as f:
+            self.assertNotIn('"colour":', f.read())
 
     def test_colour_cut_removes_the_arc_of_its_lens_colour(self):
         self.search()

@@ -6,7 +6,8 @@
 //     --> grid (GRID_NAME) checked against the image's setup (a warning when they differ)
 //     --> candidates (search/Search.h)
 //   --> writeSearchOutputs(): OUTPUT_DIR holding candidates.fits (CATALOG_TYPE, FITS-LDAC by
-//       default), candidates.cat (ASCII_HEAD), candidates.reg (DS9), stamps/NNNN.png, index.html
+//       default), candidates.cat (ASCII_HEAD), candidates.reg (DS9), stamps/NNNN.png (with
+//       COLOUR_IMAGE also stamps/NNNN.colour.png), index.html
 //       (the vetting page), summary.txt and, with LENS_LIGHT, lensfit.fits (the fitted galaxies)
 //       and the check-images lensmodel.fits and lensresidual.fits, written whole into a temporary
 //       directory and renamed into place.
@@ -63,6 +64,9 @@ struct SearchRun {
   // LENS_NUMBER refers to: the image's in LOCAL, the one appended past the residual's in IMAGE;
   // 0 when it is not in that catalog (IMAGE, a fit that failed).
   std::vector<std::int32_t> lensNumbers;
+  // With COLOUR_IMAGE and STAMPS Y: each colour band's image as the colours were measured on it
+  // (background-subtracted), kept for the colour stamps.
+  std::vector<PreparedImage> colourImages;
 };
 
 // Runs the search. Before any pixel is read: the grid and the region file are read, OUTPUT_DIR

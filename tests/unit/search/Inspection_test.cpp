@@ -5,9 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <string>
 #include <vector>
+
+#include "octarc/core/Error.h"
 
 namespace octarc {
 namespace {
@@ -165,6 +168,42 @@ TEST(Inspection, CutoutHeaderShiftsTheWcsToTheCutout) {
   EXPECT_EQ(again.number("CRPIX1"), 36.5);
   // Without a WCS, none is made up.
   EXPECT_FALSE(cutoutHeader(FitsHeader(), stamp).has("CRPIX1"));
+}
+
+TEST(Inspection, ColourStampFileNameIsBesideTheStamp) {
+  EXPECT_EQ(colourStampFileName(0), "stamps/0001.colour.png");
+  EXPECT_EQ(colourStampFileName(122), "stamps/0123.colour.png");
+}
+
+TEST(Inspection, ColourStampScalesBandsByZeroPointAndKeepsTheCutOut) {
+  // r (searched, zero point 30) 1000 ADU everywhere; g (29.5) 1000 / 10^0.2 ADU, the same
+  // flux on r's scale: grey. Sky sigma 10: softening 150, Q I / S = 5 x 1000 / 150, each channel
+  // asinh(33.333) / 5 = 0.84003, 214.2 of 255.
+  const float equalFlux = float(1000.0 / std::pow(10.0, 0.2));
+  ImageF red(104, 80, 1000.0f), green(104, 80, equalFlux);
+  green(15, 25) = std::nanf("");  // no g data: black
+  StampSettings settings;
+  settings.sideArcsec = 4.0;
+  const Stamp grey = candidateStamp(red, inspectedCatalog(), inspectedResult(), 0, nullptr,
+                                    kArcsecPerPixel, settings);
+  const Stamp c = candidateColourStamp(grey, {&red, 30.0}, {{&green, 29.5}}, 10.0);
+  ASSERT_EQ(c.rgbPixels.width(), 16);
+  ASSERT_EQ(c.rgbPixels.height(), 16);
+  EXPECT_TRUE(c.marks.empty());
+  EXPECT_EQ(c.xFirstFits, grey.xFirstFits);
+  EXPECT_EQ(c.rgbPixels(0, 0), 0xd6d6d6u);  // 214 in each channel
+  // Image pixel (15, 25) is the cut-out's (15 - 7, 25 - 17).
+  EXPECT_EQ(c.rgbPixels(8, 8), 0u);
+  EXPECT_EQ(c.rgbPixels(7, 8), 0xd6d6d6u);
+  // Two other bands: blue the first, green the second, red the searched band.
+  const ImageF none(104, 80, 0.0f);
+  const Stamp yellow =
+      candidateColourStamp(grey, {&red, 30.0}, {{&none, 30.0}, {&red, 30.0}}, 10.0);
+  const std::uint32_t p = yellow.rgbPixels(0, 0);
+  EXPECT_EQ(p >> 16, (p >> 8) & 0xffu);
+  EXPECT_GT(p >> 16, 0u);
+  EXPECT_EQ(p & 0xffu, 0u);
+  EXPECT_THROW(candidateColourStamp(grey, {&red, 30.0}, {}, 10.0), ConfigError);
 }
 
 }  // namespace
