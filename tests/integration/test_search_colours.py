@@ -2,7 +2,8 @@
 scripts/make-multiband-example.py, whose injected positions and colours are in
 testdata/multiband.truth.txt): the blue arc's lens and colours against the injected ones, the
 dark-lens pair (CAND_FLAGS 32, no lens, the counter-image's position), the colour cut and its
-count, the colour stamps' hues against the injected colours; and bad colour input."""
+count, the colour stamps' hues against the injected colours and the vetting page's colour box
+(in headless Chromium); and bad colour input."""
 import os
 import shutil
 import tempfile
@@ -13,7 +14,8 @@ from astropy.io import fits
 from astropy.wcs import WCS
 from PIL import Image
 
-from octarc_testlib import SOURCE_DIR, WorkDirTest, run_octarc
+from octarc_testlib import (SOURCE_DIR, WorkDirTest, have_program, run_octarc,
+                            run_page_in_chromium)
 from test_search import known_grid
 
 SEX = os.path.join(SOURCE_DIR, "params", "octarc.sex")
@@ -202,6 +204,37 @@ class SearchColours(ColourFixture):
             self.assertIn("Colour cut COLOUR_CUT g,-0.5: %d candidate(s) before the cut, 1 removed "
                           "(arc minus lens colour in g above -0.5 mag), %d after it; every other "
                           "count is after the cut" % (len(before), len(after)), f.read())
+
+
+class SearchColoursPage(ColourFixture):
+
+    def test_colour_box_swaps_the_stamps(self):
+        if not have_program("chromium") and os.environ.get("CI", "").lower() != "true":
+            self.skipTest("program not installed: chromium")
+        self.search()
+        driver = """
+        const $ = id => document.getElementById(id);
+        const images = () => Array.from(document.querySelectorAll('#grid .card img'));
+        const sources = () => images().map(i => i.getAttribute('src'));
+        const shown = !$('colour-toggle').hidden;
+        const grey = sources();
+        $('colour').checked = true;
+        $('colour').dispatchEvent(new Event('change'));
+        const colour = sources();
+        const lazy = images().every(i => i.loading === 'lazy');
+        $('colour').checked = false;
+        $('colour').dispatchEvent(new Event('change'));
+        report({shown, grey, colour, lazy, back: sources(), pageErrors});
+        """
+        result, _ = run_page_in_chromium(self.path("out/index.html"), driver, self.work)
+        self.assertEqual(result["pageErrors"], [])
+        self.assertTrue(result["shown"])
+        self.assertEqual(len(result["grey"]), len(self.candidates()))
+        self.assertTrue(all(s.endswith(".png") and ".colour" not in s for s in result["grey"]))
+        self.assertEqual(result["colour"],
+                         [s[:-len(".png")] + ".colour.png" for s in result["grey"]])
+        self.assertTrue(result["lazy"])
+        self.assertEqual(result["back"], result["grey"])
 
 
 class SearchColoursBadInput(ColourFixture):
