@@ -14,6 +14,7 @@ holding them. The GIL is released while octarc works, Ctrl-C interrupts a call
 file). See docs/python.md.
 """
 import numbers
+import os
 
 import numpy as np
 
@@ -25,6 +26,23 @@ __all__ = ["detect", "measure", "DetectionResult", "MeasurementResult", "__versi
 __version__ = _octarc.__version__
 
 _FLOAT_TYPES = (np.dtype(np.float32), np.dtype(np.float64))
+
+
+def _shipped_data_directory():
+    """octarc's data directory (share/octarc: octarc.sex, default.conv, ...) for this package:
+    <prefix>/share/octarc for a package in <prefix>/lib/python3*/*-packages/octarc, and
+    <build>/share/octarc in a build tree (<build>/python/octarc); None when neither holds it."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    for levels in (4, 2):
+        candidate = os.path.normpath(os.path.join(here, *[".."] * levels, "share", "octarc"))
+        if os.path.isfile(os.path.join(candidate, "octarc.sex")):
+            return candidate
+    return None
+
+
+# The libraries look for their data files beside the running executable, which is python3 here.
+if _shipped_data_directory() is not None:
+    _octarc._set_data_directory(_shipped_data_directory())
 
 
 def _image_array(values, what):

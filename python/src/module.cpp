@@ -8,6 +8,7 @@
 #include "arrays.h"
 #include "detection.h"
 #include "measurement.h"
+#include "octarc/core/DataFiles.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Version.h"
 #include "tables.h"
@@ -32,6 +33,8 @@ PYBIND11_MODULE(_octarc, m) {
       PyErr_SetString(PyExc_RuntimeError, e.what());
     }
   });
+  m.def("_set_data_directory", &octarc::setDataDirectory, py::arg("directory"),
+        "Where the libraries find octarc's shipped files (the package finds it at import).");
   octarc::python::bindTables(m);
   octarc::python::bindDetection(m);
   octarc::python::bindMeasurement(m);

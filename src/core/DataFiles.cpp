@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <system_error>
+#include <utility>
 
 #include "octarc/core/Error.h"
 
@@ -32,10 +33,21 @@ const char* dataDirectoryFromEnvironment() {
   return env != nullptr && *env != '\0' ? env : nullptr;
 }
 
+// setDataDirectory's directory (set once, by an embedding program's start-up).
+std::string& embeddingDataDirectory() {
+  static std::string directory;
+  return directory;
+}
+
 }  // namespace
+
+void setDataDirectory(std::string directory) {
+  embeddingDataDirectory() = std::move(directory);
+}
 
 std::string dataDirectory() {
   if (const char* env = dataDirectoryFromEnvironment()) return env;
+  if (!embeddingDataDirectory().empty()) return embeddingDataDirectory();
   return (executablePath().parent_path() / OCTARC_DATA_DIR_FROM_BINDIR).lexically_normal().string();
 }
 
@@ -47,8 +59,10 @@ std::string dataFile(std::string_view name) {
   if (fs::is_regular_file(file, ec)) return file.string();
   throw IoError(file.string() + ": octarc data file not found (searched " +
                 (fromEnvironment ? "OCTARC_DATA_DIR " + dir.string()
-                                 : dir.string() + ", beside the octarc executable; set "
-                                                  "OCTARC_DATA_DIR for another place") +
+                 : !embeddingDataDirectory().empty()
+                     ? dir.string()
+                     : dir.string() + ", beside the octarc executable; set "
+                                      "OCTARC_DATA_DIR for another place") +
                 ")");
 }
 

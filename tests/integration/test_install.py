@@ -181,13 +181,16 @@ class InstalledTree(WorkDirTest):
             proc = subprocess.run(
                 ["/usr/bin/python3", "-c",
                  "import numpy as np, octarc; print(octarc.__version__, "
+                 "octarc._shipped_data_directory(), "
                  "octarc.detect(np.ones((20, 20), 'f4'), 0.5, background=0.0, "
                  "error=1.0).objects_per_level)"],
                 cwd=work, env=dict(env, PYTHONPATH=os.path.join(moved, PREFIX_SITE)),
                 capture_output=True, text=True)
             self.assertEqual(proc.returncode, 0, proc.stderr)
-            self.assertEqual(proc.stdout.split(maxsplit=1),
-                             [run_version(os.path.join(moved, "bin", "octarc")), "[1]\n"])
+            # Its data files are the copy's (share/octarc), not beside python3.
+            self.assertEqual(proc.stdout.split(maxsplit=2),
+                             [run_version(os.path.join(moved, "bin", "octarc")),
+                              os.path.join(moved, "share", "octarc"), "[1]\n"])
 
         # Nothing of the source or build tree was even looked at.
         for path in demo_opened + opened:

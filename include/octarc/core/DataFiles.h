@@ -3,6 +3,8 @@
 // executable, so that an installed or moved tree works without any path of the build.
 //
 //   $OCTARC_DATA_DIR                      when set (unusual layouts, tests of the libraries)
+//   setDataDirectory's                    when a program embedding the libraries set one (the
+//                                         Python module, whose executable is python3)
 //   <executable's directory>/<relative>   otherwise; <relative> is ../share/octarc for the
 //                                         standard layout (bin/octarc, share/octarc/), the same
 //                                         in the build tree as in an installed tree
@@ -15,6 +17,10 @@ namespace octarc {
 
 // The data directory, without checking that it exists.
 std::string dataDirectory();
+
+// For a program that embeds the libraries and does not sit in the installation's bin/: the data
+// directory to use when OCTARC_DATA_DIR is unset (empty: beside the executable again).
+void setDataDirectory(std::string directory);
 
 // The path of the shipped data file `name` (e.g. "octarc.sex", "simulation/population.txt").
 // IoError naming the file and the directory searched when it is not there.

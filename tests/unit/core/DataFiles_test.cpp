@@ -78,6 +78,25 @@ TEST(DataFiles, WithoutEnvironmentTheDirectoryIsBesideTheExecutable) {
   }
 }
 
+TEST(DataFiles, AnEmbeddingProgramNamesTheDirectoryUnlessTheEnvironmentDoes) {
+  const fs::path dir = test::scratchDir();
+  std::ofstream(dir / "octarc.sex") << "DETECT_THRESH 3\n";
+  const fs::path beside =
+      (fs::path(OCTARC_TEST_EXE_DIR) / OCTARC_DATA_DIR_FROM_BINDIR).lexically_normal();
+  {
+    const DataDirOverride env(std::nullopt);
+    setDataDirectory(dir.string());
+    EXPECT_EQ(dataDirectory(), dir.string());
+    EXPECT_EQ(dataFile("octarc.sex"), (dir / "octarc.sex").string());
+    {
+      const DataDirOverride other("/elsewhere");
+      EXPECT_EQ(dataDirectory(), "/elsewhere");
+    }
+    setDataDirectory("");
+    EXPECT_EQ(fs::path(dataDirectory()), beside);
+  }
+}
+
 TEST(DataFiles, UserFilesComeFirstThenShippedOnes) {
   const fs::path data = test::scratchDir() / "share";
   const fs::path work = data.parent_path() / "work";
