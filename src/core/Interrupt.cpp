@@ -2,6 +2,7 @@
 
 #include <dirent.h>
 #include <fcntl.h>
+#include <sched.h>
 #include <signal.h>
 #include <sys/syscall.h>
 #include <unistd.h>
@@ -34,6 +35,11 @@ std::atomic<int> gDeferDepth{0};
 std::atomic<int> gPendingSignal{0};
 std::atomic<bool> gOutputsComplete{false};
 std::atomic_flag gEnding = ATOMIC_FLAG_INIT;
+// Set by a handler before it looks at gDeferDepth, and while the process ends: a thread about to
+// rename outputs into place (DeferInterrupts) waits while it is set, so that no rename starts
+// while a handler removes the registered temporaries (a temporary directory renamed into place
+// during its removal was left behind empty under its final name).
+std::atomic<bool> gCleaning{false};
 char gPrefix[256] = "octarc";
 // PiecesAccount's texts, fixed before the run.
 constexpr std::size_t kAccountBytes = 1024;
@@ -148,6 +154,7 @@ void removeTreeAt(int parentFd, const char* name, int depth) {
     // Another thread is already ending the process.
     for (;;) ::pause();
   }
+  gCleaning.store(true);
   int removed = 0;
   for (Slot& s : gSlots) {
     if (s.state.load() == kFile) {
@@ -189,10 +196,16 @@ void removeTreeAt(int parentFd, const char* name, int depth) {
 }
 
 extern "C" void onInterrupt(int sig) {
+  // gCleaning before gDeferDepth, as DeferInterrupts does the reverse (both sequentially
+  // consistent): either this handler sees the renames begun and defers to them, or they wait.
+  const bool alreadyCleaning = gCleaning.exchange(true);
   if (gDeferDepth.load() > 0) {
     gPendingSignal.store(sig);
     // The renames may have finished between the test and the store: then end here.
-    if (gDeferDepth.load() > 0 || gPendingSignal.exchange(0) == 0) return;
+    if (gDeferDepth.load() > 0 || gPendingSignal.exchange(0) == 0) {
+      if (!alreadyCleaning) gCleaning.store(false);
+      return;
+    }
     endAfterSignal(sig, true);
   }
   endAfterSignal(sig, false);
@@ -265,6 +278,9 @@ void forgetOnInterrupt(int slot) {
 
 DeferInterrupts::DeferInterrupts() {
   ++gDeferDepth;
+  // A handler that decided before this increment to remove the temporaries ends the process;
+  // one that sees it defers to these renames and clears gCleaning.
+  while (gCleaning.load()) ::sched_yield();
 }
 
 DeferInterrupts::~DeferInterrupts() {
