@@ -48,6 +48,8 @@ import time
 import numpy as np
 from astropy.io import fits
 
+from mpi_ranks import rank_process
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 PARAMS = os.path.join(HERE, "..", "params")
 
@@ -109,25 +111,6 @@ def journal(out):
             if len(fields) == 5:
                 lines.append(fields)
     return lines
-
-
-def rank_process(octarc, out, rank):
-    """The pid of the octarc process that is MPI rank `rank` of the batch writing `out`."""
-    for pid in os.listdir("/proc"):
-        if not pid.isdigit():
-            continue
-        try:
-            with open("/proc/%s/cmdline" % pid, "rb") as f:
-                cmdline = f.read().split(b"\0")
-            if os.fsencode(octarc) != cmdline[0] or os.fsencode(out) not in cmdline:
-                continue
-            with open("/proc/%s/environ" % pid, "rb") as f:
-                environ = f.read().split(b"\0")
-        except OSError:
-            continue
-        if b"OMPI_COMM_WORLD_RANK=%d" % rank in environ:
-            return int(pid)
-    return None
 
 
 def temporaries(root):

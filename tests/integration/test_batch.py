@@ -12,6 +12,7 @@ import signal
 import subprocess
 import tempfile
 import time
+import sys
 import unittest
 
 import numpy as np
@@ -23,6 +24,9 @@ import astropy.units as u
 
 from octarc_testlib import (OCTARC, SOURCE_DIR, WorkDirTest, fitsverify_errors, ldac_imhead,
                             mpi_env, require_program, run_octarc)
+
+sys.path.insert(0, os.path.join(SOURCE_DIR, "scripts"))
+from mpi_ranks import rank_process  # noqa: E402  (scripts/mpi_ranks.py)
 
 SEX = os.path.join(SOURCE_DIR, "params", "octarc.sex")
 GRID = os.path.join(SOURCE_DIR, "params", "demo.grid.fits")
@@ -325,7 +329,7 @@ class BatchResume(BatchFixture):
             done = [e for e in journal(out) if e[2] == "done"] if os.path.exists(
                 os.path.join(out, "journal.txt")) else []
             if done:
-                killed = rank_process(out, 1)
+                killed = rank_process(OCTARC, out, 1)
                 if killed:
                     os.kill(killed, signal.SIGKILL)
             time.sleep(0.01)
@@ -397,7 +401,7 @@ class BatchResume(BatchFixture):
         while time.time() < deadline and proc.poll() is None and not ranks:
             if os.path.exists(os.path.join(out, "journal.txt")) and any(
                     e[2] == "done" for e in journal(out)):
-                ranks = [rank_process(out, 0), rank_process(out, 1)]
+                ranks = [rank_process(OCTARC, out, 0), rank_process(OCTARC, out, 1)]
                 self.assertNotIn(None, ranks)
                 for pid in ranks:
                     os.kill(pid, signal.SIGTERM)
@@ -780,25 +784,6 @@ class BatchSharing(WorkDirTest):
         self.assert_each_tile_searched_once(out)
         self.assert_merged_or_left_to_another(procs)
         self.assert_survey_merged(out)
-
-
-def rank_process(out, rank):
-    """The pid of the octarc process that is MPI rank `rank` of the batch writing `out`."""
-    for pid in os.listdir("/proc"):
-        if not pid.isdigit():
-            continue
-        try:
-            with open("/proc/%s/cmdline" % pid, "rb") as f:
-                cmdline = f.read().split(b"\0")
-            if os.fsencode(OCTARC) != cmdline[0] or os.fsencode(out) not in cmdline:
-                continue
-            with open("/proc/%s/environ" % pid, "rb") as f:
-                environ = f.read().split(b"\0")
-        except OSError:
-            continue
-        if b"OMPI_COMM_WORLD_RANK=%d" % rank in environ:
-            return int(pid)
-    return None
 
 
 class BatchBadInput(WorkDirTest):
