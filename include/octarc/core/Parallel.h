@@ -67,7 +67,8 @@ void parallelFor(std::int64_t n, int threads, Fn&& fn) {
 // Runs fn(i) for every i in [0, n), each item taken by the next free thread (for items of very
 // uneven cost, such as simulated systems). The calling thread works too and, when given, calls
 // progress(done) as items finish (at most every 200 ms, and once at the end). The first
-// exception stops the handing out of items and is rethrown once every thread has stopped.
+// exception (of an item or of progress) stops the handing out of items and is rethrown once
+// every thread has stopped.
 template <typename Fn>
 void parallelForDynamic(std::int64_t n, int threads, Fn&& fn,
                         const std::function<void(std::int64_t done)>& progress = {}) {
@@ -81,19 +82,20 @@ void parallelForDynamic(std::int64_t n, int threads, Fn&& fn,
     for (std::int64_t i = next++; i < n && !stop; i = next++) {
       try {
         fn(i);
+        ++done;
+        // Inside the try: a progress function may throw too (an interrupt from Python).
+        if (reports && progress) {
+          const auto now = std::chrono::steady_clock::now();
+          if (now - last >= std::chrono::milliseconds(200)) {
+            last = now;
+            progress(done);
+          }
+        }
       } catch (...) {
         std::lock_guard<std::mutex> lock(errorMutex);
         if (!error) error = std::current_exception();
         stop = true;
         return;
-      }
-      ++done;
-      if (reports && progress) {
-        const auto now = std::chrono::steady_clock::now();
-        if (now - last >= std::chrono::milliseconds(200)) {
-          last = now;
-          progress(done);
-        }
       }
     }
   };
