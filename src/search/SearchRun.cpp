@@ -6,9 +6,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <optional>
 #include <sstream>
 #include <tuple>
+#include <utility>
 
 #include "octarc/catalog/Catalog.h"
 #include "octarc/catalog/TableCatalog.h"
@@ -23,6 +25,7 @@
 #include "octarc/io/FitsTable.h"
 #include "octarc/measure/Colour.h"
 #include "octarc/run/CatalogAssembly.h"
+#include "octarc/run/ImageRun.h"
 #include "octarc/run/Levels.h"
 #include "octarc/run/RunKeys.h"
 #include "octarc/search/CandidateTable.h"
@@ -70,6 +73,11 @@ double maskPointRadiusPix(const SearchRunSettings& s, const ImageHdu& image,
   return s.maskPointRadiusArcsec / scale;
 }
 
+// The searched image's name in messages: its file, or what an in-memory image was called.
+std::string searchedImageName(const SearchRun& run, const RunSettings& rs) {
+  return rs.imagePaths.empty() ? run.image.hdu.path : rs.measurementImagePath();
+}
+
 // PIXEL_SCALE, else the WCS's at the image centre; ConfigError when neither gives one.
 double runPixelScaleArcsec(const SearchRun& run, const RunSettings& rs) {
   if (rs.pixelScaleArcsec > 0) return rs.pixelScaleArcsec;
@@ -78,7 +86,7 @@ double runPixelScaleArcsec(const SearchRun& run, const RunSettings& rs) {
                                                  run.image.hdu.pixels.height())
                            : 0.0;
   if (!(scale > 0)) {
-    throw ConfigError(rs.measurementImagePath() +
+    throw ConfigError(searchedImageName(run, rs) +
                       ": no WCS to take the pixel scale from; set PIXEL_SCALE");
   }
   return scale;
@@ -245,6 +253,44 @@ void readEarlierRows(const SearchRunSettings& settings, SearchRun& run, const Ru
   }
 }
 
+// The rows of an image prepared in memory (run.image), detected and measured as detectRows
+// does a file's: the PARAMETERS_NAME columns, ASSOC, and with LENS_LIGHT those of the residual.
+void detectPreparedRows(const SearchRunSettings& settings, SearchRun& run,
+                        const std::function<void()>& checkpoint, const RunLog& log) {
+  const RunSettings& rs = settings.run;
+  run.levels = detectionLevels(rs, run.image.detectionSigma());
+  const ColumnPlan columns = planColumns(rs, true, int(run.levels.size()));
+  if (settings.lensLight.mode != lenslight::SubtractionMode::Off) {
+    lenslight::checkLensSelectColumns(Table(columns.outputColumns),
+                                      settings.lensLight.selectExpression);
+  }
+  MeasureContext context = run.image.context(rs);
+  context.levels = run.levels;
+  DetectionRequest request;
+  request.levels = run.levels;
+  if (rs.detectThresholdType == ThresholdType::Relative) request.levelsInSigma = levelValues(rs);
+  request.minAreaPix = rs.minAreaPix;
+  request.threads = resolveThreads(rs.threads);
+  request.keepSegmentation = true;  // the footprints: arcs' curvature, colours, lens light
+  request.checkpoint = checkpoint;
+  ImageRunResult detected = detectAndMeasure(run.image, columns.plan, context, request, &rs);
+  Table full = std::move(detected.rows);
+  if (settings.assoc) {
+    // ASSOC removes rows: put them in catalog order first (as a file's run does).
+    full = rowsInOrder(full, detected.catalogOrder);
+    detected.catalogOrder.clear();
+    applyAssoc(*settings.assoc, columns.assocVectorSize, run.image, full, true);
+  }
+  run.catalog = outputTable(columns, std::move(full));
+  run.catalogOrder = std::move(detected.catalogOrder);
+  run.footprints = std::move(detected.segmentation);
+  requireColumns(run.catalog, searchRequiredColumns(), "PARAMETERS_NAME " + rs.parametersPath);
+  if (settings.lensLight.mode != lenslight::SubtractionMode::Off) {
+    run.pixelScaleArcsec = runPixelScaleArcsec(run, rs);
+    applyLensLight(run, settings, columns, log);
+  }
+}
+
 // Warnings when the model or grid was made for another setup than this image's.
 void compareWithSelectionSetup(const SearchRunSettings& settings, SearchRun& run) {
   const RunSettings& rs = settings.run;
@@ -330,7 +376,41 @@ SearchResult selectCandidates(const SearchRunSettings& settings, SearchRun& run,
   return result;
 }
 
+// What every search does once its rows are in `run`: the pixel scale, the grid's or model's
+// setup compared with the image's, the selection in the searched area.
+void selectFromRows(const SearchRunSettings& settings, SearchRun& run,
+                    SearchMaskSettings maskSettings, const RunLog& log) {
+  const RunSettings& rs = settings.run;
+  run.pixelScaleArcsec = runPixelScaleArcsec(run, rs);
+  if (!run.image.wcs) {
+    run.warnings.push_back(searchedImageName(run, rs) +
+                           " has no celestial WCS: candidates get pixel positions only (no RA, "
+                           "Dec or name), the searched area comes from PIXEL_SCALE");
+  }
+  compareWithSelectionSetup(settings, run);
+  run.result = selectCandidates(settings, run, std::move(maskSettings), log);
+  if (log) {
+    for (const std::string& w : run.warnings) log("WARNING: " + w);
+  }
+}
+
+// The settings the candidate tables are written with: the run's pixel scale and levels.
+SearchSettings outputSearchSettings(const SearchRun& run, const SearchRunSettings& settings) {
+  SearchSettings search = settings.search;
+  search.pixelScaleArcsec = run.pixelScaleArcsec;
+  search.threads = resolveThreads(settings.run.threads);
+  // LEVELS as long as the run's levels, also when an input catalog has no object at the top
+  // ones: a batch's tiles then have one LEVELS length, which the survey merge requires.
+  search.levelCount =
+      std::max(int(run.levels.size()), int(detectionLevels(settings.run, 1.0).size()));
+  return search;
+}
+
 }  // namespace
+
+FitsTable searchCandidateTable(const SearchRun& run, const SearchRunSettings& settings) {
+  return candidateObjectsTable(run.catalog, run.result, outputSearchSettings(run, settings));
+}
 
 SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
   const RunSettings& rs = settings.run;
@@ -362,17 +442,36 @@ SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log) {
   } else {
     readEarlierRows(settings, run, log);
   }
-  run.pixelScaleArcsec = runPixelScaleArcsec(run, rs);
-  if (!run.image.wcs) {
-    run.warnings.push_back(rs.measurementImagePath() +
-                           " has no celestial WCS: candidates get pixel positions only (no RA, "
-                           "Dec or name), the searched area comes from PIXEL_SCALE");
+  selectFromRows(settings, run, std::move(maskSettings), log);
+  return run;
+}
+
+SearchRun searchPreparedImage(const SearchRunSettings& settings, PreparedImage image,
+                              std::optional<SavedGrid> grid, std::optional<SavedLensModel> model,
+                              const std::function<void()>& checkpoint, const RunLog& log) {
+  // Keys that name files, which an image in memory has no place for.
+  const std::pair<const char*, bool> fileKeys[] = {
+      {"COLOUR_IMAGE", !settings.colourImagePaths.empty()},
+      {"MASK_NAME", !settings.maskPath.empty()},
+      {"INPUT_CATALOG", !settings.inputCatalogPath.empty()}};
+  for (const auto& [key, given] : fileKeys) {
+    if (given) {
+      throw ConfigError(std::string(key) +
+                        ": not available for an image in memory; use octarc search on a file");
+    }
   }
-  compareWithSelectionSetup(settings, run);
-  run.result = selectCandidates(settings, run, std::move(maskSettings), log);
-  if (log) {
-    for (const std::string& w : run.warnings) log("WARNING: " + w);
+  const bool trees = settings.search.method == SelectionMethod::Trees;
+  if (trees && !model) throw ConfigError("SELECTION_METHOD TREES: no lens model given");
+  if (!trees && !grid) throw ConfigError("SELECTION_METHOD GRID: no grid given");
+  SearchRun run;
+  if (trees) {
+    run.model = std::move(model);
+  } else {
+    run.grid = std::move(grid);
   }
+  run.image = std::move(image);
+  detectPreparedRows(settings, run, checkpoint, log);
+  selectFromRows(settings, run, {}, log);
   return run;
 }
 
@@ -392,7 +491,7 @@ std::vector<std::string> searchSummaryLines(const SearchRun& run,
   const RunSettings& rs = settings.run;
   lines.push_back((rs.dualImage() ? "Images " + rs.detectionImagePath() + " (detection), " +
                                         rs.measurementImagePath() + " (measurement)"
-                                  : "Image " + rs.imagePaths.front()) +
+                                  : "Image " + searchedImageName(run, rs)) +
                   (run.model ? ", model " + settings.modelPath : ", grid " + settings.gridPath));
   std::string area = std::to_string(s.searchedPixels) + " pixels searched";
   area += " (" + formatNumber(s.searchedAreaDeg2, "%.5f") + " deg2" +
@@ -505,13 +604,7 @@ void fillOutputDirectory(const SearchRun& run, const SearchRunSettings& settings
                          const std::string& tempPath, const ProgressFn& progress,
                          const std::function<void(const std::string& dir)>& addFiles) {
   const fs::path root = tempPath;
-  SearchSettings search = settings.search;
-  search.pixelScaleArcsec = run.pixelScaleArcsec;
-  search.threads = resolveThreads(settings.run.threads);
-  // LEVELS as long as the run's levels, also when an input catalog has no object at the top
-  // ones: a batch's tiles then have one LEVELS length, which the survey merge requires.
-  search.levelCount =
-      std::max(int(run.levels.size()), int(detectionLevels(settings.run, 1.0).size()));
+  const SearchSettings search = outputSearchSettings(run, settings);
   const Table& catalog = run.catalog;
   const Wcs* wcs = run.image.wcs ? &*run.image.wcs : nullptr;
   // An error names the temporary folder; writeSearchOutputs puts OUTPUT_DIR in its place.

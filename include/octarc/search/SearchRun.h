@@ -76,6 +76,21 @@ struct SearchRun {
 // is written.
 SearchRun searchImage(const SearchRunSettings& settings, const RunLog& log);
 
+// A search of an image prepared in memory, as searchImage searches a file (the Python module's
+// octarc.search): `image` detected and measured at every level of settings.run with its
+// PARAMETERS_NAME columns (ASSOC as in a file's run), LENS_LIGHT applied, then the selection with
+// `grid` or `model`, the one settings.search.method asks for (read by the caller, e.g. with
+// loadGrid). COLOUR_IMAGE, MASK_NAME and INPUT_CATALOG name files and are refused here
+// (ConfigError), as is a missing grid or model. `checkpoint` is called as
+// DetectionRequest::checkpoint is (run/ImageRun.h). Nothing is written.
+SearchRun searchPreparedImage(const SearchRunSettings& settings, PreparedImage image,
+                              std::optional<SavedGrid> grid, std::optional<SavedLensModel> model,
+                              const std::function<void()>& checkpoint, const RunLog& log);
+
+// The candidates' table as OUTPUT_DIR/candidates.fits holds it (LDAC_OBJECTS, the summary in
+// its keywords: search/CandidateTable.h).
+FitsTable searchCandidateTable(const SearchRun& run, const SearchRunSettings& settings);
+
 // The shapes of the DS9 region file `maskPath` (MASK_NAME, or a batch tile's mask) on the image
 // `imagePath`, its points circles of MASK_POINT_RADIUS (pixels through PIXEL_SCALE, or the
 // image's WCS when PIXEL_SCALE is 0). ConfigError / IoError as readDs9Regions.
