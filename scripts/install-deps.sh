@@ -76,6 +76,8 @@ packages=(
   python3-regions
   # Screenshots read back in the contact-sheet test
   python3-pil
+  # The Python module's lens-model scores checked against XGBoost's own Python package
+  python3-xgboost
   # The search's inspection outputs in their real clients: SAOImage DS9 (headless under Xvfb)
   # loads the region file, Chromium (headless) the contact sheet
   saods9

@@ -20,7 +20,8 @@ import numpy as np
 
 from . import _octarc
 
-__all__ = ["detect", "measure", "DetectionResult", "MeasurementResult", "__version__"]
+__all__ = ["detect", "measure", "DetectionResult", "MeasurementResult", "Grid", "Model", "search",
+           "SearchResult", "__version__"]
 
 #: octarc's version (the same as `octarc -v`).
 __version__ = _octarc.__version__
@@ -125,6 +126,26 @@ def _unit(text):
     return u.Unit(text, parse_strict="silent") if text else None
 
 
+def _astropy_table(raw, columns=None):
+    """An astropy Table of an octarc table (`_octarc._Table` or `_FitsTable`): the columns
+    `columns` (names, in that order; default every column) with their storage types, units,
+    descriptions and, where declared, UCDs (in each column's meta). ValueError for a name the
+    table lacks."""
+    from astropy.table import Column, Table
+    specs = {c["name"]: c for c in raw.columns}
+    names = [c["name"] for c in raw.columns] if columns is None else list(columns)
+    for name in names:
+        if name not in specs:
+            raise ValueError("to_table: the table has no column %s" % name)
+    table = Table()
+    for name in names:
+        spec = specs[name]
+        meta = {"ucd": spec["ucd"]} if "ucd" in spec else {}
+        table[name] = Column(raw.column(name), name=name, unit=_unit(spec["unit"]),
+                             description=spec["description"], meta=meta)
+    return table
+
+
 class _TableResult:
     """What detect and measure results share: the catalog table and the run's values."""
 
@@ -171,16 +192,7 @@ class _TableResult:
         units, descriptions and UCDs (in each column's meta) of octarc's column declarations.
         The table's meta holds the background, sigma and thresholds (ADU).
         ValueError for a column name octarc does not measure."""
-        from astropy.table import Column, Table
-        names = self.column_names if columns is None else list(columns)
-        for name in names:
-            if name not in self._columns:
-                raise ValueError("to_table: the table has no column %s" % name)
-        table = Table()
-        for name in names:
-            spec = self._columns[name]
-            table[name] = Column(self._raw.table.column(name), name=name, unit=_unit(spec["unit"]),
-                                 description=spec["description"], meta={"ucd": spec["ucd"]})
+        table = _astropy_table(self._raw.table, columns)
         table.meta["BACKGROUND"] = self.background
         table.meta["SIGMA"] = self.sigma
         table.meta["THRESHOLDS"] = list(self._raw.thresholds)
@@ -352,3 +364,8 @@ def measure(data, segmentation, *, catalog=None, thresholds=None, background=Non
         _map_array(weight, "weight"), _mask_array(mask), kernel, _header_cards(wcs),
         _config_keys(config))
     return MeasurementResult(raw, catalog)
+
+
+# The selection and search stages, which use the helpers above.
+from ._selection import Grid, Model  # noqa: E402
+from ._search import SearchResult, search  # noqa: E402

@@ -1,6 +1,6 @@
 // The octarc Python module's compiled part, octarc._octarc: one binding file per stage
-// (tables.cpp, detection.cpp, measurement.cpp), over the libraries. The octarc package
-// (python/octarc/__init__.py) wraps it into its public API with astropy tables.
+// (tables.cpp, detection.cpp, measurement.cpp, selection.cpp, search.cpp), over the libraries. The
+// octarc package (python/octarc/__init__.py) wraps it into its public API with astropy tables.
 #include <pybind11/pybind11.h>
 
 #include <exception>
@@ -11,6 +11,8 @@
 #include "octarc/core/DataFiles.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Version.h"
+#include "search.h"
+#include "selection.h"
 #include "tables.h"
 
 namespace py = pybind11;
@@ -38,4 +40,6 @@ PYBIND11_MODULE(_octarc, m) {
   octarc::python::bindTables(m);
   octarc::python::bindDetection(m);
   octarc::python::bindMeasurement(m);
+  octarc::python::bindSelection(m);
+  octarc::python::bindSearch(m);
 }

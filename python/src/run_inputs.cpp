@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "octarc/core/DataFiles.h"
 #include "octarc/run/RunKeys.h"
 #include "octarc/sexcompat/Config.h"
 #include "octarc/sexcompat/ConvFile.h"
@@ -26,7 +27,8 @@ MeasurementPlan allColumnsPlan() {
 
 RunInputs::RunInputs(const py::array& data, const py::object& background, const py::object& error,
                      const py::object& weight, const py::object& mask, const py::object& kernel,
-                     const std::vector<std::string>& headerCards, Keys keys) {
+                     const std::vector<std::string>& headerCards, Keys keys,
+                     const CallConfiguration& configuration) {
   data_ = viewOf(data, "data");
   if (data_.type == ArrayView::Type::Bool) {
     throw py::value_error("data: dtype bool is not float32 or float64");
@@ -73,7 +75,7 @@ RunInputs::RunInputs(const py::array& data, const py::object& background, const 
     }
   }
   if (kernel.is_none()) {
-    keys.emplace_back("FILTER", "N");
+    if (!configuration.kernelFromConfig) keys.emplace_back("FILTER", "N");
   } else if (py::isinstance<py::str>(kernel)) {
     keys.emplace_back("FILTER", "Y");
     kernel_ = sexcompat::readConvFile(resolveFilterFile(kernel.cast<std::string>()));
@@ -89,7 +91,12 @@ RunInputs::RunInputs(const py::array& data, const py::object& background, const 
   }
   header_.cards = headerCards;
   keys.emplace_back("VERBOSE_TYPE", "QUIET");
-  settings_ = settingsFromConfig(sexcompat::Config::load(octarcKeys(), "", keys, nullptr), true);
+  config_ = sexcompat::Config::load(
+      configuration.schema.empty() ? octarcKeys() : configuration.schema,
+      configuration.sexFile.empty() ? std::string()
+                                    : existingUserOrDataFile(configuration.sexFile, "config_file"),
+      keys, nullptr);
+  settings_ = settingsFromConfig(*config_, true);
 }
 
 PreparedImage RunInputs::prepare(bool filterVariance, SignalCheck& signals) const {

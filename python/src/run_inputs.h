@@ -18,6 +18,7 @@
 #include "octarc/measure/Registry.h"
 #include "octarc/run/PreparedImage.h"
 #include "octarc/run/RunSettings.h"
+#include "octarc/sexcompat/Config.h"
 
 namespace octarc::python {
 
@@ -43,13 +44,24 @@ MeasurementPlan allColumnsPlan();
 //   keys        octarc's configuration keys on top of their defaults
 // ValueError for an array of the wrong shape or type, or both `error` as a map and `weight`;
 // OSError for a kernel file that cannot be read; ValueError naming the key for a bad key.
+// `configuration` is the command whose keys the call takes (detect's by default, or the
+// search's) and the .sex file read before `keys` (none by default); with kernelFromConfig a
+// kernel of None leaves FILTER and FILTER_NAME to the configuration, as the command does.
+struct CallConfiguration {
+  std::vector<sexcompat::KeySpec> schema;  // empty: octarc detect's keys
+  std::string sexFile;
+  bool kernelFromConfig = false;
+};
 class RunInputs {
  public:
   RunInputs(const py::array& data, const py::object& background, const py::object& error,
             const py::object& weight, const py::object& mask, const py::object& kernel,
-            const std::vector<std::string>& headerCards, Keys keys);
+            const std::vector<std::string>& headerCards, Keys keys,
+            const CallConfiguration& configuration = {});
 
   const RunSettings& settings() const { return settings_; }
+  // The loaded configuration (its keys at their defaults, the .sex file's, then the call's).
+  const sexcompat::Config& config() const { return *config_; }
   const ArrayView& data() const { return data_; }
   // The prepared image (run/PreparedImage.h's prepareImage, the arrays standing in for the
   // files); call without the GIL. ValueError for an image without a finite pixel.
@@ -62,6 +74,7 @@ class RunInputs {
   std::optional<double> sigmaAdu_;
   std::optional<ConvKernel> kernel_;
   FitsHeader header_;
+  std::optional<sexcompat::Config> config_;
   RunSettings settings_;
 };
 

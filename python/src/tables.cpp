@@ -3,13 +3,18 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <string>
 #include <type_traits>
+#include <utility>
+#include <variant>
+#include <vector>
 
 #include "octarc/core/Table.h"
+#include "octarc/io/FitsTable.h"
 
 namespace octarc::python {
 
@@ -82,7 +87,81 @@ py::array column(const Table& table, const std::string& name) {
   return columnArray<double>(table, c);
 }
 
+// numpy's code of a FITS column's type; "U" for strings.
+const char* dtypeCode(FitsColumnType type) {
+  switch (type) {
+    case FitsColumnType::Int16:
+      return "i2";
+    case FitsColumnType::Int32:
+      return "i4";
+    case FitsColumnType::Int64:
+      return "i8";
+    case FitsColumnType::Float32:
+      return "f4";
+    case FitsColumnType::Float64:
+      return "f8";
+    case FitsColumnType::String:
+      return "U";
+    case FitsColumnType::Unsupported:
+      break;
+  }
+  return "";
+}
+
+// A FITS column's values: numbers as a numpy array of their type (rows x repeat for a vector
+// column), strings as a list.
+py::object fitsColumn(const FitsTable& table, const std::string& name) {
+  const FitsColumn* column = table.findColumn(name);
+  if (column == nullptr) throw py::value_error("to_table: the table has no column " + name);
+  return std::visit(
+      [&](const auto& values) -> py::object {
+        using Values = std::decay_t<decltype(values)>;
+        if constexpr (std::is_same_v<Values, std::monostate>) {
+          throw py::value_error("to_table: column " + name + " has an unsupported format");
+        } else if constexpr (std::is_same_v<Values, std::vector<std::string>>) {
+          return py::cast(values);
+        } else {
+          using T = typename Values::value_type;
+          const std::int64_t repeat = column->repeat, rows = column->rows();
+          py::array_t<T> out = repeat == 1 ? py::array_t<T>(rows) : py::array_t<T>({rows, repeat});
+          std::copy(values.begin(), values.end(), out.mutable_data());
+          return out;
+        }
+      },
+      column->values);
+}
+
 }  // namespace
+
+Table tableOf(const py::dict& columns, const std::string& what) {
+  std::vector<ColumnSpec> specs;
+  std::vector<py::array_t<double, py::array::c_style | py::array::forcecast>> values;
+  for (const auto& [key, column] : columns) {
+    const std::string name = py::str(key);
+    const py::array array = py::array::ensure(column);
+    if (!array || array.dtype().kind() == 'O' || array.dtype().kind() == 'U' ||
+        array.dtype().kind() == 'S' || array.ndim() != 1) {
+      throw py::value_error(what + ": column " + name + " is not a 1-D numeric column");
+    }
+    values.emplace_back(array);
+    if (values.back().shape(0) != values.front().shape(0)) {
+      throw py::value_error(what + ": column " + name + " has " +
+                            std::to_string(values.back().shape(0)) + " rows, not " +
+                            std::to_string(values.front().shape(0)));
+    }
+    ColumnSpec spec;
+    spec.name = name;
+    spec.type = ColumnType::Float64;
+    specs.push_back(spec);
+  }
+  Table table(std::move(specs));
+  const std::int64_t rows = values.empty() ? 0 : values.front().shape(0);
+  for (std::int64_t r = 0; r < rows; ++r) {
+    double* row = table.appendRowUnset();
+    for (std::size_t c = 0; c < values.size(); ++c) row[table.offset(int(c))] = values[c].at(r);
+  }
+  return table;
+}
 
 void bindTables(py::module_& m) {
   py::class_<Table>(m, "_Table", "An octarc catalog table (rows of declared columns).")
@@ -109,6 +188,39 @@ void bindTables(py::module_& m) {
       .def("column", &column, py::arg("name"),
            "The values of column `name` as a numpy array of its storage type (rows, or rows x "
            "repeat for a vector column); ValueError for a name the table lacks.");
+  py::class_<FitsTable>(m, "_FitsTable", "A FITS binary table made in memory.")
+      .def_property_readonly("rows", &FitsTable::rows, "Number of rows.")
+      .def_property_readonly(
+          "columns",
+          [](const FitsTable& table) {
+            py::list out;
+            for (const FitsColumn& c : table.columns) {
+              py::dict column;
+              column["name"] = c.name;
+              column["unit"] = c.unit;
+              column["description"] = c.comment;
+              column["dtype"] = dtypeCode(c.type());
+              column["repeat"] = c.repeat;
+              out.append(column);
+            }
+            return out;
+          },
+          "The columns, in order: dicts of name, unit, description, dtype (numpy code, U for "
+          "text) and repeat.")
+      .def_property_readonly(
+          "keywords",
+          [](const FitsTable& table) {
+            py::list out;
+            for (const FitsKeyword& k : table.keywords) {
+              out.append(py::make_tuple(
+                  k.name, std::visit([](const auto& v) { return py::cast(v); }, k.value),
+                  k.comment));
+            }
+            return out;
+          },
+          "The header keywords, in order, as (name, value, comment).")
+      .def("column", &fitsColumn, py::arg("name"),
+           "The values of column `name`: a numpy array of its type, or a list of strings.");
 }
 
 }  // namespace octarc::python

@@ -1,0 +1,225 @@
+"""The Python module's selection and search stages (issue 30): octarc.search on arrays against
+the `octarc search` command on the same FITS files (every candidate column bit for bit, with the
+grid and with the lens model); octarc.Grid.score against the grid file read with astropy and
+binned by hand; octarc.Model.score against XGBoost's own Python package predicting from the
+model file's JSON; bad input as ValueError / OSError.
+
+ctest puts <build>/python on PYTHONPATH (the module just built)."""
+import os
+import shutil
+import tempfile
+import unittest
+
+import numpy as np
+from astropy import units as u
+from astropy.io import fits
+
+from octarc_testlib import WorkDirTest, ldac_objects, run_octarc
+import octarc
+
+SHARE = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(octarc.__file__))), "..",
+                     "share", "octarc")
+
+
+def simulated_field(work, size=1024, seed=3, lenses=4):
+    """A survey field with injected lenses made by `octarc simulate field`: the image, its
+    weight map and their paths."""
+    image = os.path.join(work, "field.fits")
+    run_octarc("simulate", "field", "-o", image, "--size", size, "--seed", seed, "--lenses",
+               lenses)
+    weight = os.path.join(work, "field.weight.fits")
+    return image, weight
+
+
+def same_column(a, b):
+    """Equal columns: numbers as their bits (NaN = NaN), strings without trailing blanks."""
+    a, b = np.asarray(a), np.asarray(b)
+    if a.dtype.kind in "US" or b.dtype.kind in "US":
+        return [str(x).rstrip() for x in a] == [str(x).rstrip() for x in b]
+    return a.shape == b.shape and np.array_equal(a, b, equal_nan=True)
+
+
+class PythonSearch(WorkDirTest):
+    """octarc.search gives the candidates of `octarc search` on the same pixels, column by
+    column and bit for bit, with the grid and with the lens model; the same on any number of
+    threads; bad input is a Python exception with octarc's message."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.field_dir = tempfile.mkdtemp(prefix="octarc-test-")
+        cls.field = simulated_field(cls.field_dir)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.field_dir, ignore_errors=True)
+
+    def search_both_ways(self, selector_keys, python_kwargs, out):
+        image, weight = self.field
+        run_octarc("search", image, "-c", "octarc.sex", "-WEIGHT_IMAGE", weight,
+                   "-WEIGHT_TYPE", "MAP_WEIGHT", "-OUTPUT_DIR", self.path(out), "-STAMPS", "N",
+                   "-VERBOSE_TYPE", "QUIET", *selector_keys)
+        command = fits.open(os.path.join(self.path(out), "candidates.fits"))["LDAC_OBJECTS"]
+        found = octarc.search(fits.getdata(image), weight=fits.getdata(weight),
+                              wcs=fits.getheader(image), config_file="octarc.sex",
+                              **python_kwargs)
+        return command, found
+
+    def check_equal(self, command, found):
+        table = found.to_table()
+        self.assertGreater(len(table), 0)  # something to compare
+        self.assertEqual(table.colnames, list(command.columns.names))
+        for name in table.colnames:
+            self.assertTrue(same_column(table[name], command.data[name]), name)
+            unit = command.columns[name].unit
+            if unit:
+                self.assertEqual(table[name].unit, u.Unit(unit, parse_strict="silent"), name)
+            else:
+                self.assertIsNone(table[name].unit, name)
+        for key in ("NCANDID", "NROWSRCH", "NOBJSRCH", "NROWSEL", "SRCHPIX", "SRCHAREA",
+                    "CANDDEG2", "NSPACES", "SPCAND1", "SPCAND2"):
+            self.assertEqual(table.meta[key], command.header[key], key)
+        self.assertEqual(len(found), command.header["NCANDID"])
+
+    def test_trees_equal_the_command(self):
+        command, found = self.search_both_ways(
+            ["-SELECTION_METHOD", "TREES", "-MODEL_NAME", "demo.model.fits", "-SCORE_MIN", "0"],
+            {"model": octarc.Model.read("demo.model.fits"), "config": {"SCORE_MIN": 0}},
+            "trees")
+        self.check_equal(command, found)
+        self.assertTrue(np.all(np.diff(found.to_table()["LENS_SCORE"]) <= 0))
+        self.assertAlmostEqual(found.pixel_scale, 0.257, places=4)  # the field's WCS
+
+    def test_grid_equals_the_command_on_any_thread_count(self):
+        command, found = self.search_both_ways(
+            ["-GRID_NAME", "demo.grid.fits"], {"grid": "demo.grid.fits"}, "grid")
+        self.check_equal(command, found)
+        image, weight = self.field
+        again = octarc.search(fits.getdata(image), weight=fits.getdata(weight),
+                              wcs=fits.getheader(image), config_file="octarc.sex",
+                              grid="demo.grid.fits", config={"NTHREADS": 1})
+        a, b = found.to_table(), again.to_table()
+        for name in a.colnames:
+            self.assertTrue(same_column(a[name], b[name]), name)
+        # Every row searched: the command's detection of the same file, row for row.
+        rows = found.catalog_table(["NUMBER", "THRESH_LEVEL", "X_IMAGE", "ARCNESS"])
+        catalog = self.path("field.ldac")
+        run_octarc("detect", image, "-c", "octarc.sex", "-WEIGHT_IMAGE", weight, "-WEIGHT_TYPE",
+                   "MAP_WEIGHT", "-CATALOG_NAME", catalog, "-VERBOSE_TYPE", "QUIET")
+        detected, _ = ldac_objects(catalog)
+        for name in rows.colnames:
+            self.assertTrue(same_column(rows[name], detected[name]), name)
+
+    def test_bad_input(self):
+        image = np.random.default_rng(2).normal(0.0, 1.0, (128, 128)).astype(np.float32)
+        cases = [
+            (dict(grid="demo.grid.fits", model="demo.model.fits"), ValueError, "not both"),
+            (dict(grid="no-such.grid.fits"), OSError, "no-such.grid.fits"),
+            (dict(grid="demo.grid.fits", config={"PIXEL_SCALE": 0}), ValueError,
+             "data: no WCS to take the pixel scale from"),
+            (dict(grid="demo.grid.fits", config={"PIXEL_SCALE": 0.2, "COLOUR_IMAGE": "g.fits",
+                                                 "COLOUR_BAND": "g"}),
+             ValueError, "COLOUR_IMAGE: not available for an image in memory"),
+            (dict(grid="demo.grid.fits", weight=np.ones((64, 64), np.float32)), ValueError,
+             "weight"),
+            (dict(grid="demo.grid.fits", config={"NO_SUCH_KEY": 1}), ValueError, "NO_SUCH_KEY"),
+        ]
+        for kwargs, error, text in cases:
+            with self.assertRaises(error, msg=str(kwargs)) as caught:
+                octarc.search(image, **kwargs)
+            self.assertIn(text, str(caught.exception))
+            self.assertNotIn("\n", str(caught.exception))
+
+
+class PythonSelection(WorkDirTest):
+    """octarc.Grid.score bins rows as the grid file says (read with astropy, binned by hand);
+    octarc.Model.score gives the log-odds XGBoost's own Python package predicts from the model
+    file's trees."""
+
+    def test_grid_score_against_the_file(self):
+        image, weight = simulated_field(self.work, size=512, seed=5, lenses=2)
+        rows = octarc.detect(fits.getdata(image), list(np.geomspace(2.5, 20, 15)),
+                             weight=fits.getdata(weight), wcs=fits.getheader(image)).to_table()
+        grid = octarc.Grid.read("demo.grid.fits")
+        scored = grid.score(rows)
+        self.assertEqual(len(scored), len(rows))
+        hdu = fits.open(os.path.join(SHARE, "demo.grid.fits"))["OCC_GRID"]
+        header, data = hdu.header, hdu.data
+        values = {"ARCNESS": np.asarray(rows["ARCNESS"], float),
+                  "E_IMAGE": np.asarray(rows["E_IMAGE"], float),
+                  "log10(SNR_ISO)": np.log10(np.asarray(rows["SNR_ISO"], float))}
+        bins = []
+        for axis in range(1, header["GRIDDIM"] + 1):
+            v = values[header["AXEXPR%d" % axis]]
+            lo, hi, n = header["AXLO%d" % axis], header["AXHI%d" % axis], header["AXBINS%d" % axis]
+            with np.errstate(invalid="ignore"):
+                k = np.floor((v - lo) * n / (hi - lo))
+                bins.append(np.where((v >= lo) & (v < hi), np.minimum(k, n - 1), -1))
+        bins = np.array(bins).T
+        occupied = {tuple(b): r for r, b in enumerate(data["BIN"])}
+        inside = occupied_rows = 0
+        for r, b in enumerate(bins):
+            key = tuple(int(x) for x in b)
+            if min(key) < 0:
+                self.assertEqual(scored["GRID_STATUS"][r] in (2, 3), True, r)
+                self.assertEqual(scored["PROBABILITY"][r], 0.0)
+                continue
+            inside += 1
+            if key in occupied:
+                occupied_rows += 1
+                g = occupied[key]
+                self.assertEqual(scored["GRID_STATUS"][r], 0)
+                self.assertEqual(scored["PROBABILITY"][r], data["PROB"][g])
+                self.assertEqual(scored["CONTOUR_LEVEL"][r], data["CUMPROB"][g])
+                self.assertEqual(bool(scored["SELECTED"][r]), bool(data["SELECTED"][g]))
+            else:
+                self.assertEqual(scored["GRID_STATUS"][r], 1)
+                self.assertFalse(scored["SELECTED"][r])
+        self.assertGreater(occupied_rows, 10)  # the comparison covers many rows
+        self.assertGreater(inside, occupied_rows)
+        self.assertEqual(grid.level, header["PLEVEL"])
+        self.assertEqual([a[0] for a in grid.axes], ["ARCNESS", "E_IMAGE", "log10(SNR_ISO)"])
+        with self.assertRaisesRegex(ValueError, "SNR_ISO"):
+            grid.score(rows["ARCNESS", "E_IMAGE"])
+
+    def test_model_score_against_xgboost(self):
+        import xgboost
+        lenses = self.path("lenses.fits")
+        # Massive lenses and bright sources: many arcs from few systems.
+        run_octarc("simulate", "lenses", "-n", "100", "--seed", "2", "--preset", "dls", "-o",
+                   lenses, "--quiet", "--sigma-min", "300", "--source-mag-max", "23")
+        arcs = fits.getdata(lenses, "ARCS")
+        self.assertGreater(len(arcs), 20)
+        path = os.path.join(SHARE, "demo.model.fits")
+        hdu = fits.open(path)["LENS_MODEL"]
+        scale = hdu.header["PIXSCALE"]
+        features = []
+        for k in range(1, hdu.header["NFEAT"] + 1):
+            name = hdu.header["FEAT%d" % k]
+            if name == "log10(SNR_ISO)":
+                with np.errstate(invalid="ignore", divide="ignore"):
+                    column = np.log10(arcs["SNR_ISO"].astype(float))
+            elif name == "SIZE_ARCSEC":
+                column = np.sqrt(2.0) * arcs["SIZE_IMAGE"].astype(float) * scale
+            else:
+                column = arcs[name].astype(float)
+            features.append(column.astype(np.float32))
+        booster = xgboost.Booster()
+        booster.load_model(bytearray("".join(hdu.data["MODEL"]).encode()))
+        expected = booster.predict(xgboost.DMatrix(np.array(features).T, missing=np.nan),
+                                   output_margin=True)
+        model = octarc.Model.read("demo.model.fits")
+        from astropy.table import Table
+        scored = model.score(Table(arcs), prior=0.01)
+        np.testing.assert_allclose(scored["LOG_ODDS"], expected, rtol=1e-6, atol=1e-6)
+        self.assertTrue(np.all((scored["LENS_SCORE"] > 0) & (scored["LENS_SCORE"] < 1)))
+        # A higher prior moves every score up.
+        higher = model.score(Table(arcs), prior=0.1)["LENS_SCORE"]
+        self.assertTrue(np.all(higher > scored["LENS_SCORE"]))
+        with self.assertRaisesRegex(ValueError, "prior"):
+            model.score(Table(arcs), prior=1.5)
+        with self.assertRaises(OSError):
+            octarc.Model.read(self.path("missing.model.fits"))
+
+
+if __name__ == "__main__":
+    unittest.main()
