@@ -55,11 +55,14 @@ TEST(Parallel, DynamicRethrowsAProgressException) {
 }
 
 TEST(Parallel, OrderedHandsResultsOverInOrder) {
+  struct Square {
+    std::size_t value = 0;
+  };
   for (int threads : {1, 2, 4}) {
     std::vector<std::size_t> seen;
-    orderedParallel<std::size_t, int>(
-        50, threads, [](std::size_t i, int&, std::size_t& r) { r = i * i; },
-        [&](const std::size_t& r) { seen.push_back(r); });
+    orderedParallel<Square, int>(
+        50, threads, [](std::size_t i, int&, Square& r) { r.value = i * i; },
+        [&](const Square& r) { seen.push_back(r.value); });
     ASSERT_EQ(seen.size(), 50u);
     for (std::size_t i = 0; i < 50; ++i) EXPECT_EQ(seen[i], i * i);
   }
