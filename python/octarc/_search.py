@@ -35,6 +35,36 @@ class SearchResult:
         lens the row of LENS_LEVEL and LENS_NUMBER."""
         return _astropy_table(self._raw.catalog, columns)
 
+    def match_injections(self, truth, *, match_radius=None, lens_match_radius=None):
+        """Which injected lenses the candidates are arcs of, as `octarc demo` and `octarc
+        inject` match them: a candidate is an arc of system S when one of its passing rows lies
+        within `match_radius` arcsec of one of S's lensed images (and 1" or more from S's lens);
+        it names the right lens when its lens lies within `lens_match_radius` arcsec of S's.
+
+        truth  the field's truth list: an astropy Table with the columns of a .truth.txt file
+               (ID, X_IMAGE, Y_IMAGE, ALPHA_J2000, DELTA_J2000, KIND, MAG, THETA_E, SYSTEM), or
+               the path of such a file (octarc simulate field, octarc demo).
+        match_radius, lens_match_radius  arcsec; default the demo's, 2" and 1".
+
+        Returns (systems, candidate_system): an astropy Table with one row per injected system
+        (SYSTEM, THETA_E and ARC_MAG from the truth, CANDIDATE: the row in `to_table()` of the
+        first candidate that is one of its arcs, -1 none; SPACES, the candidate's report
+        spaces; LENS_RIGHT; THETA_E_ESTIMATE, the candidate's THETA_E, 0 without a lens), and a
+        numpy array giving per candidate the system it is an arc of (0: spurious)."""
+        import numpy as np
+        from astropy.table import Table
+        if isinstance(truth, (str, os.PathLike)):
+            truth = _read_truth_list(os.fspath(truth))
+        columns = {name: np.asarray(truth[name], dtype=float)
+                   for name in ("ID", "X_IMAGE", "Y_IMAGE", "ALPHA_J2000", "DELTA_J2000", "KIND",
+                                "MAG", "THETA_E", "SYSTEM") if name in truth.keys()}
+        match = self._raw.match_injections(
+            columns, _octarc._DEMO_ARC_MATCH_ARCSEC if match_radius is None
+            else float(match_radius),
+            _octarc._DEMO_LENS_MATCH_ARCSEC if lens_match_radius is None
+            else float(lens_match_radius))
+        return Table(match["systems"]), np.asarray(match["candidate_system"], dtype=int)
+
     @property
     def summary(self):
         """The summary lines octarc search prints (objects searched, area, candidates per
@@ -66,6 +96,27 @@ class SearchResult:
     def pixel_scale(self):
         """The pixel scale searched with, arcsec (PIXEL_SCALE, else the WCS's)."""
         return self._raw.pixel_scale
+
+
+def _read_truth_list(path):
+    """A .truth.txt file of octarc simulate field as a dict of columns, named by its
+    "# n NAME [unit]" header lines."""
+    import numpy as np
+    names = []
+    with open(path) as f:
+        for line in f:
+            if not line.startswith("#"):
+                break
+            words = line[1:].split()
+            if len(words) >= 2 and words[0].isdigit() and int(words[0]) == len(names) + 1:
+                names.append(words[1])
+    if not names:
+        raise ValueError("%s: no column header (# 1 ID ...): not a truth list" % path)
+    values = np.loadtxt(path, ndmin=2)
+    if values.size and values.shape[1] != len(names):
+        raise ValueError("%s: %d columns, the header names %d" % (path, values.shape[1],
+                                                                   len(names)))
+    return {name: values[:, k] if values.size else np.zeros(0) for k, name in enumerate(names)}
 
 
 def _selector(grid, model):

@@ -1,5 +1,6 @@
 #include "search.h"
 
+#include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
 #include <memory>
@@ -12,10 +13,13 @@
 #include "octarc/core/Table.h"
 #include "octarc/io/FitsTable.h"
 #include "octarc/run/ImageRun.h"
+#include "octarc/search/InjectionDemo.h"
+#include "octarc/search/InjectionMatch.h"
 #include "octarc/search/SearchKeys.h"
 #include "octarc/search/SearchRun.h"
 #include "run_inputs.h"
 #include "selection.h"
+#include "tables.h"
 
 namespace octarc::python {
 
@@ -85,6 +89,76 @@ std::unique_ptr<SearchOutput> search(const py::array& data, const py::object& ba
   return out;
 }
 
+// The truth list of a simulated field (octarc.simulate_field's truth table, or its .truth.txt
+// file read back) as the matching reads it.
+std::vector<TruthRow> truthRows(const py::dict& columns) {
+  const Table table = tableOf(columns, "truth");
+  const char* names[] = {"ID",   "X_IMAGE", "Y_IMAGE", "ALPHA_J2000", "DELTA_J2000",
+                         "KIND", "MAG",     "THETA_E", "SYSTEM"};
+  int c[9];
+  for (int k = 0; k < 9; ++k) c[k] = table.requireColumn(names[k], "truth");
+  std::vector<TruthRow> rows(std::size_t(table.rows()));
+  for (std::int64_t r = 0; r < table.rows(); ++r) {
+    TruthRow& t = rows[std::size_t(r)];
+    t.id = std::int64_t(table.value(r, c[0]));
+    t.xFits = table.value(r, c[1]);
+    t.yFits = table.value(r, c[2]);
+    t.raDeg = table.value(r, c[3]);
+    t.decDeg = table.value(r, c[4]);
+    const int kind = int(table.value(r, c[5]));
+    if (kind < 1 || kind > 4) {
+      throw py::value_error("truth: KIND " + std::to_string(kind) + " in row " +
+                            std::to_string(r + 1) + " is not 1 to 4");
+    }
+    t.kind = simulation::FieldObjectKind(kind);
+    t.mag = table.value(r, c[6]);
+    t.einsteinRadiusArcsec = table.value(r, c[7]);
+    t.systemId = int(table.value(r, c[8]));
+  }
+  return rows;
+}
+
+// Which injected lenses the search found (search/InjectionMatch.h, as octarc demo matches
+// them): per system its truth, candidate (0-based, -1 none), the candidate's report spaces,
+// whether it names the right lens and its THETA_E; per candidate the system it is an arc of.
+py::dict matchInjections(const SearchOutput& out, const py::dict& truth, double matchArcsec,
+                         double lensMatchArcsec) {
+  const std::vector<TruthRow> rows = truthRows(truth);
+  InjectionMatch match;
+  {
+    py::gil_scoped_release release;
+    match = matchInjectedLenses(rows, out.run.catalog, out.run.result, out.run.pixelScaleArcsec,
+                                ArcRules(), matchArcsec, lensMatchArcsec);
+  }
+  const std::size_t n = match.systems.size();
+  py::array_t<std::int32_t> system(n), spaces(n);
+  py::array_t<double> thetaE(n), arcMag(n), estimate(n);
+  py::array_t<std::int64_t> candidate(n);
+  py::array_t<bool> lensRight(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const InjectedLensOutcome& o = match.systems[k];
+    system.mutable_at(k) = o.system;
+    thetaE.mutable_at(k) = o.einsteinRadiusArcsec;
+    arcMag.mutable_at(k) = o.arcMag;
+    candidate.mutable_at(k) = o.candidate;
+    spaces.mutable_at(k) = std::int32_t(o.spaces);
+    lensRight.mutable_at(k) = o.lensRight;
+    estimate.mutable_at(k) = o.einsteinRadiusEstimateArcsec;
+  }
+  py::dict systems;
+  systems["SYSTEM"] = system;
+  systems["THETA_E"] = thetaE;
+  systems["ARC_MAG"] = arcMag;
+  systems["CANDIDATE"] = candidate;
+  systems["SPACES"] = spaces;
+  systems["LENS_RIGHT"] = lensRight;
+  systems["THETA_E_ESTIMATE"] = estimate;
+  py::dict result;
+  result["systems"] = systems;
+  result["candidate_system"] = match.candidateSystem;
+  return result;
+}
+
 }  // namespace
 
 void bindSearch(py::module_& m) {
@@ -113,7 +187,12 @@ void bindSearch(py::module_& m) {
           "The search's warnings (a grid made for another setup, no WCS, ...).")
       .def_property_readonly(
           "pixel_scale", [](const SearchOutput& o) { return o.run.pixelScaleArcsec; },
-          "The pixel scale searched with, arcsec.");
+          "The pixel scale searched with, arcsec.")
+      .def("match_injections", &matchInjections, py::arg("truth"), py::arg("match_radius"),
+           py::arg("lens_match_radius"),
+           "Which injected lenses of a truth list the candidates are arcs of.");
+  m.attr("_DEMO_ARC_MATCH_ARCSEC") = kDemoArcMatchArcsec;
+  m.attr("_DEMO_LENS_MATCH_ARCSEC") = kDemoLensMatchArcsec;
   m.def("_search", &search, py::arg("data"), py::arg("background"), py::arg("error"),
         py::arg("weight"), py::arg("mask"), py::arg("kernel"), py::arg("header_cards"),
         py::arg("keys"), py::arg("config_file"), py::arg("selector"),

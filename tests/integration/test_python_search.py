@@ -109,6 +109,36 @@ class PythonSearch(WorkDirTest):
         for name in rows.colnames:
             self.assertTrue(same_column(rows[name], detected[name]), name)
 
+    def test_injections_match_as_the_demo(self):
+        # octarc demo simulates a field with injected lenses, searches it and lists which
+        # lenses it found; the same field searched and matched from Python gives its lists.
+        out = self.path("demo")
+        run_octarc("demo", "--seed", "2", "--size", "1024", "--lenses", "4", "--method", "GRID",
+                   "--score-min", "0", "--out", out, "--quiet")
+        image = os.path.join(out, "field.fits")
+        field_deg2 = (1024 * 0.257 / 3600.0) ** 2
+        found = octarc.search(
+            fits.getdata(image), weight=fits.getdata(os.path.join(out, "field.weight.fits")),
+            wcs=fits.getheader(image), config_file="octarc.sex", grid="demo.grid.fits",
+            config={"LENS_DENSITY": "%.10g" % (4 / field_deg2), "SCORE_MIN": 0,
+                    "PIXEL_SCALE": 0.257, "SEEING_FWHM": 0.9, "MAG_ZEROPOINT": 30, "GAIN": 54,
+                    "SNR_MIN": 40})
+        systems, candidate_system = found.match_injections(
+            os.path.join(out, "field.truth.txt"))
+        listed = np.loadtxt(os.path.join(out, "injection-systems.txt"), ndmin=2)
+        self.assertEqual(len(systems), 4)
+        np.testing.assert_array_equal(systems["SYSTEM"], listed[:, 0])
+        np.testing.assert_allclose(systems["THETA_E"], listed[:, 1], atol=5e-5)
+        np.testing.assert_allclose(systems["ARC_MAG"], listed[:, 2], atol=5e-4)
+        np.testing.assert_array_equal(systems["CANDIDATE"] + 1, listed[:, 3])  # 1-based there
+        np.testing.assert_array_equal(systems["SPACES"], listed[:, 4])
+        np.testing.assert_array_equal(systems["LENS_RIGHT"], listed[:, 5] == 1)
+        np.testing.assert_allclose(systems["THETA_E_ESTIMATE"], listed[:, 6], atol=5e-5)
+        self.assertGreater(np.count_nonzero(systems["CANDIDATE"] >= 0), 0)  # one was found
+        candidates = np.loadtxt(os.path.join(out, "injection-candidates.txt"), ndmin=2)
+        np.testing.assert_array_equal(candidate_system, candidates[:, 1])
+        np.testing.assert_allclose(found.to_table()["LENS_SCORE"], candidates[:, 3], rtol=1e-6)
+
     def test_bad_input(self):
         image = np.random.default_rng(2).normal(0.0, 1.0, (128, 128)).astype(np.float32)
         cases = [
