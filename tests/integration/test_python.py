@@ -329,7 +329,10 @@ class PythonApi(WorkDirTest):
         self.assertTrue(blocks)
         printed = io.StringIO()
         with contextlib.redirect_stdout(printed):
-            exec(compile(blocks[0], "docs/python.md", "exec"), {"__name__": "example"})
+            # The blocks in order, as a reader runs them one after the other.
+            namespace = {"__name__": "example"}
+            for block in blocks:
+                exec(compile(block, "docs/python.md", "exec"), namespace)
         self.assertRegex(printed.getvalue(), r"objects per level: \[\d+, \d+, \d+\]")
 
     def test_version(self):
