@@ -1,17 +1,20 @@
 """octarc in Python: SExtractor-compatible detection at many thresholds in one pass and octarc's
 measurements (isophotal photometry and shape, the octopole "arcness" moments) on numpy arrays,
-with astropy tables out.
+with astropy tables out; and octarc's simulations of galaxy-galaxy lenses and survey fields.
 
     >>> import octarc
     >>> found = octarc.detect(image, [2.5, 5.0, 10.0])     # thresholds in units of sigma
     >>> table = found.to_table()                            # astropy Table, units from octarc
     >>> labels = found.segmentation(1)                      # int32 labels of the lowest level
 
-The work is done by octarc's libraries, the same calls as the `octarc detect` and `octarc
-measure` commands make: the same arrays give the same numbers as the commands on a FITS file
-holding them. The GIL is released while octarc works, Ctrl-C interrupts a call
-(KeyboardInterrupt), and octarc's one-line errors arrive as ValueError (bad input) or OSError (a
-file). See docs/python.md.
+    >>> lenses = octarc.simulate_lenses(100, seed=1)        # octarc simulate lenses
+    >>> field = octarc.simulate_field(1024, lenses=5)       # octarc simulate field
+
+The work is done by octarc's libraries, the same calls as the `octarc detect`, `octarc
+measure` and `octarc simulate` commands make: the same arrays give the same numbers as the
+commands on a FITS file holding them, and the same seed the same simulation. The GIL is
+released while octarc works, Ctrl-C interrupts a call (KeyboardInterrupt), and octarc's
+one-line errors arrive as ValueError (bad input) or OSError (a file). See docs/python.md.
 """
 import numbers
 import os
@@ -20,8 +23,8 @@ import numpy as np
 
 from . import _octarc
 
-__all__ = ["detect", "measure", "DetectionResult", "MeasurementResult", "Grid", "Model", "search",
-           "SearchResult", "__version__"]
+__all__ = ["detect", "measure", "simulate_lenses", "simulate_field", "search", "Grid", "Model", "DetectionResult", "MeasurementResult",
+           "LensSimulation", "SimulatedField", "SearchResult", "__version__"]
 
 #: octarc's version (the same as `octarc -v`).
 __version__ = _octarc.__version__
@@ -126,17 +129,17 @@ def _unit(text):
     return u.Unit(text, parse_strict="silent") if text else None
 
 
-def _astropy_table(raw, columns=None):
-    """An astropy Table of an octarc table (`_octarc._Table` or `_FitsTable`): the columns
-    `columns` (names, in that order; default every column) with their storage types, units,
-    descriptions and, where declared, UCDs (in each column's meta). ValueError for a name the
-    table lacks."""
+def _astropy_table(raw, columns=None, what="to_table"):
+    """An astropy Table of octarc table `raw` (`_octarc._Table`, or a `_FitsTable` made in
+    memory) with the columns `columns` (names, in that order; None: every column), each of its
+    storage type, with the unit, description and, where declared, UCD (in the column's meta) of
+    octarc's declaration. ValueError, naming `what`, for a name it lacks."""
     from astropy.table import Column, Table
     specs = {c["name"]: c for c in raw.columns}
-    names = [c["name"] for c in raw.columns] if columns is None else list(columns)
+    names = list(specs) if columns is None else list(columns)
     for name in names:
         if name not in specs:
-            raise ValueError("to_table: the table has no column %s" % name)
+            raise ValueError("%s: the table has no column %s" % (what, name))
     table = Table()
     for name in names:
         spec = specs[name]
@@ -192,7 +195,7 @@ class _TableResult:
         units, descriptions and UCDs (in each column's meta) of octarc's column declarations.
         The table's meta holds the background, sigma and thresholds (ADU).
         ValueError for a column name octarc does not measure."""
-        table = _astropy_table(self._raw.table, columns)
+        table = _astropy_table(self._raw.table, columns, "to_table")
         table.meta["BACKGROUND"] = self.background
         table.meta["SIGMA"] = self.sigma
         table.meta["THRESHOLDS"] = list(self._raw.thresholds)
@@ -364,6 +367,209 @@ def measure(data, segmentation, *, catalog=None, thresholds=None, background=Non
         _map_array(weight, "weight"), _mask_array(mask), kernel, _header_cards(wcs),
         _config_keys(config))
     return MeasurementResult(raw, catalog)
+
+
+def _warn(messages):
+    """octarc's warnings about a .sex file, as Python warnings (the commands print them)."""
+    import warnings
+    for message in messages:
+        warnings.warn(message, stacklevel=3)
+
+
+def _colour(value, what):
+    """A colour draw as octarc's "MEAN,SCATTER" text: from a (mean, scatter) pair or the text."""
+    if value is None or isinstance(value, str):
+        return value
+    pair = list(value)
+    if len(pair) != 2:
+        raise ValueError("%s: (mean, scatter) in mag, not %d value(s)" % (what, len(pair)))
+    return "%r,%r" % (float(pair[0]), float(pair[1]))
+
+
+def _natural(value, what):
+    """`value` as an int >= 0 (seeds are unsigned 64-bit numbers)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 0:
+        raise ValueError("%s: an integer >= 0 is needed, not %r" % (what, value))
+    return int(value)
+
+
+def _card_values(cards):
+    """{keyword: value} of FITS header cards, in their order."""
+    from astropy.io import fits
+    return {card.keyword: card.value for card in map(fits.Card.fromstring, cards)}
+
+
+class LensSimulation:
+    """What `simulate_lenses` made: the systems table (`to_table`), the arc table
+    (`arcs_table`), the stamps of the first systems and the run's counts."""
+
+    def __init__(self, raw):
+        self._raw = raw
+        counts = raw.counts
+        #: Systems drawn from the population (the n of the call).
+        self.drawn = counts["drawn"]
+        #: Systems rendered (rows of the systems table; fewer than drawn with importance
+        #: sampling, the others stood for by the weights SIM_WEIGHT).
+        self.rendered = counts["rendered"]
+        #: Rendered systems with an arc (ARC_FOUND 1).
+        self.systems_with_arc = counts["systems_with_arc"]
+        #: Systems skipped below the population's Einstein radius limit.
+        self.skipped = counts["skipped"]
+        #: The sum of SIM_WEIGHT over the rendered systems.
+        self.weight_sum = counts["weight_sum"]
+        #: Kish's effective number of arcs, (sum w)^2 / sum w^2 over the systems with an arc.
+        self.effective_arcs = counts["effective_arcs"]
+        #: The OCT* keywords of the command's catalog header (seed, counts, survey, levels,
+        #: source database) as {keyword: value}.
+        self.meta = _card_values(raw.cards)
+
+    def __len__(self):
+        return self.rendered
+
+    @property
+    def stamps(self):
+        """The stamps of the first `stamps` systems (plane k is system k), background-subtracted
+        ADU, as a read-only float32 array of shape (stamps, side, side) (no copy)."""
+        return self._raw.stamps
+
+    def to_table(self, columns=None):
+        """The systems table (LDAC_OBJECTS of `octarc simulate lenses`' catalog) as an astropy
+        Table: one row per rendered system, truth, SIM_WEIGHT, ARC_FOUND and the chosen arc's
+        measurements, with the columns `columns` (names, in that order; default every column),
+        storage types, units, descriptions and UCDs of octarc's declarations; the table's meta
+        holds `meta`. ValueError for a name the table lacks."""
+        table = _astropy_table(self._raw.systems, columns, "to_table")
+        table.meta.update(self.meta)
+        return table
+
+    def arcs_table(self, columns=None):
+        """The arc table (ARCS of the command's catalog): every arc row at every level, SYSTEM
+        the row's system, as `to_table`. ValueError for a name the table lacks."""
+        table = _astropy_table(self._raw.arcs, columns, "arcs_table")
+        table.meta.update(self.meta)
+        return table
+
+
+def simulate_lenses(n, *, seed=1, preset="dls", setup=None, database=None, sources=90,
+                    source_extent=4.0, sampling="importance", stamps=0, threads=0, band=None,
+                    source_colour=None, lens_colour=None):
+    """Simulates `n` galaxy-galaxy lenses, detects every stamp at the survey's thresholds,
+    measures every object and applies the arc rules, as `octarc simulate lenses` does; the
+    tables are those of its catalog, in memory.
+
+    n             the number of systems drawn (> 0).
+    seed          the master seed (an integer >= 0): the result depends on it alone, never on
+                  `threads`.
+    preset        the lens population: "dls" (the Deep Lens Survey ranges) or "physical" (a
+                  measured velocity dispersion function, the command's default); None with
+                  setup["population"], a population file of one's own.
+    setup         the survey and population options of the command by their long names, '-'
+                  as '_': pixel_scale, seeing, gain, zero_point, sky_sigma, limiting_mag,
+                  stamp_size, thresh, thresh_max, nlevels, minarea, lens_mag_min/max,
+                  source_mag_min/max, sigma_min/max, lens_e_max, lens_rhalf_min/max,
+                  fine_scale, subsamples, max_source_step, population (a file), and "config":
+                  a survey .sex file, which the other keys override.
+    database      a RealGalaxyCatalog FITS table of source galaxies; None: `sources` synthetic
+                  galaxies reaching `source_extent` half-light radii.
+    sampling      "importance" (render the systems likely to give an arc, weighted back:
+                  SIM_WEIGHT) or "plain" (render every system).
+    stamps        keep the stamps of the first `stamps` systems (`LensSimulation.stamps`).
+    threads       worker threads (0: every core).
+    band          a second band's name (e.g. "g"), with `source_colour` and `lens_colour`
+                  (mean, scatter) in mag (defaults 0.4, 0.3 and 1.2, 0.1).
+
+    Returns a LensSimulation. ValueError with octarc's one-line message for a bad value or an
+    unknown setup key; OSError for a file that cannot be read. Ctrl-C interrupts the call."""
+    if setup is None:
+        setup = {}
+    if not isinstance(setup, dict):
+        raise ValueError("setup: a dict of options is needed, not %s" % type(setup).__name__)
+    raw = _octarc._simulate_lenses(
+        _natural(n, "n"), _natural(seed, "seed"), "" if preset is None else str(preset),
+        setup, "" if database is None else os.fspath(database), int(sources),
+        float(source_extent), str(sampling), _natural(stamps, "stamps"),
+        _natural(threads, "threads"), band, _colour(source_colour, "source_colour"),
+        _colour(lens_colour, "lens_colour"))
+    _warn(raw.warnings)
+    return LensSimulation(raw)
+
+
+class SimulatedField:
+    """What `simulate_field` made: `image` and `weight` (float32 arrays), `header` (an astropy
+    Header with the WCS), `truth` (an astropy Table) and `sky_sigma`."""
+
+    def __init__(self, raw):
+        from astropy.io import fits
+        #: The image, ADU, sky subtracted (float32; FIELD.fits of the command).
+        self.image = raw.image
+        #: The weight map, 1 / variance in ADU^-2, the chip gap at half weight (float32;
+        #: FIELD.weight.fits).
+        self.weight = raw.weight
+        #: The image's FITS header: the TAN WCS and the survey keywords.
+        self.header = fits.Header([fits.Card.fromstring(card) for card in raw.header_cards])
+        #: The per-pixel sky noise sigma, ADU.
+        self.sky_sigma = raw.sky_sigma
+        counts = raw.counts
+        #: The numbers of field galaxies, stars, saturated pixels and lens systems.
+        self.galaxy_count = counts["galaxies"]
+        self.star_count = counts["stars"]
+        self.saturated_pixels = counts["saturated_pixels"]
+        self.lens_count = counts["lenses"]
+        self._truth = raw.truth
+
+    @property
+    def truth(self):
+        """The truth list (FIELD.truth.txt) as an astropy Table: ID, X_IMAGE, Y_IMAGE (1-based
+        pixels), ALPHA_J2000, DELTA_J2000 (deg), KIND (1 lens galaxy, 2 lensed image, 3 galaxy,
+        4 star), MAG, THETA_E (arcsec; lenses and their images), SYSTEM (1..lenses, else 0);
+        lens systems first, at full precision."""
+        from astropy.table import Table
+        units = {"X_IMAGE": "pix", "Y_IMAGE": "pix", "ALPHA_J2000": "deg",
+                 "DELTA_J2000": "deg", "MAG": "mag", "THETA_E": "arcsec"}
+        table = Table()
+        for name, values in self._truth.items():
+            table[name] = values
+            table[name].unit = _unit(units.get(name, ""))
+        return table
+
+
+def simulate_field(size=4096, *, seed=1, lenses=0, pixel_scale=None, seeing=None, gain=None,
+                   noise_sigma=None, limiting_mag=None, mag_zero=None, saturate=None,
+                   min_einstein_radius=0.0, max_einstein_radius=0.0, ra=150.0, dec=2.0,
+                   config=None, database=None, population=None, threads=0):
+    """Simulates a survey field with `lenses` injected galaxy-galaxy lenses, as `octarc
+    simulate field` does: field galaxies and stars, Poisson sky noise, a TAN WCS.
+
+    size          the image side, pixels.
+    seed          the master seed (an integer >= 0): the result depends on it alone.
+    pixel_scale, seeing, gain, mag_zero, saturate
+                  arcsec/pixel, PSF FWHM (arcsec), e-/ADU, magnitude zero point, saturation
+                  (ADU); None: from `config`, else 0.257, 0.9, 54, 30, 30000 (the DLS R band).
+    noise_sigma   the sky noise per pixel, ADU; or `limiting_mag`, the 5-sigma limiting
+                  magnitude in a 2 x FWHM aperture (default 26); not both.
+    min_einstein_radius, max_einstein_radius
+                  redraw lens systems outside these Einstein radii, arcsec (0: no limit).
+    ra, dec       the field centre, deg.
+    config        an octarc .sex file: PIXEL_SCALE, SEEING_FWHM, GAIN, MAG_ZEROPOINT,
+                  SATUR_LEVEL.
+    database      a RealGalaxyCatalog of lensed source galaxies (None: synthetic).
+    population    a lens population file (None: the dls preset).
+    threads       worker threads (0: every core).
+
+    Returns a SimulatedField. ValueError with octarc's one-line message for a bad value;
+    OSError for a file that cannot be read. Ctrl-C interrupts the call."""
+    def number(value):
+        return None if value is None else float(value)
+
+    raw = _octarc._simulate_field(
+        int(size), number(pixel_scale), number(seeing), number(gain), number(noise_sigma),
+        number(limiting_mag), number(mag_zero), number(saturate), _natural(lenses, "lenses"),
+        float(min_einstein_radius), float(max_einstein_radius), _natural(seed, "seed"),
+        float(ra), float(dec), None if config is None else os.fspath(config),
+        "" if database is None else os.fspath(database),
+        "" if population is None else os.fspath(population), _natural(threads, "threads"))
+    _warn(raw.warnings)
+    return SimulatedField(raw)
 
 
 # The selection and search stages, which use the helpers above.

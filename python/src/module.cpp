@@ -1,6 +1,7 @@
 // The octarc Python module's compiled part, octarc._octarc: one binding file per stage
-// (tables.cpp, detection.cpp, measurement.cpp, selection.cpp, search.cpp), over the libraries. The
-// octarc package (python/octarc/__init__.py) wraps it into its public API with astropy tables.
+// (tables.cpp, detection.cpp, measurement.cpp, simulation.cpp, selection.cpp, search.cpp),
+// over the libraries. The octarc package (python/octarc/__init__.py) wraps it into its public
+// API with astropy tables.
 #include <pybind11/pybind11.h>
 
 #include <exception>
@@ -13,6 +14,7 @@
 #include "octarc/core/Version.h"
 #include "search.h"
 #include "selection.h"
+#include "simulation.h"
 #include "tables.h"
 
 namespace py = pybind11;
@@ -42,4 +44,5 @@ PYBIND11_MODULE(_octarc, m) {
   octarc::python::bindMeasurement(m);
   octarc::python::bindSelection(m);
   octarc::python::bindSearch(m);
+  octarc::python::bindSimulation(m);
 }

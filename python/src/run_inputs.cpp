@@ -159,4 +159,10 @@ py::array ownedArray(std::unique_ptr<ImageI32> labels) {
   return py::array_t<std::int32_t>({raw->height(), raw->width()}, raw->data(), owner);
 }
 
+py::array ownedArray(std::unique_ptr<ImageF> pixels) {
+  ImageF* raw = pixels.release();
+  py::capsule owner(raw, [](void* p) { delete static_cast<ImageF*>(p); });
+  return py::array_t<float>({raw->height(), raw->width()}, raw->data(), owner);
+}
+
 }  // namespace octarc::python

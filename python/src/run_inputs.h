@@ -100,5 +100,7 @@ auto runGuarded(Work work) -> decltype(work()) {
 
 // A numpy int32 array that takes over `labels` (no copy).
 py::array ownedArray(std::unique_ptr<ImageI32> labels);
+// A numpy float32 array that takes over `pixels` (no copy).
+py::array ownedArray(std::unique_ptr<ImageF> pixels);
 
 }  // namespace octarc::python
