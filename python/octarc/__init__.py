@@ -428,8 +428,10 @@ class LensSimulation:
 
     @property
     def stamps(self):
-        """The stamps of the first `stamps` systems (plane k is system k), background-subtracted
-        ADU, as a read-only float32 array of shape (stamps, side, side) (no copy)."""
+        """The stamps of the first `stamps` systems drawn (plane k is system k; zeros for a
+        system that importance sampling did not render, as in the command's stamps file),
+        background-subtracted ADU, as a read-only float32 array of shape (stamps, side, side)
+        (a view of the one block the stamps were gathered in, no copy)."""
         return self._raw.stamps
 
     def to_table(self, columns=None):

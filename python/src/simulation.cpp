@@ -197,9 +197,13 @@ std::unique_ptr<LensOutput> simulateLenses(
                           stampCount, [&signals](std::int64_t, std::int64_t) { signals(); });
     out->cards = lensRunCards(out->run, simulationSetup, sourceDatabase, seed);
     out->stampCount = std::int64_t(out->run.stamps.size());
-    out->stampSidePix = o.stampSizePix;
+    out->stampSidePix = out->run.stamps.empty() ? o.stampSizePix : out->run.stamps[0].width();
     for (ImageF& stamp : out->run.stamps) {
-      out->stampSidePix = stamp.width();
+      // One block of equal planes, or numpy's view would read past it.
+      if (stamp.width() != out->stampSidePix || stamp.height() != out->stampSidePix) {
+        throw Error("stamps: a stamp is not " + std::to_string(out->stampSidePix) +
+                    " pixels square");
+      }
       out->stampPixels.insert(out->stampPixels.end(), stamp.data(),
                               stamp.data() + stamp.width() * stamp.height());
       stamp = ImageF();
