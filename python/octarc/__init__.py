@@ -23,7 +23,8 @@ import numpy as np
 
 from . import _octarc
 
-__all__ = ["detect", "measure", "simulate_lenses", "simulate_field", "search", "Grid", "Model", "DetectionResult", "MeasurementResult",
+__all__ = ["detect", "measure", "simulate_lenses", "simulate_field", "inject_lenses",
+           "search", "Grid", "Model", "DetectionResult", "MeasurementResult",
            "LensSimulation", "SimulatedField", "SearchResult", "__version__"]
 
 #: octarc's version (the same as `octarc -v`).
@@ -497,8 +498,8 @@ def simulate_lenses(n, *, seed=1, preset="dls", setup=None, database=None, sourc
 
 
 class SimulatedField:
-    """What `simulate_field` made: `image` and `weight` (float32 arrays), `header` (an astropy
-    Header with the WCS), `truth` (an astropy Table) and `sky_sigma`."""
+    """What `simulate_field` (or `inject_lenses`) made: `image` and `weight` (float32 arrays),
+    `header` (an astropy Header with the WCS), `truth` (an astropy Table) and `sky_sigma`."""
 
     def __init__(self, raw):
         from astropy.io import fits
@@ -571,6 +572,40 @@ def simulate_field(size=4096, *, seed=1, lenses=0, pixel_scale=None, seeing=None
         "" if database is None else os.fspath(database),
         "" if population is None else os.fspath(population), _natural(threads, "threads"))
     _warn(raw.warnings)
+    return SimulatedField(raw)
+
+
+def inject_lenses(image, *, lenses, pixel_scale, seeing, mag_zero, gain, weight=None,
+                  header=None, seed=1, min_einstein_radius=0.0, max_einstein_radius=0.0,
+                  database=None, population=None, threads=0):
+    """Injects `lenses` simulated galaxy-galaxy lenses into a real image, as `octarc demo
+    --into IMAGE` does: the systems of `simulate_field` (the same draws and rendering, at least
+    30" apart and away from the edges), convolved with a Gaussian PSF of `seeing`, with the
+    photon noise of their own light, added to the image's pixels as they are (sky and all).
+
+    image         2-D image (read as by `detect`; never modified).
+    lenses        the number of lens systems.
+    pixel_scale, seeing, mag_zero, gain
+                  the image's arcsec/pixel, PSF FWHM (arcsec), magnitude zero point and
+                  e-/ADU (all needed, as `octarc demo --into` needs them).
+    weight        its weight map, kept as it is (a 2-D array of the image's shape).
+    header        its astropy Header or WCS (or a header's text): the truth list's RA and
+                  Dec (NaN without a celestial WCS); the result's header, with NLENSES and
+                  SIMSEED added.
+    seed, min_einstein_radius, max_einstein_radius, database, population, threads
+                  as for `simulate_field`.
+
+    Returns a SimulatedField: `image` the image with the lenses (float32), `weight` the weight
+    map (None without one), `header`, and `truth` the lens systems only (`sky_sigma` is 0:
+    the image's own noise is not estimated). ValueError with octarc's one-line message for a
+    bad value or an array of the wrong shape or type."""
+    array, _ = _image_array(image, "image")
+    raw = _octarc._inject_lenses(
+        array, None if weight is None else _image_array(weight, "weight")[0],
+        _header_cards(header), _natural(lenses, "lenses"), float(pixel_scale), float(seeing),
+        float(mag_zero), float(gain), float(min_einstein_radius), float(max_einstein_radius),
+        _natural(seed, "seed"), "" if database is None else os.fspath(database),
+        "" if population is None else os.fspath(population), _natural(threads, "threads"))
     return SimulatedField(raw)
 
 

@@ -49,10 +49,11 @@ ArrayView viewOf(const py::array& array, const std::string& what) {
   return view;
 }
 
-void requireSameShape(const ArrayView& view, const std::string& what, const ArrayView& image) {
+void requireSameShape(const ArrayView& view, const std::string& what, const ArrayView& image,
+                      const std::string& imageName) {
   if (view.width != image.width || view.height != image.height) {
-    throw py::value_error(what + ": shape " + shapeText(view.width, view.height) +
-                          " but data has shape " + shapeText(image.width, image.height));
+    throw py::value_error(what + ": shape " + shapeText(view.width, view.height) + " but " +
+                          imageName + " has shape " + shapeText(image.width, image.height));
   }
 }
 

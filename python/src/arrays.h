@@ -29,8 +29,9 @@ struct ArrayView {
 // of one of the types above (the Python package converts other arrays once before calling).
 ArrayView viewOf(const py::array& array, const std::string& what);
 
-// ValueError naming both arrays when `view` is not width x height.
-void requireSameShape(const ArrayView& view, const std::string& what, const ArrayView& image);
+// ValueError naming both arrays (`image` as `imageName`) when `view` is not width x height.
+void requireSameShape(const ArrayView& view, const std::string& what, const ArrayView& image,
+                      const std::string& imageName = "data");
 
 // The pixels of `view` as octarc's float image (the one copy octarc works on: float32 values
 // copied as they are, float64 values rounded to float32 as cfitsio rounds a BITPIX -64 image),

@@ -282,6 +282,83 @@ std::unique_ptr<FieldOutput> simulateFieldOf(
   return out;
 }
 
+// The caller's image as octarc's image HDU, with the header cards of its WCS.
+ImageHdu imageHduOf(const ArrayView& view, const char* what, const FitsHeader& header) {
+  ImageHdu hdu;
+  hdu.path = what;
+  hdu.header = header;
+  hdu.bitpix = -32;
+  hdu.pixels = imageOf(view);
+  hdu.widthPix = view.width;
+  hdu.heightPix = view.height;
+  return hdu;
+}
+
+std::unique_ptr<FieldOutput> injectLensesInto(const py::array& image, const py::object& weight,
+                                              const std::vector<std::string>& headerCards,
+                                              int lenses, double pixelScale, double seeing,
+                                              double magZero, double gain, double minEinsteinRadius,
+                                              double maxEinsteinRadius, std::uint64_t seed,
+                                              const std::string& database,
+                                              const std::string& population, int threads) {
+  const ArrayView imageView = viewOf(image, "image");
+  if (imageView.type == ArrayView::Type::Bool) {
+    throw py::value_error("image: dtype bool is not float32 or float64");
+  }
+  std::optional<ArrayView> weightView;
+  py::array weightArray;
+  if (!weight.is_none()) {
+    weightArray = py::array(weight);
+    weightView = viewOf(weightArray, "weight");
+    if (weightView->type == ArrayView::Type::Bool) {
+      throw py::value_error("weight: dtype bool is not float32 or float64");
+    }
+    requireSameShape(*weightView, "weight", imageView, "image");
+  }
+  FitsHeader header;
+  for (const std::string& card : headerCards) {
+    if (card.size() != 80) {
+      throw py::value_error("header: a card of " + std::to_string(card.size()) +
+                            " characters; FITS cards have 80");
+    }
+  }
+  header.cards = headerCards;
+  if (threads < 0) {
+    throw py::value_error("threads: 0 (every core) or more, not " + std::to_string(threads));
+  }
+  FieldSimulationSettings s;
+  s.lensCount = lenses;
+  s.pixelScaleArcsec = pixelScale;
+  s.seeingFwhmArcsec = seeing;
+  s.magZeroPoint = magZero;
+  s.gainElectronsPerAdu = gain;
+  s.minEinsteinRadiusArcsec = minEinsteinRadius;
+  s.maxEinsteinRadiusArcsec = maxEinsteinRadius;
+  s.seed = seed;
+  s.databasePath = database;
+  s.populationPath = population;
+  s.threads = threads;
+  s.validate();
+  auto out = std::make_unique<FieldOutput>();
+  auto pixels = std::make_unique<ImageF>();
+  auto weights = std::make_unique<ImageF>();
+  {
+    py::gil_scoped_release release;
+    const ImageHdu imageHdu = imageHduOf(imageView, "image", header);
+    std::optional<ImageHdu> weightHdu;
+    if (weightView) weightHdu = imageHduOf(*weightView, "weight", FitsHeader());
+    // The library's calls take no progress function: one check before the work.
+    SignalCheck signals;
+    signals();
+    out->field = injectLenses(imageHdu, weightHdu ? &*weightHdu : nullptr, s);
+    *pixels = std::move(out->field.image);
+    *weights = std::move(out->field.weight);
+  }
+  out->image = ownedArray(std::move(pixels));
+  out->weight = weights->empty() ? py::none() : py::object(ownedArray(std::move(weights)));
+  return out;
+}
+
 // The truth list as columns (name -> numpy array), in the order of the .truth.txt file.
 py::dict truthColumns(const FieldOutput& out) {
   const std::vector<TruthRow>& truth = out.field.truth;
@@ -363,7 +440,9 @@ void bindSimulation(py::module_& m) {
   py::class_<FieldOutput>(m, "_Field",
                           "What octarc.simulate_field made (octarc.SimulatedField wraps it).")
       .def_readonly("image", &FieldOutput::image, "The image, ADU, sky subtracted (float32).")
-      .def_readonly("weight", &FieldOutput::weight, "The weight map, 1 / variance (float32).")
+      .def_readonly("weight", &FieldOutput::weight,
+                    "The weight map, 1 / variance (float32); None for an image injected into "
+                    "without one.")
       .def_property_readonly(
           "header_cards", [](const FieldOutput& o) { return o.field.header.cards; },
           "The image's FITS header cards (the WCS), 80 characters each.")
@@ -389,6 +468,12 @@ void bindSimulation(py::module_& m) {
         py::arg("max_einstein_radius"), py::arg("seed"), py::arg("ra"), py::arg("dec"),
         py::arg("config"), py::arg("database"), py::arg("population"), py::arg("threads"),
         "A simulated survey field (octarc.simulate_field calls it).");
+  m.def("_inject_lenses", &injectLensesInto, py::arg("image"), py::arg("weight"),
+        py::arg("header_cards"), py::arg("lenses"), py::arg("pixel_scale"), py::arg("seeing"),
+        py::arg("mag_zero"), py::arg("gain"), py::arg("min_einstein_radius"),
+        py::arg("max_einstein_radius"), py::arg("seed"), py::arg("database"), py::arg("population"),
+        py::arg("threads"),
+        "Simulated lenses injected into an image (octarc.inject_lenses calls it).");
 }
 
 }  // namespace octarc::python

@@ -1,8 +1,8 @@
 """The Python module's simulations (issue "Python", the simulation stage): octarc.simulate_lenses
 against `octarc simulate lenses` (both tables, every column, bit for bit; the header's OCT*
 keywords) and on any number of threads, bad input as ValueError, Ctrl-C; octarc.simulate_field
-against `octarc simulate field` (image, weight map, WCS, truth list); the simulation example of
-docs/python.md.
+against `octarc simulate field` (image, weight map, WCS, truth list); octarc.inject_lenses
+against `octarc demo --into`; the simulation example of docs/python.md.
 
 ctest puts <build>/python on PYTHONPATH (the module just built)."""
 import contextlib
@@ -162,8 +162,9 @@ class PythonSimulateLenses(WorkDirTest):
 
 
 class PythonSimulateField(WorkDirTest):
-    """octarc.simulate_field equals `octarc simulate field` on the same options; the example
-    of docs/python.md that simulates runs as it is."""
+    """octarc.simulate_field equals `octarc simulate field` on the same options, and
+    octarc.inject_lenses `octarc demo --into` on the same image; the example of docs/python.md
+    that simulates runs as it is."""
 
     def test_equals_the_command(self):
         out = self.path("field.fits")
@@ -191,6 +192,37 @@ class PythonSimulateField(WorkDirTest):
         self.assertEqual(mine, lines)
         self.assertEqual(int(np.sum(truth["KIND"] == 1)), 2)
         self.assertGreater(field.sky_sigma, 0)
+
+    def test_inject_lenses_equals_the_demo(self):
+        # A "real" image: a simulated field on a sky of 100 ADU, with its WCS and weights.
+        real = octarc.simulate_field(384, seed=4)
+        image = real.image + np.float32(100.0)
+        fits.PrimaryHDU(image, header=real.header).writeto(self.path("real.fits"))
+        fits.PrimaryHDU(real.weight).writeto(self.path("real.weight.fits"))
+        run_octarc("demo", "--into", self.path("real.fits"), "--into-weight",
+                   self.path("real.weight.fits"), "--lenses", "2", "--seed", "3",
+                   "--pixel-scale", "0.257", "--seeing", "0.9", "--mag-zero", "30", "--gain",
+                   "54", "--min-einstein-radius", "0", "--out", self.path("demo"), "--quiet")
+        injected = octarc.inject_lenses(image, weight=real.weight, header=real.header, lenses=2,
+                                        seed=3, pixel_scale=0.257, seeing=0.9, mag_zero=30,
+                                        gain=54)
+        with fits.open(self.path("demo/field.fits")) as f:
+            self.assertTrue(same_bits(injected.image, f[0].data.astype(np.float32)))
+            self.assertEqual(injected.header["SIMSEED"], f[0].header["SIMSEED"])
+            self.assertEqual(injected.header["CRVAL1"], f[0].header["CRVAL1"])
+        self.assertFalse(same_bits(injected.image, image))
+        self.assertTrue(same_bits(injected.weight, real.weight))
+        with open(self.path("demo/field.truth.txt")) as f:
+            lines = [line for line in f if not line.startswith("#")]
+        mine = ["%8d %10.3f %10.3f %12.7f %12.7f %d %8.4f %7.4f %5d\n" % tuple(row)
+                for row in injected.truth]
+        self.assertEqual(mine, lines)
+        self.assertEqual(sorted(set(injected.truth["KIND"])), [1, 2])
+        self.assertIsNone(octarc.inject_lenses(image, lenses=1, pixel_scale=0.257, seeing=0.9,
+                                               mag_zero=30, gain=54).weight)
+        with self.assertRaisesRegex(ValueError, r"^weight: shape \(8, 8\) but image has shape"):
+            octarc.inject_lenses(image, weight=np.ones((8, 8), np.float32), lenses=1,
+                                 pixel_scale=0.257, seeing=0.9, mag_zero=30, gain=54)
 
     def test_docs_example_runs(self):
         with open(os.path.join(SOURCE_DIR, "docs", "python.md")) as f:
