@@ -491,7 +491,8 @@ def simulate_lenses(n, *, seed=1, preset="dls", setup=None, database=None, sourc
         _natural(n, "n"), _natural(seed, "seed"), "" if preset is None else str(preset),
         setup, "" if database is None else os.fspath(database), int(sources),
         float(source_extent), str(sampling), _natural(stamps, "stamps"),
-        _natural(threads, "threads"), band, _colour(source_colour, "source_colour"),
+        _natural(threads, "threads"), None if band is None else str(band),
+        _colour(source_colour, "source_colour"),
         _colour(lens_colour, "lens_colour"))
     _warn(raw.warnings)
     return LensSimulation(raw)

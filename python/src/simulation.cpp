@@ -164,7 +164,7 @@ std::unique_ptr<LensOutput> simulateLenses(
   for (const auto& [name, value] : setup) {
     const std::string key = py::str(name);
     if (key == "config") {
-      // The .sex file first, whatever the dict's order: the other keys override it.
+      // Read below: makeSimulationSetup puts the other keys over it, whatever the dict's order.
       continue;
     }
     const auto& keys = setupKeys();
