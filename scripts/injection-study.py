@@ -1,10 +1,13 @@
 #!/usr/bin/python3
-"""Completeness and purity of `octarc search`, measured by injection: runs `octarc demo` (a
-simulated 2048^2 field with injected lenses, searched with the shipped demo grid) for several
-seeds and adds up, per search space, which injected lenses came back as candidates.
+"""Completeness and purity of octarc's search, measured by injection, with the Python module
+(`import octarc`): for several seeds, a simulated 2048^2 field with injected lenses
+(octarc.simulate_field, as `octarc demo` makes it), searched as the demo searches it
+(octarc.search with the shipped octarc.sex, the field's weight map, the demo grid or a lens
+model), the candidates matched to the injected lenses (SearchResult.match_injections), and the
+found lenses added up per search space.
 
     scripts/injection-study.py [--seeds 20] [--first-seed 1] [--lenses 12] [--trees]
-                               [--model M.fits] [--octarc build/release/bin/octarc]
+                               [--model M.fits] [--python-dir build/release/python]
     scripts/injection-study.py --ntt [--seeds 20] [--lenses 6] [--snr-min 10] [--trees]
 
 With --trees, every field is searched twice, with the grid (SELECTION_METHOD GRID) and with the
@@ -12,13 +15,18 @@ model (TREES), and the completeness is also given against the spurious candidate
 LENS_SCORE's threshold falls ("Completeness against spurious candidates"): both methods in one
 table.
 
---ntt injects into the real NTT/EMMI R frame of ../shared/data/real/ntt-emmi instead (its own
-sky, noise, objects and PSF). Its header has no WCS, gain or zero point, so the study assumes
-0.35"/px (EMMI red), 1.2" seeing (SExtractor's test configuration), a gain of 1.7 e-/ADU (sky
-level over sky variance) and the zero point that gives the frame a 5-sigma limit of 26 mag in
-a 2 x FWHM aperture, as the demo's fields have; it first makes a grid and a lens model for that
-setup (150 000 simulated lenses of the `dls` population the fields inject, seed 11; the model
-trained against the frame's own objects).
+--ntt injects into the real NTT/EMMI R frame of ../shared/data/real/ntt-emmi instead
+(octarc.inject_lenses: its own sky, noise, objects and PSF). Its header has no WCS, gain or zero
+point, so the study assumes 0.35"/px (EMMI red), 1.2" seeing (SExtractor's test configuration),
+a gain of 1.7 e-/ADU (sky level over sky variance) and the zero point that gives the frame a
+5-sigma limit of 26 mag in a 2 x FWHM aperture, as the demo's fields have; it first makes a
+grid and a lens model for that setup (150 000 simulated lenses of the `dls` population the
+fields inject, seed 11; the model trained against the frame's own objects). That calibration
+is the one step run as commands (`octarc detect`, `octarc simulate lenses`, `octarc calibrate`,
+with --octarc): the module has no calibration.
+
+The module is imported from --python-dir when it is not installed. The figures are those
+`octarc demo` gives for the same seeds (the same field, search and matching, in memory).
 
 Prints the README table (Markdown): completeness against theta_E and arc magnitude, spurious
 candidates per deg2 (candidates that are no injected arc), the fraction of found lenses whose
@@ -29,7 +37,6 @@ import os
 import subprocess
 import sys
 import tempfile
-import warnings
 
 import numpy as np
 from astropy.io import fits
@@ -43,71 +50,104 @@ THETA_BINS = [(1.5, 2.0), (2.0, 2.5), (2.5, 99.0)]
 MAG_BINS = [(0.0, 22.0), (22.0, 23.0), (23.0, 99.0)]
 
 
-SHIPPED_MODEL = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "params",
-                             "demo.model.fits")
-NTT_IMAGE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared", "data",
-                         "real", "ntt-emmi", "galaxies.fits")
+HERE = os.path.dirname(os.path.abspath(__file__))
+SHIPPED_MODEL = os.path.join(HERE, "..", "params", "demo.model.fits")
+NTT_IMAGE = os.path.join(HERE, "..", "..", "shared", "data", "real", "ntt-emmi", "galaxies.fits")
 NTT_SCALE, NTT_SEEING, NTT_GAIN, LIMIT_MAG = 0.35, 1.2, 1.7, 26.0
+# The demo's field and search (src/app/DemoCommand.cpp, search/InjectionDemo.h).
+FIELD_SIZE, FIELD_SCALE, FIELD_SEEING, FIELD_ZERO, FIELD_GAIN = 2048, 0.257, 0.9, 30.0, 54.0
+MIN_EINSTEIN_RADIUS = 1.5
 
 
-def ntt_setup(octarc, work, snr_min):
+def import_octarc(python_dir):
+    """The octarc module: installed, else the one built in python_dir."""
+    try:
+        import octarc
+    except ImportError:
+        sys.path.insert(0, os.path.abspath(python_dir))
+        import octarc
+    return octarc
+
+
+def ntt_setup(octarc, command, work, snr_min):
     """The NTT frame's sky sigma (octarc's own background estimate), the zero point of a 26 mag
     5-sigma limit, and a grid and a lens model for that setup (the model trained against the
-    frame's own objects, rows above snr_min). Returns the demo options and the model path."""
-    catalog = os.path.join(work, "ntt.ldac")
-    proc = subprocess.run([octarc, "detect", NTT_IMAGE, "-CATALOG_NAME", catalog, "-PIXEL_SCALE",
-                           str(NTT_SCALE)], check=True, capture_output=True, text=True)
-    import re
-    sigma = float(re.search(r"sigma ([\d.eE+-]+) ADU", proc.stderr).group(1))
+    frame's own objects, rows above snr_min). Returns the frame's settings and the paths of the
+    grid and the model."""
+    image = fits.getdata(NTT_IMAGE)
+    sigma = octarc.detect(image, 1.5, config={"PIXEL_SCALE": NTT_SCALE}).sigma
     aperture = np.pi * (NTT_SEEING / NTT_SCALE) ** 2  # diameter 2 x FWHM
     zero_point = LIMIT_MAG + 2.5 * np.log10(5 * sigma * np.sqrt(aperture))
-    # The frame's own objects, detected and measured as the demo's search does (the shipped
-    # octarc.sex, 15 levels): the other rows the model is trained against.
-    share = os.environ.get("OCTARC_DATA_DIR") or os.path.join(
-        os.path.dirname(os.path.abspath(octarc)), "..", "share", "octarc")
-    subprocess.run([octarc, "detect", NTT_IMAGE, "-c", os.path.join(share, "octarc.sex"),
-                    "-CATALOG_TYPE", "FITS_LDAC", "-CATALOG_NAME", catalog, "-PIXEL_SCALE",
-                    str(NTT_SCALE), "-SEEING_FWHM", str(NTT_SEEING), "-GAIN", str(NTT_GAIN),
-                    "-MAG_ZEROPOINT", "%.4f" % zero_point], check=True, capture_output=True)
+    # The frame's own objects, detected and measured as the search does (the shipped octarc.sex,
+    # 15 levels): the other rows the model is trained against.
+    catalog = os.path.join(work, "ntt.ldac")
+    subprocess.run([command, "detect", NTT_IMAGE, "-c", "octarc.sex", "-CATALOG_TYPE",
+                    "FITS_LDAC", "-CATALOG_NAME", catalog, "-PIXEL_SCALE", str(NTT_SCALE),
+                    "-SEEING_FWHM", str(NTT_SEEING), "-GAIN", str(NTT_GAIN), "-MAG_ZEROPOINT",
+                    "%.4f" % zero_point], check=True, capture_output=True)
     sim, grid = os.path.join(work, "ntt-sim.fits"), os.path.join(work, "ntt.grid.fits")
-    subprocess.run([octarc, "simulate", "lenses", "-n", "150000", "--seed", "11", "--preset", "dls",
-                    "--pixel-scale", str(NTT_SCALE), "--seeing", str(NTT_SEEING), "--gain",
-                    str(NTT_GAIN), "--zero-point", "%.4f" % zero_point, "--sky-sigma",
+    subprocess.run([command, "simulate", "lenses", "-n", "150000", "--seed", "11", "--preset",
+                    "dls", "--pixel-scale", str(NTT_SCALE), "--seeing", str(NTT_SEEING),
+                    "--gain", str(NTT_GAIN), "--zero-point", "%.4f" % zero_point, "--sky-sigma",
                     "%.4f" % sigma, "-o", sim, "--quiet"], check=True)
     model = os.path.join(work, "ntt.model.fits")
-    subprocess.run([octarc, "calibrate", sim, "-GRID_AXES", "ARCNESS,E_IMAGE,log10(SNR_ISO)",
+    subprocess.run([command, "calibrate", sim, "-GRID_AXES", "ARCNESS,E_IMAGE,log10(SNR_ISO)",
                     "-NOISE_STUDY", "N", "-CHECKPLOT_TYPE", "NONE", "-CALIBRATION_NAME",
                     os.path.join(work, "ntt-cal.fits"), "-GRID_NAME", grid, "-SURVEY_CATALOG",
                     catalog, "-MODEL_NAME", model, "-MODEL_SNR_MIN", str(snr_min)], check=True,
                    stdout=subprocess.DEVNULL, cwd=work)
     print("NTT frame: sky sigma %.2f ADU, zero point %.2f" % (sigma, zero_point), file=sys.stderr)
-    return ["--into", NTT_IMAGE, "--pixel-scale", str(NTT_SCALE), "--seeing", str(NTT_SEEING),
-            "--gain", str(NTT_GAIN), "--mag-zero", "%.4f" % zero_point, "--grid", grid], model
+    # The demo's keys come out of "%.4f" % zero_point when it is given on its command line.
+    setup = {"pixel_scale": NTT_SCALE, "seeing": NTT_SEEING, "gain": NTT_GAIN,
+             "mag_zero": float("%.4f" % zero_point)}
+    return setup, grid, model
 
 
-def method_options(method, model):
-    """The demo's options for one selection method: every candidate (SCORE_MIN 0), so that the
-    curve runs down to the lowest score."""
-    if method == "GRID":
-        return ["--method", "GRID", "--score-min", "0"]
-    return ["--method", "TREES", "--model", model, "--score-min", "0"]
+def make_field(octarc, seed, lenses, ntt):
+    """The seed's field with its injected lenses, as `octarc demo` makes it (with --into for the
+    NTT frame)."""
+    if ntt is None:
+        return octarc.simulate_field(FIELD_SIZE, seed=seed, lenses=lenses,
+                                     min_einstein_radius=MIN_EINSTEIN_RADIUS)
+    return octarc.inject_lenses(fits.getdata(NTT_IMAGE), header=fits.getheader(NTT_IMAGE),
+                                lenses=lenses, seed=seed, min_einstein_radius=MIN_EINSTEIN_RADIUS,
+                                **ntt)
 
 
-def run_seed(octarc, seed, lenses, out, extra):
-    subprocess.run([octarc, "demo", "--seed", str(seed), "--lenses", str(lenses), "--out", out,
-                    "--quiet", *extra], check=True, stdout=subprocess.DEVNULL)
-    systems = np.loadtxt(os.path.join(out, "injection-systems.txt"), ndmin=2)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # a field without candidates
-        cands = np.loadtxt(os.path.join(out, "injection-candidates.txt"), ndmin=2)
-    area = fits.getheader(os.path.join(out, "candidates", "candidates.fits"),
-                          "LDAC_OBJECTS")["SRCHAREA"]
-    cands = cands.reshape(-1, 4)
-    # Each system's score: its (first, highest-ranked) candidate's LENS_SCORE; -1 when not found.
-    score = np.full(len(systems), -1.0)
-    found = systems[:, 3] > 0
-    score[found] = cands[systems[found, 3].astype(int) - 1, 3]
-    return np.column_stack([systems, score]), cands, area
+def search_field(octarc, field, lenses, selector, snr_min, ntt):
+    """The demo's search of the field, every candidate kept (SCORE_MIN 0, so that the curve runs
+    down to the lowest score); the prior of LENS_SCORE is the injected lenses' density, as the
+    demo sets it (by the simulated field's size also for the NTT frame, as --into does)."""
+    setup = ntt or {"pixel_scale": FIELD_SCALE, "seeing": FIELD_SEEING, "mag_zero": FIELD_ZERO,
+                    "gain": FIELD_GAIN}
+    field_deg2 = (FIELD_SIZE * setup["pixel_scale"] / 3600.0) ** 2
+    config = {"LENS_DENSITY": "%.10g" % (lenses / field_deg2), "SCORE_MIN": 0,
+              "PIXEL_SCALE": "%.10g" % setup["pixel_scale"],
+              "SEEING_FWHM": "%.10g" % setup["seeing"],
+              "MAG_ZEROPOINT": "%.10g" % setup["mag_zero"], "GAIN": "%.10g" % setup["gain"],
+              "SNR_MIN": "%.10g" % snr_min}
+    # As the demo: a real image without a weight map is searched with a uniform one.
+    weight = np.ones_like(field.image) if field.weight is None else field.weight
+    return octarc.search(field.image, weight=weight, wcs=field.header, config_file="octarc.sex",
+                         config=config, **selector)
+
+
+def run_seed(octarc, field, lenses, selector, snr_min, ntt):
+    """Per injected system: system, theta_E, arc magnitude, candidate (1-based, 0: not found),
+    spaces, lens right, theta_E estimate, and the candidate's LENS_SCORE (-1 when not found);
+    per candidate: its number, system (0: spurious), spaces and LENS_SCORE; the searched area."""
+    found = search_field(octarc, field, lenses, selector, snr_min, ntt)
+    matched, candidate_system = found.match_injections(field.truth)
+    table = found.to_table(["NUMBER", "SPACES", "LENS_SCORE"])
+    cands = np.column_stack([table["NUMBER"], candidate_system, table["SPACES"],
+                             table["LENS_SCORE"]]).astype(float).reshape(-1, 4)
+    candidate = np.asarray(matched["CANDIDATE"])
+    score = np.where(candidate >= 0, np.asarray(table["LENS_SCORE"])[np.maximum(candidate, 0)]
+                     if len(table) else -1.0, -1.0)
+    systems = np.column_stack([matched["SYSTEM"], matched["THETA_E"], matched["ARC_MAG"],
+                               candidate + 1, matched["SPACES"], matched["LENS_RIGHT"],
+                               matched["THETA_E_ESTIMATE"], score]).astype(float)
+    return systems, cands, table.meta["SRCHAREA"]
 
 
 def completeness_at(systems, cands, area, per_deg2):
@@ -141,33 +181,38 @@ def main():
     parser.add_argument("--lenses", type=int, default=None)
     parser.add_argument("--ntt", action="store_true", help="inject into the real NTT frame")
     parser.add_argument("--snr-min", type=float, default=40.0, help="the search's S/N floor")
-    parser.add_argument("--octarc", default=os.path.join(os.path.dirname(__file__), "..", "build",
-                                                         "release", "bin", "octarc"))
+    parser.add_argument("--python-dir", default=os.path.join(HERE, "..", "build", "release",
+                                                             "python"),
+                        help="where the octarc module was built (when it is not installed)")
+    parser.add_argument("--octarc", default=os.path.join(HERE, "..", "build", "release", "bin",
+                                                         "octarc"),
+                        help="the octarc command, for the --ntt calibration")
     args = parser.parse_args()
+    octarc = import_octarc(args.python_dir)
     if args.lenses is None:
         args.lenses = 6 if args.ntt else 12
     systems, cands, area = [], [], 0.0
     tree_systems, tree_cands = [], []
     with tempfile.TemporaryDirectory() as work:
-        extra = ["--snr-min", str(args.snr_min)]
+        ntt, grid = None, "demo.grid.fits"
         if args.ntt:
-            options, ntt_model = ntt_setup(args.octarc, work, args.snr_min)
-            extra += options
+            ntt, grid, ntt_model = ntt_setup(octarc, args.octarc, work, args.snr_min)
             if args.trees:
                 args.model = ntt_model
         elif args.trees and not args.model:
             args.model = SHIPPED_MODEL
+        grid = octarc.Grid.read(grid)
+        model = octarc.Model.read(args.model) if args.trees else None
         for seed in range(args.first_seed, args.first_seed + args.seeds):
-            s, c, a = run_seed(args.octarc, seed, args.lenses, os.path.join(work, str(seed)),
-                               extra + method_options("GRID", None))
+            field = make_field(octarc, seed, args.lenses, ntt)
+            s, c, a = run_seed(octarc, field, args.lenses, {"grid": grid}, args.snr_min, ntt)
             systems.append(s)
             cands.append(c)
             area += a
             print("seed %d: %d systems, %d candidates" % (seed, len(s), len(c)), file=sys.stderr)
             if args.trees:
-                s, c, _ = run_seed(args.octarc, seed, args.lenses,
-                                   os.path.join(work, "%d-trees" % seed),
-                                   extra + method_options("TREES", args.model))
+                s, c, _ = run_seed(octarc, field, args.lenses, {"model": model}, args.snr_min,
+                                   ntt)
                 tree_systems.append(s)
                 tree_cands.append(c)
     systems = np.vstack(systems)
