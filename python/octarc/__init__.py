@@ -1,6 +1,7 @@
 """octarc in Python: SExtractor-compatible detection at many thresholds in one pass and octarc's
 measurements (isophotal photometry and shape, the octopole "arcness" moments) on numpy arrays,
-with astropy tables out; and octarc's simulations of galaxy-galaxy lenses and survey fields.
+with astropy tables out; octarc's simulations of galaxy-galaxy lenses and survey fields; and
+its selection and search for strong-lens arcs.
 
     >>> import octarc
     >>> found = octarc.detect(image, [2.5, 5.0, 10.0])     # thresholds in units of sigma
@@ -10,9 +11,14 @@ with astropy tables out; and octarc's simulations of galaxy-galaxy lenses and su
     >>> lenses = octarc.simulate_lenses(100, seed=1)        # octarc simulate lenses
     >>> field = octarc.simulate_field(1024, lenses=5)       # octarc simulate field
 
+    >>> result = octarc.search(field.image, weight=field.weight, wcs=field.header,
+    ...                        model="demo.model.fits", config_file="octarc.sex")
+    >>> candidates = result.to_table()                      # octarc search's candidates.fits
+    >>> systems, _ = result.match_injections(field.truth)   # which injected lenses were found
+
 The work is done by octarc's libraries, the same calls as the `octarc detect`, `octarc
-measure` and `octarc simulate` commands make: the same arrays give the same numbers as the
-commands on a FITS file holding them, and the same seed the same simulation. The GIL is
+measure`, `octarc simulate` and `octarc search` commands make: the same arrays give the same
+numbers as the commands on a FITS file holding them, and the same seed the same simulation. The GIL is
 released while octarc works, Ctrl-C interrupts a call (KeyboardInterrupt), and octarc's
 one-line errors arrive as ValueError (bad input) or OSError (a file). See docs/python.md.
 """
