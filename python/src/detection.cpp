@@ -70,11 +70,7 @@ std::unique_ptr<DetectionOutput> detect(
     out->levels = detectionLevels(settings, image.detectionSigma());
     MeasureContext context = image.context(settings);
     context.levels = out->levels;
-    DetectionRequest request;
-    request.levels = out->levels;
-    if (relative) request.levelsInSigma = levelValues(settings);
-    request.minAreaPix = settings.minAreaPix;
-    request.threads = resolveThreads(settings.threads);
+    DetectionRequest request = configuredRequest(settings, out->levels);
     request.keepSegmentation = keepSegmentation;
     request.checkpoint = [&signals] { signals(); };
     ImageRunResult run =

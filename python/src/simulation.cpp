@@ -235,14 +235,7 @@ std::unique_ptr<FieldOutput> simulateFieldOf(
   if (config) {
     const SurveySettings survey = surveyOf(*config);
     out->warnings = survey.warnings;
-    s.pixelScaleArcsec = survey.pixelScaleArcsec.value_or(s.pixelScaleArcsec);
-    s.seeingFwhmArcsec = survey.seeingFwhmArcsec.value_or(s.seeingFwhmArcsec);
-    // GAIN 0 (infinite) cannot make Poisson noise: the field keeps its own gain then.
-    if (survey.gainElectronPerAdu && *survey.gainElectronPerAdu > 0) {
-      s.gainElectronsPerAdu = *survey.gainElectronPerAdu;
-    }
-    s.magZeroPoint = survey.magZeropoint.value_or(s.magZeroPoint);
-    s.saturationAdu = survey.saturationAdu.value_or(s.saturationAdu);
+    applySurveySettings(s, survey);
   }
   s.pixelScaleArcsec = pixelScale.value_or(s.pixelScaleArcsec);
   s.seeingFwhmArcsec = seeing.value_or(s.seeingFwhmArcsec);

@@ -85,14 +85,7 @@ int runSimulateField(const std::vector<std::string>& args) {
     if (!vm.count("quiet")) {
       for (const std::string& w : survey.warnings) std::cerr << "WARNING: " << w << "\n";
     }
-    s.pixelScaleArcsec = survey.pixelScaleArcsec.value_or(s.pixelScaleArcsec);
-    s.seeingFwhmArcsec = survey.seeingFwhmArcsec.value_or(s.seeingFwhmArcsec);
-    // GAIN 0 (infinite) cannot make Poisson noise: the field keeps its own gain then.
-    if (survey.gainElectronPerAdu && *survey.gainElectronPerAdu > 0) {
-      s.gainElectronsPerAdu = *survey.gainElectronPerAdu;
-    }
-    s.magZeroPoint = survey.magZeropoint.value_or(s.magZeroPoint);
-    s.saturationAdu = survey.saturationAdu.value_or(s.saturationAdu);
+    applySurveySettings(s, survey);
   }
   auto pick = [&](const char* name, double& target) {
     if (vm.count(name) && (!vm[name].defaulted() || !vm.count("config")))

@@ -101,11 +101,7 @@ DetectedExtension detectExtension(const RunSettings& s, const ColumnPlan& column
   MeasureContext context = image.context(s);
   context.levels = levels;
 
-  DetectionRequest request;
-  request.levels = levels;
-  if (relative) request.levelsInSigma = levelValues(s);
-  request.minAreaPix = s.minAreaPix;
-  request.threads = resolveThreads(s.threads);
+  DetectionRequest request = configuredRequest(s, levels);
   request.keepSegmentation =
       keep || (checkImages && (wants(s, "SEGMENTATION") || wants(s, "OBJECTS")));
   ImageRunResult run = detectAndMeasure(image, columns.plan, context, request, &extensionSettings);

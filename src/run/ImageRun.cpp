@@ -8,6 +8,7 @@
 #include "octarc/core/Error.h"
 #include "octarc/core/Parallel.h"
 #include "octarc/detection/Filter.h"
+#include "octarc/run/Levels.h"
 #include "octarc/run/MeasurementQueue.h"
 
 namespace octarc {
@@ -158,6 +159,18 @@ std::vector<std::int64_t> countObjects(const ImageF& detectionImage,
   detection.footprintRuns = true;
   return detectMultiThreshold(detectionImage, detection,
                               [](std::vector<Segment>& objects) { objects.clear(); });
+}
+
+DetectionRequest configuredRequest(const RunSettings& settings,
+                                   const std::vector<ThresholdLevel>& levels) {
+  DetectionRequest request;
+  request.levels = levels;
+  if (settings.detectThresholdType == ThresholdType::Relative) {
+    request.levelsInSigma = levelValues(settings);
+  }
+  request.minAreaPix = settings.minAreaPix;
+  request.threads = resolveThreads(settings.threads);
+  return request;
 }
 
 }  // namespace octarc

@@ -52,11 +52,7 @@ ResidualCatalog detectResidual(PreparedImage& residual, const SearchRun& run,
   const RunSettings& rs = settings.run;
   MeasureContext context = residual.context(rs);
   context.levels = run.levels;
-  DetectionRequest request;
-  request.levels = run.levels;
-  if (rs.detectThresholdType == ThresholdType::Relative) request.levelsInSigma = levelValues(rs);
-  request.minAreaPix = rs.minAreaPix;
-  request.threads = resolveThreads(rs.threads);
+  DetectionRequest request = configuredRequest(rs, run.levels);
   request.keepSegmentation = true;
   ImageRunResult result = detectAndMeasure(residual, columns.plan, context, request, &rs);
   Table full = std::move(result.rows);

@@ -266,11 +266,7 @@ void detectPreparedRows(const SearchRunSettings& settings, SearchRun& run,
   }
   MeasureContext context = run.image.context(rs);
   context.levels = run.levels;
-  DetectionRequest request;
-  request.levels = run.levels;
-  if (rs.detectThresholdType == ThresholdType::Relative) request.levelsInSigma = levelValues(rs);
-  request.minAreaPix = rs.minAreaPix;
-  request.threads = resolveThreads(rs.threads);
+  DetectionRequest request = configuredRequest(rs, run.levels);
   request.keepSegmentation = true;  // the footprints: arcs' curvature, colours, lens light
   request.checkpoint = checkpoint;
   ImageRunResult detected = detectAndMeasure(run.image, columns.plan, context, request, &rs);

@@ -58,6 +58,11 @@ struct DetectionRequest {
   std::function<void()> checkpoint;
 };
 
+// The request of a configured run at `levels`: the thresholds per pixel with THRESH_TYPE
+// RELATIVE, DETECT_MINAREA and NTHREADS of `settings` (no segmentation kept, no checkpoint).
+DetectionRequest configuredRequest(const RunSettings& settings,
+                                   const std::vector<ThresholdLevel>& levels);
+
 struct ImageRunResult {
   // One row per object per level (the plan's columns), in the order the detector emitted them
   // (component by component).

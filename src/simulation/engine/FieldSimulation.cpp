@@ -491,4 +491,14 @@ void writeSimulatedField(const SimulatedField& field, const FieldSimulationSetti
   });
 }
 
+void applySurveySettings(FieldSimulationSettings& s, const SurveySettings& survey) {
+  s.pixelScaleArcsec = survey.pixelScaleArcsec.value_or(s.pixelScaleArcsec);
+  s.seeingFwhmArcsec = survey.seeingFwhmArcsec.value_or(s.seeingFwhmArcsec);
+  if (survey.gainElectronPerAdu && *survey.gainElectronPerAdu > 0) {
+    s.gainElectronsPerAdu = *survey.gainElectronPerAdu;
+  }
+  s.magZeroPoint = survey.magZeropoint.value_or(s.magZeroPoint);
+  s.saturationAdu = survey.saturationAdu.value_or(s.saturationAdu);
+}
+
 }  // namespace octarc

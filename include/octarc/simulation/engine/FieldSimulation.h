@@ -18,6 +18,7 @@
 #include "octarc/io/FitsHeader.h"
 #include "octarc/io/FitsImage.h"
 #include "octarc/simulation/FieldPopulation.h"
+#include "octarc/simulation/engine/SurveySettings.h"
 
 namespace octarc {
 
@@ -48,6 +49,11 @@ struct FieldSimulationSettings {
   // Throws ConfigError naming the option ("--size", "--seeing", ...) for a nonsense value.
   void validate() const;
 };
+
+// The survey settings of a .sex file (readSurveySettings) over `settings`, those the file
+// gives: PIXEL_SCALE, SEEING_FWHM, GAIN (when > 0: GAIN 0, infinite, cannot make Poisson
+// noise, so the field keeps its own), MAG_ZEROPOINT, SATUR_LEVEL.
+void applySurveySettings(FieldSimulationSettings& settings, const SurveySettings& survey);
 
 // One row of the truth list.
 struct TruthRow {
