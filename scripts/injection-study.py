@@ -37,6 +37,7 @@ import os
 import subprocess
 import sys
 import tempfile
+import warnings
 
 import numpy as np
 from astropy.io import fits
@@ -109,9 +110,11 @@ def make_field(octarc, seed, lenses, ntt):
     if ntt is None:
         return octarc.simulate_field(FIELD_SIZE, seed=seed, lenses=lenses,
                                      min_einstein_radius=MIN_EINSTEIN_RADIUS)
-    return octarc.inject_lenses(fits.getdata(NTT_IMAGE), header=fits.getheader(NTT_IMAGE),
-                                lenses=lenses, seed=seed, min_einstein_radius=MIN_EINSTEIN_RADIUS,
-                                **ntt)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the frame's ESO-LOG cards are not standard FITS
+        header = fits.getheader(NTT_IMAGE)
+    return octarc.inject_lenses(fits.getdata(NTT_IMAGE), header=header, lenses=lenses, seed=seed,
+                                min_einstein_radius=MIN_EINSTEIN_RADIUS, **ntt)
 
 
 def search_field(octarc, field, lenses, selector, snr_min, ntt):
