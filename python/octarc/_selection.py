@@ -26,9 +26,21 @@ def _numeric_columns(table, what):
     return columns
 
 
+# The descriptions of the score columns (dimensionless all).
+_SCORE_DESCRIPTIONS = {
+    "PROBABILITY": "Occupation probability of the row's grid bin (0 outside the occupied bins)",
+    "CONTOUR_LEVEL": "Contour level at which the bin enters (NaN outside the occupied bins)",
+    "SELECTED": "The bin is in the grid's contour",
+    "GRID_STATUS": "0 occupied bin, 1 empty bin, 2 outside the axes, 3 an axis undefined",
+    "LOG_ODDS": "Log-odds of a lens arc, for the model's training mix",
+    "LENS_SCORE": "Expected fraction of lens arcs among rows of this score, at the prior given",
+}
+
+
 def _result_table(columns):
-    from astropy.table import Table
-    return Table(columns)
+    from astropy.table import Column, Table
+    return Table([Column(values, name=name, description=_SCORE_DESCRIPTIONS[name])
+                  for name, values in columns.items()])
 
 
 class Grid:
