@@ -93,7 +93,9 @@ def _header_cards(wcs):
     if hasattr(wcs, "to_header"):
         wcs = wcs.to_header()
     if hasattr(wcs, "cards"):
-        return [card.image for card in wcs.cards]
+        # A long string's card comes as several 80-character cards (CONTINUE) in one image.
+        return [card.image[i:i + 80] for card in wcs.cards
+                for i in range(0, len(card.image), 80)]
     if isinstance(wcs, str):
         text = wcs.rstrip()
         cards = [text[i:i + 80].ljust(80) for i in range(0, len(text), 80)]
@@ -393,10 +395,11 @@ def _colour(value, what):
     return "%r,%r" % (float(pair[0]), float(pair[1]))
 
 
-def _natural(value, what):
-    """`value` as an int >= 0 (seeds are unsigned 64-bit numbers)."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 0:
-        raise ValueError("%s: an integer >= 0 is needed, not %r" % (what, value))
+def _natural(value, what, maximum=2 ** 31 - 1):
+    """`value` as an int in [0, maximum] (counts are C ints, seeds unsigned 64-bit numbers)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not \
+            0 <= value <= maximum:
+        raise ValueError("%s: an integer from 0 to %d is needed, not %r" % (what, maximum, value))
     return int(value)
 
 
@@ -494,8 +497,8 @@ def simulate_lenses(n, *, seed=1, preset="dls", setup=None, database=None, sourc
     if not isinstance(setup, dict):
         raise ValueError("setup: a dict of options is needed, not %s" % type(setup).__name__)
     raw = _octarc._simulate_lenses(
-        _natural(n, "n"), _natural(seed, "seed"), "" if preset is None else str(preset),
-        setup, "" if database is None else os.fspath(database), int(sources),
+        _natural(n, "n", 2 ** 63 - 1), _natural(seed, "seed", 2 ** 64 - 1), "" if preset is None else str(preset),
+        setup, "" if database is None else os.fspath(database), _natural(sources, "sources"),
         float(source_extent), str(sampling), _natural(stamps, "stamps"),
         _natural(threads, "threads"), None if band is None else str(band),
         _colour(source_colour, "source_colour"),
@@ -520,10 +523,13 @@ class SimulatedField:
         #: The per-pixel sky noise sigma, ADU.
         self.sky_sigma = raw.sky_sigma
         counts = raw.counts
-        #: The numbers of field galaxies, stars, saturated pixels and lens systems.
+        #: The number of field galaxies.
         self.galaxy_count = counts["galaxies"]
+        #: The number of stars.
         self.star_count = counts["stars"]
+        #: The number of pixels clipped at the saturation level.
         self.saturated_pixels = counts["saturated_pixels"]
+        #: The number of lens systems injected.
         self.lens_count = counts["lenses"]
         self._truth = raw.truth
 
@@ -574,7 +580,7 @@ def simulate_field(size=4096, *, seed=1, lenses=0, pixel_scale=None, seeing=None
     raw = _octarc._simulate_field(
         int(size), number(pixel_scale), number(seeing), number(gain), number(noise_sigma),
         number(limiting_mag), number(mag_zero), number(saturate), _natural(lenses, "lenses"),
-        float(min_einstein_radius), float(max_einstein_radius), _natural(seed, "seed"),
+        float(min_einstein_radius), float(max_einstein_radius), _natural(seed, "seed", 2 ** 64 - 1),
         float(ra), float(dec), None if config is None else os.fspath(config),
         "" if database is None else os.fspath(database),
         "" if population is None else os.fspath(population), _natural(threads, "threads"))
@@ -595,7 +601,8 @@ def inject_lenses(image, *, lenses, pixel_scale, seeing, mag_zero, gain, weight=
     pixel_scale, seeing, mag_zero, gain
                   the image's arcsec/pixel, PSF FWHM (arcsec), magnitude zero point and
                   e-/ADU (all needed, as `octarc demo --into` needs them).
-    weight        its weight map, kept as it is (a 2-D array of the image's shape).
+    weight        its weight map (a 2-D array of the image's shape), returned unchanged as
+                  float32.
     header        its astropy Header or WCS (or a header's text): the truth list's RA and
                   Dec (NaN without a celestial WCS); the result's header, with NLENSES and
                   SIMSEED added.
@@ -611,7 +618,7 @@ def inject_lenses(image, *, lenses, pixel_scale, seeing, mag_zero, gain, weight=
         array, None if weight is None else _image_array(weight, "weight")[0],
         _header_cards(header), _natural(lenses, "lenses"), float(pixel_scale), float(seeing),
         float(mag_zero), float(gain), float(min_einstein_radius), float(max_einstein_radius),
-        _natural(seed, "seed"), "" if database is None else os.fspath(database),
+        _natural(seed, "seed", 2 ** 64 - 1), "" if database is None else os.fspath(database),
         "" if population is None else os.fspath(population), _natural(threads, "threads"))
     return SimulatedField(raw)
 

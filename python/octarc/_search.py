@@ -33,7 +33,7 @@ class SearchResult:
         astropy Table of the PARAMETERS_NAME columns, as `DetectionResult.to_table` gives them.
         A candidate's best row is the row of its THRESH_LEVEL and OBJ_NUMBER (NUMBER here), its
         lens the row of LENS_LEVEL and LENS_NUMBER."""
-        return _astropy_table(self._raw.catalog, columns)
+        return _astropy_table(self._raw.catalog, columns, "catalog_table")
 
     def match_injections(self, truth, *, match_radius=None, lens_match_radius=None):
         """Which injected lenses the candidates are arcs of, as `octarc demo` and `octarc
@@ -142,11 +142,13 @@ def search(data, *, grid=None, model=None, weight=None, error=None, mask=None, b
                  configuration's SELECTION_METHOD with its GRID_NAME or MODEL_NAME file.
     weight, error, mask, background, wcs
                  as for `detect` (the WCS gives the candidates' RA, Dec and names, and the
-                 searched area in deg2; without one PIXEL_SCALE must be set).
+                 searched area in deg2; without one PIXEL_SCALE gives the scale: set it, as
+                 its default is SExtractor's 1.0).
     kernel       None: the configuration's FILTER and FILTER_NAME (as the command: SExtractor's
                  default, FILTER Y with default.conv); a .conv file name or a 2-D array.
     config_file  an octarc .sex file read before `config` (e.g. "octarc.sex", the shipped
-                 survey configuration: 15 levels from 2.5 sigma, MAP_WEIGHT); default none.
+                 survey configuration: 15 levels from 2.5 to 20 sigma, no filtering); default
+                 none. Map files it names are refused: give the maps as arrays.
     config       other keys of `octarc search -dd` by name, e.g. {"PIXEL_SCALE": 0.257,
                  "SNR_MIN": 20, "LENS_LIGHT": "LOCAL", "SEARCH_SPACE": [...]}. PARAMETERS_NAME,
                  when not given, is the shipped column list. COLOUR_IMAGE, MASK_NAME and

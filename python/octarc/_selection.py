@@ -3,7 +3,7 @@ calibrate`, SELECTION_METHOD GRID) and the lens model (SELECTION_METHOD TREES), 
 files and scoring the rows of a table."""
 import numpy as np
 
-from . import _astropy_table, _octarc
+from . import _octarc
 
 
 def _numeric_columns(table, what):
@@ -96,7 +96,8 @@ class Grid:
         of PROBABILITY (the probability of the row's bin, 0 outside the occupied bins),
         CONTOUR_LEVEL (the level at which the bin enters the contour, NaN outside), SELECTED
         (the bin is in the contour: the search keeps the row, S/N and size aside) and GRID_STATUS
-        (0 an occupied bin, 1 an empty bin, 2 outside the axes' ranges, 3 an axis undefined, NaN).
+        (0 an occupied bin, 1 an empty bin, 2 outside the axes' ranges, 3 an axis undefined:
+        NaN).
         ValueError naming the axis for a column the table lacks."""
         return _result_table(self._raw.score(_numeric_columns(table, "Grid.score")))
 

@@ -78,7 +78,7 @@ std::unique_ptr<DetectionOutput> detect(
     out->objectsPerLevel = run.objectsPerLevel;
     out->table = rowsInOrder(run.rows, run.catalogOrder);
     out->segmentation = std::move(run.segmentation);
-    out->values = runValues(image);
+    out->values = runValues(image, inputs);
   }
   return out;
 }

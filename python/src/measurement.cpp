@@ -100,7 +100,7 @@ std::unique_ptr<MeasurementOutput> measure(const py::array& data, const py::list
     context.levels = out->levels;
     out->table = Table(plan.columns());
     measureSegments(plan, segments, context, out->table, resolveThreads(settings.threads));
-    out->values = runValues(image);
+    out->values = runValues(image, inputs);
   }
   return out;
 }

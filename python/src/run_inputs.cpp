@@ -95,8 +95,21 @@ RunInputs::RunInputs(const py::array& data, const py::object& background, const 
       configuration.schema.empty() ? octarcKeys() : configuration.schema,
       configuration.sexFile.empty() ? std::string()
                                     : existingUserOrDataFile(configuration.sexFile, "config_file"),
-      keys, nullptr);
+      keys, &warnings_);
   settings_ = settingsFromConfig(*config_, true);
+  // The maps are arrays here: a configuration that asks for map files (a .sex file of the
+  // command's, say) is told where they go rather than failing on an empty file name.
+  if (settings_.weightType != WeightType::None && !weights_) {
+    throw py::value_error(
+        "WEIGHT_TYPE: the configuration asks for a weight map; give it as "
+        "weight= (or error= for MAP_RMS), or set WEIGHT_TYPE NONE");
+  }
+  if (!settings_.backgroundRmsMapPath.empty() ||
+      (!settings_.backgroundMapPath.empty() && !background_)) {
+    throw py::value_error(
+        "BACKGROUND_NAME: give the background map as background=; "
+        "BACKGROUND_RMS_NAME: give the noise as error=");
+  }
 }
 
 PreparedImage RunInputs::prepare(bool filterVariance, SignalCheck& signals) const {
@@ -141,7 +154,7 @@ py::dict RunValues::asDict() const {
   return out;
 }
 
-RunValues runValues(const PreparedImage& image) {
+RunValues runValues(const PreparedImage& image, const RunInputs& inputs) {
   RunValues v;
   v.backgroundAdu = image.backgroundAdu;
   v.sigmaAdu = image.sigmaAdu;
@@ -149,7 +162,8 @@ RunValues runValues(const PreparedImage& image) {
   v.gain = image.gain;
   v.backgroundOrigin = image.origin.background;
   v.sigmaOrigin = image.origin.sigma;
-  v.warnings = image.warnings;
+  v.warnings = inputs.warnings();
+  v.warnings.insert(v.warnings.end(), image.warnings.begin(), image.warnings.end());
   return v;
 }
 

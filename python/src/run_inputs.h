@@ -62,6 +62,9 @@ class RunInputs {
   const RunSettings& settings() const { return settings_; }
   // The loaded configuration (its keys at their defaults, the .sex file's, then the call's).
   const sexcompat::Config& config() const { return *config_; }
+  // Its warnings (an unknown key of the .sex file, a key octarc ignores), as the command prints
+  // them.
+  const std::vector<std::string>& warnings() const { return warnings_; }
   const ArrayView& data() const { return data_; }
   // The prepared image (run/PreparedImage.h's prepareImage, the arrays standing in for the
   // files); call without the GIL. ValueError for an image without a finite pixel.
@@ -75,6 +78,7 @@ class RunInputs {
   std::optional<ConvKernel> kernel_;
   FitsHeader header_;
   std::optional<sexcompat::Config> config_;
+  std::vector<std::string> warnings_;
   RunSettings settings_;
 };
 
@@ -85,7 +89,8 @@ struct RunValues {
   std::vector<std::string> warnings;
   py::dict asDict() const;
 };
-RunValues runValues(const PreparedImage& image);
+// The values of `image`, the warnings of the call's configuration first.
+RunValues runValues(const PreparedImage& image, const RunInputs& inputs);
 
 // Calls `work` (without the GIL): octarc's errors about the arrays (IoError) become
 // ValueError, as no file is involved; PythonSignal passes through.

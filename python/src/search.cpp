@@ -3,6 +3,8 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -27,13 +29,16 @@ namespace py = pybind11;
 
 namespace {
 
-// What octarc.search returns to the Python package.
+// What octarc.search returns to the Python package. The run keeps its catalog and candidates
+// (for match_injections); its image, footprints and lens-light images are freed once the
+// candidates are made.
 struct SearchOutput {
-  SearchRunSettings settings;
   SearchRun run;
   FitsTable candidates;  // as OUTPUT_DIR/candidates.fits holds them
   Table catalog;         // every row searched, in catalog order
   RunValues values;
+  std::vector<std::string> summary;   // searchSummaryLines
+  std::vector<double> thresholdsAdu;  // per level, lowest first
 };
 
 // `selector`: a _Grid, a _Model or None (the configuration's GRID_NAME or MODEL_NAME file).
@@ -44,15 +49,16 @@ std::unique_ptr<SearchOutput> search(const py::array& data, const py::object& ba
                                      const std::string& configFile, const py::object& selector) {
   std::optional<SavedGrid> grid;
   std::optional<SavedLensModel> model;
+  std::string selectorPath;  // set after the configuration: a path is no configuration value
   if (py::isinstance<GridHandle>(selector)) {
     const GridHandle& g = selector.cast<const GridHandle&>();
     keys.emplace_back("SELECTION_METHOD", "GRID");
-    keys.emplace_back("GRID_NAME", g.path);
+    selectorPath = g.path;
     grid = g.saved;
   } else if (py::isinstance<ModelHandle>(selector)) {
     const ModelHandle& h = selector.cast<const ModelHandle&>();
     keys.emplace_back("SELECTION_METHOD", "TREES");
-    keys.emplace_back("MODEL_NAME", h.path);
+    selectorPath = h.path;
     model = copyOf(h.saved);
   }
   // The stamps and the vetting page are written by the command; here nothing is.
@@ -66,8 +72,9 @@ std::unique_ptr<SearchOutput> search(const py::array& data, const py::object& ba
           ? existingUserOrDataFile(runSettings.parametersPath, "PARAMETERS_NAME file")
           : dataFile("octarc.param");
   auto out = std::make_unique<SearchOutput>();
-  out->settings = searchSettingsFromConfig(inputs.config(), std::move(runSettings));
-  const SearchRunSettings& settings = out->settings;
+  SearchRunSettings settings = searchSettingsFromConfig(inputs.config(), std::move(runSettings));
+  if (grid) settings.gridPath = selectorPath;
+  if (model) settings.modelPath = selectorPath;
   if (settings.search.method == SelectionMethod::Trees && !model) {
     model = loadLensModel(existingUserOrDataFile(settings.modelPath, "MODEL_NAME file"));
   } else if (settings.search.method == SelectionMethod::Grid && !grid) {
@@ -78,13 +85,20 @@ std::unique_ptr<SearchOutput> search(const py::array& data, const py::object& ba
     SignalCheck signals;
     const bool relative = settings.run.detectThresholdType == ThresholdType::Relative;
     PreparedImage image = inputs.prepare(relative, signals);
-    out->values = runValues(image);
+    out->values = runValues(image, inputs);
     out->run = runGuarded([&] {
       return searchPreparedImage(settings, std::move(image), std::move(grid), std::move(model),
                                  [&signals] { signals(); }, {});
     });
-    out->candidates = searchCandidateTable(out->run, settings);
-    out->catalog = rowsInOrder(out->run.catalog, out->run.catalogOrder);
+    SearchRun& run = out->run;
+    out->candidates = searchCandidateTable(run, settings);
+    out->catalog = rowsInOrder(run.catalog, run.catalogOrder);
+    out->summary = searchSummaryLines(run, settings);
+    for (const ThresholdLevel& l : run.levels) out->thresholdsAdu.push_back(l.thresholdAdu);
+    run.image = PreparedImage();
+    run.footprints.reset();
+    run.lensLight.reset();
+    run.colourImages.clear();
   }
   return out;
 }
@@ -97,15 +111,24 @@ std::vector<TruthRow> truthRows(const py::dict& columns) {
                          "KIND", "MAG",     "THETA_E", "SYSTEM"};
   int c[9];
   for (int k = 0; k < 9; ++k) c[k] = table.requireColumn(names[k], "truth");
+  // ID, KIND and SYSTEM are whole numbers: checked before they are converted.
+  auto whole = [&](std::int64_t r, int k) {
+    const double v = table.value(r, c[k]);
+    if (!(std::isfinite(v) && v == std::floor(v) && std::fabs(v) < 1e15)) {
+      throw py::value_error("truth: " + std::string(names[k]) + " in row " + std::to_string(r + 1) +
+                            " is not a whole number");
+    }
+    return std::int64_t(v);
+  };
   std::vector<TruthRow> rows(std::size_t(table.rows()));
   for (std::int64_t r = 0; r < table.rows(); ++r) {
     TruthRow& t = rows[std::size_t(r)];
-    t.id = std::int64_t(table.value(r, c[0]));
+    t.id = whole(r, 0);
     t.xFits = table.value(r, c[1]);
     t.yFits = table.value(r, c[2]);
     t.raDeg = table.value(r, c[3]);
     t.decDeg = table.value(r, c[4]);
-    const int kind = int(table.value(r, c[5]));
+    const std::int64_t kind = whole(r, 5);
     if (kind < 1 || kind > 4) {
       throw py::value_error("truth: KIND " + std::to_string(kind) + " in row " +
                             std::to_string(r + 1) + " is not 1 to 4");
@@ -113,7 +136,11 @@ std::vector<TruthRow> truthRows(const py::dict& columns) {
     t.kind = simulation::FieldObjectKind(kind);
     t.mag = table.value(r, c[6]);
     t.einsteinRadiusArcsec = table.value(r, c[7]);
-    t.systemId = int(table.value(r, c[8]));
+    const std::int64_t system = whole(r, 8);
+    if (system < 0 || system > std::numeric_limits<int>::max()) {
+      throw py::value_error("truth: SYSTEM in row " + std::to_string(r + 1) + " is out of range");
+    }
+    t.systemId = int(system);
   }
   return rows;
 }
@@ -171,17 +198,9 @@ void bindSearch(py::module_& m) {
       .def_property_readonly(
           "values", [](const SearchOutput& o) { return o.values.asDict(); },
           "The run's background and noise (ADU) and where they came from.")
-      .def_property_readonly(
-          "thresholds",
-          [](const SearchOutput& o) {
-            std::vector<double> t;
-            for (const ThresholdLevel& l : o.run.levels) t.push_back(l.thresholdAdu);
-            return t;
-          },
-          "The detection threshold of each level, ADU, lowest first.")
-      .def_property_readonly(
-          "summary", [](const SearchOutput& o) { return searchSummaryLines(o.run, o.settings); },
-          "The summary lines octarc search prints.")
+      .def_readonly("thresholds", &SearchOutput::thresholdsAdu,
+                    "The detection threshold of each level, ADU, lowest first.")
+      .def_readonly("summary", &SearchOutput::summary, "The summary lines octarc search prints.")
       .def_property_readonly(
           "warnings", [](const SearchOutput& o) { return o.run.warnings; },
           "The search's warnings (a grid made for another setup, no WCS, ...).")

@@ -71,8 +71,8 @@ py::array_t<double> modelLogOdds(const ModelHandle& model, const py::dict& colum
   const Table table = tableOf(columns, "Model.score");
   if (!(pixelScaleArcsec > 0)) {
     throw py::value_error(
-        "Model.score: pixel_scale must be > 0 (arcsec), the model's setup "
-        "records none");
+        "Model.score: pixel_scale (arcsec) must be > 0; give it when the model's setup records "
+        "none");
   }
   bool hasContext = true;
   for (const ColumnSpec& c : arcContextColumns()) hasContext &= table.findColumn(c.name) >= 0;

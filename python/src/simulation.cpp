@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -15,6 +14,7 @@
 #include <vector>
 
 #include "arrays.h"
+#include "octarc/core/DataFiles.h"
 #include "octarc/core/Error.h"
 #include "octarc/core/Parallel.h"
 #include "octarc/core/Table.h"
@@ -33,8 +33,8 @@ namespace {
 // The survey settings of .sex file `path`; OSError (not octarc's ConfigError, which the
 // library raises) for a file that cannot be opened, as for every file of the module.
 SurveySettings surveyOf(const std::string& path) {
-  if (!std::ifstream(path)) throw IoError(path + ": cannot open configuration file");
-  return readSurveySettings(path);
+  // As the search's config_file: a name without a directory may be a shipped file.
+  return readSurveySettings(existingUserOrDataFile(path, "configuration file"));
 }
 
 // ---- octarc.simulate_lenses ----

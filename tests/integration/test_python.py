@@ -334,6 +334,9 @@ class PythonApi(WorkDirTest):
             for block in blocks:
                 exec(compile(block, "docs/python.md", "exec"), namespace)
         self.assertRegex(printed.getvalue(), r"objects per level: \[\d+, \d+, \d+\]")
+        # The search's example: the summary line and the candidates' table (the arc found).
+        self.assertRegex(printed.getvalue(), r"\n2 objects \(\d+ rows at all levels\) searched")
+        self.assertRegex(printed.getvalue(), r"NUMBER +LENS_SCORE +X_IMAGE +Y_IMAGE")
 
     def test_version(self):
         proc = subprocess.run([sys.executable, "-m", "octarc", "--version"],

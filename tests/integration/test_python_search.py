@@ -139,6 +139,27 @@ class PythonSearch(WorkDirTest):
         np.testing.assert_array_equal(candidate_system, candidates[:, 1])
         np.testing.assert_allclose(found.to_table()["LENS_SCORE"], candidates[:, 3], rtol=1e-6)
 
+    def test_files_headers_and_warnings(self):
+        # A grid read from a path with a blank and a comma; a long-string (CONTINUE) header
+        # card; a misspelt key of the .sex file reaches the warnings, as the command prints it.
+        folder = self.path("a dir, with blanks")
+        os.makedirs(folder)
+        grid_path = os.path.join(folder, "my grid.fits")
+        shutil.copy(os.path.join(SHARE, "demo.grid.fits"), grid_path)
+        image, weight = self.field
+        header = fits.getheader(image)
+        header["LONGTXT"] = "x" * 120  # two cards: CONTINUE
+        sex = self.path("survey.sex")
+        with open(os.path.join(SHARE, "octarc.sex")) as f, open(sex, "w") as out:
+            out.write(f.read() + "SNR_MN 20\n")
+        found = octarc.search(fits.getdata(image), weight=fits.getdata(weight), wcs=header,
+                              grid=octarc.Grid.read(grid_path), config_file=sex)
+        self.assertIn(grid_path, found.summary[0])
+        self.assertTrue(any("SNR_MN" in w for w in found.warnings), found.warnings)
+        again = octarc.search(fits.getdata(image), weight=fits.getdata(weight), wcs=header,
+                              grid=grid_path, config_file=sex)
+        self.assertEqual(len(again), len(found))
+
     def test_bad_input(self):
         image = np.random.default_rng(2).normal(0.0, 1.0, (128, 128)).astype(np.float32)
         cases = [
@@ -152,12 +173,21 @@ class PythonSearch(WorkDirTest):
             (dict(grid="demo.grid.fits", weight=np.ones((64, 64), np.float32)), ValueError,
              "weight"),
             (dict(grid="demo.grid.fits", config={"NO_SUCH_KEY": 1}), ValueError, "NO_SUCH_KEY"),
+            (dict(grid="demo.grid.fits", config={"WEIGHT_TYPE": "MAP_WEIGHT"}), ValueError,
+             "WEIGHT_TYPE: the configuration asks for a weight map; give it as weight="),
         ]
         for kwargs, error, text in cases:
             with self.assertRaises(error, msg=str(kwargs)) as caught:
                 octarc.search(image, **kwargs)
             self.assertIn(text, str(caught.exception))
             self.assertNotIn("\n", str(caught.exception))
+        # A truth list whose KIND is no whole number (NaN) is refused, naming the column.
+        found = octarc.search(image, grid="demo.grid.fits", config={"PIXEL_SCALE": 0.2})
+        truth = {"ID": [1.0], "X_IMAGE": [10.0], "Y_IMAGE": [10.0], "ALPHA_J2000": [0.0],
+                 "DELTA_J2000": [0.0], "KIND": [float("nan")], "MAG": [20.0],
+                 "THETA_E": [1.0], "SYSTEM": [1.0]}
+        with self.assertRaisesRegex(ValueError, "^truth: KIND in row 1 is not a whole number$"):
+            found.match_injections(truth)
 
 
 class PythonSelection(WorkDirTest):

@@ -115,7 +115,13 @@ class PythonSimulateLenses(WorkDirTest):
         simulate = octarc.simulate_lenses
         self.assert_raises(ValueError, r"^n: the number of systems must be positive, got 0$",
                            simulate, 0)
-        self.assert_raises(ValueError, r"^n: an integer >= 0 is needed, not -3$", simulate, -3)
+        self.assert_raises(ValueError, r"^n: an integer from 0 to 9223372036854775807 is needed, "
+                           r"not -3$", simulate, -3)
+        # Beyond a C int, or a seed beyond 64 bits: one line, not pybind11's TypeError.
+        self.assert_raises(ValueError, r"^stamps: an integer from 0 to 2147483647 is needed",
+                           simulate, 4, stamps=2 ** 40)
+        self.assert_raises(ValueError, r"^seed: an integer from 0 to 18446744073709551615",
+                           simulate, 4, seed=2 ** 64)
         self.assert_raises(ValueError, r"^setup: unknown key pixelscale$", simulate, 2,
                            setup={"pixelscale": 0.2})
         self.assert_raises(ValueError, r"^setup: seeing must be a number, not str$", simulate, 2,
