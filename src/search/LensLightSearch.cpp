@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <numbers>
 #include <optional>
@@ -48,12 +49,14 @@ struct ResidualCatalog {
 };
 
 ResidualCatalog detectResidual(PreparedImage& residual, const SearchRun& run,
-                               const SearchRunSettings& settings, const ColumnPlan& columns) {
+                               const SearchRunSettings& settings, const ColumnPlan& columns,
+                               const std::function<void()>& checkpoint) {
   const RunSettings& rs = settings.run;
   MeasureContext context = residual.context(rs);
   context.levels = run.levels;
   DetectionRequest request = configuredRequest(rs, run.levels);
   request.keepSegmentation = true;
+  request.checkpoint = checkpoint;
   ImageRunResult result = detectAndMeasure(residual, columns.plan, context, request, &rs);
   Table full = std::move(result.rows);
   if (settings.assoc) {
@@ -173,7 +176,8 @@ void replaceByResidual(SearchRun& run, ResidualCatalog& residual,
 }  // namespace
 
 void applyLensLight(SearchRun& run, const SearchRunSettings& settings, const ColumnPlan& columns,
-                    const RunLog& log, const PreparedImage* fitBand) {
+                    const RunLog& log, const PreparedImage* fitBand,
+                    const std::function<void()>& checkpoint) {
   const lenslight::SubtractionMode mode = settings.lensLight.mode;
   if (mode == lenslight::SubtractionMode::Off) return;
   lenslight::SubtractionSettings ls = settings.lensLight;
@@ -205,7 +209,7 @@ void applyLensLight(SearchRun& run, const SearchRunSettings& settings, const Col
         " subtracted; detecting the residual");
   }
   PreparedImage residual = residualImage(run.image, sub, settings.run);
-  ResidualCatalog found = detectResidual(residual, run, settings, columns);
+  ResidualCatalog found = detectResidual(residual, run, settings, columns, checkpoint);
   const lenslight::ResidualRows near = lenslight::residualRowsNearLenses(
       found.table, sub, settings.search.lensRadiusArcsec, run.pixelScaleArcsec);
   run.lensLightRows = std::int64_t(near.rows.size());

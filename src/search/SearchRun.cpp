@@ -283,7 +283,7 @@ void detectPreparedRows(const SearchRunSettings& settings, SearchRun& run,
   requireColumns(run.catalog, searchRequiredColumns(), "PARAMETERS_NAME " + rs.parametersPath);
   if (settings.lensLight.mode != lenslight::SubtractionMode::Off) {
     run.pixelScaleArcsec = runPixelScaleArcsec(run, rs);
-    applyLensLight(run, settings, columns, log);
+    applyLensLight(run, settings, columns, log, nullptr, checkpoint);
   }
 }
 

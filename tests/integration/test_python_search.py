@@ -109,6 +109,14 @@ class PythonSearch(WorkDirTest):
         for name in rows.colnames:
             self.assertTrue(same_column(rows[name], detected[name]), name)
 
+    def test_lens_light_equals_the_command(self):
+        # LENS_LIGHT LOCAL: the galaxies fitted and subtracted, the residual detected again, in
+        # memory as from the file.
+        command, found = self.search_both_ways(
+            ["-GRID_NAME", "demo.grid.fits", "-LENS_LIGHT", "LOCAL", "-LENS_CHECKIMAGES", "N"],
+            {"grid": "demo.grid.fits", "config": {"LENS_LIGHT": "LOCAL"}}, "light")
+        self.check_equal(command, found)
+
     def test_injections_match_as_the_demo(self):
         # octarc demo simulates a field with injected lenses, searches it and lists which
         # lenses it found; the same field searched and matched from Python gives its lists.

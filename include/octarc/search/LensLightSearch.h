@@ -12,6 +12,8 @@
 // residual and which galaxy is their lens.
 #pragma once
 
+#include <functional>
+
 #include "octarc/run/CatalogAssembly.h"
 #include "octarc/run/DetectionRun.h"
 #include "octarc/search/SearchRun.h"
@@ -22,9 +24,11 @@ namespace octarc {
 // detected here), filling run.lensLight and run.lensLightOf. With `fitBand` (LENS_LIGHT_BAND:
 // that colour band's prepared image, settings.lensLightBand), the galaxies are fitted in it and
 // their models scaled and PSF-matched to the searched image (lenslight::FitBandImage).
-// ConfigError for a bad LENS_SELECT.
+// ConfigError for a bad LENS_SELECT. `checkpoint`, when given, is the residual's detection's
+// (DetectionRequest::checkpoint).
 void applyLensLight(SearchRun& run, const SearchRunSettings& settings, const ColumnPlan& columns,
-                    const RunLog& log, const PreparedImage* fitBand = nullptr);
+                    const RunLog& log, const PreparedImage* fitBand = nullptr,
+                    const std::function<void()>& checkpoint = {});
 
 // The FITS table of the chosen galaxies (EXTNAME LENSFIT), one row each, in catalog order:
 // NUMBER of the galaxy's level-1 row in the image's detection, LENS_NUMBER (the candidates'
