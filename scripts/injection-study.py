@@ -119,11 +119,12 @@ def make_field(octarc, seed, lenses, ntt):
 
 def search_field(octarc, field, lenses, selector, snr_min, ntt):
     """The demo's search of the field, every candidate kept (SCORE_MIN 0, so that the curve runs
-    down to the lowest score); the prior of LENS_SCORE is the injected lenses' density, as the
-    demo sets it (by the simulated field's size also for the NTT frame, as --into does)."""
+    down to the lowest score); the prior of LENS_SCORE is the injected lenses' density over the
+    image, as the demo sets it."""
     setup = ntt or {"pixel_scale": FIELD_SCALE, "seeing": FIELD_SEEING, "mag_zero": FIELD_ZERO,
                     "gain": FIELD_GAIN}
-    field_deg2 = (FIELD_SIZE * setup["pixel_scale"] / 3600.0) ** 2
+    height, width = field.image.shape
+    field_deg2 = width * height * (setup["pixel_scale"] / 3600.0) ** 2
     config = {"LENS_DENSITY": "%.10g" % (lenses / field_deg2), "SCORE_MIN": 0,
               "PIXEL_SCALE": "%.10g" % setup["pixel_scale"],
               "SEEING_FWHM": "%.10g" % setup["seeing"],

@@ -12,6 +12,7 @@
 #include "octarc/core/Error.h"
 #include "octarc/core/Format.h"
 #include "octarc/core/Interrupt.h"
+#include "octarc/io/FitsImage.h"
 #include "octarc/run/Levels.h"
 #include "octarc/run/RunSettings.h"
 #include "octarc/simulation/Population.h"
@@ -30,9 +31,15 @@ DemoKeys demoSearchKeys(const InjectionDemoSettings& s, const InjectedFieldFiles
   const FieldSimulationSettings& f = s.field;
   DemoKeys keys = recoveryDetectionKeys(paths, f.threads);
   keys.emplace_back("GRID_NAME", gridPath);
-  // LENS_SCORE's prior: the field's own lens density unless told.
-  const double fieldDeg2 =
-      double(f.sizePix) * double(f.sizePix) * std::pow(f.pixelScaleArcsec / 3600.0, 2);
+  // LENS_SCORE's prior: the field's own lens density unless told, over the image searched (a
+  // real image's own size with --into, not --size).
+  double widthPix = f.sizePix, heightPix = f.sizePix;
+  if (!s.real.imagePath.empty()) {
+    const ImageHdu real = readImageHeader(s.real.imagePath);
+    widthPix = double(real.widthPix);
+    heightPix = double(real.heightPix);
+  }
+  const double fieldDeg2 = widthPix * heightPix * std::pow(f.pixelScaleArcsec / 3600.0, 2);
   const double lensDensity = s.lensDensityPerDeg2 ? *s.lensDensityPerDeg2
                              : f.lensCount > 0    ? double(f.lensCount) / fieldDeg2
                                                   : 1.0;

@@ -261,6 +261,11 @@ class IntoRealImage(WorkDirTest):
                           "--out", out, "--quiet")
         self.assertIn("3 galaxy-galaxy lenses injected into", proc.stdout)
         self.assertIn("has no celestial WCS", proc.stdout)
+        # LENS_SCORE's prior: the 3 lenses over the frame's own area (1024^2 pixels of 0.35"),
+        # not over a simulated field of --size.
+        header = fits.getheader(os.path.join(out, "candidates", "candidates.fits"), "LDAC_OBJECTS")
+        self.assertAlmostEqual(header["LENSDENS"], 3 / (1024 * 1024 * (0.35 / 3600) ** 2),
+                               places=6)
         added = (fits.getdata(os.path.join(out, "field.fits")).astype(float)
                  - fits.getdata(real).astype(float))
         truth = np.loadtxt(os.path.join(out, "field.truth.txt"), ndmin=2)
