@@ -66,8 +66,8 @@ PREFIX_SITE = "lib/python%d.%d/site-packages" % sys.version_info[:2]
 def python_package(site):
     if not PYTHON_MODULE:
         return []
-    return ["%s/octarc/%s" % (site, name)
-            for name in ("__init__.py", "__main__.py", "_search.py", "_selection.py", PYTHON_MODULE)]
+    names = ("__init__.py", "__main__.py", "_search.py", "_selection.py", PYTHON_MODULE)
+    return ["%s/octarc/%s" % (site, name) for name in names]
 
 
 INSTALLED_IN_PREFIX = sorted(INSTALLED + python_package(PREFIX_SITE))
