@@ -14,13 +14,14 @@ its selection and search for strong-lens arcs.
     >>> result = octarc.search(field.image, weight=field.weight, wcs=field.header,
     ...                        model="demo.model.fits", config_file="octarc.sex")
     >>> candidates = result.to_table()                      # octarc search's candidates.fits
-    >>> systems, _ = result.match_injections(field.truth)   # which injected lenses were found
+    >>> systems, _ = result.match_injections(field.truth)   # the injected lenses found
 
 The work is done by octarc's libraries, the same calls as the `octarc detect`, `octarc
 measure`, `octarc simulate` and `octarc search` commands make: the same arrays give the same
-numbers as the commands on a FITS file holding them, and the same seed the same simulation. The GIL is
-released while octarc works, Ctrl-C interrupts a call (KeyboardInterrupt), and octarc's
-one-line errors arrive as ValueError (bad input) or OSError (a file). See docs/python.md.
+numbers as the commands on a FITS file holding them, and the same seed and options the same
+simulation. The GIL is released while octarc works, Ctrl-C interrupts a call
+(KeyboardInterrupt), and octarc's one-line errors arrive as ValueError (bad input) or OSError
+(a file). See docs/python.md.
 """
 import numbers
 import os
@@ -187,7 +188,8 @@ class _TableResult:
 
     @property
     def warnings(self):
-        """octarc's warnings about the input (constant image, bad meshes...)."""
+        """octarc's warnings: about the configuration (an unknown or ignored key of a .sex
+        file) and the input (constant image, bad meshes...)."""
         return list(self._raw.values["warnings"])
 
     def __len__(self):
@@ -395,11 +397,13 @@ def _colour(value, what):
     return "%r,%r" % (float(pair[0]), float(pair[1]))
 
 
-def _natural(value, what, maximum=2 ** 31 - 1):
-    """`value` as an int in [0, maximum] (counts are C ints, seeds unsigned 64-bit numbers)."""
+def _natural(value, what, maximum=2 ** 31 - 1, minimum=0):
+    """`value` as an int in [minimum, maximum] (counts are C ints, seeds unsigned 64-bit
+    numbers)."""
     if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not \
-            0 <= value <= maximum:
-        raise ValueError("%s: an integer from 0 to %d is needed, not %r" % (what, maximum, value))
+            minimum <= value <= maximum:
+        raise ValueError("%s: an integer from %d to %d is needed, not %r"
+                         % (what, minimum, maximum, value))
     return int(value)
 
 
@@ -497,8 +501,9 @@ def simulate_lenses(n, *, seed=1, preset="dls", setup=None, database=None, sourc
     if not isinstance(setup, dict):
         raise ValueError("setup: a dict of options is needed, not %s" % type(setup).__name__)
     raw = _octarc._simulate_lenses(
-        _natural(n, "n", 2 ** 63 - 1), _natural(seed, "seed", 2 ** 64 - 1), "" if preset is None else str(preset),
-        setup, "" if database is None else os.fspath(database), _natural(sources, "sources"),
+        _natural(n, "n", 2 ** 63 - 1), _natural(seed, "seed", 2 ** 64 - 1),
+        "" if preset is None else str(preset), setup,
+        "" if database is None else os.fspath(database), _natural(sources, "sources", minimum=1),
         float(source_extent), str(sampling), _natural(stamps, "stamps"),
         _natural(threads, "threads"), None if band is None else str(band),
         _colour(source_colour, "source_colour"),
@@ -578,7 +583,8 @@ def simulate_field(size=4096, *, seed=1, lenses=0, pixel_scale=None, seeing=None
         return None if value is None else float(value)
 
     raw = _octarc._simulate_field(
-        int(size), number(pixel_scale), number(seeing), number(gain), number(noise_sigma),
+        _natural(size, "size"), number(pixel_scale), number(seeing), number(gain),
+        number(noise_sigma),
         number(limiting_mag), number(mag_zero), number(saturate), _natural(lenses, "lenses"),
         float(min_einstein_radius), float(max_einstein_radius), _natural(seed, "seed", 2 ** 64 - 1),
         float(ra), float(dec), None if config is None else os.fspath(config),

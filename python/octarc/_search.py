@@ -33,7 +33,7 @@ class SearchResult:
         astropy Table of the PARAMETERS_NAME columns, as `DetectionResult.to_table` gives them.
         A candidate's best row is the row of its THRESH_LEVEL and OBJ_NUMBER (NUMBER here), its
         lens the row of LENS_LEVEL and LENS_NUMBER."""
-        return _astropy_table(self._raw.catalog, columns, "catalog_table")
+        return _astropy_table(self._raw.catalog(), columns, "catalog_table")
 
     def match_injections(self, truth, *, match_radius=None, lens_match_radius=None):
         """Which injected lenses the candidates are arcs of, as `octarc demo` and `octarc

@@ -96,19 +96,18 @@ RunInputs::RunInputs(const py::array& data, const py::object& background, const 
       configuration.sexFile.empty() ? std::string()
                                     : existingUserOrDataFile(configuration.sexFile, "config_file"),
       keys, &warnings_);
+  // The call's keys came as config=, not on a command line.
+  for (std::string& w : warnings_) {
+    if (w.rfind("command line: -", 0) == 0) w = "config: " + w.substr(15);
+  }
   settings_ = settingsFromConfig(*config_, true);
-  // The maps are arrays here: a configuration that asks for map files (a .sex file of the
-  // command's, say) is told where they go rather than failing on an empty file name.
+  // The weight map is an array here (WEIGHT_IMAGE is not read): a configuration that asks for
+  // one (a .sex file of the command's, say) is told where it goes rather than failing on an
+  // empty file name.
   if (settings_.weightType != WeightType::None && !weights_) {
     throw py::value_error(
         "WEIGHT_TYPE: the configuration asks for a weight map; give it as "
         "weight= (or error= for MAP_RMS), or set WEIGHT_TYPE NONE");
-  }
-  if (!settings_.backgroundRmsMapPath.empty() ||
-      (!settings_.backgroundMapPath.empty() && !background_)) {
-    throw py::value_error(
-        "BACKGROUND_NAME: give the background map as background=; "
-        "BACKGROUND_RMS_NAME: give the noise as error=");
   }
 }
 

@@ -35,7 +35,6 @@ namespace {
 struct SearchOutput {
   SearchRun run;
   FitsTable candidates;  // as OUTPUT_DIR/candidates.fits holds them
-  Table catalog;         // every row searched, in catalog order
   RunValues values;
   std::vector<std::string> summary;   // searchSummaryLines
   std::vector<double> thresholdsAdu;  // per level, lowest first
@@ -92,13 +91,14 @@ std::unique_ptr<SearchOutput> search(const py::array& data, const py::object& ba
     });
     SearchRun& run = out->run;
     out->candidates = searchCandidateTable(run, settings);
-    out->catalog = rowsInOrder(run.catalog, run.catalogOrder);
     out->summary = searchSummaryLines(run, settings);
     for (const ThresholdLevel& l : run.levels) out->thresholdsAdu.push_back(l.thresholdAdu);
     run.image = PreparedImage();
     run.footprints.reset();
     run.lensLight.reset();
     run.colourImages.clear();
+    run.grid.reset();
+    run.model.reset();
   }
   return out;
 }
@@ -194,7 +194,14 @@ void bindSearch(py::module_& m) {
                            "(octarc.SearchResult wraps it).")
       .def_readonly("candidates", &SearchOutput::candidates,
                     "The candidates, as OUTPUT_DIR/candidates.fits holds them.")
-      .def_readonly("catalog", &SearchOutput::catalog, "Every row searched, in catalog order.")
+      .def(
+          "catalog",
+          [](const SearchOutput& o) {
+            // In catalog order, made when asked (an empty order: the rows as stored).
+            return o.run.catalogOrder.empty() ? o.run.catalog
+                                              : rowsInOrder(o.run.catalog, o.run.catalogOrder);
+          },
+          "Every row searched, in catalog order (a new table at each call).")
       .def_property_readonly(
           "values", [](const SearchOutput& o) { return o.values.asDict(); },
           "The run's background and noise (ADU) and where they came from.")

@@ -30,11 +30,10 @@ namespace py = pybind11;
 
 namespace {
 
-// The survey settings of .sex file `path`; OSError (not octarc's ConfigError, which the
-// library raises) for a file that cannot be opened, as for every file of the module.
+// The survey settings of .sex file `path` (a shipped one by its name); OSError for a file that
+// is not there (readSurveySettings' IoError).
 SurveySettings surveyOf(const std::string& path) {
-  // As the search's config_file: a name without a directory may be a shipped file.
-  return readSurveySettings(existingUserOrDataFile(path, "configuration file"));
+  return readSurveySettings(path);
 }
 
 // ---- octarc.simulate_lenses ----

@@ -199,9 +199,13 @@ void applyLensLight(SearchRun& run, const SearchRunSettings& settings, const Col
     inBand = " in band " + settings.search.colourBands.at(k);
   }
   if (log) log("> Fitting lens galaxies" + inBand + " (LENS_SELECT " + ls.selectExpression + ")");
+  // The caller's checkpoint between the galaxies' fits (called on this thread).
+  const ProgressFn fitCheckpoint = [&checkpoint](std::int64_t, std::int64_t) {
+    if (checkpoint) checkpoint();
+  };
   run.lensLight =
       lenslight::subtractLensLight(run.image.hdu.pixels, run.image.variance, run.image.sigmaAdu,
-                                   run.catalog, ls, {}, band ? &*band : nullptr);
+                                   run.catalog, ls, fitCheckpoint, band ? &*band : nullptr);
   const lenslight::Subtraction& sub = *run.lensLight;
   if (log) {
     log("> " + std::to_string(sub.galaxies.size()) + " galaxies chosen, " +

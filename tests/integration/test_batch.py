@@ -324,15 +324,27 @@ class BatchResume(BatchFixture):
         proc = subprocess.Popen(mpi_command(2, *args), stdout=subprocess.PIPE,
                                 stderr=subprocess.PIPE, env=mpi_env())
         killed = None
+        ranks = {}
         deadline = time.time() + 120
         while time.time() < deadline and proc.poll() is None and killed is None:
+            # Both ranks are found as they start, long before a tile is done, so that the kill
+            # follows the first "done" at once.
+            for rank in (0, 1):
+                pid = ranks.get(rank) or rank_process(OCTARC, out, rank)
+                if pid:
+                    ranks[rank] = pid
             done = [e for e in journal(out) if e[2] == "done"] if os.path.exists(
                 os.path.join(out, "journal.txt")) else []
-            if done:
-                killed = rank_process(OCTARC, out, 1)
-                if killed:
-                    os.kill(killed, signal.SIGKILL)
-            time.sleep(0.01)
+            if done and len(ranks) == 2:
+                # Rank 0 is held still while rank 1 dies, so that it cannot finish the survey
+                # before mpirun's signal reaches it (the tiles take milliseconds); it acts on
+                # that signal once it goes on.
+                os.kill(ranks[0], signal.SIGSTOP)
+                os.kill(ranks[1], signal.SIGKILL)
+                killed = ranks[1]
+                time.sleep(0.5)
+                os.kill(ranks[0], signal.SIGCONT)
+            time.sleep(0.002)
         proc.communicate(timeout=120)
         self.assertIsNotNone(killed, "rank 1 was not found running")
         self.assertNotEqual(proc.returncode, 0)  # the job ends with its rank

@@ -323,6 +323,14 @@ class PythonApi(WorkDirTest):
                            octarc.measure, image, [found.segmentation(1)] * 2)
 
 
+    def test_configuration_warnings(self):
+        # A key octarc ignores is said, as the command says it, naming the key.
+        image = synthetic_image(size=64, sources=3, seed=36)
+        found = octarc.detect(image, 3.0, config={"DEBLEND_NTHRESH": 32})
+        self.assertIn("config: DEBLEND_NTHRESH is ignored by octarc (setting it has no effect)",
+                      found.warnings)
+        self.assertEqual(octarc.detect(image, 3.0).warnings, [])
+
     def test_docs_example_runs(self):
         with open(os.path.join(SOURCE_DIR, "docs", "python.md")) as f:
             blocks = re.findall(r"```python\n(.*?)```", f.read(), re.S)
@@ -334,9 +342,12 @@ class PythonApi(WorkDirTest):
             for block in blocks:
                 exec(compile(block, "docs/python.md", "exec"), namespace)
         self.assertRegex(printed.getvalue(), r"objects per level: \[\d+, \d+, \d+\]")
-        # The search's example: the summary line and the candidates' table (the arc found).
+        # The simulations' example, and the search's: the summary line and the candidates'
+        # table with its first row, the arc (drawn at x 120-200, y 150 +- 40, 1-based).
+        self.assertRegex(printed.getvalue(), r"\d+ of 20 systems rendered")
         self.assertRegex(printed.getvalue(), r"\n2 objects \(\d+ rows at all levels\) searched")
-        self.assertRegex(printed.getvalue(), r"NUMBER +LENS_SCORE +X_IMAGE +Y_IMAGE")
+        self.assertRegex(printed.getvalue(), r"NUMBER +LENS_SCORE +X_IMAGE +Y_IMAGE.*\n.*\n"
+                                             r".*\n +1 +[0-9.e-]+ +(1[2-9]\d|20\d)\.\d+ ")
 
     def test_version(self):
         proc = subprocess.run([sys.executable, "-m", "octarc", "--version"],

@@ -166,7 +166,10 @@ class PythonSearch(WorkDirTest):
         self.assertTrue(any("SNR_MN" in w for w in found.warnings), found.warnings)
         again = octarc.search(fits.getdata(image), weight=fits.getdata(weight), wcs=header,
                               grid=grid_path, config_file=sex)
-        self.assertEqual(len(again), len(found))
+        a, b = found.to_table(), again.to_table()
+        self.assertGreater(len(a), 0)
+        for name in a.colnames:
+            self.assertTrue(same_column(a[name], b[name]), name)
 
     def test_bad_input(self):
         image = np.random.default_rng(2).normal(0.0, 1.0, (128, 128)).astype(np.float32)

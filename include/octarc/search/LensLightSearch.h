@@ -24,8 +24,8 @@ namespace octarc {
 // detected here), filling run.lensLight and run.lensLightOf. With `fitBand` (LENS_LIGHT_BAND:
 // that colour band's prepared image, settings.lensLightBand), the galaxies are fitted in it and
 // their models scaled and PSF-matched to the searched image (lenslight::FitBandImage).
-// ConfigError for a bad LENS_SELECT. `checkpoint`, when given, is the residual's detection's
-// (DetectionRequest::checkpoint).
+// ConfigError for a bad LENS_SELECT. `checkpoint`, when given, is called between the galaxies'
+// fits and during the residual's detection (DetectionRequest::checkpoint).
 void applyLensLight(SearchRun& run, const SearchRunSettings& settings, const ColumnPlan& columns,
                     const RunLog& log, const PreparedImage* fitBand = nullptr,
                     const std::function<void()>& checkpoint = {});

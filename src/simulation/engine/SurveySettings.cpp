@@ -1,5 +1,6 @@
 #include "octarc/simulation/engine/SurveySettings.h"
 
+#include "octarc/core/DataFiles.h"
 #include "octarc/run/PreparedImage.h"
 #include "octarc/run/RunKeys.h"
 #include "octarc/run/RunSettings.h"
@@ -10,9 +11,10 @@ namespace octarc {
 
 SurveySettings readSurveySettings(const std::string& configPath) {
   SurveySettings out;
-  out.configPath = configPath;
+  // As octarc search -c: a name without a directory may be a shipped file (octarc.sex).
+  out.configPath = existingUserOrDataFile(configPath, "configuration file");
   const sexcompat::Config config =
-      sexcompat::Config::load(octarcKeys(), configPath, {}, &out.warnings);
+      sexcompat::Config::load(octarcKeys(), out.configPath, {}, &out.warnings);
   const RunSettings s = settingsFromConfig(config);
   auto given = [&config](const char* key) { return config.isExplicit(key); };
   if (given("PIXEL_SCALE") && s.pixelScaleArcsec > 0) out.pixelScaleArcsec = s.pixelScaleArcsec;

@@ -36,8 +36,9 @@ struct SurveySettings {
   std::vector<std::string> warnings;  // configuration warnings (unknown keys, ...)
 };
 
-// Reads `configPath` (SExtractor .sex syntax, octarc's keys). ConfigError / IoError naming the
-// file for a bad file or value.
+// Reads `configPath` (SExtractor .sex syntax, octarc's keys; a name without a directory that
+// is not in the working directory may be a shipped file, e.g. octarc.sex). ConfigError / IoError
+// naming the file for a bad file or value.
 SurveySettings readSurveySettings(const std::string& configPath);
 
 }  // namespace octarc
