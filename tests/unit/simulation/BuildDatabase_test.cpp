@@ -219,11 +219,11 @@ TEST(BuildDatabase, SurveySettingsComeFromAConfigFile) {
   EXPECT_DOUBLE_EQ(db2.entry(0).pixelScaleArcsec, 0.09);
   EXPECT_NEAR(db2.entry(0).mag, 20.0 - 2.5 * std::log10(test::tableValue(cat2, "stamp_flux", 1)),
               1e-9);
-  // A configuration file that is not there is an error naming it.
+  // A configuration file that is not there is an I/O error naming it.
   try {
     runBuildDatabase({image, "-o", cat, "--config", (dir / "missing.sex").string(), "--quiet"});
     ADD_FAILURE() << "no error";
-  } catch (const ConfigError& e) {
+  } catch (const IoError& e) {
     EXPECT_NE(std::string(e.what()).find("missing.sex"), std::string::npos) << e.what();
   }
 }
