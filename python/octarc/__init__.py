@@ -407,6 +407,18 @@ def _natural(value, what, maximum=2 ** 31 - 1, minimum=0):
     return int(value)
 
 
+def _python_names(call, *args):
+    """`call(*args)`, octarc's ValueError messages naming the command's options (--pixel-scale)
+    by this module's keywords (pixel_scale), which the simulations take with the same names."""
+    import re
+    try:
+        return call(*args)
+    except ValueError as error:
+        text = re.sub(r"(?<![\w-])--([a-z][a-z0-9-]*)",
+                      lambda m: m.group(1).replace("-", "_"), str(error))
+        raise ValueError(text) from None
+
+
 def _card_values(cards):
     """{keyword: value} of FITS header cards, in their order."""
     from astropy.io import fits
@@ -500,7 +512,8 @@ def simulate_lenses(n, *, seed=1, preset="dls", setup=None, database=None, sourc
         setup = {}
     if not isinstance(setup, dict):
         raise ValueError("setup: a dict of options is needed, not %s" % type(setup).__name__)
-    raw = _octarc._simulate_lenses(
+    raw = _python_names(
+        _octarc._simulate_lenses,
         _natural(n, "n", 2 ** 63 - 1), _natural(seed, "seed", 2 ** 64 - 1),
         "" if preset is None else str(preset), setup,
         "" if database is None else os.fspath(database), _natural(sources, "sources", minimum=1),
@@ -582,7 +595,8 @@ def simulate_field(size=4096, *, seed=1, lenses=0, pixel_scale=None, seeing=None
     def number(value):
         return None if value is None else float(value)
 
-    raw = _octarc._simulate_field(
+    raw = _python_names(
+        _octarc._simulate_field,
         _natural(size, "size"), number(pixel_scale), number(seeing), number(gain),
         number(noise_sigma),
         number(limiting_mag), number(mag_zero), number(saturate), _natural(lenses, "lenses"),
@@ -620,7 +634,8 @@ def inject_lenses(image, *, lenses, pixel_scale, seeing, mag_zero, gain, weight=
     the image's own noise is not estimated). ValueError with octarc's one-line message for a
     bad value or an array of the wrong shape or type."""
     array, _ = _image_array(image, "image")
-    raw = _octarc._inject_lenses(
+    raw = _python_names(
+        _octarc._inject_lenses,
         array, None if weight is None else _image_array(weight, "weight")[0],
         _header_cards(header), _natural(lenses, "lenses"), float(pixel_scale), float(seeing),
         float(mag_zero), float(gain), float(min_einstein_radius), float(max_einstein_radius),

@@ -6,7 +6,6 @@ against `octarc demo --into` (test_python.py runs the simulation example of docs
 
 ctest puts <build>/python on PYTHONPATH (the module just built)."""
 import os
-import re
 import signal
 import subprocess
 import sys
@@ -134,7 +133,9 @@ class PythonSimulateLenses(WorkDirTest):
         self.assert_raises(OSError, r"nothere\.sex", simulate, 2, setup={"config": "nothere.sex"})
         self.assert_raises(ValueError, r"^noise_sigma and limiting_mag: give one",
                            octarc.simulate_field, 64, noise_sigma=3.0, limiting_mag=25.0)
-        self.assert_raises(ValueError, r"--size", octarc.simulate_field, 0)
+        # octarc's message, naming the keyword rather than the command's option (--size).
+        self.assert_raises(ValueError, r"^size: must be between 64 and 16384 pixels, got 0$",
+                           octarc.simulate_field, 0)
 
     def test_ctrl_c_interrupts_a_simulation(self):
         # The KeyboardInterrupt comes out of the compiled call while it simulates (its progress
@@ -159,10 +160,9 @@ class PythonSimulateLenses(WorkDirTest):
         proc.send_signal(signal.SIGINT)
         out, err = proc.communicate(timeout=120)
         self.assertEqual(proc.returncode, 0, err)
-        match = re.fullmatch(r"interrupted after ([0-9.]+) s in simulate_lenses: "
-                             r"raw = _octarc\._simulate_lenses\(\n2\n", out)
-        self.assertTrue(match, out)
-        self.assertLess(float(match.group(1)), 10.0)
+        # The innermost Python frame is the one that calls the compiled function.
+        self.assertRegex(out, r"^interrupted after [0-9.]+ s in _python_names: "
+                              r"return call\(\*args\)\n2\n$")
 
 
 class PythonSimulateField(WorkDirTest):
