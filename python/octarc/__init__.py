@@ -159,17 +159,9 @@ def _astropy_table(raw, columns=None, what="to_table"):
     return table
 
 
-class _TableResult:
-    """What detect and measure results share: the catalog table and the run's values."""
-
-    def __init__(self, raw):
-        self._raw = raw
-        self._columns = {c["name"]: c for c in raw.table.columns}
-
-    @property
-    def column_names(self):
-        """The names of every column octarc measured, in its order."""
-        return list(self._columns)
+class _RunValues:
+    """What every result of a detection (detect, measure, search) tells of its run: the
+    thresholds, the background and noise, the warnings."""
 
     @property
     def thresholds(self):
@@ -191,6 +183,19 @@ class _TableResult:
         """octarc's warnings: about the configuration (an unknown or ignored key of a .sex
         file) and the input (constant image, bad meshes...)."""
         return list(self._raw.values["warnings"])
+
+
+class _TableResult(_RunValues):
+    """What detect and measure results share: the catalog table and the run's values."""
+
+    def __init__(self, raw):
+        self._raw = raw
+        self._columns = {c["name"]: c for c in raw.table.columns}
+
+    @property
+    def column_names(self):
+        """The names of every column octarc measured, in its order."""
+        return list(self._columns)
 
     def __len__(self):
         return self._raw.table.rows

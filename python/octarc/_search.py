@@ -2,12 +2,12 @@
 with the candidates as an astropy Table."""
 import os
 
-from . import (_astropy_table, _config_keys, _header_cards, _image_array, _map_array,
-               _mask_array, _octarc)
+from . import (_RunValues, _astropy_table, _config_keys, _header_cards, _image_array,
+               _map_array, _mask_array, _octarc)
 from ._selection import Grid, Model
 
 
-class SearchResult:
+class SearchResult(_RunValues):
     """What `search` found: the candidates (`to_table`, the rows of octarc search's
     candidates.fits), every row it searched (`catalog_table`), its summary and warnings."""
 
@@ -75,22 +75,7 @@ class SearchResult:
     def warnings(self):
         """The search's warnings: the input's (as `DetectionResult.warnings`), a grid or model
         made for another setup, an image without a WCS."""
-        return list(self._raw.values["warnings"]) + list(self._raw.warnings)
-
-    @property
-    def thresholds(self):
-        """The threshold of each level in ADU, lowest first."""
-        return list(self._raw.thresholds)
-
-    @property
-    def background(self):
-        """The background level in ADU (the global level for a mesh background)."""
-        return self._raw.values["background"]
-
-    @property
-    def sigma(self):
-        """The global noise sigma in ADU."""
-        return self._raw.values["sigma"]
+        return super().warnings + list(self._raw.warnings)
 
     @property
     def pixel_scale(self):

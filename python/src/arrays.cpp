@@ -49,6 +49,38 @@ ArrayView viewOf(const py::array& array, const std::string& what) {
   return view;
 }
 
+ArrayView floatViewOf(const py::array& array, const std::string& what) {
+  const ArrayView view = viewOf(array, what);
+  if (view.type == ArrayView::Type::Bool) {
+    throw py::value_error(what + ": dtype bool is not float32 or float64");
+  }
+  return view;
+}
+
+FitsHeader headerOf(const std::vector<std::string>& cards) {
+  for (const std::string& card : cards) {
+    if (card.size() != 80) {
+      throw py::value_error("header: a card of " + std::to_string(card.size()) +
+                            " characters; FITS cards have 80");
+    }
+  }
+  FitsHeader header;
+  header.cards = cards;
+  return header;
+}
+
+ImageHdu imageHduOf(const ArrayView& view, const std::string& what, const FitsHeader& header,
+                    const ArrayView* mask) {
+  ImageHdu hdu;
+  hdu.path = what;
+  hdu.header = header;
+  hdu.bitpix = -32;
+  hdu.pixels = imageOf(view, mask);
+  hdu.widthPix = view.width;
+  hdu.heightPix = view.height;
+  return hdu;
+}
+
 void requireSameShape(const ArrayView& view, const std::string& what, const ArrayView& image,
                       const std::string& imageName) {
   if (view.width != image.width || view.height != image.height) {

@@ -7,9 +7,12 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "octarc/core/ConvKernel.h"
 #include "octarc/core/Image.h"
+#include "octarc/io/FitsHeader.h"
+#include "octarc/io/FitsImage.h"
 
 namespace octarc::python {
 
@@ -29,6 +32,9 @@ struct ArrayView {
 // of one of the types above (the Python package converts other arrays once before calling).
 ArrayView viewOf(const py::array& array, const std::string& what);
 
+// viewOf for pixel values: ValueError for a bool array too.
+ArrayView floatViewOf(const py::array& array, const std::string& what);
+
 // ValueError naming both arrays (`image` as `imageName`) when `view` is not width x height.
 void requireSameShape(const ArrayView& view, const std::string& what, const ArrayView& image,
                       const std::string& imageName = "data");
@@ -37,6 +43,14 @@ void requireSameShape(const ArrayView& view, const std::string& what, const Arra
 // copied as they are, float64 values rounded to float32 as cfitsio rounds a BITPIX -64 image),
 // with the pixels where `mask` is true set to NaN (blank). No GIL needed.
 ImageF imageOf(const ArrayView& view, const ArrayView* mask = nullptr);
+
+// A header of FITS cards, each of 80 characters (ValueError otherwise).
+FitsHeader headerOf(const std::vector<std::string>& cards);
+
+// The pixels of `view` (imageOf, with `mask`) as the image HDU of a file named `what`, with
+// `header`: what octarc reads an image file into.
+ImageHdu imageHduOf(const ArrayView& view, const std::string& what, const FitsHeader& header,
+                    const ArrayView* mask = nullptr);
 
 // A convolution kernel from a 2-D array, normalised as a .conv file with NORM is (the
 // coefficients over the sum of their absolute values); ValueError for an even side, or

@@ -29,18 +29,16 @@ RunInputs::RunInputs(const py::array& data, const py::object& background, const 
                      const py::object& weight, const py::object& mask, const py::object& kernel,
                      const std::vector<std::string>& headerCards, Keys keys,
                      const CallConfiguration& configuration) {
-  data_ = viewOf(data, "data");
-  if (data_.type == ArrayView::Type::Bool) {
-    throw py::value_error("data: dtype bool is not float32 or float64");
-  }
-  auto map = [&](const py::object& object, const char* what) {
+  data_ = floatViewOf(data, "data");
+  // A map of the image's shape: pixel values, or (a mask) bools.
+  auto map = [&](const py::object& object, const char* what, bool values = true) {
     keep_.push_back(py::array(object));
-    const ArrayView view = viewOf(keep_.back(), what);
+    const ArrayView view = values ? floatViewOf(keep_.back(), what) : viewOf(keep_.back(), what);
     requireSameShape(view, what, data_);
     return view;
   };
   if (!mask.is_none()) {
-    mask_ = map(mask, "mask");
+    mask_ = map(mask, "mask", false);
     if (mask_->type != ArrayView::Type::Bool) throw py::value_error("mask: dtype must be bool");
   }
   if (!background.is_none()) {
@@ -68,12 +66,6 @@ RunInputs::RunInputs(const py::array& data, const py::object& background, const 
     weights_ = map(weight, "weight");
     keys.emplace_back("WEIGHT_TYPE", "MAP_WEIGHT");
   }
-  for (const std::optional<ArrayView>* view : {&weights_, &background_}) {
-    if (*view && (*view)->type == ArrayView::Type::Bool) {
-      throw py::value_error(std::string(view == &weights_ ? "weight" : "background") +
-                            ": dtype bool is not float32 or float64");
-    }
-  }
   if (kernel.is_none()) {
     if (!configuration.kernelFromConfig) keys.emplace_back("FILTER", "N");
   } else if (py::isinstance<py::str>(kernel)) {
@@ -95,11 +87,7 @@ RunInputs::RunInputs(const py::array& data, const py::object& background, const 
       configuration.schema.empty() ? octarcKeys() : configuration.schema,
       configuration.sexFile.empty() ? std::string()
                                     : existingUserOrDataFile(configuration.sexFile, "config_file"),
-      keys, &warnings_);
-  // The call's keys came as config=, not on a command line.
-  for (std::string& w : warnings_) {
-    if (w.rfind("command line: -", 0) == 0) w = "config: " + w.substr(15);
-  }
+      keys, &warnings_, {"config", ""});
   settings_ = settingsFromConfig(*config_, true);
   // The weight map is an array here (WEIGHT_IMAGE is not read): a configuration that asks for
   // one (a .sex file of the command's, say) is told where it goes rather than failing on an
@@ -113,11 +101,7 @@ RunInputs::RunInputs(const py::array& data, const py::object& background, const 
 
 PreparedImage RunInputs::prepare(bool filterVariance, SignalCheck& signals) const {
   signals();
-  ImageHdu hdu;
-  hdu.path = "data";
-  hdu.header = header_;
-  hdu.bitpix = -32;
-  hdu.pixels = imageOf(data_, mask_ ? &*mask_ : nullptr);
+  ImageHdu hdu = imageHduOf(data_, "data", header_, mask_ ? &*mask_ : nullptr);
   const auto& pixels = hdu.pixels.pixels();
   if (!std::any_of(pixels.begin(), pixels.end(), [](float v) { return std::isfinite(v); })) {
     throw py::value_error(mask_ ? "data: no finite pixel outside the mask (all NaN, Inf or masked)"

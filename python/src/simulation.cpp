@@ -30,12 +30,6 @@ namespace py = pybind11;
 
 namespace {
 
-// The survey settings of .sex file `path` (a shipped one by its name); OSError for a file that
-// is not there (readSurveySettings' IoError).
-SurveySettings surveyOf(const std::string& path) {
-  return readSurveySettings(path);
-}
-
 // ---- octarc.simulate_lenses ----
 
 // What octarc.simulate_lenses returns to the Python package.
@@ -150,13 +144,6 @@ std::unique_ptr<LensOutput> simulateLenses(
     throw py::value_error("n: the number of systems must be positive, got " +
                           std::to_string(count));
   }
-  if (stamps < 0) {
-    throw py::value_error("stamps: the number of stamps kept must be >= 0, got " +
-                          std::to_string(stamps));
-  }
-  if (threads < 0) {
-    throw py::value_error("threads: 0 (every core) or more, not " + std::to_string(threads));
-  }
   auto out = std::make_unique<LensOutput>();
   LensSetupOptions o;
   o.populationPreset = preset;
@@ -177,7 +164,7 @@ std::unique_ptr<LensOutput> simulateLenses(
     if (!py::isinstance<py::str>(config)) {
       throw py::value_error("setup: config must be a file name, not " + typeName(config));
     }
-    o.survey = surveyOf(config.cast<std::string>());
+    o.survey = readSurveySettings(config.cast<std::string>());
     out->warnings = o.survey->warnings;
   }
   o.sampling = parseSampling(sampling);
@@ -232,7 +219,7 @@ std::unique_ptr<FieldOutput> simulateFieldOf(
   FieldSimulationSettings s;
   // Survey settings from the .sex file, then the options given (as the command takes them).
   if (config) {
-    const SurveySettings survey = surveyOf(*config);
+    const SurveySettings survey = readSurveySettings(*config);
     out->warnings = survey.warnings;
     applySurveySettings(s, survey);
   }
@@ -255,9 +242,6 @@ std::unique_ptr<FieldOutput> simulateFieldOf(
   s.decDeg = dec;
   s.databasePath = database;
   s.populationPath = population;
-  if (threads < 0) {
-    throw py::value_error("threads: 0 (every core) or more, not " + std::to_string(threads));
-  }
   s.threads = threads;
   s.validate();
   auto image = std::make_unique<ImageF>();
@@ -274,18 +258,6 @@ std::unique_ptr<FieldOutput> simulateFieldOf(
   return out;
 }
 
-// The caller's image as octarc's image HDU, with the header cards of its WCS.
-ImageHdu imageHduOf(const ArrayView& view, const char* what, const FitsHeader& header) {
-  ImageHdu hdu;
-  hdu.path = what;
-  hdu.header = header;
-  hdu.bitpix = -32;
-  hdu.pixels = imageOf(view);
-  hdu.widthPix = view.width;
-  hdu.heightPix = view.height;
-  return hdu;
-}
-
 std::unique_ptr<FieldOutput> injectLensesInto(const py::array& image, const py::object& weight,
                                               const std::vector<std::string>& headerCards,
                                               int lenses, double pixelScale, double seeing,
@@ -293,31 +265,15 @@ std::unique_ptr<FieldOutput> injectLensesInto(const py::array& image, const py::
                                               double maxEinsteinRadius, std::uint64_t seed,
                                               const std::string& database,
                                               const std::string& population, int threads) {
-  const ArrayView imageView = viewOf(image, "image");
-  if (imageView.type == ArrayView::Type::Bool) {
-    throw py::value_error("image: dtype bool is not float32 or float64");
-  }
+  const ArrayView imageView = floatViewOf(image, "image");
   std::optional<ArrayView> weightView;
   py::array weightArray;
   if (!weight.is_none()) {
     weightArray = py::array(weight);
-    weightView = viewOf(weightArray, "weight");
-    if (weightView->type == ArrayView::Type::Bool) {
-      throw py::value_error("weight: dtype bool is not float32 or float64");
-    }
+    weightView = floatViewOf(weightArray, "weight");
     requireSameShape(*weightView, "weight", imageView, "image");
   }
-  FitsHeader header;
-  for (const std::string& card : headerCards) {
-    if (card.size() != 80) {
-      throw py::value_error("header: a card of " + std::to_string(card.size()) +
-                            " characters; FITS cards have 80");
-    }
-  }
-  header.cards = headerCards;
-  if (threads < 0) {
-    throw py::value_error("threads: 0 (every core) or more, not " + std::to_string(threads));
-  }
+  const FitsHeader header = headerOf(headerCards);
   FieldSimulationSettings s;
   s.lensCount = lenses;
   s.pixelScaleArcsec = pixelScale;

@@ -241,7 +241,7 @@ void Config::setValue(Value& v, const KeySpec& spec, const std::vector<std::stri
 
 Config Config::load(const std::vector<KeySpec>& schema, const std::string& sexFile,
                     const std::vector<std::pair<std::string, std::string>>& overrides,
-                    std::vector<std::string>* warnings) {
+                    std::vector<std::string>* warnings, const OverrideOrigin& origin) {
   Config config;
   for (const auto& spec : schema) {
     Value v;
@@ -285,22 +285,22 @@ Config Config::load(const std::vector<KeySpec>& schema, const std::string& sexFi
     if (!key.empty() && key[0] == '-') key.erase(0, 1);
     const KeySpec* spec = findSpec(schema, key);
     if (!spec)
-      throw ConfigError("command line: " + quoteForMessage("-" + rawKey) + ": unknown keyword" +
-                        suggestion(schema, key, "-"));
+      throw ConfigError(origin.name + ": " + quoteForMessage(origin.keyPrefix + rawKey) +
+                        ": unknown keyword" + suggestion(schema, key, origin.keyPrefix));
     // The value is one argument that may itself be a comma list ("-CHECKIMAGE_TYPE A,B").
     std::vector<std::string> raw =
         spec->expression ? tokenizeExpression(rawValue) : tokenize(rawValue);
     if (!raw.empty() && raw[0][0] == '#') raw.clear();
-    setValue(config.values_[key], *spec, raw, rawValue, "command line");
+    setValue(config.values_[key], *spec, raw, rawValue, origin.name);
   }
   if (warnings) {
     for (const auto& spec : schema) {
       if (!spec.ignored) continue;
       const Value& v = config.values_[spec.name];
       if (!v.isExplicit) continue;
-      const bool onCommandLine = v.where == "command line";
-      if (!onCommandLine && v.text == validate(spec, spec.defaults, spec.name)) continue;
-      warnings->push_back(v.where + ": " + (onCommandLine ? "-" : "") + spec.name +
+      const bool overridden = v.where == origin.name;
+      if (!overridden && v.text == validate(spec, spec.defaults, spec.name)) continue;
+      warnings->push_back(v.where + ": " + (overridden ? origin.keyPrefix : "") + spec.name +
                           " is ignored by octarc (setting it has no effect)");
     }
   }

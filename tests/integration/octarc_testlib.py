@@ -9,8 +9,11 @@ CI machine run_testcase.py turns those skips into failures).
 import os
 import re
 import shutil
+import signal
 import subprocess
+import sys
 import tempfile
+import time
 import unittest
 import warnings
 from unittest import mock
@@ -264,3 +267,24 @@ def run_page_in_chromium(page, driver_js, work, budget_ms=20000):
         raise AssertionError("the page's script failed: %s; page errors: %s"
                              % (value["driverError"], value["pageErrors"]))
     return value, seconds
+
+
+def interrupted_python(test, setup, call, after, delay_sec):
+    """Runs the Python code `setup`, then the statement `call`, in a fresh Python (this one's
+    executable, with this environment), sends it SIGINT `delay_sec` after `call` starts, and
+    returns what it printed: "interrupted in NAME: LINE" (the innermost Python frame the
+    KeyboardInterrupt came out of) or "finished", then the value of the expression `after`,
+    which shows that the module still works. The process must end with status 0."""
+    script = (setup + "\nimport traceback\nprint('ready', flush=True)\ntry:\n    " + call +
+              "\n    print('finished')\nexcept KeyboardInterrupt as e:\n"
+              "    frame = traceback.extract_tb(e.__traceback__)[-1]\n"
+              "    print('interrupted in %s: %s' % (frame.name, frame.line))\n"
+              "print(" + after + ")\n")
+    proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    test.assertEqual(proc.stdout.readline().strip(), "ready")
+    time.sleep(delay_sec)
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=120)
+    test.assertEqual(proc.returncode, 0, err)
+    return out

@@ -10,7 +10,6 @@ import io
 import math
 import os
 import re
-import signal
 import subprocess
 import sys
 import threading
@@ -21,8 +20,9 @@ import unittest
 import numpy as np
 from astropy.io import fits
 
-from octarc_testlib import (MISSING_PROGRAM, SEX_SHARE, SOURCE_DIR, WorkDirTest, ldac_objects,
-                            run_octarc, run_sextractor, write_param)
+from octarc_testlib import (MISSING_PROGRAM, SEX_SHARE, SOURCE_DIR, WorkDirTest,
+                            interrupted_python, ldac_objects, run_octarc, run_sextractor,
+                            write_param)
 import octarc
 
 LEVELS = [2.5, 5.0, 10.0]
@@ -216,29 +216,12 @@ class PythonArrays(unittest.TestCase):
     def test_ctrl_c_interrupts_a_call(self):
         # The KeyboardInterrupt must come out of the compiled call itself (octarc looks at
         # Python's signals while it works), not after it returned; the process then goes on.
-        script = (
-            "import time, traceback, numpy as np, octarc\n"
-            "image = np.random.default_rng(1).standard_normal((3000, 3000), dtype='f4')\n"
-            "print('ready', flush=True)\n"
-            "start = time.perf_counter()\n"
-            "try:\n"
-            "    octarc.detect(image, np.geomspace(1, 20, 15), config={'NTHREADS': 1})\n"
-            "    print('finished', flush=True)\n"
-            "except KeyboardInterrupt as e:\n"
-            "    frame = traceback.extract_tb(e.__traceback__)[-1]\n"
-            "    print('interrupted after %.2f s in %s: %s' % (time.perf_counter() - start,\n"
-            "                                              frame.name, frame.line))\n"
-            "print(octarc.detect(image[:64, :64], 3.0).objects_per_level)\n")
-        proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE,
-                                stderr=subprocess.PIPE, text=True)
-        self.assertEqual(proc.stdout.readline().strip(), "ready")
-        time.sleep(0.2)
-        proc.send_signal(signal.SIGINT)
-        out, err = proc.communicate(timeout=60)
-        self.assertEqual(proc.returncode, 0, err)
-        self.assertRegex(out, r"^interrupted after [0-9.]+ s in detect: raw = _octarc\._detect\(\n"
-                              r"\[\d+\]\n$")
-
+        out = interrupted_python(
+            self, "import numpy as np, octarc\n"
+            "image = np.random.default_rng(1).standard_normal((3000, 3000), dtype='f4')",
+            "octarc.detect(image, np.geomspace(1, 20, 15), config={'NTHREADS': 1})",
+            "octarc.detect(image[:64, :64], 3.0).objects_per_level", 0.2)
+        self.assertRegex(out, r"^interrupted in detect: raw = _octarc\._detect\(\n\[\d+\]\n$")
 
 class PythonApi(WorkDirTest):
     """octarc.detect gives the same rows on any number of threads; octarc.measure on detect's

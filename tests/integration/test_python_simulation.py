@@ -6,17 +6,13 @@ against `octarc demo --into` (test_python.py runs the simulation example of docs
 
 ctest puts <build>/python on PYTHONPATH (the module just built)."""
 import os
-import signal
-import subprocess
-import sys
-import time
 import unittest
 
 import numpy as np
 from astropy import units as u
 from astropy.io import fits
 
-from octarc_testlib import WorkDirTest, ldac_imhead, run_octarc
+from octarc_testlib import WorkDirTest, interrupted_python, ldac_imhead, run_octarc
 import octarc
 
 
@@ -140,30 +136,11 @@ class PythonSimulateLenses(WorkDirTest):
     def test_ctrl_c_interrupts_a_simulation(self):
         # The KeyboardInterrupt comes out of the compiled call while it simulates (its progress
         # function looks at Python's signals), not after it returned; the module works
-        # afterwards.
-        script = (
-            "import time, traceback, octarc\n"
-            "print('ready', flush=True)\n"
-            "start = time.perf_counter()\n"
-            "try:\n"
-            "    octarc.simulate_lenses(100000, threads=1)\n"
-            "    print('finished', flush=True)\n"
-            "except KeyboardInterrupt as e:\n"
-            "    frame = traceback.extract_tb(e.__traceback__)[-1]\n"
-            "    print('interrupted after %.1f s in %s: %s' % (time.perf_counter() - start,\n"
-            "                                               frame.name, frame.line))\n"
-            "print(octarc.simulate_lenses(2, seed=3).drawn)\n")
-        proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE,
-                                stderr=subprocess.PIPE, text=True)
-        self.assertEqual(proc.stdout.readline().strip(), "ready")
-        time.sleep(1.0)
-        proc.send_signal(signal.SIGINT)
-        out, err = proc.communicate(timeout=120)
-        self.assertEqual(proc.returncode, 0, err)
-        # The innermost Python frame is the one that calls the compiled function.
-        self.assertRegex(out, r"^interrupted after [0-9.]+ s in _python_names: "
-                              r"return call\(\*args\)\n2\n$")
-
+        # afterwards. The innermost Python frame is the one that calls the compiled function.
+        out = interrupted_python(self, "import octarc",
+                                 "octarc.simulate_lenses(100000, threads=1)",
+                                 "octarc.simulate_lenses(2, seed=3).drawn", 1.0)
+        self.assertRegex(out, r"^interrupted in _python_names: return call\(\*args\)\n2\n$")
 
 class PythonSimulateField(WorkDirTest):
     """octarc.simulate_field equals `octarc simulate field` on the same options, and

@@ -51,9 +51,20 @@ class Config {
   // A key marked ignored (KeySpec::ignored) that is set on the command line, or in the file to
   // another value than its default (a template lists every key), adds one warning to `warnings`
   // naming where it was set: the setting has no effect.
+  // `origin` is how messages name where the overrides come from: a command line's "-KEY" by
+  // default; a program embedding octarc names its own (e.g. Python's config= dict, "KEY").
+  struct OverrideOrigin {
+    std::string name = "command line";
+    std::string keyPrefix = "-";
+  };
   static Config load(const std::vector<KeySpec>& schema, const std::string& sexFile,
                      const std::vector<std::pair<std::string, std::string>>& overrides,
-                     std::vector<std::string>* warnings);
+                     std::vector<std::string>* warnings, const OverrideOrigin& origin);
+  static Config load(const std::vector<KeySpec>& schema, const std::string& sexFile,
+                     const std::vector<std::pair<std::string, std::string>>& overrides,
+                     std::vector<std::string>* warnings) {
+    return load(schema, sexFile, overrides, warnings, OverrideOrigin());
+  }
 
   // Typed access; `i` is the index in a comma list. Throws ConfigError for a key that is not in
   // the schema, a value of another kind, or an index past the end of the list.
