@@ -48,19 +48,10 @@ import time
 import numpy as np
 from astropy.io import fits
 
-from mpi_ranks import rank_process
+from mpi_ranks import journal, mpi_env, rank_process, temporaries
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PARAMS = os.path.join(HERE, "..", "params")
-
-
-def mpi_env():
-    env = dict(os.environ)
-    # Open MPI refuses to run as root without the first two; a container has no CMA; hwloc's
-    # OpenGL plugin may take seconds looking for X displays (README, "On a cluster").
-    env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               OMPI_MCA_btl_vader_single_copy_mechanism="none", HWLOC_COMPONENTS="-gl")
-    return env
 
 
 def make_tiles(octarc, work, tiles, tile_size, overlap, field_size, first_seed):
@@ -99,27 +90,6 @@ def make_tiles(octarc, work, tiles, tile_size, overlap, field_size, first_seed):
     return manifest, names
 
 
-def journal(out):
-    """The journal's lines: (run, time, event, tile, detail)."""
-    path = os.path.join(out, "journal.txt")
-    if not os.path.exists(path):
-        return []
-    lines = []
-    with open(path) as f:
-        for line in f:
-            fields = line.rstrip("\n").split("\t")
-            if len(fields) == 5:
-                lines.append(fields)
-    return lines
-
-
-def temporaries(root):
-    found = []
-    for dirpath, dirnames, filenames in os.walk(root):
-        found += [os.path.join(dirpath, n) for n in dirnames + filenames if ".tmp." in n]
-    return found
-
-
 def run_once(cmd, env, octarc, out, log, kill_at, ranks, rng):
     """One mpirun of the batch; kills a random rank once the journal holds kill_at `done` lines
     (None: no kill). Returns (wall s, start-up s or None, killed rank or None, exit status,
@@ -132,19 +102,31 @@ def run_once(cmd, env, octarc, out, log, kill_at, ranks, rng):
         proc = subprocess.Popen(cmd, stdout=f, stderr=subprocess.STDOUT, env=env)
     startup = None
     killed = None
+    done = 0  # `done` lines in the journal
+    path, offset = os.path.join(out, "journal.txt"), 0
     while proc.poll() is None:
-        events = journal(out)
-        if startup is None and any(e[0] not in before for e in events):
-            startup = time.time() - t0
-        if kill_at is not None and killed is None:
-            if len([e for e in events if e[2] == "done"]) >= kill_at:
-                rank = rng.randrange(ranks)
-                pid = rank_process(octarc, out, rank)
-                if pid:
-                    os.kill(pid, signal.SIGKILL)
-                    killed = rank
-                    kill_time = time.time()
-                    at_kill = len([e for e in events if e[2] == "done"])
+        # Only the whole lines appended since the last look are read.
+        if os.path.exists(path):
+            with open(path, "rb") as f:
+                f.seek(offset)
+                chunk = f.read()
+            chunk = chunk[:chunk.rfind(b"\n") + 1]
+            offset += len(chunk)
+            for line in chunk.decode().splitlines():
+                fields = line.split("\t")
+                if len(fields) != 5:
+                    continue
+                if startup is None and fields[0] not in before:
+                    startup = time.time() - t0
+                done += fields[2] == "done"
+        if kill_at is not None and killed is None and done >= kill_at:
+            rank = rng.randrange(ranks)
+            pid = rank_process(octarc, out, rank)
+            if pid:
+                os.kill(pid, signal.SIGKILL)
+                killed = rank
+                kill_time = time.time()
+                at_kill = done
         time.sleep(0.02)
     wall = time.time() - t0
     after = None

@@ -9,8 +9,7 @@ octarc=${1:-build/release/bin/octarc}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 "$octarc" demo --out "$work/demo" --quiet > /dev/null
-page=$(find "$work/demo" -name index.html -path '*search*' | head -n 1)
-[ -n "$page" ] || page=$(find "$work/demo" -name index.html | head -n 1)
+page=$work/demo/candidates/index.html  # the demo's search output (OUTPUT_DIR)
 chromium --headless=new --no-sandbox --disable-gpu --allow-file-access-from-files \
   --hide-scrollbars --virtual-time-budget=5000 --window-size=1400,1000 \
   --screenshot="$work/shot.png" "file://$page" 2> /dev/null

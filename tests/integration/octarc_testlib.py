@@ -25,6 +25,9 @@ from astropy.utils.exceptions import AstropyWarning
 warnings.simplefilter("ignore", AstropyWarning)
 
 SOURCE_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+# The scripts' shared module of MPI batch runs (its environment, journal, ranks).
+sys.path.insert(0, os.path.join(SOURCE_DIR, "scripts"))
+import mpi_ranks  # noqa: E402  (scripts/mpi_ranks.py)
 OCTARC = os.environ.get("OCTARC_BIN", os.path.join(SOURCE_DIR, "build", "release", "bin", "octarc"))
 SEX_SHARE = "/usr/share/source-extractor"
 
@@ -101,14 +104,8 @@ def full_allocation_stacks():
 
 
 def mpi_env():
-    """The environment of an octarc run under mpirun."""
-    env = dict(os.environ)
-    # Open MPI refuses to run as root without these (CLIENTS.md); a container has no CMA.
-    # HWLOC_COMPONENTS=-gl: hwloc's OpenGL plugin looks for GPUs by opening X displays :0, :1...
-    # over TCP to "localhost"; in a root without /etc/hosts each name goes to DNS, and mpirun
-    # then took 11.3 s instead of 1.3 s (4 ranks, 40 systems).
-    env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               OMPI_MCA_btl_vader_single_copy_mechanism="none", HWLOC_COMPONENTS="-gl")
+    """The environment of an octarc run under mpirun (scripts/mpi_ranks.py's)."""
+    env = mpi_ranks.mpi_env()
     # Open MPI keeps what MPI_Init allocates; tests/lsan.supp names its libraries, which only a
     # full allocation stack shows.
     return full_allocation_stacks_env(env)

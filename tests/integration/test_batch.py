@@ -12,7 +12,6 @@ import signal
 import subprocess
 import tempfile
 import time
-import sys
 import unittest
 
 import numpy as np
@@ -25,8 +24,8 @@ import astropy.units as u
 from octarc_testlib import (OCTARC, SOURCE_DIR, WorkDirTest, fitsverify_errors, ldac_imhead,
                             mpi_env, require_program, run_octarc)
 
-sys.path.insert(0, os.path.join(SOURCE_DIR, "scripts"))
-from mpi_ranks import rank_process  # noqa: E402  (scripts/mpi_ranks.py)
+# scripts/mpi_ranks.py, on octarc_testlib's path
+from mpi_ranks import journal, rank_process, temporaries  # noqa: E402
 
 SEX = os.path.join(SOURCE_DIR, "params", "octarc.sex")
 GRID = os.path.join(SOURCE_DIR, "params", "demo.grid.fits")
@@ -75,23 +74,6 @@ def assert_same_tables(test, a, b):
 def read_text(path):
     with open(path) as f:
         return f.read()
-
-
-def temporaries(root):
-    found = []
-    for dirpath, dirnames, filenames in os.walk(root):
-        found += [os.path.join(dirpath, n) for n in dirnames + filenames if ".tmp." in n]
-    return found
-
-
-def journal(path):
-    lines = []
-    with open(os.path.join(path, "journal.txt")) as f:
-        for line in f:
-            fields = line.rstrip("\n").split("\t")
-            if len(fields) == 5:
-                lines.append(fields)
-    return lines
 
 
 def make_tiles(directory):
@@ -333,8 +315,7 @@ class BatchResume(BatchFixture):
                 pid = ranks.get(rank) or rank_process(OCTARC, out, rank)
                 if pid:
                     ranks[rank] = pid
-            done = [e for e in journal(out) if e[2] == "done"] if os.path.exists(
-                os.path.join(out, "journal.txt")) else []
+            done = [e for e in journal(out) if e[2] == "done"]
             if done and len(ranks) == 2:
                 # Rank 0 is held still while rank 1 dies, so that it cannot finish the survey
                 # before mpirun's signal reaches it (the tiles take milliseconds); it acts on

@@ -18,6 +18,7 @@ from astropy.io import fits
 
 from octarc_testlib import (OCTARC, SEX_SHARE, SOURCE_DIR, WorkDirTest, mpi_env,
                             require_program, run_octarc, run_sextractor, write_param)
+from mpi_ranks import journal  # noqa: E402  (scripts/, on octarc_testlib's path)
 
 IMAGE = os.path.join(SOURCE_DIR, "testdata", "multiband.r.fits.gz")
 # Three 160 x 160 tiles overlapping by 20 pixels: (x0, y0) of each, 0-based.
@@ -65,11 +66,6 @@ def hdus(path):
                          for row in hdu.data["Field Header Card"]])
             out.append((cards, columns))
     return out
-
-
-def journal(out):
-    with open(os.path.join(out, "journal.txt")) as f:
-        return [line.rstrip("\n").split("\t") for line in f if line.count("\t") == 4]
 
 
 class MeasureTiles(WorkDirTest):
@@ -165,7 +161,8 @@ class BatchMeasureRanks(MeasureTiles):
         require_program("mpirun")
         out = self.path("survey")
         subprocess.run(["mpirun", "--oversubscribe", "-np", "2", OCTARC,
-                        *self.batch_args(out, "-APPEND_COLUMNS", "N", "-CATALOG_TYPE", "FITS_LDAC")],
+                        *self.batch_args(out, "-APPEND_COLUMNS", "N", "-CATALOG_TYPE",
+                                         "FITS_LDAC")],
                        check=True, capture_output=True, env=mpi_env())
         for tile in self.tiles:
             self.assert_same_file(self.measure(tile, "N"),
