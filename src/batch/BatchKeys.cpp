@@ -139,7 +139,7 @@ std::vector<std::string> otherTaskKeyWarnings(const sexcompat::Config& c, BatchT
   for (const std::string& key : keysOfTaskOnly(other)) {
     const std::string where = c.where(key);
     if (where.empty()) continue;
-    const bool onCommandLine = where == "command line";
+    const bool onCommandLine = where == sexcompat::kCommandLine;
     if (!onCommandLine && c.getStrings(key) == defaults.getStrings(key)) continue;
     warnings.push_back(where + ": " + (onCommandLine ? "-" : "") + key + " is not used with TASK " +
                        taskName + " (a key of TASK " + otherName + "; setting it has no effect)");
@@ -182,23 +182,23 @@ BatchSettings batchSettingsFromConfig(const sexcompat::Config& c, RunSettings ru
   }
   s.manifest = run.imagePaths.front();
   s.requestedThreads = run.threads;
+  // A key a batch does not use: refused, except in the .sex file of the SExtractor runs that
+  // a measuring batch reads, which names their files (WEIGHT_IMAGE weight.fits in SExtractor's
+  // default.sex) and check-images: there it is said once and left. `why` follows "a batch".
+  const auto notUsed = [&](const std::string& key, const std::string& why) {
+    const std::string where = c.where(key);
+    if (!measure || where == sexcompat::kCommandLine) {
+      throw ConfigError(key + ": a batch " + why);
+    }
+    s.warnings.push_back(where + ": " + key + " is not used by a batch, which " + why);
+  };
   std::vector<const char*> tileKeys = {"MASK_NAME", "INPUT_CATALOG", "WEIGHT_IMAGE"};
   if (measure) tileKeys.push_back("SEGMENTATION_NAME");
   for (const char* key : tileKeys) {
-    const std::string where = c.where(key);
-    if (where.empty()) continue;
-    const std::string manifest = measure
-                                     ? "(IMAGE SEGMENTATION CATALOG WEIGHT per line, TASK MEASURE)"
-                                     : "(IMAGE WEIGHT MASK CATALOG per line)";
-    // The .sex file of the SExtractor runs that a measuring batch reads names their files
-    // (WEIGHT_IMAGE weight.fits in SExtractor's default.sex): not used, said once.
-    if (measure && where != "command line") {
-      s.warnings.push_back(where + ": " + key + " is not used by a batch, which takes each " +
-                           "tile's files from the manifest " + manifest);
-      continue;
-    }
-    throw ConfigError(std::string(key) + ": a batch takes each tile's files from the manifest " +
-                      manifest);
+    if (c.where(key).empty()) continue;
+    notUsed(key, std::string("takes each tile's files from the manifest ") +
+                     (measure ? "(IMAGE SEGMENTATION CATALOG WEIGHT per line, TASK MEASURE)"
+                              : "(IMAGE WEIGHT MASK CATALOG per line)"));
   }
   if (!measure && c.count("COLOUR_IMAGE") > 0) {
     throw ConfigError(
@@ -211,13 +211,7 @@ BatchSettings batchSettingsFromConfig(const sexcompat::Config& c, RunSettings ru
         "by one (octarc search) to fit the lenses in another band");
   }
   if (c.isExplicit("CHECKIMAGE_TYPE") && uppercase(c.getString("CHECKIMAGE_TYPE")) != "NONE") {
-    const std::string where = c.where("CHECKIMAGE_TYPE");
-    // The .sex file of the SExtractor runs that made the segmentation images asks for them.
-    if (!(measure && where != "command line")) {
-      throw ConfigError("CHECKIMAGE_TYPE: a batch writes no check-images");
-    }
-    s.warnings.push_back(where + ": CHECKIMAGE_TYPE is not used by a batch, which writes no " +
-                         "check-images");
+    notUsed("CHECKIMAGE_TYPE", "writes no check-images");
   }
   for (std::string& w : otherTaskKeyWarnings(c, s.task)) s.warnings.push_back(std::move(w));
   s.restart = c.getBool("RESTART");

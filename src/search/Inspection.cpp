@@ -109,6 +109,21 @@ FitsHeader cutoutHeader(const FitsHeader& imageHeader, const Stamp& stamp) {
   return h;
 }
 
+namespace {
+
+// The side x side pixels of `image` from 0-based pixel (i0, j0) on, NaN beyond its edges.
+ImageF cutOut(const ImageF& image, std::int64_t i0, std::int64_t j0, std::int64_t side) {
+  ImageF out(side, side, std::numeric_limits<float>::quiet_NaN());
+  for (std::int64_t j = std::max<std::int64_t>(0, -j0); j < side && j0 + j < image.height(); ++j) {
+    for (std::int64_t i = std::max<std::int64_t>(0, -i0); i < side && i0 + i < image.width(); ++i) {
+      out(i, j) = image(i0 + i, j0 + j);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 Stamp candidateStamp(const ImageF& image, const Table& catalog, const SearchResult& result,
                      std::size_t index, const Wcs* wcs, double pixelScaleArcsec,
                      const StampSettings& settings) {
@@ -124,19 +139,11 @@ Stamp candidateStamp(const ImageF& image, const Table& catalog, const SearchResu
   const std::int64_t i0 = std::int64_t(std::floor(fromFitsPixel(xc) + 0.5)) - side / 2;
   const std::int64_t j0 = std::int64_t(std::floor(fromFitsPixel(yc) + 0.5)) - side / 2;
   Stamp stamp;
-  stamp.pixels = ImageF(side, side, std::numeric_limits<float>::quiet_NaN());
+  stamp.pixels = cutOut(image, i0, j0, side);
   std::vector<double> values;
   values.reserve(std::size_t(side * side));
-  for (std::int64_t j = 0; j < side; ++j) {
-    const std::int64_t y = j0 + j;
-    if (y < 0 || y >= image.height()) continue;
-    for (std::int64_t i = 0; i < side; ++i) {
-      const std::int64_t x = i0 + i;
-      if (x < 0 || x >= image.width()) continue;
-      const float v = image(x, y);
-      stamp.pixels(i, j) = v;
-      if (std::isfinite(v)) values.push_back(v);
-    }
+  for (const float v : stamp.pixels.pixels()) {
+    if (std::isfinite(v)) values.push_back(v);
   }
   stamp.xFirstFits = toFitsPixel(double(i0));
   stamp.yFirstFits = toFitsPixel(double(j0));
@@ -190,42 +197,29 @@ Stamp candidateStamp(const ImageF& image, const Table& catalog, const SearchResu
 Stamp candidateColourStamp(const Stamp& grey, const ColourStampBand& searched,
                            const std::vector<ColourStampBand>& others, double skySigmaAdu) {
   if (others.empty()) throw ConfigError("colour stamp: no band besides the searched one");
-  // Each channel a sum of bands with weights: the band's flux scale (and 1/2 for a mean).
-  struct Term {
-    const ImageF* pixels;
-    double weight;
-  };
+  // The grey stamp's cut-out of every band (NaN, hence black, beyond the image), each scaled to
+  // the searched band's flux.
+  const std::int64_t side = grey.pixels.width();
+  const std::int64_t i0 = std::llround(fromFitsPixel(grey.xFirstFits));
+  const std::int64_t j0 = std::llround(fromFitsPixel(grey.yFirstFits));
+  const ImageF red = cutOut(*searched.pixels, i0, j0, side);
+  const ImageF blue = cutOut(*others[0].pixels, i0, j0, side);
+  const ImageF other = others.size() > 1 ? cutOut(*others[1].pixels, i0, j0, side) : ImageF();
   const auto scale = [&](const ColourStampBand& b) {
     return std::pow(10.0, -0.4 * (b.magZeropoint - searched.magZeropoint));
   };
-  std::vector<Term> red{{searched.pixels, 1.0}}, green, blue;
-  if (others.size() == 1) {
-    blue = {{others[0].pixels, scale(others[0])}};
-    green = {{searched.pixels, 0.5}, {others[0].pixels, 0.5 * scale(others[0])}};
-  } else {
-    blue = {{others[0].pixels, scale(others[0])}};
-    green = {{others[1].pixels, scale(others[1])}};
-  }
+  const double blueScale = scale(others[0]);
+  const double otherScale = others.size() > 1 ? scale(others[1]) : 0.0;
+  const LuptonStretch stretch{kColourStampQ, kColourStampSofteningSigmas * skySigmaAdu};
   Stamp stamp = grey;
   stamp.marks.clear();
-  const std::int64_t nx = grey.pixels.width(), ny = grey.pixels.height();
-  stamp.rgbPixels = Image<std::uint32_t>(nx, ny, 0u);
-  const std::int64_t i0 = std::llround(grey.xFirstFits) - 1;  // 0-based image pixel of (0, 0)
-  const std::int64_t j0 = std::llround(grey.yFirstFits) - 1;
-  const LuptonStretch stretch{kColourStampQ, kColourStampSofteningSigmas * skySigmaAdu};
-  const auto channel = [](const std::vector<Term>& terms, std::int64_t x, std::int64_t y) {
-    double sum = 0.0;
-    for (const Term& t : terms) sum += t.weight * double((*t.pixels)(x, y));
-    return sum;
-  };
-  for (std::int64_t j = 0; j < ny; ++j) {
-    const std::int64_t y = j0 + j;
-    if (y < 0 || y >= searched.pixels->height()) continue;
-    for (std::int64_t i = 0; i < nx; ++i) {
-      const std::int64_t x = i0 + i;
-      if (x < 0 || x >= searched.pixels->width()) continue;
-      const Rgb8 c =
-          luptonRgb(channel(red, x, y), channel(green, x, y), channel(blue, x, y), stretch);
+  stamp.rgbPixels = Image<std::uint32_t>(side, side, 0u);
+  for (std::int64_t j = 0; j < side; ++j) {
+    for (std::int64_t i = 0; i < side; ++i) {
+      const double r = red(i, j), b = blueScale * double(blue(i, j));
+      // Green: the mean of the two bands, or the second other band.
+      const double g = other.empty() ? 0.5 * r + 0.5 * b : otherScale * double(other(i, j));
+      const Rgb8 c = luptonRgb(r, g, b, stretch);
       stamp.rgbPixels(i, j) = std::uint32_t(c.red) << 16 | std::uint32_t(c.green) << 8 | c.blue;
     }
   }

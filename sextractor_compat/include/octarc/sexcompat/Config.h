@@ -37,6 +37,9 @@ struct KeySpec {
   bool ignored = false;
 };
 
+// Where Config::where() says a key given on a command line was set.
+inline constexpr const char* kCommandLine = "command line";
+
 // A validated set of configuration values, one entry per key of the schema it was loaded with.
 class Config {
  public:
@@ -54,7 +57,7 @@ class Config {
   // `origin` is how messages name where the overrides come from: a command line's "-KEY" by
   // default; a program embedding octarc names its own (e.g. Python's config= dict, "KEY").
   struct OverrideOrigin {
-    std::string name = "command line";
+    std::string name = kCommandLine;
     std::string keyPrefix = "-";
   };
   static Config load(const std::vector<KeySpec>& schema, const std::string& sexFile,
