@@ -200,6 +200,21 @@ std::unique_ptr<LensOutput> simulateLenses(
 
 // ---- octarc.simulate_field ----
 
+// What simulate_field and inject_lenses share: the lenses drawn and how, then the settings
+// checked (ConfigError naming the command's option).
+void setLensDraw(FieldSimulationSettings& s, int lenses, double minEinsteinRadius,
+                 double maxEinsteinRadius, std::uint64_t seed, const std::string& database,
+                 const std::string& population, int threads) {
+  s.lensCount = lenses;
+  s.minEinsteinRadiusArcsec = minEinsteinRadius;
+  s.maxEinsteinRadiusArcsec = maxEinsteinRadius;
+  s.seed = seed;
+  s.databasePath = database;
+  s.populationPath = population;
+  s.threads = threads;
+  s.validate();
+}
+
 // What octarc.simulate_field returns to the Python package: the field without its pixels,
 // which are handed to numpy when the output is made.
 struct FieldOutput {
@@ -234,16 +249,9 @@ std::unique_ptr<FieldOutput> simulateFieldOf(
   s.limitingMag = limitingMag.value_or(s.limitingMag);
   s.noiseSigmaAdu = noiseSigma;
   s.sizePix = size;
-  s.lensCount = lenses;
-  s.minEinsteinRadiusArcsec = minEinsteinRadius;
-  s.maxEinsteinRadiusArcsec = maxEinsteinRadius;
-  s.seed = seed;
   s.raDeg = ra;
   s.decDeg = dec;
-  s.databasePath = database;
-  s.populationPath = population;
-  s.threads = threads;
-  s.validate();
+  setLensDraw(s, lenses, minEinsteinRadius, maxEinsteinRadius, seed, database, population, threads);
   auto image = std::make_unique<ImageF>();
   auto weight = std::make_unique<ImageF>();
   {
@@ -275,18 +283,11 @@ std::unique_ptr<FieldOutput> injectLensesInto(const py::array& image, const py::
   }
   const FitsHeader header = headerOf(headerCards);
   FieldSimulationSettings s;
-  s.lensCount = lenses;
   s.pixelScaleArcsec = pixelScale;
   s.seeingFwhmArcsec = seeing;
   s.magZeroPoint = magZero;
   s.gainElectronsPerAdu = gain;
-  s.minEinsteinRadiusArcsec = minEinsteinRadius;
-  s.maxEinsteinRadiusArcsec = maxEinsteinRadius;
-  s.seed = seed;
-  s.databasePath = database;
-  s.populationPath = population;
-  s.threads = threads;
-  s.validate();
+  setLensDraw(s, lenses, minEinsteinRadius, maxEinsteinRadius, seed, database, population, threads);
   auto out = std::make_unique<FieldOutput>();
   auto pixels = std::make_unique<ImageF>();
   auto weights = std::make_unique<ImageF>();

@@ -285,3 +285,12 @@ def interrupted_python(test, setup, call, after, delay_sec):
     out, err = proc.communicate(timeout=120)
     test.assertEqual(proc.returncode, 0, err)
     return out
+
+
+def assert_one_line_error(test, kind, pattern, call, *args, **kwargs):
+    """`call(*args, **kwargs)` raises `kind` with a one-line message matching `pattern`."""
+    with test.assertRaises(kind) as caught:
+        call(*args, **kwargs)
+    message = str(caught.exception)
+    test.assertNotIn("\n", message)
+    test.assertRegex(message, pattern)

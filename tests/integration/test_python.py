@@ -21,8 +21,8 @@ import numpy as np
 from astropy.io import fits
 
 from octarc_testlib import (MISSING_PROGRAM, SEX_SHARE, SOURCE_DIR, WorkDirTest,
-                            interrupted_python, ldac_objects, run_octarc, run_sextractor,
-                            write_param)
+                            assert_one_line_error, interrupted_python, ldac_objects, run_octarc,
+                            run_sextractor, write_param)
 import octarc
 
 LEVELS = [2.5, 5.0, 10.0]
@@ -257,11 +257,7 @@ class PythonApi(WorkDirTest):
         np.testing.assert_array_equal(joined["ARCNESS"], expected["ARCNESS"])
 
     def assert_raises(self, kind, pattern, call, *args, **kwargs):
-        with self.assertRaises(kind) as caught:
-            call(*args, **kwargs)
-        message = str(caught.exception)
-        self.assertNotIn("\n", message)
-        self.assertRegex(message, pattern)
+        assert_one_line_error(self, kind, pattern, call, *args, **kwargs)
 
     def test_bad_input(self):
         image = synthetic_image(size=64, sources=3)

@@ -12,7 +12,8 @@ import numpy as np
 from astropy import units as u
 from astropy.io import fits
 
-from octarc_testlib import WorkDirTest, interrupted_python, ldac_imhead, run_octarc
+from octarc_testlib import (WorkDirTest, assert_one_line_error, interrupted_python, ldac_imhead,
+                            run_octarc)
 import octarc
 
 
@@ -98,11 +99,7 @@ class PythonSimulateLenses(WorkDirTest):
         self.assertEqual(one.meta, two.meta)
 
     def assert_raises(self, kind, pattern, call, *args, **kwargs):
-        with self.assertRaises(kind) as caught:
-            call(*args, **kwargs)
-        message = str(caught.exception)
-        self.assertNotIn("\n", message)
-        self.assertRegex(message, pattern)
+        assert_one_line_error(self, kind, pattern, call, *args, **kwargs)
 
     def test_bad_input(self):
         simulate = octarc.simulate_lenses
